@@ -1,0 +1,235 @@
+"""Hyperelastic plane-strain materials evaluated on quadrature arrays.
+
+Every function takes the deformation gradient ``F`` with skfem's layout,
+shape ``(2, 2, ...)`` (the two tensor indices first, then any number of
+trailing axes such as ``(n_elements, n_points)``), and returns arrays of the
+same trailing shape:
+
+* ``stress(F)``   first Piola-Kirchhoff stress ``P``, shape ``(2, 2, ...)``
+* ``tangent(F)``  ``A = dP/dF``, ``A[i, J, k, L] = dP_iJ / dF_kL``,
+  shape ``(2, 2, 2, 2, ...)``
+* ``cauchy(F)``   in-plane Cauchy stress ``sigma = P F^T / J`` and the
+  out-of-plane component ``sigma_zz`` (plane strain: ``F_zz = 1``)
+* ``von_mises(F)`` the equivalent stress including ``sigma_zz``.
+
+Plane strain throughout: the third direction has ``F_zz = 1``, ``F_iz = 0``.
+``InversionError`` is raised wherever ``det F <= 0`` or ``F`` is not finite.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from .errors import InversionError
+
+__all__ = ["Material", "NeoHooke", "SaintVenantKirchhoff", "lame_from_young"]
+
+
+def lame_from_young(E: float, nu: float) -> tuple[float, float]:
+    """Lame constants ``mu = E / (2 (1 + nu))``, ``lambda = E nu / ((1 + nu)(1 - 2 nu))``.
+
+    Raises
+    ------
+    ValueError
+        If ``E <= 0`` or ``nu`` is outside ``(-1, 0.5)``.
+    """
+    E = float(E)
+    nu = float(nu)
+    if not np.isfinite(E) or E <= 0.0:
+        raise ValueError(f"E must be > 0 (got {E})")
+    if not np.isfinite(nu) or not -1.0 < nu < 0.5:
+        raise ValueError(f"nu must lie in the open interval (-1, 0.5) (got {nu})")
+    return E / (2.0 * (1.0 + nu)), E * nu / ((1.0 + nu) * (1.0 - 2.0 * nu))
+
+
+def _det(F: np.ndarray) -> np.ndarray:
+    return F[0, 0] * F[1, 1] - F[0, 1] * F[1, 0]
+
+
+def _checked_det(F: np.ndarray) -> np.ndarray:
+    """``J = det F``; raise :class:`InversionError` if any ``J <= 0`` or non-finite."""
+    F = np.asarray(F, dtype=float)
+    if F.shape[:2] != (2, 2):
+        raise ValueError(f"F must have shape (2, 2, ...), got {F.shape}")
+    J = _det(F)
+    if not np.all(np.isfinite(J)):
+        raise InversionError("non-finite deformation gradient")
+    if np.any(J <= 0.0):
+        n = int(np.count_nonzero(J <= 0.0))
+        raise InversionError(f"inverted material point(s): det F <= 0 at {n} point(s), "
+                             f"min det F = {J.min():.3e}")
+    return J
+
+
+def _inv(F: np.ndarray, J: np.ndarray) -> np.ndarray:
+    """Inverse of a (2, 2, ...) array given its determinant."""
+    return np.array([[F[1, 1], -F[0, 1]], [-F[1, 0], F[0, 0]]]) / J
+
+
+class Material:
+    """Base class: Lame constants, validation and the stress post-processing.
+
+    Either ``E`` and ``nu`` or ``mu`` and ``lmbda`` are given (not both pairs).
+
+    Parameters
+    ----------
+    E : float, optional
+        Young's modulus, ``E > 0``.
+    nu : float, optional
+        Poisson's ratio, ``-1 < nu < 0.5``.
+    mu : float, optional
+        Shear modulus, ``mu > 0``.
+    lmbda : float, optional
+        First Lame constant, ``lmbda > -2 mu / 3`` (positive bulk modulus;
+        the same set as ``-1 < nu < 0.5``).
+    """
+
+    def __init__(self, E: float | None = None, nu: float | None = None,
+                 mu: float | None = None, lmbda: float | None = None):
+        if E is not None or nu is not None:
+            if mu is not None or lmbda is not None:
+                raise ValueError("give either (E, nu) or (mu, lmbda), not both")
+            if E is None or nu is None:
+                raise ValueError("E and nu must be given together")
+            mu, lmbda = lame_from_young(E, nu)
+        elif mu is not None and lmbda is not None:
+            mu, lmbda = float(mu), float(lmbda)
+            if not np.isfinite(mu) or mu <= 0.0:
+                raise ValueError(f"mu must be > 0 (got {mu})")
+            if not np.isfinite(lmbda) or lmbda <= -2.0 * mu / 3.0:
+                raise ValueError(f"lmbda must be > -2 mu / 3 = {-2.0 * mu / 3.0} (got {lmbda})")
+        else:
+            raise ValueError("give either (E, nu) or (mu, lmbda)")
+        self.mu = mu
+        self.lmbda = lmbda
+
+    @property
+    def E(self) -> float:
+        """Young's modulus ``mu (3 lambda + 2 mu) / (lambda + mu)``."""
+        return self.mu * (3 * self.lmbda + 2 * self.mu) / (self.lmbda + self.mu)
+
+    @property
+    def nu(self) -> float:
+        """Poisson's ratio ``lambda / (2 (lambda + mu))``."""
+        return self.lmbda / (2.0 * (self.lmbda + self.mu))
+
+    def __repr__(self) -> str:
+        return f"{type(self).__name__}(mu={self.mu:.6g}, lmbda={self.lmbda:.6g})"
+
+    # -- to be provided by subclasses ------------------------------------
+    def stress(self, F: np.ndarray) -> np.ndarray:
+        """First Piola-Kirchhoff stress ``P(F)``."""
+        return self.stress_and_tangent(F, tangent=False)[0]
+
+    def tangent(self, F: np.ndarray) -> np.ndarray:
+        """Material tangent ``A = dP/dF``."""
+        return self.stress_and_tangent(F, tangent=True)[1]
+
+    def stress_and_tangent(self, F: np.ndarray, tangent: bool = True
+                           ) -> tuple[np.ndarray, np.ndarray | None]:
+        raise NotImplementedError
+
+    def stress_zz(self, F: np.ndarray) -> np.ndarray:
+        """Out-of-plane Cauchy stress ``sigma_zz`` (plane strain)."""
+        raise NotImplementedError
+
+    # -- post-processing ---------------------------------------------------
+    def cauchy(self, F: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Cauchy stress ``sigma = P F^T / J`` (2, 2, ...) and ``sigma_zz`` (...)."""
+        J = _checked_det(F)
+        P = self.stress(F)
+        sigma = np.einsum("iJ...,kJ...->ik...", P, F) / J
+        return sigma, self.stress_zz(F)
+
+    def von_mises(self, F: np.ndarray) -> np.ndarray:
+        """``sqrt(((s_xx - s_yy)^2 + (s_yy - s_zz)^2 + (s_zz - s_xx)^2) / 2 + 3 s_xy^2)``."""
+        s, szz = self.cauchy(F)
+        return np.sqrt(0.5 * ((s[0, 0] - s[1, 1]) ** 2 + (s[1, 1] - szz) ** 2
+                              + (szz - s[0, 0]) ** 2) + 3.0 * s[0, 1] ** 2)
+
+
+class NeoHooke(Material):
+    r"""Compressible neo-Hookean solid in plane strain.
+
+    .. math::
+
+        W = \frac{\mu}{2}(\operatorname{tr} C - 2 - 2\ln J) + \frac{\lambda}{2}(\ln J)^2,
+        \qquad P = \mu (F - F^{-T}) + \lambda \ln J \, F^{-T},
+
+    .. math::
+
+        A_{iJkL} = \mu \delta_{ik}\delta_{JL}
+                   + (\mu - \lambda \ln J) F^{-1}_{Jk} F^{-1}_{Li}
+                   + \lambda F^{-1}_{Ji} F^{-1}_{Lk},
+
+    and ``sigma_zz = lambda ln J / J``. Parameters as :class:`Material`.
+    """
+
+    def stress_and_tangent(self, F: np.ndarray, tangent: bool = True
+                           ) -> tuple[np.ndarray, np.ndarray | None]:
+        F = np.asarray(F, dtype=float)
+        J = _checked_det(F)
+        Fi = _inv(F, J)                       # Fi[J, i] = F^-1_Ji
+        FiT = np.swapaxes(Fi, 0, 1)           # F^-T
+        lnJ = np.log(J)
+        P = self.mu * (F - FiT) + self.lmbda * lnJ * FiT
+        if not tangent:
+            return P, None
+        eye = np.eye(2)
+        trail = (np.newaxis,) * (F.ndim - 2)
+        A = (self.mu * np.einsum("ik,JL->iJkL", eye, eye)[(...,) + trail]
+             + (self.mu - self.lmbda * lnJ) * np.einsum("Jk...,Li...->iJkL...", Fi, Fi)
+             + self.lmbda * np.einsum("Ji...,Lk...->iJkL...", Fi, Fi))
+        return P, A
+
+    def stress_zz(self, F: np.ndarray) -> np.ndarray:
+        J = _checked_det(F)
+        return self.lmbda * np.log(J) / J
+
+
+class SaintVenantKirchhoff(Material):
+    r"""St Venant-Kirchhoff solid in plane strain.
+
+    .. math::
+
+        E = \tfrac12 (F^T F - I), \quad S = \lambda \operatorname{tr}(E) I + 2\mu E,
+        \quad P = F S,
+
+    .. math::
+
+        A_{iJkL} = \delta_{ik} S_{JL} + \lambda F_{iJ} F_{kL}
+                   + \mu (F_{iL} F_{kJ} + (F F^T)_{ik} \delta_{JL}),
+
+    and ``sigma_zz = lambda tr(E) / J`` (``E_zz = 0``). The energy is defined
+    for any ``F``, but an inverted point (``det F <= 0``) still raises
+    :class:`InversionError`: such a state is not physical.
+    Parameters as :class:`Material`.
+    """
+
+    def _pk2(self, F: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        C = np.einsum("kI...,kJ...->IJ...", F, F)
+        trE = 0.5 * (C[0, 0] + C[1, 1] - 2.0)
+        S = self.mu * (C - np.eye(2)[(...,) + (np.newaxis,) * (F.ndim - 2)])
+        S[0, 0] += self.lmbda * trE
+        S[1, 1] += self.lmbda * trE
+        return S, trE
+
+    def stress_and_tangent(self, F: np.ndarray, tangent: bool = True
+                           ) -> tuple[np.ndarray, np.ndarray | None]:
+        F = np.asarray(F, dtype=float)
+        _checked_det(F)
+        S, _ = self._pk2(F)
+        P = np.einsum("iM...,MJ...->iJ...", F, S)
+        if not tangent:
+            return P, None
+        eye = np.eye(2)
+        B = np.einsum("iM...,kM...->ik...", F, F)
+        A = (np.einsum("ik,JL...->iJkL...", eye, S)
+             + self.lmbda * np.einsum("iJ...,kL...->iJkL...", F, F)
+             + self.mu * (np.einsum("iL...,kJ...->iJkL...", F, F)
+                          + np.einsum("ik...,JL->iJkL...", B, eye)))
+        return P, A
+
+    def stress_zz(self, F: np.ndarray) -> np.ndarray:
+        J = _checked_det(F)
+        _, trE = self._pk2(np.asarray(F, dtype=float))
+        return self.lmbda * trE / J

@@ -1,0 +1,229 @@
+"""A hyperelastic plane-strain solid discretized with scikit-fem.
+
+The internal virtual work of a body with reference domain ``Omega_0``,
+
+    r(u)_a = int_Omega0 Grad v_a : P(F) dV ,        F = I + Grad u ,
+
+and its consistent tangent
+
+    K(u)_ab = int_Omega0 Grad v_a : A(F) : Grad v_b dV ,   A = dP/dF ,
+
+are written as skfem ``LinearForm``/``BilinearForm`` over a vector basis; the
+stress ``P`` and tangent ``A`` are evaluated once per assembly on all quadrature
+points (vectorized, see :mod:`skfem_mortar.materials`) and handed to the forms.
+"""
+from __future__ import annotations
+
+from typing import Callable
+
+import numpy as np
+from skfem import (Basis, BilinearForm, ElementQuad1, ElementQuad2, ElementTriP1,
+                   ElementTriP2, ElementVector, LinearForm, Mesh)
+from skfem.helpers import ddot, grad
+
+from .materials import Material
+from .model import Contribution, Item
+
+__all__ = ["Solid", "ELEMENTS"]
+
+#: element name -> (skfem scalar element class, reference domain name, meshio cell type)
+ELEMENTS: dict[str, tuple[type, str, str]] = {
+    "tri1": (ElementTriP1, "RefTri", "triangle"),
+    "tri2": (ElementTriP2, "RefTri", "triangle"),
+    "quad1": (ElementQuad1, "RefQuad", "quad"),
+    "quad2": (ElementQuad2, "RefQuad", "quad"),
+}
+
+
+@LinearForm
+def internal_force(v, w):
+    """``Grad v : P`` with ``P`` given on the quadrature points as ``w.P``."""
+    return ddot(w.P, grad(v))
+
+
+@BilinearForm
+def material_stiffness(du, v, w):
+    """``Grad v : A : Grad du``; ``w.At[k, L, i, J] = A[i, J, k, L]``.
+
+    ``ddot(w.At, grad(du))`` contracts the first two indices of ``At`` (those
+    of ``du``), leaving the ``(i, J)`` pair that is contracted with ``Grad v``.
+    """
+    return ddot(ddot(w.At, grad(du)), grad(v))
+
+
+def _component_rows(component: int | str | None) -> list[str] | None:
+    if component is None:
+        return None
+    names = {0: "u^1", 1: "u^2", "x": "u^1", "y": "u^2"}
+    if component not in names:
+        raise ValueError(f"component must be None, 0, 1, 'x' or 'y' (got {component!r})")
+    return [names[component]]
+
+
+class Solid(Item):
+    """A plane-strain hyperelastic body: an :class:`~skfem_mortar.model.Item` with ``dof_kind="u"``.
+
+    Parameters
+    ----------
+    mesh : skfem.Mesh
+        Reference configuration (``MeshTri`` for ``tri*``, ``MeshQuad`` for ``quad*``).
+        Named boundaries (``mesh.boundaries``) can be used by :meth:`dofs_on`.
+    material : Material
+        :class:`~skfem_mortar.materials.NeoHooke` or
+        :class:`~skfem_mortar.materials.SaintVenantKirchhoff`.
+    element : {"tri1", "tri2", "quad1", "quad2"}
+        Lagrange element of the displacement field.
+    name : str
+        Item name.
+    intorder : int, optional
+        Quadrature order (default: skfem's, twice the element order).
+    """
+
+    dof_kind = "u"
+    phase = "bulk"
+
+    def __init__(self, mesh: Mesh, material: Material, element: str = "tri1",
+                 name: str = "solid", intorder: int | None = None):
+        if element not in ELEMENTS:
+            raise ValueError(f"element must be one of {sorted(ELEMENTS)} (got {element!r})")
+        if not isinstance(material, Material):
+            raise ValueError("material must be a skfem_mortar.materials.Material")
+        elem_cls, refdom, cell_type = ELEMENTS[element]
+        if mesh.dim() != 2 or mesh.elem.refdom.__name__ != refdom:
+            raise ValueError(f"element {element!r} needs a 2D mesh of "
+                             f"{'triangles' if refdom == 'RefTri' else 'quadrilaterals'}, "
+                             f"got {type(mesh).__name__}")
+        if intorder is not None and (int(intorder) != intorder or intorder < 1):
+            raise ValueError(f"intorder must be an integer >= 1 (got {intorder})")
+        self.mesh = mesh
+        self.material = material
+        self.element = element
+        self.name = name
+        self._cell_type = cell_type
+        kw = {} if intorder is None else {"intorder": int(intorder)}
+        self.basis = Basis(mesh, ElementVector(elem_cls()), **kw)
+        self.n_dofs = int(self.basis.N)
+        every = self.basis.get_dofs(elements=np.arange(mesh.nelements))
+        self.dof_component = np.zeros(self.n_dofs, dtype=np.int64)
+        self.dof_component[np.asarray(every.all(["u^2"]), dtype=np.int64)] = 1
+
+    # -- geometry ----------------------------------------------------------
+    @property
+    def X(self) -> np.ndarray:
+        """Reference coordinates of the mesh vertices, shape ``(2, n_nodes)``."""
+        return self.mesh.p
+
+    @property
+    def n_nodes(self) -> int:
+        return int(self.mesh.p.shape[1])
+
+    @property
+    def node_dofs(self) -> np.ndarray:
+        """Local dofs of the vertices, ``(2, n_nodes)``: row 0 x-, row 1 y-dofs."""
+        return self.basis.nodal_dofs
+
+    def u(self, z: np.ndarray) -> np.ndarray:
+        """The body's block of ``z`` (all its displacement dofs)."""
+        return np.asarray(z)[self.dofs]
+
+    def x(self, z: np.ndarray) -> np.ndarray:
+        """Current vertex coordinates ``X + u``, shape ``(2, n_nodes)``."""
+        return self.X + self.u(z)[self.node_dofs]
+
+    def interpolate(self, fun: Callable[[np.ndarray], np.ndarray]) -> np.ndarray:
+        """Local dof vector of the nodal interpolant of ``u = fun(X)``.
+
+        ``fun`` maps reference points ``(2, n)`` to displacements ``(2, n)``.
+        """
+        pts = self.basis.doflocs
+        vals = np.asarray(fun(pts), dtype=float)
+        if vals.shape != pts.shape:
+            raise ValueError(f"fun must return an array of shape {pts.shape}")
+        return vals[self.dof_component, np.arange(self.n_dofs)]
+
+    def dofs_on(self, boundary: str | np.ndarray | Callable, component: int | str | None = None
+                ) -> np.ndarray:
+        """Local dofs on a boundary (vertex and, for quadratic elements, facet dofs).
+
+        Parameters
+        ----------
+        boundary : str, array of int or callable
+            A tag of ``mesh.boundaries``, an array of facet indices, or a
+            function ``f(x) -> bool`` of facet midpoints (skfem's convention).
+        component : {None, 0, 1, "x", "y"}
+            Both components (None) or only one.
+        """
+        if isinstance(boundary, str):
+            known = sorted(self.mesh.boundaries or {})
+            if boundary not in known:
+                raise ValueError(f"unknown boundary {boundary!r}; known tags: {known}")
+        view = self.basis.get_dofs(boundary)
+        rows = _component_rows(component)
+        out = view.all() if rows is None else view.all(rows)
+        return np.unique(np.asarray(out, dtype=np.int64))
+
+    def dofs_at_nodes(self, nodes: np.ndarray, component: int | str | None = None
+                      ) -> np.ndarray:
+        """Local dofs of a set of vertices (indices into ``X``)."""
+        nodes = np.asarray(nodes, dtype=np.int64).ravel()
+        if nodes.size and (nodes.min() < 0 or nodes.max() >= self.n_nodes):
+            raise ValueError(f"nodes must lie in [0, {self.n_nodes})")
+        rows = _component_rows(component)
+        nd = self.node_dofs if rows is None else self.node_dofs[[0 if rows[0] == "u^1" else 1]]
+        return np.unique(nd[:, nodes].ravel().astype(np.int64))
+
+    # -- kinematics and stress at quadrature points ---------------------------
+    def deformation_gradient(self, z: np.ndarray) -> np.ndarray:
+        """``F = I + Grad u`` on all quadrature points, shape ``(2, 2, n_el, n_qp)``."""
+        G = np.asarray(grad(self.basis.interpolate(self.u(z))))
+        F = G.copy()
+        F[0, 0] += 1.0
+        F[1, 1] += 1.0
+        return F
+
+    def internal_force(self, z: np.ndarray) -> np.ndarray:
+        """Local internal force vector ``int Grad v : P dV`` (length ``n_dofs``)."""
+        P = self.material.stress(self.deformation_gradient(z))
+        return internal_force.assemble(self.basis, P=P)
+
+    def assemble(self, z: np.ndarray, load_factor: float, tangent: bool = True
+                 ) -> Contribution:
+        F = self.deformation_gradient(z)
+        P, A = self.material.stress_and_tangent(F, tangent=tangent)
+        r = internal_force.assemble(self.basis, P=P)
+        if not tangent:
+            return Contribution.from_local(self.offset, r)
+        K = material_stiffness.assemble(self.basis, At=np.transpose(A, (2, 3, 0, 1, 4, 5)))
+        return Contribution.from_local(self.offset, r, K)
+
+    def reaction(self, R: np.ndarray, dofs: np.ndarray) -> float:
+        """Sum of the global residual ``R`` over the body's local ``dofs``.
+
+        At a prescribed dof ``R = f_int - f_ext`` is the force the support
+        exerts on the body.
+        """
+        return float(np.sum(np.asarray(R)[self.offset + np.asarray(dofs, dtype=np.int64)]))
+
+    # -- output ------------------------------------------------------------
+    def output_mesh(self) -> tuple[np.ndarray, list[tuple[str, np.ndarray]]]:
+        """Vertices ``(N, 2)`` and linear cells (corner nodes only)."""
+        nv = 3 if self._cell_type == "triangle" else 4
+        return self.mesh.p.T.copy(), [(self._cell_type, self.mesh.t[:nv].T.copy())]
+
+    def element_average(self, q: np.ndarray) -> np.ndarray:
+        """Volume average over each element of a quadrature array ``(..., n_el, n_qp)``."""
+        dx = self.basis.dx
+        return np.sum(q * dx, axis=-1) / np.sum(dx, axis=-1)
+
+    def output_data(self, z: np.ndarray) -> tuple[dict, dict]:
+        """Point data ``displacement`` (N, 2); cell data: element-averaged Cauchy
+        stress ``sigma_xx, sigma_yy, sigma_xy, sigma_zz`` and ``von_mises``."""
+        u = self.u(z)[self.node_dofs].T.copy()
+        F = self.deformation_gradient(z)
+        s, szz = self.material.cauchy(F)
+        vm = self.material.von_mises(F)
+        avg = self.element_average
+        cells = {"sigma_xx": [avg(s[0, 0])], "sigma_yy": [avg(s[1, 1])],
+                 "sigma_xy": [avg(s[0, 1])], "sigma_zz": [avg(szz)],
+                 "von_mises": [avg(vm)]}
+        return {"displacement": u}, cells
