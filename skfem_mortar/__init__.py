@@ -1,0 +1,35 @@
+"""skfem-mortar: large-deformation frictionless contact for scikit-fem.
+
+Node-to-segment and mortar contact with Lagrange multipliers, nonlinear cables
+under follower pressure and hyperelastic solids, solved by one block Newton
+method over displacements and multipliers.
+"""
+from __future__ import annotations
+
+from importlib import import_module
+from typing import Any
+
+__version__ = "0.1.0"
+
+# public name -> module; resolved lazily so that `import skfem_mortar` and the
+# command line start fast and a module that has not landed yet breaks nothing else
+_EXPORTS = {
+    "Model": "model", "Item": "model", "Dirichlet": "model", "Contribution": "model",
+    "solve": "stepping", "Result": "stepping", "StepRecord": "stepping",
+    "NewtonOptions": "newton",
+    "ConvergenceError": "errors", "InversionError": "errors",
+    "NeoHooke": "materials", "SaintVenantKirchhoff": "materials",
+    "Solid": "solid",
+    "Cable": "cable",
+    "FollowerPressure": "loads",
+    "ContactPair": "contact",
+    "run_scene": "runner", "build_scene": "runner",
+}
+
+__all__ = sorted(_EXPORTS) + ["__version__"]
+
+
+def __getattr__(name: str) -> Any:
+    if name in _EXPORTS:
+        return getattr(import_module(f".{_EXPORTS[name]}", __name__), name)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

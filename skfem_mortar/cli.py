@@ -1,0 +1,128 @@
+"""The ``skfem-mortar`` command line (see docs/architecture.md, "command-line contract").
+
+Exit codes: 0 success, 1 a run that did not converge, 2 bad input (unknown
+scene, unknown parameter, value out of range).
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import logging
+import sys
+from typing import Sequence
+
+__all__ = ["main"]
+
+
+def _parse_sets(pairs: Sequence[str]) -> dict[str, str]:
+    out: dict[str, str] = {}
+    for pair in pairs:
+        if "=" not in pair:
+            raise ValueError(f"--set takes NAME=VALUE, got {pair!r}")
+        key, val = pair.split("=", 1)
+        out[key.strip()] = val.strip()
+    return out
+
+
+def _cmd_scenes(args: argparse.Namespace) -> int:
+    from .scenes import list_scenes
+
+    scenes = list_scenes()
+    if args.json:
+        print(json.dumps([{"name": s.name, "summary": s.summary,
+                           "methods": [m for m in s.methods if m is not None],
+                           "default_steps": s.default_steps,
+                           "parameters": {p.name: {"default": p.default, "doc": p.doc,
+                                                   "allowed": p.range_text()}
+                                          for p in s.params}} for s in scenes]))
+        return 0
+    for s in scenes:
+        methods = ", ".join(m for m in s.methods if m is not None) or "-"
+        print(f"{s.name}: {s.summary}  [methods: {methods}; default steps: {s.default_steps}]")
+        for p in s.params:
+            print(f"    {p.name} = {p.default!r}   {p.doc} ({p.range_text()})")
+    return 0
+
+
+def _cmd_run(args: argparse.Namespace) -> int:
+    from .runner import run_scene
+
+    summary = run_scene(args.scene, _parse_sets(args.set), method=args.method,
+                        steps=args.steps, out=args.out, progress=not args.no_progress)
+    if args.json:
+        print(json.dumps(summary))
+    else:
+        print(f"scene {summary['scene']} ({summary['method'] or 'no contact'}): "
+              f"{summary['n_dofs']} dofs, {summary['n_multipliers']} multipliers, "
+              f"{len(summary['steps'])} steps, {summary['wall_time_s']:.2f} s")
+        for k, v in summary["metrics"].items():
+            print(f"  {k} = {v}")
+        if args.out:
+            print(f"results written to {args.out}")
+    return 0
+
+
+def _cmd_demo(args: argparse.Namespace) -> int:
+    from .scenes import get_scene
+
+    try:
+        get_scene("seed")
+        scene = "seed"
+    except ValueError:  # the paper's scene is not there yet: run the block
+        scene = "block"
+    ns = argparse.Namespace(scene=scene, set=[], method=args.method if scene == "seed" else None,
+                            steps=None, out=args.out, json=False, no_progress=False)
+    return _cmd_run(ns)
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(
+        prog="skfem-mortar",
+        description="Large-deformation frictionless contact (NTS and mortar) on scikit-fem.")
+    parser.add_argument("-v", "--verbose", action="store_true", help="log solver details")
+    sub = parser.add_subparsers(dest="command", required=True)
+
+    p = sub.add_parser("scenes", help="list scenes, their parameters and defaults")
+    p.add_argument("--json", action="store_true")
+    p.set_defaults(func=_cmd_scenes)
+
+    p = sub.add_parser("run", help="run a scene")
+    p.add_argument("scene")
+    p.add_argument("--method", choices=["nts", "mortar", "mortar-dual"], default=None)
+    p.add_argument("--set", action="append", default=[], metavar="NAME=VALUE",
+                   help="override a scene parameter (repeatable)")
+    p.add_argument("--steps", type=int, default=None, help="number of load steps")
+    p.add_argument("--out", default=None, help="output directory")
+    p.add_argument("--json", action="store_true", help="print one JSON object on stdout")
+    p.add_argument("--no-progress", action="store_true", help="no progress bar")
+    p.set_defaults(func=_cmd_run)
+
+    p = sub.add_parser("demo", help="run the demo scene and write its outputs")
+    p.add_argument("--out", default="skfem-mortar-demo")
+    p.add_argument("--method", choices=["nts", "mortar", "mortar-dual"], default="mortar")
+    p.set_defaults(func=_cmd_demo)
+    return parser
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    logging.basicConfig(level=logging.INFO if args.verbose else logging.WARNING,
+                        stream=sys.stderr, format="%(levelname)s %(name)s: %(message)s")
+    if getattr(args, "steps", None) is not None and args.steps < 1:
+        print("skfem-mortar: error: --steps must be an integer >= 1", file=sys.stderr)
+        return 2
+    from .errors import ConvergenceError
+
+    try:
+        return args.func(args)
+    except ValueError as exc:
+        print(f"skfem-mortar: error: {exc}", file=sys.stderr)
+        return 2
+    except ConvergenceError as exc:
+        print(f"skfem-mortar: failed: {exc}", file=sys.stderr)
+        return 1
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(main())

@@ -1,0 +1,272 @@
+"""Model items, the global unknown layout and the assembly of residual and tangent.
+
+The global unknown vector is ``z = [u; lam]``: first the displacement blocks of
+all bodies, then the multiplier blocks of all contact pairs.  Every *item* of a
+model (a body, a load, a boundary condition, a contact pair) contributes to the
+residual ``R(z, load_factor)`` and to its tangent ``K = dR/dz``.  Equilibrium is
+``R = 0`` with the sign convention
+
+    R = f_int(u) - f_ext(u, load_factor) + (contact forces) ,
+
+so that loads enter with a minus sign and ``K`` is the usual stiffness.  The
+solver knows nothing about what an item is: adding a new kind of body, load or
+contact pair means adding one item class.
+"""
+from __future__ import annotations
+
+import time
+from collections import defaultdict
+from dataclasses import dataclass, field
+from typing import Iterable, Sequence
+
+import numpy as np
+import scipy.sparse as sp
+
+__all__ = ["Contribution", "Item", "Model", "Dirichlet"]
+
+
+@dataclass
+class Contribution:
+    """One item's share of the global residual and tangent, in global indices.
+
+    Residual entries ``(r_index, r_value)`` are summed (duplicates add up);
+    the tangent is given as COO triplets ``(k_rows, k_cols, k_vals)``.
+    """
+
+    r_index: np.ndarray
+    r_value: np.ndarray
+    k_rows: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int64))
+    k_cols: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int64))
+    k_vals: np.ndarray = field(default_factory=lambda: np.zeros(0))
+
+    @classmethod
+    def empty(cls) -> "Contribution":
+        return cls(np.zeros(0, dtype=np.int64), np.zeros(0))
+
+    @classmethod
+    def from_local(cls, offset: int, r: np.ndarray,
+                   K: sp.spmatrix | None = None) -> "Contribution":
+        """Wrap a residual vector and a sparse tangent on a contiguous block.
+
+        ``r`` and ``K`` are numbered locally (0 .. n-1) and shifted by ``offset``.
+        """
+        idx = offset + np.arange(len(r), dtype=np.int64)
+        if K is None:
+            return cls(idx, np.asarray(r, dtype=float))
+        K = K.tocoo()
+        return cls(idx, np.asarray(r, dtype=float),
+                   K.row.astype(np.int64) + offset,
+                   K.col.astype(np.int64) + offset, K.data)
+
+    @classmethod
+    def from_dofs(cls, dofs: np.ndarray, r: np.ndarray, k: np.ndarray | None = None
+                  ) -> "Contribution":
+        """Element-wise arrays: ``dofs`` (n_el, n_loc) global indices,
+        ``r`` (n_el, n_loc) and ``k`` (n_el, n_loc, n_loc) element residuals and tangents.
+        """
+        dofs = np.asarray(dofs, dtype=np.int64)
+        out = cls(dofs.ravel(), np.asarray(r, dtype=float).ravel())
+        if k is not None:
+            n = dofs.shape[1]
+            out.k_rows = np.repeat(dofs, n, axis=1).ravel()
+            out.k_cols = np.tile(dofs, (1, n)).ravel()
+            out.k_vals = np.asarray(k, dtype=float).ravel()
+        return out
+
+    @classmethod
+    def concat(cls, parts: Iterable["Contribution"]) -> "Contribution":
+        parts = list(parts)
+        if not parts:
+            return cls.empty()
+        return cls(*(np.concatenate([getattr(p, a) for p in parts])
+                     for a in ("r_index", "r_value", "k_rows", "k_cols", "k_vals")))
+
+
+class Item:
+    """Base class of everything a model is made of.
+
+    Attributes
+    ----------
+    name : str
+        Unique name within the model (used in output file names and logs).
+    dof_kind : {"u", "lam", None}
+        Whether the item owns displacement unknowns, multiplier unknowns or none.
+    n_dofs : int
+        How many unknowns the item owns.
+    offset : int
+        Global index of the item's first unknown (set by :class:`Model`).
+    phase : str
+        Timing bucket of its assembly: "bulk", "contact" or "loads".
+    """
+
+    name: str = ""
+    dof_kind: str | None = None
+    n_dofs: int = 0
+    offset: int = 0
+    phase: str = "bulk"
+
+    # -- assembly ---------------------------------------------------------
+    def assemble(self, z: np.ndarray, load_factor: float,
+                 tangent: bool = True) -> Contribution:
+        """Residual contribution and (if ``tangent``) its derivative at ``z``.
+
+        A call with ``tangent=False`` is a trial evaluation (line search) and
+        must not change the item's state (e.g. an active set).
+        """
+        return Contribution.empty()
+
+    def prescribed(self, load_factor: float) -> tuple[np.ndarray, np.ndarray] | None:
+        """Global dofs fixed by this item and their values at ``load_factor``."""
+        return None
+
+    # -- hooks of the load stepping --------------------------------------
+    def begin_step(self, z: np.ndarray, load_factor: float) -> None:
+        """Called before each attempt of a load step (``z`` is the last converged state)."""
+
+    def end_step(self, z: np.ndarray, load_factor: float) -> None:
+        """Called once a load step has converged."""
+
+    def settled(self) -> bool:
+        """False while the item's discrete state (an active set) still changes."""
+        return True
+
+    def step_info(self) -> dict:
+        """Numbers to keep per converged step (e.g. ``n_active``)."""
+        return {}
+
+    @property
+    def dofs(self) -> slice:
+        """Global slice of the unknowns this item owns."""
+        return slice(self.offset, self.offset + self.n_dofs)
+
+
+class Dirichlet(Item):
+    """Prescribed values of global unknowns, ramped with the load factor.
+
+    ``value(load_factor) = ramp * load_factor * value + (1 - ramp) * value``.
+
+    Parameters
+    ----------
+    body : Item
+        The body whose unknowns are prescribed.
+    dofs : array of int
+        Indices *local to the body's block*.
+    value : float or array
+        Final prescribed value(s) (displacement).
+    ramp : bool
+        Scale the value with the load factor (default) or hold it fixed.
+    """
+
+    def __init__(self, body: Item, dofs: np.ndarray, value: float | np.ndarray = 0.0,
+                 ramp: bool = True, name: str = ""):
+        self.body = body
+        self.local_dofs = np.unique(np.asarray(dofs, dtype=np.int64).ravel())
+        if self.local_dofs.size and (self.local_dofs.min() < 0
+                                     or self.local_dofs.max() >= body.n_dofs):
+            raise ValueError(f"dofs must lie in [0, {body.n_dofs}) for body {body.name!r}")
+        value = np.asarray(value, dtype=float)
+        if value.ndim and value.shape != np.asarray(dofs).ravel().shape:
+            raise ValueError("value must be a scalar or one value per dof")
+        if value.ndim:  # keep values aligned with the sorted unique dofs
+            order = np.unique(np.asarray(dofs).ravel(), return_index=True)[1]
+            value = value[order]
+        if not np.all(np.isfinite(value)):
+            raise ValueError("value must be finite")
+        self.value = value
+        self.ramp = ramp
+        self.name = name or f"dirichlet_{body.name}"
+
+    def prescribed(self, load_factor: float) -> tuple[np.ndarray, np.ndarray]:
+        scale = load_factor if self.ramp else 1.0
+        vals = np.broadcast_to(scale * self.value, self.local_dofs.shape).astype(float)
+        return self.body.offset + self.local_dofs, vals
+
+
+class Model:
+    """A list of items with a global unknown layout.
+
+    Items with ``dof_kind == "u"`` get the first blocks (in the given order),
+    items with ``dof_kind == "lam"`` the blocks after them.
+    """
+
+    def __init__(self, items: Sequence[Item]):
+        self.items: list[Item] = list(items)
+        names = [it.name for it in self.items]
+        dup = {n for n in names if names.count(n) > 1 and n}
+        if dup:
+            raise ValueError(f"item names must be unique, repeated: {sorted(dup)}")
+        offset = 0
+        for kind in ("u", "lam"):
+            for it in self.items:
+                if it.dof_kind == kind:
+                    it.offset = offset
+                    offset += int(it.n_dofs)
+            if kind == "u":
+                self.n_u = offset
+        self.n = offset
+        self.n_lam = self.n - self.n_u
+        self.timers: dict[str, float] = defaultdict(float)
+
+    # -- queries -----------------------------------------------------------
+    def item(self, name: str) -> Item:
+        for it in self.items:
+            if it.name == name:
+                return it
+        raise KeyError(name)
+
+    @property
+    def bodies(self) -> list[Item]:
+        return [it for it in self.items if it.dof_kind == "u"]
+
+    def zeros(self) -> np.ndarray:
+        return np.zeros(self.n)
+
+    # -- assembly ----------------------------------------------------------
+    def prescribed(self, load_factor: float) -> tuple[np.ndarray, np.ndarray]:
+        """All prescribed global dofs and their values (conflicts raise ValueError)."""
+        dofs, vals = [np.zeros(0, dtype=np.int64)], [np.zeros(0)]
+        for it in self.items:
+            p = it.prescribed(load_factor)
+            if p is not None:
+                dofs.append(np.asarray(p[0], dtype=np.int64))
+                vals.append(np.asarray(p[1], dtype=float))
+        d, v = np.concatenate(dofs), np.concatenate(vals)
+        ud, inv = np.unique(d, return_inverse=True)
+        uv = np.zeros(len(ud))
+        uv[inv] = v
+        if len(ud) < len(d) and not np.allclose(uv[inv], v, rtol=1e-12, atol=0.0):
+            raise ValueError("the same dof is prescribed twice with different values")
+        return ud, uv
+
+    def assemble(self, z: np.ndarray, load_factor: float, tangent: bool = True
+                 ) -> tuple[np.ndarray, sp.csr_matrix | None, float]:
+        """Sum all contributions.
+
+        Returns
+        -------
+        R : ndarray (n,)
+            Global residual.
+        K : csr_matrix (n, n) or None
+            Global tangent dR/dz, built once from all COO triplets.
+        scale : float
+            The largest norm of a single item's residual: a force scale used by
+            the solver for relative convergence checks (units-free).
+        """
+        parts = []
+        scale = 0.0
+        for it in self.items:
+            t0 = time.perf_counter()
+            c = it.assemble(z, load_factor, tangent)
+            self.timers[it.phase] += time.perf_counter() - t0
+            if c.r_value.size:
+                scale = max(scale, float(np.linalg.norm(c.r_value)))
+            parts.append(c)
+        t0 = time.perf_counter()
+        c = Contribution.concat(parts)
+        R = np.bincount(c.r_index, weights=c.r_value, minlength=self.n)
+        K = None
+        if tangent:
+            K = sp.coo_matrix((c.k_vals, (c.k_rows, c.k_cols)),
+                              shape=(self.n, self.n)).tocsr()
+        self.timers["bulk"] += time.perf_counter() - t0
+        return R, K, scale
