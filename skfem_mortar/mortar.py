@@ -1,0 +1,303 @@
+"""Mortar contact kernel in 2D: weighted gaps, their exact first and second derivatives.
+
+Implements formulation.md, section 3, for linear 2-node segments.  For a slave
+node A with multiplier shape function Phi_A (standard: Phi_A = N_A; dual:
+biorthogonal to N_A), the weighted gap is
+
+    g_A = - sum_B n_AB . x_B + sum_C n_AC . x_C
+        = int_Gc Phi_A(xi1) (x_m(xi2) - x_s(xi1)) . n(xi1) dGamma,
+
+    n_AB = int Phi_A(xi1) N_B(xi1) n dGamma   ("D"),
+    n_AC = int Phi_A(xi1) N_C(xi2) n dGamma   ("M"),
+
+with ``n = n~ / |n~|``, ``n~(xi1) = N_1 n_a + N_2 n_b`` the interpolated
+averaged nodal normal of the slave surface (outward from the slave body), so
+``g > 0`` is open.  The integral is split into mortar segments (see
+:mod:`skfem_mortar.mortar_segmentation`); on a segment with slave end points
+``xi_a, xi_b`` and the Gauss rule ``(eta_k, w_k)`` on [-1, 1],
+
+    xi1 = (1 - eta)/2 xi_a + (1 + eta)/2 xi_b,
+    dGamma = |x_b - x_a| / 2 * (xi_b - xi_a) / 2 * w_k,
+
+and the master point ``x_m(xi2)`` is the projection of ``x_s(xi1)`` onto the
+master element along ``n~(xi1)`` at each Gauss point (exact also where ``xi2``
+is not linear in ``eta``: curved slave normal field).
+
+Linearization: every segment contribution is written as a composition of
+vectorized functions of the local node coordinates (4 slave nodes: previous,
+a, b, next, because the nodal normals of a and b involve the neighbouring
+segments; the 2 master nodes; for dual multipliers also the 2 master nodes
+bounding the projectable part of the slave element) and differentiated exactly
+to second order by forward-mode jets (:class:`~skfem_mortar.mortar_segmentation.Jet`).
+Hence ``G = dg/dx`` and ``H = sum_A lam_A d^2 g_A/dx^2`` are exact, including
+the derivatives of the nodal normals, the segment end points, the slave
+Jacobian, the Gauss point projections and the dual coefficients.
+"""
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+import scipy.sparse as sp
+
+from .contact_eval import ContactEval
+from .mortar_segmentation import (Jet, Segmentation, cross, nodal_normals,
+                                  project_point_on_slave, segment, slave_topology)
+
+__all__ = ["evaluate", "segment", "Segmentation", "dual_coefficients"]
+
+_CHUNK_ENTRIES = 4_000_000  # Hessian entries per chunk of segments (memory bound ~32 MB/array)
+
+
+def dual_coefficients(lo, hi):
+    """Dual shape function coefficients ``A_e = D_e M_e^{-1}`` on the projectable part.
+
+    With ``D_e = diag(int N_A)`` and ``M_e = int N_A N_B`` over ``xi in [lo, hi]``
+    (the slave Jacobian cancels), ``Phi_A = sum_B A_AB N_B`` satisfies
+    ``int Phi_A N_B = delta_AB int N_A`` on that part (Popp et al. 2013).  On the
+    full element ``A = [[2, -1], [-1, 2]]``.  Works on arrays and on jets.
+
+    Returns
+    -------
+    (a11, a12, a21, a22)
+    """
+    def prim(f, x):
+        return f(hi) - f(lo)
+    d1 = prim(lambda x: (x - x * x * 0.5) * 0.5, None)
+    d2 = prim(lambda x: (x + x * x * 0.5) * 0.5, None)
+    m11 = prim(lambda x: -(1.0 - x) * (1.0 - x) * (1.0 - x) * (1.0 / 12.0), None)
+    m22 = prim(lambda x: (1.0 + x) * (1.0 + x) * (1.0 + x) * (1.0 / 12.0), None)
+    m12 = prim(lambda x: (x - x * x * x * (1.0 / 3.0)) * 0.25, None)
+    det_inv = 1.0 / (m11 * m22 - m12 * m12)
+    return (d1 * m22 * det_inv, -(d1 * m12) * det_inv,
+            -(d2 * m12) * det_inv, d2 * m11 * det_inv)
+
+
+def _local_nodes(sg: Segmentation, seg_s: np.ndarray, seg_m: np.ndarray, n_s: int):
+    """Node data of each mortar segment: slave p, a, b, n; master m1, m2, lo, hi."""
+    prev, nxt = slave_topology(seg_s, n_s)
+    e, m = sg.e_s, sg.e_m
+    a, b = seg_s[e, 0], seg_s[e, 1]
+    has_p, has_n = prev[e] >= 0, nxt[e] >= 0
+    p = np.where(has_p, seg_s[np.maximum(prev[e], 0), 0], a)
+    n = np.where(has_n, seg_s[np.maximum(nxt[e], 0), 1], b)
+    m1, m2 = seg_m[m, 0], seg_m[m, 1]
+    lo_node = sg.elem_node[e, 0]
+    hi_node = sg.elem_node[e, 1]
+    return p, a, b, n, m1, m2, lo_node, hi_node, has_p, has_n
+
+
+def _chunk(xs, xm, sl, nd, sg: Segmentation, n_s: int, nv: int, second: bool,
+           dual: bool, cp: np.ndarray, eta: np.ndarray, w: np.ndarray):
+    """Jets of the weighted-gap contributions of the mortar segments ``sl``."""
+    p, a, b, n, m1, m2, lo_node, hi_node, has_p, has_n = (q[sl] for q in nd)
+    frozen = sg.frozen
+    xi_seg, src = sg.xi[sl], sg.src[sl]
+    e = sg.e_s[sl]
+    # positions; a missing neighbour gets a dummy position with weight 0
+    xp = np.where(has_p, xs[:, p], 2 * xs[:, a] - xs[:, b])
+    xn = np.where(has_n, xs[:, n], 2 * xs[:, b] - xs[:, a])
+    pos = [xp, xs[:, a], xs[:, b], xn, xm[:, m1], xm[:, m2]]
+    if nv > 12:
+        pos += [xm[:, np.maximum(lo_node, 0)], xm[:, np.maximum(hi_node, 0)]]
+    V = []
+    for k, xk in enumerate(pos):
+        if 2 * k + 1 < nv:
+            V.append((Jet.variable(xk[0], 2 * k, nv, second), Jet.variable(xk[1], 2 * k + 1, nv, second)))
+        else:
+            V.append((Jet.constant(xk[0], nv, second), Jet.constant(xk[1], nv, second)))
+    Xp, Xa, Xb, Xn, M1, M2 = V[:6]
+    na, nb, _ = nodal_normals(Xp, Xa, Xb, Xn, has_p * 1.0, has_n * 1.0)
+
+    def const(v):
+        return Jet.constant(v, nv, second)
+
+    # segment end points on the slave element
+    if frozen:
+        lo, hi = const(xi_seg[:, 0]), const(xi_seg[:, 1])
+    else:
+        p1, _ = project_point_on_slave(Xa, Xb, na, nb, M1)
+        p2, _ = project_point_on_slave(Xa, Xb, na, nb, M2)
+        minus, plus = const(-np.ones(e.size)), const(np.ones(e.size))
+        lo = Jet.where(src[:, 0] == -1, minus, Jet.where(src[:, 0] == 0, p1, p2))
+        hi = Jet.where(src[:, 1] == -1, plus, Jet.where(src[:, 1] == 0, p1, p2))
+
+    # multiplier coefficients Phi_a = c11 N1 + c12 N2, Phi_b = c21 N1 + c22 N2
+    if dual:
+        exi = sg.elem_xi[e]
+        if frozen or nv <= 12:
+            el, eh = const(exi[:, 0]), const(exi[:, 1])
+        else:
+            pl, _ = project_point_on_slave(Xa, Xb, na, nb, V[6])
+            ph, _ = project_point_on_slave(Xa, Xb, na, nb, V[7])
+            el = Jet.where(lo_node >= 0, pl, const(-np.ones(e.size)))
+            eh = Jet.where(hi_node >= 0, ph, const(np.ones(e.size)))
+        c = list(dual_coefficients(el, eh))
+    else:
+        c = [const(np.ones(e.size)), const(np.zeros(e.size)),
+             const(np.zeros(e.size)), const(np.ones(e.size))]
+    cpa, cpb = cp[sl, 0], cp[sl, 1]
+    if cpa.any() or cpb.any():
+        # crosspoint: its multiplier is merged into the neighbour, Phi_nb = 1 on e
+        one, zero = const(np.ones(e.size)), const(np.zeros(e.size))
+        c[0] = Jet.where(cpa, zero, Jet.where(cpb, one, c[0]))
+        c[1] = Jet.where(cpa, zero, Jet.where(cpb, one, c[1]))
+        c[2] = Jet.where(cpb, zero, Jet.where(cpa, one, c[2]))
+        c[3] = Jet.where(cpb, zero, Jet.where(cpa, one, c[3]))
+
+    # slave Jacobian times the segment's share of the parameter domain
+    tx, ty = Xb[0] - Xa[0], Xb[1] - Xa[1]
+    jac = (tx * tx + ty * ty).sqrt() * ((hi - lo) * 0.25)
+    # Gauss points: axis 1
+    E = lambda j: j.expand()  # noqa: E731
+    xi1 = E(lo) * ((1.0 - eta) * 0.5) + E(hi) * ((1.0 + eta) * 0.5)
+    N1 = (1.0 - xi1) * 0.5
+    N2 = (1.0 + xi1) * 0.5
+    xsx = N1 * E(Xa[0]) + N2 * E(Xb[0])
+    xsy = N1 * E(Xa[1]) + N2 * E(Xb[1])
+    nx = N1 * E(na[0]) + N2 * E(nb[0])
+    ny = N1 * E(na[1]) + N2 * E(nb[1])
+    # projection of x_s(xi1) onto the master line along n~: x_m = m1 + s (m2 - m1)
+    dmx, dmy = E(M2[0] - M1[0]), E(M2[1] - M1[1])
+    s = -cross(E(M1[0]) - xsx, E(M1[1]) - xsy, nx, ny) / cross(dmx, dmy, nx, ny)
+    gx = E(M1[0]) + s * dmx - xsx
+    gy = E(M1[1]) + s * dmy - xsy
+    gn = (gx * nx + gy * ny) * (nx * nx + ny * ny).sqrt().inv()
+    dG = E(jac) * w
+    f = gn * dG
+    phi_a = N1 * E(c[0]) + N2 * E(c[1])
+    phi_b = N1 * E(c[2]) + N2 * E(c[3])
+    ga = (phi_a * f).sum(1)
+    gb = (phi_b * f).sum(1)
+    # values for D, M, area (no derivatives)
+    dv, n1, n2, sv = dG.v, N1.v, N2.v, s.v
+    pa, pb = phi_a.v, phi_b.v
+    extra = dict(
+        area=np.stack([(n1 * dv).sum(1), (n2 * dv).sum(1)], 1),
+        D=np.stack([(pa * n1 * dv).sum(1), (pa * n2 * dv).sum(1),
+                    (pb * n1 * dv).sum(1), (pb * n2 * dv).sum(1)], 1),
+        M=np.stack([(pa * (1 - sv) * dv).sum(1), (pa * sv * dv).sum(1),
+                    (pb * (1 - sv) * dv).sum(1), (pb * sv * dv).sum(1)], 1),
+    )
+    return ga, gb, extra
+
+
+def evaluate(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarray,
+             lam: np.ndarray | None = None, tangent: bool = True, dual: bool = False,
+             n_gauss: int = 3, segmentation: Segmentation | None = None,
+             pairs: tuple[np.ndarray, np.ndarray] | None = None, margin: float | None = None,
+             crosspoints: np.ndarray | None = None, **options: Any) -> ContactEval:
+    """Mortar weighted gaps ``g``, ``G = dg/dx`` and ``H = sum_A lam_A d^2 g_A/dx^2``.
+
+    Parameters
+    ----------
+    xs, xm : ndarray (2, n_s), (2, n_m)
+        Current slave and master node coordinates.
+    seg_s, seg_m : int ndarray (n, 2)
+        Slave and master segments (outward right-hand normals, see module doc).
+    lam : ndarray (n_s,), optional
+        Multipliers; with ``tangent`` the Hessian ``H`` is returned.
+    tangent : bool
+        Compute ``G`` (and ``H`` if ``lam``).
+    dual : bool
+        Dual (biorthogonal) multipliers instead of the standard ``Phi_A = N_A``.
+        The coefficients are computed on the projectable part of each slave
+        element and differentiated (unless the segmentation is frozen).
+    n_gauss : int
+        Gauss points per mortar segment; 2 integrate ``Phi_A N_B`` exactly on
+        flat segments, the default 3 adds accuracy on curved surfaces.
+    segmentation : Segmentation, optional
+        Reuse these mortar segments (policy ``step``: built by :func:`segment`
+        after a converged step).  If ``segmentation.frozen`` the pair list, the
+        segment end points ``xi_a, xi_b`` on the slave elements and the dual
+        coefficients are held fixed: the returned ``g`` is the frozen residual
+        and ``G``, ``H`` its exact derivatives with those parameters fixed (the
+        normals, the slave Jacobian and the Gauss-point projections onto the
+        master still move; a Gauss point may then project onto the extension of
+        its master element).  If not frozen only the pair list is reused.
+        Default: segment the current configuration (policy ``iteration``).
+    pairs : (i_s, i_m), optional
+        Candidate element pairs (otherwise ``search.segment_pairs``).
+    margin : float, optional
+        Search margin (default: the largest element length).
+    crosspoints : int array, optional
+        Slave nodes (e.g. on a Dirichlet boundary) whose multiplier is merged
+        into the neighbour: on their element the neighbour's multiplier shape
+        function becomes 1 and theirs 0; they are never in ``mask``.
+
+    Returns
+    -------
+    ContactEval
+        ``info`` holds ``D`` (n_s, n_s) and ``M`` (n_s, n_m) csr, the scalar
+        mortar matrices ``int Phi_A N_B`` and ``int Phi_A N_C`` (for flat
+        surfaces ``n_AB = D_AB n``), and ``segmentation``.
+    """
+    if options:
+        raise TypeError(f"unknown options for mortar.evaluate: {sorted(options)}")
+    xs = np.asarray(xs, dtype=float).reshape(2, -1)
+    xm = np.asarray(xm, dtype=float).reshape(2, -1)
+    seg_s = np.asarray(seg_s, dtype=np.int64).reshape(-1, 2)
+    seg_m = np.asarray(seg_m, dtype=np.int64).reshape(-1, 2)
+    n_s, n_m = xs.shape[1], xm.shape[1]
+    ndof = 2 * n_s + 2 * n_m
+    sg = segmentation if segmentation is not None else segment(
+        xs, seg_s, xm, seg_m, pairs=pairs, margin=margin, frozen=False)
+    second = tangent and lam is not None
+    nv = (16 if (dual and not sg.frozen) else 12) if tangent else 0
+    cp_nodes = np.zeros(n_s, bool)
+    if crosspoints is not None:
+        cp_nodes[np.asarray(crosspoints, dtype=np.int64)] = True
+    nd = _local_nodes(sg, seg_s, seg_m, n_s)
+    p, a, b, n, m1, m2, lo_node, hi_node = nd[:8]
+    cp = np.stack([cp_nodes[a], cp_nodes[b]], 1)
+    eta, w = np.polynomial.legendre.leggauss(n_gauss)
+    # local dofs of each segment: nodes p, a, b, n (slave), m1, m2, lo, hi (master)
+    nodes = [2 * p, 2 * a, 2 * b, 2 * n, 2 * n_s + 2 * m1, 2 * n_s + 2 * m2,
+             2 * n_s + 2 * np.where(lo_node >= 0, lo_node, m1),
+             2 * n_s + 2 * np.where(hi_node >= 0, hi_node, m1)]
+    dofs = np.stack([d + k for d in nodes for k in (0, 1)], 1)[:, :nv]
+
+    nseg = sg.n
+    chunk = max(1, _CHUNK_ENTRIES // (n_gauss * max(nv, 1) ** (2 if second else 1)))
+    g = np.zeros(n_s)
+    area = np.zeros(n_s)
+    lamv = None if lam is None else np.asarray(lam, dtype=float)
+    Gr, Gc, Gv, Hr, Hc, Hv, ex = [], [], [], [], [], [], []
+    for start in range(0, nseg, chunk):  # memory blocking only; each block is vectorized
+        sl = slice(start, min(start + chunk, nseg))
+        ga, gb, extra = _chunk(xs, xm, sl, nd, sg, n_s, nv, second, dual, cp, eta, w)
+        ex.append(extra)
+        aa, bb = a[sl], b[sl]
+        np.add.at(g, aa, ga.v)
+        np.add.at(g, bb, gb.v)
+        if tangent:
+            dl = dofs[sl]
+            Gr += [np.repeat(aa, nv), np.repeat(bb, nv)]
+            Gc += [dl.ravel(), dl.ravel()]
+            Gv += [ga.g.ravel(), gb.g.ravel()]
+            if second:
+                hs = ga.h * lamv[aa, None, None] + gb.h * lamv[bb, None, None]
+                Hr.append(np.repeat(dl, nv, axis=1).ravel())
+                Hc.append(np.tile(dl, (1, nv)).ravel())
+                Hv.append(hs.ravel())
+    cat = (lambda L: np.concatenate(L)) if nseg else (lambda L: np.zeros(0))
+    area_seg = cat([x["area"] for x in ex]).reshape(-1, 2)
+    np.add.at(area, a, area_seg[:, 0])
+    np.add.at(area, b, area_seg[:, 1])
+    mask = (area > 0.0) & ~cp_nodes
+    g = np.where(mask, g, 0.0)
+    G = H = None
+    if tangent:
+        G = sp.coo_matrix((cat(Gv), (cat(Gr).astype(np.int64), cat(Gc).astype(np.int64))),
+                          shape=(n_s, ndof)).tocsr()
+        if second:
+            H = sp.coo_matrix((cat(Hv), (cat(Hr).astype(np.int64), cat(Hc).astype(np.int64))),
+                              shape=(ndof, ndof)).tocsr()
+    Dv = cat([x["D"] for x in ex]).reshape(-1, 4)
+    Mv = cat([x["M"] for x in ex]).reshape(-1, 4)
+    D = sp.coo_matrix((Dv.ravel(), (np.stack([a, a, b, b], 1).ravel(),
+                                    np.stack([a, b, a, b], 1).ravel())), shape=(n_s, n_s)).tocsr()
+    M = sp.coo_matrix((Mv.ravel(), (np.stack([a, a, b, b], 1).ravel(),
+                                    np.stack([m1, m2, m1, m2], 1).ravel())), shape=(n_s, n_m)).tocsr()
+    return ContactEval(g=g, G=G, H=H, area=area, mask=mask,
+                       info={"D": D, "M": M, "segmentation": sg, "n_segments": nseg})

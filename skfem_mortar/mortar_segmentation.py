@@ -1,0 +1,412 @@
+"""Mortar segmentation in 2D: slave normal field, projections, mortar segments.
+
+This module holds the geometry of the mortar method (formulation.md, section 3)
+and the small forward-mode differentiation tool used to linearize it.
+
+Slave normal field
+------------------
+A slave segment ``e = (a, b)`` with tangent ``t = x_b - x_a`` has the outward
+unit normal ``nu_e = (t_y, -t_x) / |t|``.  The nodal normal of a slave node is
+the normalized average of the unit normals of its (one or two) slave segments,
+``n_A = (nu_prev + nu_next) / |nu_prev + nu_next|``, and it is interpolated
+linearly (not normalized) along the slave segment,
+
+    n(xi) = N_1(xi) n_a + N_2(xi) n_b,   N_1 = (1 - xi)/2,  N_2 = (1 + xi)/2,
+    xi in [-1, 1].
+
+Projections (all along this field)
+-----------------------------------
+* A master node ``x_C`` projects onto the slave element at the ``xi`` solving
+  ``(x_s(xi) - x_C) x n(xi) = 0`` (``x`` the 2D cross product), a quadratic in
+  ``xi``, solved by Newton's method from the flat-surface (linear) estimate.
+* A slave point ``x_s(xi)`` projects onto the master element line
+  ``x_m(xi2) = N_1(xi2) x_m1 + N_2(xi2) x_m2`` along ``n(xi)``:
+  ``(x_m(xi2) - x_s) x n = 0`` is linear in ``xi2``.
+
+Mortar segments
+---------------
+For a candidate pair (slave element e, master element m) whose unit normals
+face each other (``nu_e . nu_m < 0``), the two master nodes project to
+``p_1, p_2`` on e; the mortar segment is ``[xi_a, xi_b] = [max(-1, min p),
+min(1, max p)]`` in the slave parameter (a slave node projecting inside the
+master element makes that slave end an end point; this is the projection of the
+slave nodes onto the master).  Segments with ``xi_b - xi_a <= XI_TOL`` are
+dropped (a segment that short contributes O(XI_TOL) to every integral, below
+round-off of the weighted gaps for elements of any practical size), as are
+slave or master elements shorter than ``LEN_TOL`` times the mean element
+length of their surface (degenerate, no normal).  Partial overlap at the ends
+of either surface is just the clipping above.
+
+Differentiation
+---------------
+:class:`Jet` carries a value with its gradient and Hessian with respect to a
+small set of local variables (the coordinates of the nodes a segment depends
+on), stacked over segments and Gauss points.  Composing jets applies the chain
+rule exactly, so first and second derivatives of every quantity of the mortar
+integral are exact.  Implicitly defined quantities (the projection of a master
+node) are differentiated by two Newton steps in jet arithmetic started from the
+converged value: Newton's map doubles the order of agreement per step, so two
+steps make value, gradient and Hessian exact.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+__all__ = ["Jet", "Segmentation", "segment", "slave_topology", "nodal_normals",
+           "project_point_on_slave", "XI_TOL", "LEN_TOL"]
+
+XI_TOL = 1e-10
+"""Mortar segments shorter than this in the slave parameter (of length 2) are dropped."""
+LEN_TOL = 1e-10
+"""Elements shorter than this times the mean element length are degenerate and dropped."""
+
+
+# --------------------------------------------------------------------------- jets
+def _outer(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    return a[..., :, None] * b[..., None, :]
+
+
+class Jet:
+    """A value with its gradient and Hessian w.r.t. ``nv`` local variables.
+
+    ``v`` has a shape ``S`` (e.g. ``(n_seg,)`` or ``(n_seg, n_gauss)``), ``g``
+    the shape ``S + (nv,)`` and ``h`` the shape ``S + (nv, nv)``; ``h`` is None
+    when only first derivatives are tracked.  Arithmetic with plain floats or
+    arrays of shape ``S`` treats those as constants.
+    """
+
+    __slots__ = ("v", "g", "h")
+    __array_ufunc__ = None  # make numpy arrays defer to Jet's reflected operators
+
+    def __init__(self, v: np.ndarray, g: np.ndarray, h: np.ndarray | None):
+        self.v, self.g, self.h = v, g, h
+
+    # -- construction
+    @staticmethod
+    def variable(v: np.ndarray, i: int, nv: int, second: bool) -> "Jet":
+        """The independent variable number ``i`` (gradient e_i, Hessian 0), as broadcast views."""
+        v = np.asarray(v, dtype=float)
+        e = np.zeros(nv)
+        e[i] = 1.0
+        g = np.broadcast_to(e, v.shape + (nv,))
+        h = np.broadcast_to(np.zeros((nv, nv)), v.shape + (nv, nv)) if second else None
+        return Jet(v, g, h)
+
+    @staticmethod
+    def constant(v: np.ndarray, nv: int, second: bool) -> "Jet":
+        """A constant (zero gradient and Hessian), as broadcast views."""
+        v = np.asarray(v, dtype=float)
+        g = np.broadcast_to(np.zeros(nv), v.shape + (nv,))
+        h = np.broadcast_to(np.zeros((nv, nv)), v.shape + (nv, nv)) if second else None
+        return Jet(v, g, h)
+
+    # -- arithmetic
+    def __add__(self, o):
+        if isinstance(o, Jet):
+            h = None if self.h is None else self.h + o.h
+            return Jet(self.v + o.v, self.g + o.g, h)
+        return Jet(self.v + o, self.g, self.h)
+
+    __radd__ = __add__
+
+    def __neg__(self):
+        return Jet(-self.v, -self.g, None if self.h is None else -self.h)
+
+    def __sub__(self, o):
+        return self + (-o)
+
+    def __rsub__(self, o):
+        return (-self) + o
+
+    def __mul__(self, o):
+        if isinstance(o, Jet):
+            g = self.g * o.v[..., None] + o.g * self.v[..., None]
+            h = None
+            if self.h is not None:
+                gg = _outer(self.g, o.g)
+                h = (self.h * o.v[..., None, None] + o.h * self.v[..., None, None]
+                     + gg + np.swapaxes(gg, -1, -2))
+            return Jet(self.v * o.v, g, h)
+        o = np.asarray(o, dtype=float)
+        h = None if self.h is None else self.h * o[..., None, None]
+        return Jet(self.v * o, self.g * o[..., None], h)
+
+    __rmul__ = __mul__
+
+    def _chain(self, f0, f1, f2) -> "Jet":
+        """``f(self)`` given ``f, f', f''`` evaluated at ``self.v``."""
+        h = None
+        if self.h is not None:
+            h = self.h * f1[..., None, None] + _outer(self.g, self.g) * f2[..., None, None]
+        return Jet(f0, self.g * f1[..., None], h)
+
+    def inv(self) -> "Jet":
+        """``1 / self``."""
+        r = 1.0 / self.v
+        return self._chain(r, -r * r, 2.0 * r * r * r)
+
+    def __truediv__(self, o):
+        if isinstance(o, Jet):
+            return self * o.inv()
+        return self * (1.0 / np.asarray(o, dtype=float))
+
+    def __rtruediv__(self, o):
+        return self.inv() * o
+
+    def sqrt(self) -> "Jet":
+        """``sqrt(self)``."""
+        s = np.sqrt(self.v)
+        return self._chain(s, 0.5 / s, -0.25 / (s * self.v))
+
+    # -- shape helpers
+    def expand(self) -> "Jet":
+        """Insert a Gauss-point axis after the segment axis: ``(n,) -> (n, 1)``."""
+        return Jet(self.v[:, None], self.g[:, None], None if self.h is None else self.h[:, None])
+
+    def sum(self, axis: int = 1) -> "Jet":
+        """Sum over a value axis (e.g. the Gauss points)."""
+        return Jet(self.v.sum(axis), self.g.sum(axis), None if self.h is None else self.h.sum(axis))
+
+    def take(self, idx) -> "Jet":
+        """Rows ``idx`` of the leading axis."""
+        return Jet(self.v[idx], self.g[idx], None if self.h is None else self.h[idx])
+
+    @staticmethod
+    def where(cond: np.ndarray, a: "Jet", b: "Jet") -> "Jet":
+        """Elementwise ``cond ? a : b`` (both jets of the same variables)."""
+        c = np.asarray(cond)
+        v = np.where(c, a.v, b.v)
+        g = np.where(c[..., None], a.g, b.g)
+        h = None if a.h is None else np.where(c[..., None, None], a.h, b.h)
+        return Jet(v, g, h)
+
+
+def _val(x):
+    return x.v if isinstance(x, Jet) else x
+
+
+def cross(ax, ay, bx, by):
+    """2D cross product ``a x b = a_x b_y - a_y b_x`` (jets or arrays)."""
+    return ax * by - ay * bx
+
+
+def normalize(x, y):
+    """``(x, y) / |(x, y)|`` for jets."""
+    r = (x * x + y * y).sqrt().inv()
+    return x * r, y * r
+
+
+# ---------------------------------------------------------------- slave topology
+def slave_topology(seg: np.ndarray, n_nodes: int) -> tuple[np.ndarray, np.ndarray]:
+    """Neighbouring segments along the slave chain.
+
+    Returns
+    -------
+    prev, next : int ndarray (n_seg,)
+        ``prev[e]``: the segment whose second node is the first node of ``e``
+        (-1 at the start of a chain); ``next[e]`` likewise at the other end.
+    """
+    seg = np.asarray(seg, dtype=np.int64).reshape(-1, 2)
+    ends = np.full(n_nodes, -1, dtype=np.int64)
+    starts = np.full(n_nodes, -1, dtype=np.int64)
+    ar = np.arange(seg.shape[0])
+    ends[seg[:, 1]] = ar
+    starts[seg[:, 0]] = ar
+    return ends[seg[:, 0]], starts[seg[:, 1]]
+
+
+def _unit_normal(x1, y1, x2, y2):
+    """Right-hand unit normal of the segment 1 -> 2 (jets)."""
+    return normalize(y2 - y1, x1 - x2)
+
+
+def nodal_normals(xp, xa, xb, xn, w_prev, w_next):
+    """Averaged nodal normals ``n_a, n_b`` of slave element (a, b) (jets).
+
+    ``n_a = normalize(w_prev nu(p, a) + nu(a, b))``, ``n_b = normalize(nu(a, b)
+    + w_next nu(b, n))`` with ``w = 0`` where the neighbour is missing (chain
+    ends); each argument ``x*`` is a pair ``(x, y)``.
+    """
+    nux, nuy = _unit_normal(*xa, *xb)
+    npx, npy = _unit_normal(*xp, *xa)
+    nnx, nny = _unit_normal(*xb, *xn)
+    na = normalize(npx * w_prev + nux, npy * w_prev + nuy)
+    nb = normalize(nnx * w_next + nux, nny * w_next + nuy)
+    return na, nb, (nux, nuy)
+
+
+def project_point_on_slave(xa, xb, na, nb, xc, n_newton: int = 8):
+    """Slave parameter ``xi`` of the projection of point ``xc`` along the normal field.
+
+    Solves ``f(xi) = (x_s(xi) - x_c) x n(xi) = c0 + c1 xi + c2 xi^2 = 0`` with
+    ``x_s = N_1 x_a + N_2 x_b`` and ``n = N_1 n_a + N_2 n_b``.  Newton on values
+    from the linear estimate ``-c0 / c1``, then two Newton steps in jet
+    arithmetic for exact first and second derivatives.  Works for jets (returns
+    a jet) and, with ``Jet`` inputs only, for any shape.
+
+    Returns
+    -------
+    xi : Jet
+    ok : bool ndarray, whether the value iteration converged to a finite root.
+    """
+    d0x = (xa[0] + xb[0]) * 0.5 - xc[0]
+    d0y = (xa[1] + xb[1]) * 0.5 - xc[1]
+    d1x = (xb[0] - xa[0]) * 0.5
+    d1y = (xb[1] - xa[1]) * 0.5
+    n0x, n0y = (na[0] + nb[0]) * 0.5, (na[1] + nb[1]) * 0.5
+    n1x, n1y = (nb[0] - na[0]) * 0.5, (nb[1] - na[1]) * 0.5
+    c0 = cross(d0x, d0y, n0x, n0y)
+    c1 = cross(d0x, d0y, n1x, n1y) + cross(d1x, d1y, n0x, n0y)
+    c2 = cross(d1x, d1y, n1x, n1y)
+    v0, v1, v2 = _val(c0), _val(c1), _val(c2)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        xi = -v0 / v1
+        for _ in range(n_newton):
+            xi = xi - (v0 + xi * (v1 + xi * v2)) / (v1 + 2.0 * xi * v2)
+        res = v0 + xi * (v1 + xi * v2)
+        ok = np.isfinite(xi) & (np.abs(res) <= 1e-10 * (np.abs(v0) + np.abs(v1) + np.abs(v2)) + 1e-300)
+    xi = np.where(ok, xi, 0.0)
+    if not isinstance(c0, Jet):
+        return xi, ok
+    xj = xi
+    for _ in range(2):
+        f = c0 + c1 * xj + c2 * xj * xj
+        df = c1 + c2 * xj * 2.0
+        xj = xj - f / df
+    return xj, ok
+
+
+# ------------------------------------------------------------------ segmentation
+@dataclass
+class Segmentation:
+    """Mortar segments of a slave/master surface pair (values, no derivatives).
+
+    Attributes
+    ----------
+    e_s, e_m : int ndarray (n_mseg,)
+        Slave and master element of each mortar segment.
+    xi : ndarray (n_mseg, 2)
+        Slave parameters ``xi_a < xi_b`` of the segment end points on ``e_s``.
+    src : int ndarray (n_mseg, 2)
+        Where each end point comes from: -1 a slave node (``xi = -+1``), 0 or 1
+        the projection of the first or second master node of ``e_m``.
+    elem_xi : ndarray (n_seg_s, 2)
+        Projectable part ``[l, h]`` of each slave element (union of its
+        segments, assumed connected); ``[1, -1]`` where it has none.
+    elem_node : int ndarray (n_seg_s, 2)
+        The master node whose projection gives ``l`` (resp. ``h``), -1 for a
+        slave end.
+    frozen : bool
+        When passed to ``evaluate``, whether end points are frozen (policy
+        ``step``) or only the pair list is reused and end points are recomputed.
+    """
+
+    e_s: np.ndarray
+    e_m: np.ndarray
+    xi: np.ndarray
+    src: np.ndarray
+    elem_xi: np.ndarray
+    elem_node: np.ndarray
+    frozen: bool = True
+
+    @property
+    def n(self) -> int:
+        """Number of mortar segments."""
+        return int(self.e_s.size)
+
+
+def _element_lengths(x: np.ndarray, seg: np.ndarray) -> np.ndarray:
+    d = x[:, seg[:, 1]] - x[:, seg[:, 0]]
+    return np.hypot(d[0], d[1])
+
+
+def segment(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarray,
+            pairs: tuple[np.ndarray, np.ndarray] | None = None, margin: float | None = None,
+            frozen: bool = True) -> Segmentation:
+    """Build the mortar segments for the current coordinates (vectorized over pairs).
+
+    Parameters
+    ----------
+    xs, xm : ndarray (2, n_s), (2, n_m)
+        Current slave and master node coordinates.
+    seg_s, seg_m : int ndarray (n, 2)
+        Slave and master segments, oriented with outward right-hand normals.
+    pairs : (i_s, i_m), optional
+        Candidate element pairs; by default ``search.segment_pairs`` with ``margin``.
+    margin : float, optional
+        Search margin; default the largest slave or master element length.
+    frozen : bool
+        Stored in the result (see :class:`Segmentation`).
+
+    Returns
+    -------
+    Segmentation
+    """
+    xs = np.asarray(xs, dtype=float).reshape(2, -1)
+    xm = np.asarray(xm, dtype=float).reshape(2, -1)
+    seg_s = np.asarray(seg_s, dtype=np.int64).reshape(-1, 2)
+    seg_m = np.asarray(seg_m, dtype=np.int64).reshape(-1, 2)
+    ls, lm = _element_lengths(xs, seg_s), _element_lengths(xm, seg_m)
+    if pairs is None:
+        from .search import segment_pairs
+        if margin is None:
+            margin = float(max(ls.max(initial=0.0), lm.max(initial=0.0)))
+        pairs = segment_pairs(xs, seg_s, xm, seg_m, margin)
+    i_s = np.asarray(pairs[0], dtype=np.int64)
+    i_m = np.asarray(pairs[1], dtype=np.int64)
+    good_s = ls > LEN_TOL * max(ls.mean() if ls.size else 0.0, 1e-300)
+    good_m = lm > LEN_TOL * max(lm.mean() if lm.size else 0.0, 1e-300)
+    keep = good_s[i_s] & good_m[i_m]
+    i_s, i_m = i_s[keep], i_m[keep]
+
+    prev, nxt = slave_topology(seg_s, xs.shape[1])
+    a, b = seg_s[i_s, 0], seg_s[i_s, 1]
+    pnode = np.where(prev[i_s] >= 0, seg_s[prev[i_s], 0], a)
+    nnode = np.where(nxt[i_s] >= 0, seg_s[nxt[i_s], 1], b)
+    xa, xb = xs[:, a], xs[:, b]
+    # a missing neighbour gets a harmless dummy position with weight 0
+    xp = np.where(prev[i_s] >= 0, xs[:, pnode], 2 * xa - xb)
+    xn = np.where(nxt[i_s] >= 0, xs[:, nnode], 2 * xb - xa)
+    one = 0, False  # values only: no derivatives needed here
+    J = lambda v: Jet.constant(v, *one)  # noqa: E731  values through the jet code
+    jx = [(J(p[0]), J(p[1])) for p in (xp, xa, xb, xn)]
+    na, nb, (nux, nuy) = nodal_normals(*jx, (prev[i_s] >= 0) * 1.0, (nxt[i_s] >= 0) * 1.0)
+    na = (na[0].v, na[1].v)
+    nb = (nb[0].v, nb[1].v)
+    # facing test with the master element's unit normal
+    m1, m2 = xm[:, seg_m[i_m, 0]], xm[:, seg_m[i_m, 1]]
+    tm = m2 - m1
+    facing = (nux.v * tm[1] - nuy.v * tm[0]) < 0.0
+    xa_, xb_ = (xa[0], xa[1]), (xb[0], xb[1])
+    p1, ok1 = project_point_on_slave(xa_, xb_, na, nb, (m1[0], m1[1]))
+    p2, ok2 = project_point_on_slave(xa_, xb_, na, nb, (m2[0], m2[1]))
+    lo = np.maximum(-1.0, np.minimum(p1, p2))
+    hi = np.minimum(1.0, np.maximum(p1, p2))
+    src_lo = np.where(lo == -1.0, -1, np.where(p1 <= p2, 0, 1))
+    src_hi = np.where(hi == 1.0, -1, np.where(p1 <= p2, 1, 0))
+    keep = facing & ok1 & ok2 & (hi - lo > XI_TOL)
+    e_s, e_m = i_s[keep], i_m[keep]
+    xi = np.stack([lo[keep], hi[keep]], axis=1)
+    src = np.stack([src_lo[keep], src_hi[keep]], axis=1)
+
+    # projectable part of each slave element: extreme end points of its segments
+    n_es = seg_s.shape[0]
+    elem_xi = np.tile(np.array([1.0, -1.0]), (n_es, 1))
+    elem_node = np.full((n_es, 2), -1, dtype=np.int64)
+    if e_s.size:
+        node_lo = np.where(src[:, 0] >= 0, seg_m[e_m, np.maximum(src[:, 0], 0)], -1)
+        node_hi = np.where(src[:, 1] >= 0, seg_m[e_m, np.maximum(src[:, 1], 0)], -1)
+        o = np.lexsort((xi[:, 0], e_s))          # first of each element: smallest xi_a
+        first = np.ones(o.size, bool)
+        first[1:] = e_s[o[1:]] != e_s[o[:-1]]
+        elem_xi[e_s[o[first]], 0] = xi[o[first], 0]
+        elem_node[e_s[o[first]], 0] = node_lo[o[first]]
+        o = np.lexsort((-xi[:, 1], e_s))         # first of each element: largest xi_b
+        first = np.ones(o.size, bool)
+        first[1:] = e_s[o[1:]] != e_s[o[:-1]]
+        elem_xi[e_s[o[first]], 1] = xi[o[first], 1]
+        elem_node[e_s[o[first]], 1] = node_hi[o[first]]
+    return Segmentation(e_s=e_s, e_m=e_m, xi=xi, src=src, elem_xi=elem_xi,
+                        elem_node=elem_node, frozen=frozen)
