@@ -31,6 +31,7 @@ def atomic_path(path: str | os.PathLike, suffix: str = "") -> Iterator[Path]:
     tmp = Path(tmp)
     try:
         yield tmp
+        os.chmod(tmp, 0o644)
         os.replace(tmp, path)
     finally:
         if tmp.exists():
@@ -97,11 +98,17 @@ def write_series(path: str | os.PathLike, mesh: tuple, frames: Sequence[tuple]) 
                                  "refusing to write them")
     tmpdir = Path(tempfile.mkdtemp(prefix=f".{path.stem}.", dir=path.parent))
     try:
-        tmp = tmpdir / path.name
-        with meshio.xdmf.TimeSeriesWriter(str(tmp)) as writer:
-            writer.write_points_cells(_points3(points), cells)
-            for t, pdata, cdata in frames:
-                writer.write_data(float(t), point_data=pdata, cell_data=cdata)
+        # meshio's TimeSeriesWriter puts the .h5 into the *current* directory,
+        # so write from inside the temporary directory
+        cwd = os.getcwd()
+        os.chdir(tmpdir)
+        try:
+            with meshio.xdmf.TimeSeriesWriter(path.name) as writer:
+                writer.write_points_cells(_points3(points), cells)
+                for t, pdata, cdata in frames:
+                    writer.write_data(float(t), point_data=pdata, cell_data=cdata)
+        finally:
+            os.chdir(cwd)
         # the .xdmf refers to its .h5 by file name, so both keep their names
         for f in sorted(tmpdir.iterdir(), key=lambda p: p.suffix != ".h5"):
             os.replace(f, path.parent / f.name)

@@ -191,10 +191,12 @@ class Model:
 
     def __init__(self, items: Sequence[Item]):
         self.items: list[Item] = list(items)
-        names = [it.name for it in self.items]
-        dup = {n for n in names if names.count(n) > 1 and n}
+        # bodies and contact pairs name output files and blocks: their names are unique
+        names = [it.name for it in self.items if it.dof_kind is not None]
+        dup = {n for n in names if names.count(n) > 1}
         if dup:
-            raise ValueError(f"item names must be unique, repeated: {sorted(dup)}")
+            raise ValueError(f"body and contact pair names must be unique, repeated: "
+                             f"{sorted(dup)}")
         offset = 0
         for kind in ("u", "lam"):
             for it in self.items:

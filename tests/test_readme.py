@@ -1,0 +1,18 @@
+"""The README's Python example runs as written (keeps the README true)."""
+import re
+from pathlib import Path
+
+README = Path(__file__).resolve().parents[1] / "README.md"
+
+
+def test_readme_python_blocks_run():
+    blocks = re.findall(r"```python\n(.*?)```", README.read_text(), re.S)
+    assert blocks, "README has no Python example"
+    for code in blocks:
+        exec(compile(code, "README.md", "exec"), {})
+
+
+def test_readme_test_command_is_what_ci_runs():
+    ci = (README.parent / ".ci" / "run").read_text()
+    cmd = re.search(r"Run the tests.*?\n\n\s+(.+?)\n", README.read_text(), re.S).group(1)
+    assert cmd.strip() in ci
