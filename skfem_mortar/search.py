@@ -99,7 +99,10 @@ def box_pairs(lo_a: np.ndarray, hi_a: np.ndarray, lo_b: np.ndarray, hi_b: np.nda
     if small_a.size and small_b.size:
         r = sa[small_a].max() + sb[small_b].max() + margin
         ta, tb = cKDTree(ca[:, small_a].T), cKDTree(cb[:, small_b].T)
-        hits = ta.sparse_distance_matrix(tb, r * (1 + 1e-12) + 1e-300, p=np.inf,
+        # widen by round-off of the centres so that touching boxes are kept;
+        # the exact test below decides
+        scale = max(np.abs(ca).max(), np.abs(cb).max(), r)
+        hits = ta.sparse_distance_matrix(tb, r + 1e-12 * scale + 1e-300, p=np.inf,
                                          output_type="ndarray")
         i = small_a[hits["i"].astype(np.int64)]
         j = small_b[hits["j"].astype(np.int64)]

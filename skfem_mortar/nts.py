@@ -1,0 +1,199 @@
+"""Node-to-segment (NTS) contact: closest-point projection, normal gap and its derivatives.
+
+For a slave node ``x`` and the master segment ``(x_1, x_2)`` it projects on,
+
+    t  = x_2 - x_1,   l = |t|,   e = t / l,   n = (t_y, -t_x) / l   (outward master normal)
+    xi = (x - x_1) . t / l^2                                      (closest-point parameter)
+    g  = [x - (1 - xi) x_1 - xi x_2] . n = (x - x_1) . n          (normal gap, > 0 open)
+
+With ``q = [x, x_1, x_2]`` (6 unknowns) the first variation, which includes the
+variations of ``xi`` and ``n`` (they cancel exactly because ``t . n = 0`` and
+``(x - x^M) || n``), is
+
+    dg/dq = [n; -(1 - xi) n; -xi n]
+
+and the second variation is the symmetric 6 x 6 matrix
+
+    d^2 g/dq^2 = (a c^T + c a^T) / l - (g / l^2) a a^T,
+    a = [0; n; -n],   c = [e; -(1 - xi) e; -xi e]
+
+(from ``dn/dt = -e n^T / l`` and ``dxi/dq = c / l - (g / l^2) a``).
+
+Projection and partner search
+-----------------------------
+Every call redoes the search (:func:`skfem_mortar.search.node_segment_pairs`,
+O(n log n)): candidates are the master segments whose bounding boxes, inflated
+by ``margin``, contain the slave node, plus the two segments at the master
+vertex nearest to it (a kd-tree query), so a node far from every box (deep
+penetration after a large Newton step) still finds its partner.  Of the
+candidates the one at the smallest distance from its clipped projection
+``x^M(clip(xi, 0, 1))`` wins; ties (a node facing a convex vertex between two
+segments, both clipped to it) go to the segment whose unclipped ``xi`` is
+nearest to ``[0, 1]``.  The gap is then the distance to that segment's line
+with the unclipped ``xi`` (a smooth function for a fixed segment; the switch of
+segment at a vertex makes g_N non-smooth there -- the known NTS defect).  A node
+whose projection falls off the free end of an open master chain
+(``xi < -end_tolerance`` on the first segment or ``xi > 1 + end_tolerance`` on
+the last) has left the master surface: ``mask`` is False and it stays inactive.
+
+Two-pass NTS is left out on purpose: with both surfaces acting as slave and
+master, a matching (or nearly matching) interface gets two nearly identical
+constraints per node pair, the multiplier block becomes rank deficient and the
+saddle-point system singular (or ill-conditioned) -- exactly the case of the
+patch test.  Single pass with the finer surface as slave is the usual remedy.
+"""
+from __future__ import annotations
+
+import numpy as np
+import scipy.sparse as sp
+from scipy.spatial import cKDTree
+
+from .contact_eval import ContactEval
+from .search import node_segment_pairs
+from .surfaces import segment_normals, tributary_lengths
+
+__all__ = ["evaluate", "project"]
+
+
+def _check(x: np.ndarray, seg: np.ndarray, what: str) -> tuple[np.ndarray, np.ndarray]:
+    x = np.asarray(x, dtype=float)
+    if x.ndim != 2 or x.shape[0] != 2:
+        raise ValueError(f"{what} coordinates must have shape (2, n), got {x.shape}")
+    seg = np.asarray(seg, dtype=np.int64).reshape(-1, 2)
+    if seg.size and (seg.min() < 0 or seg.max() >= x.shape[1]):
+        raise ValueError(f"{what} segments must index nodes in [0, {x.shape[1]})")
+    return x, seg
+
+
+def project(xs: np.ndarray, xm: np.ndarray, seg_m: np.ndarray, margin: float | None = None,
+            end_tolerance: float = 1e-8) -> dict:
+    """Closest-point projection of every slave node on the master chain.
+
+    Parameters
+    ----------
+    xs : ndarray (2, n_s)
+        Slave node coordinates.
+    xm : ndarray (2, n_m)
+        Master node coordinates.
+    seg_m : int ndarray (n_seg, 2)
+        Master segments, oriented (outward normal on the right).
+    margin : float, optional
+        Box inflation of the search (default: the median master segment length).
+    end_tolerance : float
+        Tolerance on ``xi`` at the free ends of an open master chain (>= 0).
+
+    Returns
+    -------
+    dict with ``segment`` (n_s,) master segment index, ``xi`` (n_s,) unclipped
+    parameter, ``mask`` (n_s,) bool, ``n``/``e`` (2, n_s) master normal and
+    tangent, ``l`` (n_s,) segment length, ``g`` (n_s,) normal gap.
+    """
+    if not (np.isfinite(end_tolerance) and end_tolerance >= 0):
+        raise ValueError(f"end_tolerance must be a finite number >= 0, got {end_tolerance}")
+    n_s, n_m = xs.shape[1], xm.shape[1]
+    nrm, lm = segment_normals(xm, seg_m)
+    if margin is None:
+        margin = float(np.median(lm)) if lm.size else 0.0
+    i_n, i_e = node_segment_pairs(xs, xm, seg_m, margin)
+    # the segments at the nearest master vertex (covers nodes far from all boxes)
+    seg_of_start = np.full(n_m, -1, dtype=np.int64)
+    seg_of_end = np.full(n_m, -1, dtype=np.int64)
+    seg_of_start[seg_m[:, 0]] = np.arange(len(seg_m))
+    seg_of_end[seg_m[:, 1]] = np.arange(len(seg_m))
+    _, jn = cKDTree(xm.T).query(xs.T)
+    k2 = np.concatenate([np.arange(n_s), np.arange(n_s)])
+    e2 = np.concatenate([seg_of_start[jn], seg_of_end[jn]])
+    ok = e2 >= 0
+    i_n = np.concatenate([i_n, k2[ok]])
+    i_e = np.concatenate([i_e, e2[ok]])
+    key = np.unique(i_n * len(seg_m) + i_e)
+    i_n, i_e = key // len(seg_m), key % len(seg_m)
+    # projection on each candidate
+    x1, x2 = xm[:, seg_m[i_e, 0]], xm[:, seg_m[i_e, 1]]
+    t = x2 - x1
+    l2 = np.sum(t * t, axis=0)
+    d1 = xs[:, i_n] - x1
+    xi = np.sum(d1 * t, axis=0) / l2
+    xp = np.where(xi <= 0, x1, np.where(xi >= 1, x2, x1 + xi * t))
+    dist = np.hypot(*(xs[:, i_n] - xp))
+    over = np.maximum(np.maximum(-xi, xi - 1.0), 0.0)
+    order = np.lexsort((over, dist, i_n))
+    first = np.unique(i_n[order], return_index=True)[1]
+    best = order[first]
+    k, e, xi = i_n[best], i_e[best], xi[best]
+    segment = np.full(n_s, -1, dtype=np.int64)
+    segment[k] = e
+    xi_all = np.zeros(n_s)
+    xi_all[k] = xi
+    mask = segment >= 0
+    # has the node left the free end of an open master chain?
+    is_first = seg_of_end[seg_m[:, 0]] < 0
+    is_last = seg_of_start[seg_m[:, 1]] < 0
+    es = np.where(mask, segment, 0)
+    off = (is_first[es] & (xi_all < -end_tolerance)) | (is_last[es] & (xi_all > 1 + end_tolerance))
+    mask &= ~off
+    n = nrm[:, es]
+    l = lm[es]
+    ev = (xm[:, seg_m[es, 1]] - xm[:, seg_m[es, 0]]) / l
+    g = np.sum((xs - xm[:, seg_m[es, 0]]) * n, axis=0)
+    g = np.where(mask, g, 0.0)
+    return {"segment": np.where(mask, segment, -1), "xi": xi_all, "mask": mask,
+            "n": n, "e": ev, "l": l, "g": g}
+
+
+def evaluate(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarray,
+             lam: np.ndarray | None = None, tangent: bool = True,
+             margin: float | None = None, end_tolerance: float = 1e-8) -> ContactEval:
+    """NTS gaps ``g_N`` of the slave nodes, ``G = dg/dx`` and ``H = sum_k lam_k d^2 g_k/dx^2``.
+
+    Parameters
+    ----------
+    xs, seg_s : slave coordinates (2, n_s) and segments (n_seg_s, 2)
+    xm, seg_m : master coordinates (2, n_m) and segments (n_seg_m, 2)
+    lam : ndarray (n_s,), optional
+        Nodal contact forces (multipliers); needed for ``H``.
+    tangent : bool
+        Whether to build ``G`` (and ``H`` when ``lam`` is given).
+    margin, end_tolerance : see :func:`project`.
+
+    Returns
+    -------
+    ContactEval
+        Local dof order: slave node k -> 2k, 2k+1; master node j -> 2 n_s + 2j, 2 n_s + 2j + 1.
+        ``area`` is the tributary length of each slave node; ``info`` holds
+        ``xi``, ``segment`` and ``normal``.
+    """
+    xs, seg_s = _check(xs, seg_s, "slave")
+    xm, seg_m = _check(xm, seg_m, "master")
+    n_s, n_m = xs.shape[1], xm.shape[1]
+    if lam is not None:
+        lam = np.asarray(lam, dtype=float).ravel()
+        if lam.shape != (n_s,):
+            raise ValueError(f"lam must have shape ({n_s},), got {lam.shape}")
+    pr = project(xs, xm, seg_m, margin, end_tolerance)
+    mask, g, xi, n, e, l = pr["mask"], pr["g"], pr["xi"], pr["n"], pr["e"], pr["l"]
+    area = tributary_lengths(xs, seg_s)
+    info = {"xi": xi, "segment": pr["segment"], "normal": n}
+    ndof = 2 * n_s + 2 * n_m
+    if not tangent:
+        return ContactEval(g=g, G=None, H=None, area=area, mask=mask, info=info)
+    k = np.flatnonzero(mask)
+    es = pr["segment"][k]
+    j1, j2 = seg_m[es, 0], seg_m[es, 1]
+    dofs = np.column_stack([2 * k, 2 * k + 1,
+                            2 * n_s + 2 * j1, 2 * n_s + 2 * j1 + 1,
+                            2 * n_s + 2 * j2, 2 * n_s + 2 * j2 + 1])  # (m, 6)
+    nk, ek, xk = n[:, k].T, e[:, k].T, xi[k][:, None]  # (m, 2)
+    dg = np.hstack([nk, -(1 - xk) * nk, -xk * nk])  # (m, 6)
+    G = sp.csr_matrix((dg.ravel(), (np.repeat(k, 6), dofs.ravel())), shape=(n_s, ndof))
+    H = None
+    if lam is not None:
+        a = np.hstack([np.zeros_like(nk), nk, -nk])
+        c = np.hstack([ek, -(1 - xk) * ek, -xk * ek])
+        lk, gk = l[k][:, None, None], g[k][:, None, None]
+        ac = a[:, :, None] * c[:, None, :]
+        h = (ac + ac.transpose(0, 2, 1)) / lk - gk / lk**2 * (a[:, :, None] * a[:, None, :])
+        h *= lam[k][:, None, None]
+        H = sp.csr_matrix((h.ravel(), (np.repeat(dofs, 6, axis=1).ravel(),
+                                       np.tile(dofs, (1, 6)).ravel())), shape=(ndof, ndof))
+    return ContactEval(g=g, G=G, H=H, area=area, mask=mask, info=info)
