@@ -128,6 +128,10 @@ class Material:
                            ) -> tuple[np.ndarray, np.ndarray | None]:
         raise NotImplementedError
 
+    def energy(self, F: np.ndarray) -> np.ndarray:
+        """Strain energy density ``W(F)`` per unit reference volume."""
+        raise NotImplementedError
+
     def stress_zz(self, F: np.ndarray) -> np.ndarray:
         """Out-of-plane Cauchy stress ``sigma_zz`` (plane strain)."""
         raise NotImplementedError
@@ -181,6 +185,13 @@ class NeoHooke(Material):
              + self.lmbda * np.einsum("Ji...,Lk...->iJkL...", Fi, Fi))
         return P, A
 
+    def energy(self, F: np.ndarray) -> np.ndarray:
+        """``W = mu/2 (tr C - 2 - 2 ln J) + lambda/2 (ln J)^2``."""
+        F = np.asarray(F, dtype=float)
+        lnJ = np.log(_checked_det(F))
+        trC = np.einsum("iJ...,iJ...->...", F, F)
+        return 0.5 * self.mu * (trC - 2.0 - 2.0 * lnJ) + 0.5 * self.lmbda * lnJ ** 2
+
     def stress_zz(self, F: np.ndarray) -> np.ndarray:
         J = _checked_det(F)
         return self.lmbda * np.log(J) / J
@@ -228,6 +239,15 @@ class SaintVenantKirchhoff(Material):
              + self.mu * (np.einsum("iL...,kJ...->iJkL...", F, F)
                           + np.einsum("ik...,JL->iJkL...", B, eye)))
         return P, A
+
+    def energy(self, F: np.ndarray) -> np.ndarray:
+        """``W = lambda/2 (tr E)^2 + mu E : E``."""
+        F = np.asarray(F, dtype=float)
+        _checked_det(F)
+        C = np.einsum("kI...,kJ...->IJ...", F, F)
+        E = 0.5 * (C - np.eye(2)[(...,) + (np.newaxis,) * (F.ndim - 2)])
+        trE = E[0, 0] + E[1, 1]
+        return 0.5 * self.lmbda * trE ** 2 + self.mu * np.einsum("IJ...,IJ...->...", E, E)
 
     def stress_zz(self, F: np.ndarray) -> np.ndarray:
         J = _checked_det(F)
