@@ -48,7 +48,8 @@ def _cmd_run(args: argparse.Namespace) -> int:
     from .runner import run_scene
 
     summary = run_scene(args.scene, _parse_sets(args.set), method=args.method,
-                        steps=args.steps, out=args.out, progress=not args.no_progress)
+                        steps=args.steps, out=args.out, progress=not args.no_progress,
+                        resume=args.resume)
     if args.json:
         print(json.dumps(summary))
     else:
@@ -71,7 +72,8 @@ def _cmd_demo(args: argparse.Namespace) -> int:
     except ValueError:  # the paper's scene is not there yet: run the block
         scene = "block"
     ns = argparse.Namespace(scene=scene, set=[], method=args.method if scene == "seed" else None,
-                            steps=None, out=args.out, json=False, no_progress=False)
+                            steps=None, out=args.out, json=False, no_progress=False,
+                            resume=False)
     return _cmd_run(ns)
 
 
@@ -95,6 +97,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--out", default=None, help="output directory")
     p.add_argument("--json", action="store_true", help="print one JSON object on stdout")
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
+    p.add_argument("--resume", action="store_true",
+                   help="continue from the checkpoint in --out (same scene and settings)")
     p.set_defaults(func=_cmd_run)
 
     p = sub.add_parser("demo", help="run the demo scene and write its outputs")
@@ -119,6 +123,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     except ValueError as exc:
         print(f"skfem-mortar: error: {exc}", file=sys.stderr)
         return 2
+    except OSError as exc:
+        print(f"skfem-mortar: failed: {exc}", file=sys.stderr)
+        return 1
     except ConvergenceError as exc:
         print(f"skfem-mortar: failed: {exc}", file=sys.stderr)
         return 1

@@ -1,4 +1,5 @@
-"""Output files, written atomically: result series (XDMF), summary.json, contact.csv.
+"""Output files, written atomically: result series (PVD + VTU), summary.json,
+contact.csv, and the checkpoint a run resumes from.
 
 Every file is first written under a temporary name in the target directory and
 then renamed (``os.replace`` is atomic on POSIX), so a reader never sees a
@@ -9,7 +10,6 @@ from __future__ import annotations
 import json
 import math
 import os
-import shutil
 import tempfile
 from contextlib import contextmanager
 from pathlib import Path
@@ -17,7 +17,8 @@ from typing import Any, Iterator, Sequence
 
 import numpy as np
 
-__all__ = ["atomic_path", "write_json", "write_contact_csv", "write_series"]
+__all__ = ["atomic_path", "write_json", "write_contact_csv", "SeriesWriter", "read_series",
+           "write_checkpoint", "read_checkpoint"]
 
 
 @contextmanager
@@ -74,43 +75,90 @@ def _points3(points: np.ndarray) -> np.ndarray:
     return points
 
 
-def write_series(path: str | os.PathLike, mesh: tuple, frames: Sequence[tuple]) -> None:
-    """Write a time series as XDMF + HDF5 (meshio), atomically.
+def _check_finite_fields(point_data: dict, cell_data: dict, t: float) -> None:
+    for name, arr in list(point_data.items()) + [(k, a) for k, v in cell_data.items()
+                                                 for a in v]:
+        if not np.all(np.isfinite(np.asarray(arr, dtype=float))):
+            raise ValueError(f"non-finite values in field {name!r} at t={t}: "
+                             "refusing to write them")
+
+
+class SeriesWriter:
+    """A result series as ParaView's PVD index plus one VTU file per frame.
+
+    Each frame is written atomically as ``<name>/<name>_NNNN.vtu`` and then the
+    index ``<name>.pvd`` is rewritten atomically, so after a crash every frame
+    the index lists is complete and readable (meshio reads the VTU files,
+    ParaView the PVD). Frames beyond a resumed run's restart are replaced.
 
     Parameters
     ----------
-    path : path
-        Target ``.xdmf`` file; its ``.h5`` companion goes beside it.
+    directory : path
+        Output directory.
+    name : str
+        Series name (the body's name).
     mesh : (points, cells)
-        Reference mesh (points (N, 2) or (N, 3); cells as meshio takes them).
-    frames : sequence of (time, point_data, cell_data)
-        One entry per output step.
+        Reference mesh: points (N, 2) or (N, 3), cells as meshio takes them.
     """
-    import meshio  # lazily: the command line starts fast
+
+    def __init__(self, directory: str | os.PathLike, name: str, mesh: tuple):
+        self.directory = Path(directory)
+        self.name = name
+        self.points = _points3(mesh[0])
+        self.cells = mesh[1]
+        self.frames: list[tuple[float, str]] = []
+        (self.directory / name).mkdir(parents=True, exist_ok=True)
+
+    @property
+    def index_path(self) -> Path:
+        return self.directory / f"{self.name}.pvd"
+
+    def write(self, t: float, point_data: dict, cell_data: dict,
+              index: int | None = None) -> Path:
+        """Write frame ``index`` (default: the next one) at time ``t``."""
+        import meshio  # lazily: the command line starts fast
+
+        _check_finite_fields(point_data, cell_data, t)
+        index = len(self.frames) if index is None else index
+        del self.frames[index:]
+        rel = f"{self.name}/{self.name}_{index:04d}.vtu"
+        mesh = meshio.Mesh(self.points, self.cells, point_data=point_data,
+                           cell_data=cell_data)
+        with atomic_path(self.directory / rel, suffix=".vtu") as tmp:
+            meshio.write(tmp, mesh, file_format="vtu")
+        self.frames.append((float(t), rel))
+        entries = "\n".join(f'    <DataSet timestep="{tt:.12g}" part="0" file="{f}"/>'
+                            for tt, f in self.frames)
+        with atomic_path(self.index_path) as tmp:
+            tmp.write_text('<?xml version="1.0"?>\n<VTKFile type="Collection" '
+                           'version="0.1">\n  <Collection>\n' + entries +
+                           "\n  </Collection>\n</VTKFile>\n")
+        return self.directory / rel
+
+
+def read_series(path: str | os.PathLike) -> list[tuple[float, "object"]]:
+    """Frames of a PVD series as ``(time, meshio.Mesh)``."""
+    import xml.etree.ElementTree as ET
+
+    import meshio
 
     path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    points, cells = mesh
-    for t, pdata, cdata in frames:
-        for name, arr in list(pdata.items()) + [(k, a) for k, v in cdata.items() for a in v]:
-            if not np.all(np.isfinite(np.asarray(arr, dtype=float))):
-                raise ValueError(f"non-finite values in field {name!r} at t={t}: "
-                                 "refusing to write them")
-    tmpdir = Path(tempfile.mkdtemp(prefix=f".{path.stem}.", dir=path.parent))
-    try:
-        # meshio's TimeSeriesWriter puts the .h5 into the *current* directory,
-        # so write from inside the temporary directory
-        cwd = os.getcwd()
-        os.chdir(tmpdir)
-        try:
-            with meshio.xdmf.TimeSeriesWriter(path.name) as writer:
-                writer.write_points_cells(_points3(points), cells)
-                for t, pdata, cdata in frames:
-                    writer.write_data(float(t), point_data=pdata, cell_data=cdata)
-        finally:
-            os.chdir(cwd)
-        # the .xdmf refers to its .h5 by file name, so both keep their names
-        for f in sorted(tmpdir.iterdir(), key=lambda p: p.suffix != ".h5"):
-            os.replace(f, path.parent / f.name)
-    finally:
-        shutil.rmtree(tmpdir, ignore_errors=True)
+    root = ET.parse(path).getroot()
+    return [(float(ds.get("timestep")), meshio.read(path.parent / ds.get("file")))
+            for ds in root.iter("DataSet")]
+
+
+def write_checkpoint(path: str | os.PathLike, meta: dict, states: np.ndarray,
+                     history: list[dict]) -> None:
+    """Everything needed to resume: the run's identity, all states, the step records."""
+    if not np.all(np.isfinite(states)):
+        raise ValueError("non-finite state: refusing to write the checkpoint")
+    with atomic_path(path, suffix=".npz") as tmp:
+        with open(tmp, "wb") as f:
+            np.savez(f, states=states, meta=json.dumps(meta), history=json.dumps(history))
+
+
+def read_checkpoint(path: str | os.PathLike) -> tuple[dict, np.ndarray, list[dict]]:
+    with np.load(path) as data:
+        return (json.loads(str(data["meta"])), np.array(data["states"]),
+                json.loads(str(data["history"])))

@@ -37,7 +37,14 @@ class StepRecord:
     n_active: int = 0
     active_set_changes: int = 0
     cuts: int = 0
+    increment: float = 0.0
     info: dict = field(default_factory=dict)
+
+    @classmethod
+    def from_dict(cls, d: dict) -> "StepRecord":
+        return cls(d["load_factor"], d["newton_iterations"], list(d["residual_norms"]),
+                   d.get("n_active", 0), d.get("active_set_changes", 0), d.get("cuts", 0),
+                   d.get("increment", 0.0))
 
     def as_dict(self) -> dict:
         return {"load_factor": float(self.load_factor),
@@ -45,7 +52,8 @@ class StepRecord:
                 "residual_norms": [float(r) for r in self.residual_norms],
                 "n_active": int(self.n_active),
                 "active_set_changes": int(self.active_set_changes),
-                "cuts": int(self.cuts)}
+                "cuts": int(self.cuts),
+                "increment": float(self.increment)}
 
 
 @dataclass
@@ -58,7 +66,9 @@ class Result:
     steps : list of StepRecord
         Converged steps, in order.
     states : list of ndarray
-        ``states[0]`` the initial unknowns, ``states[k]`` after step ``k``.
+        ``states[0]`` the initial unknowns, ``states[k]`` after step ``k``
+        (for a resumed run: the states from the restart on, unless the caller
+        puts the earlier ones back).
     converged : bool
     solve_time : float
         Time spent in linear solves (s).
@@ -99,7 +109,9 @@ def solve(model: Model, n_steps: int = 1, *, newton_options: NewtonOptions | Non
           newton: NewtonOptions | None = None, min_step: float = 1e-4,
           growth: float = 2.0, easy_iterations: int = 4, easy_steps: int = 2,
           z0: np.ndarray | None = None, start: float = 0.0, progress: bool = False,
-          callback: Callable[[StepRecord, np.ndarray], None] | None = None) -> Result:
+          callback: Callable[[StepRecord, np.ndarray], None] | None = None,
+          history: list[StepRecord] | None = None,
+          increment: float | None = None) -> Result:
     """Solve the model from load factor ``start`` to 1.
 
     Parameters
@@ -117,6 +129,10 @@ def solve(model: Model, n_steps: int = 1, *, newton_options: NewtonOptions | Non
         Initial unknowns (default zeros), e.g. a checkpoint to resume from.
     start : float
         Load factor of ``z0``.
+    history : list of StepRecord, optional
+        Steps already done before ``z0`` (a resumed run keeps them in the result).
+    increment : float, optional
+        First load increment (a resumed run continues with the one in force).
     progress : bool
         Show a tqdm progress bar on stderr.
     callback : callable(StepRecord, z)
@@ -135,9 +151,9 @@ def solve(model: Model, n_steps: int = 1, *, newton_options: NewtonOptions | Non
         raise ValueError(f"z0 must have shape ({model.n},), got {z.shape}")
     fixed, values = model.prescribed(start)
     z[fixed] = values
-    result = Result(model, states=[z.copy()])
+    result = Result(model, steps=list(history or []), states=[z.copy()])
     nominal = 1.0 / n_steps
-    lf, dlf = start, nominal
+    lf, dlf = start, (increment or nominal)
     n_easy, cuts, step_no = 0, 0, len(result.steps) + 1
     bar = _progress_bar(progress)
     try:
@@ -163,7 +179,7 @@ def solve(model: Model, n_steps: int = 1, *, newton_options: NewtonOptions | Non
                         info[k] = info.get(k, 0) + v
                 rec = StepRecord(target, rep.iterations, rep.residual_norms,
                                  int(info.get("n_active", 0)),
-                                 int(info.get("active_set_changes", 0)), cuts, info)
+                                 int(info.get("active_set_changes", 0)), cuts, 0.0, info)
                 result.steps.append(rec)
                 result.states.append(z.copy())
                 lf = target
@@ -173,6 +189,7 @@ def solve(model: Model, n_steps: int = 1, *, newton_options: NewtonOptions | Non
                 if n_easy >= easy_steps and dlf < nominal:
                     dlf = min(nominal, dlf * growth)
                     n_easy = 0
+                rec.increment = dlf
                 if bar is not None:
                     bar.update(1)
                     bar.set_postfix_str(f"lf={lf:.3g} it={rep.iterations} "

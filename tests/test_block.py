@@ -128,4 +128,4 @@ def test_newton_converges_quadratically_in_one_step():
 
 def test_run_writes_output(tmp_path):
     run_scene("block", dict(refine=1), steps=2, out=tmp_path)
-    assert (tmp_path / "block.xdmf").exists() and (tmp_path / "summary.json").exists()
+    assert (tmp_path / "block.pvd").exists() and (tmp_path / "summary.json").exists()

@@ -2,30 +2,37 @@
 import json
 import math
 
-import meshio
 import numpy as np
 import pytest
 
 from skfem_mortar.cli import main
-from skfem_mortar.io import write_contact_csv, write_json, write_series
+from skfem_mortar.io import SeriesWriter, read_series, write_contact_csv, write_json
 
 MESH = (np.array([[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]]), [("triangle", np.array([[0, 1, 2]]))])
 
 
 def test_series_round_trip(tmp_path):
-    frames = [(t, {"u": np.full((3, 2), t)}, {"s": [np.array([2.0 * t])]}) for t in (0.0, 0.5, 1.0)]
-    write_series(tmp_path / "body.xdmf", MESH, frames)
-    assert sorted(p.name for p in tmp_path.iterdir()) == ["body.h5", "body.xdmf"]
-    with meshio.xdmf.TimeSeriesReader(str(tmp_path / "body.xdmf")) as r:
-        r.read_points_cells()
-        t, pd, cd = r.read_data(2)
-    assert t == 1.0 and np.all(pd["u"] == 1.0)
+    w = SeriesWriter(tmp_path, "body", MESH)
+    for t in (0.0, 0.5, 1.0):
+        w.write(t, {"u": np.full((3, 2), t)}, {"s": [np.array([2.0 * t])]})
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["body", "body.pvd"]
+    frames = read_series(tmp_path / "body.pvd")
+    assert [t for t, _ in frames] == [0.0, 0.5, 1.0]
+    assert np.all(frames[2][1].point_data["u"] == 1.0)
+    assert np.all(frames[1][1].cell_data["s"][0] == 1.0)
+    # a resumed run rewrites from a given frame on and drops the later ones
+    w.write(0.25, {"u": np.zeros((3, 2))}, {"s": [np.zeros(1)]}, index=1)
+    assert [t for t, _ in read_series(tmp_path / "body.pvd")] == [0.0, 0.25]
 
 
 def test_nan_never_reaches_a_file(tmp_path):
-    frames = [(0.0, {"u": np.array([[0.0, np.nan]] * 3)}, {})]
+    w = SeriesWriter(tmp_path / "series", "body", MESH)
     with pytest.raises(ValueError, match="non-finite"):
-        write_series(tmp_path / "body.xdmf", MESH, frames)
+        w.write(0.0, {"u": np.array([[0.0, np.nan]] * 3)}, {})
+    assert not (tmp_path / "series" / "body.pvd").exists()
+    assert list((tmp_path / "series" / "body").iterdir()) == []
+    (tmp_path / "series" / "body").rmdir()
+    (tmp_path / "series").rmdir()
     with pytest.raises(ValueError, match="non-finite"):
         write_json(tmp_path / "summary.json", {"a": {"b": [1.0, math.inf]}})
     with pytest.raises(ValueError, match="non-finite"):
@@ -45,4 +52,6 @@ def test_run_json_and_out(tmp_path, capsys):
     assert summary["parameters"]["refine"] == 1
     assert len(summary["steps"]) == 2
     assert json.loads((out / "summary.json").read_text())["metrics"] == summary["metrics"]
-    assert (out / "block.xdmf").exists() and (out / "block.h5").exists()
+    frames = read_series(out / "block.pvd")
+    assert [t for t, _ in frames] == [0.0, 0.5, 1.0]
+    assert "von_mises" in frames[-1][1].cell_data
