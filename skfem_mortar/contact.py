@@ -1,0 +1,300 @@
+"""A contact pair: one Lagrange multiplier per slave node, active set by semi-smooth Newton.
+
+The pair adds to the potential energy the term ``-lam . g(x)`` (``g`` the gaps
+of the slave nodes from a contact discretization, ``lam >= 0`` compression), so
+
+    R_u   += -G^T lam               (G = dg/dx)
+    K_uu  += -H                     (H = sum_A lam_A d^2 g_A/dx^2)
+    K_ulam = -G^T
+
+and closes the Karush-Kuhn-Tucker conditions ``g >= 0, lam >= 0, lam g = 0``
+with the semi-smooth complementarity function (primal-dual active set)
+
+    C(lam, g) = lam - max(0, lam - c g)  =  c g   (active:   lam - c g >= 0)
+                                         =  lam   (inactive: lam - c g <  0)
+
+as the multiplier rows of the same linear system, so inactive multipliers are
+set to zero by the Newton step itself.  ``c`` is a stiffness taken from the
+bodies' tangent diagonals at the contact dofs (divided by the squared mean
+tributary length when the multipliers are tractions, as in mortar), so the
+choice is unit-free; it steers only the path of the iteration, not the
+solution.  At ``lam = 0`` a node with ``g <= 0`` is active (``>=`` above):
+a zero initial gap starts active.  Slave nodes without a master partner
+(``mask`` False) are inactive.
+
+Cycling guard: the active sets of the iterations of a load step are kept; when
+an iteration returns to a set seen before (other than the last one), the
+iteration is cycling (primal-dual active set methods can cycle when the
+stiffness is not an M-matrix).  The guard (logged as a warning) then changes
+only one node per iteration, the first one whose status is violated (Murty's
+least-index rule, which terminates for linear complementarity problems with a
+P-matrix, e.g. any symmetric positive definite stiffness).  Should a set
+repeat even so, it is frozen to the union of the sets of the cycle for the
+rest of the step attempt, and the KKT violation at convergence is logged.
+"""
+from __future__ import annotations
+
+import importlib
+import logging
+from typing import Any
+
+import numpy as np
+import scipy.sparse as sp
+
+from .contact_eval import ContactEval
+from .model import Contribution, Item
+
+__all__ = ["ContactPair", "METHODS"]
+
+log = logging.getLogger(__name__)
+
+#: method -> (module, extra options, multiplier kind)
+METHODS: dict[str, tuple[str, dict, str]] = {
+    "nts": ("nts", {}, "force"),
+    "mortar": ("mortar", {"dual": False}, "traction"),
+    "mortar-dual": ("mortar", {"dual": True}, "traction"),
+}
+
+
+class ContactPair(Item):
+    """Frictionless contact between a slave and a master surface with Lagrange multipliers.
+
+    Parameters
+    ----------
+    slave : ContactSurface
+        Deformable surface whose nodes carry the multipliers.
+    master : ContactSurface
+        Deformable or rigid surface.
+    method : {"nts", "mortar", "mortar-dual"}
+    name : str
+    c : float, optional
+        Complementarity parameter (> 0); default from the bodies' stiffness.
+    cycle_guard : bool
+        Detect a repeating active set and freeze it (default True).
+    **options
+        Passed to the discretization's ``evaluate`` (e.g. ``margin``).
+    """
+
+    dof_kind = "lam"
+    phase = "contact"
+
+    def __init__(self, slave: Any, master: Any, method: str = "nts", name: str = "contact",
+                 c: float | None = None, cycle_guard: bool = True, **options: Any):
+        if method not in METHODS:
+            raise ValueError(f"method must be one of {', '.join(METHODS)}, got {method!r}")
+        if slave.dofs() is None:
+            raise ValueError("slave must be a deformable surface (a rigid surface is a master)")
+        if c is not None and not (np.isfinite(c) and c > 0):
+            raise ValueError(f"c must be a finite number > 0, got {c}")
+        self.slave, self.master, self.method, self.name = slave, master, method, name
+        mod, extra, self.multiplier_kind = METHODS[method]
+        self._module_name = mod
+        self._module = None
+        self.options = {**extra, **options}
+        self.n_dofs = slave.n_nodes
+        self.c = c
+        self.cycle_guard = bool(cycle_guard)
+        self.active = np.zeros(self.n_dofs, dtype=bool)
+        self._changed = False
+        self._history: list[np.ndarray] = []
+        self._frozen: np.ndarray | None = None
+        self._single_flip = False
+        self._changes = 0
+        self._cycles = 0
+        self.last_eval: ContactEval | None = None
+
+    # -- helpers -------------------------------------------------------------
+    @property
+    def module(self):
+        if self._module is None:
+            self._module = importlib.import_module(f"skfem_mortar.{self._module_name}")
+        return self._module
+
+    def global_dofs(self) -> np.ndarray:
+        """Global index of every local dof of the pair (``-1`` for a rigid master)."""
+        ds = self.slave.dofs().T.ravel()
+        dm = self.master.dofs()
+        dm = np.full(2 * self.master.n_nodes, -1, dtype=np.int64) if dm is None else dm.T.ravel()
+        return np.concatenate([ds, dm]).astype(np.int64)
+
+    def evaluate(self, z: np.ndarray, tangent: bool = True, with_lam: bool = True) -> ContactEval:
+        """The discretization's :class:`ContactEval` at ``z``."""
+        lam = np.asarray(z)[self.dofs] if with_lam else None
+        return self.module.evaluate(self.slave.x(z), self.slave.segments,
+                                    self.master.x(z), self.master.segments,
+                                    lam=lam, tangent=tangent, **self.options)
+
+    def _bodies(self):
+        out = [self.slave.body]
+        if self.master.body is not None and self.master.body is not self.slave.body:
+            out.append(self.master.body)
+        return out
+
+    def _stiffness(self, z: np.ndarray, load_factor: float) -> float:
+        """Mean |diagonal| of the bodies' tangents at the contact dofs (force / length)."""
+        vals = []
+        gd = self.global_dofs()
+        gd = gd[gd >= 0]
+        for body in self._bodies():
+            cb = body.assemble(z, load_factor, tangent=True)
+            on = (cb.k_rows == cb.k_cols) & np.isin(cb.k_rows, gd)
+            d = np.bincount(cb.k_rows[on], weights=cb.k_vals[on], minlength=len(z))[gd]
+            d = np.abs(d[d != 0])
+            if d.size:
+                vals.append(d.mean())
+        k = float(np.mean(vals)) if vals else 0.0
+        if not (np.isfinite(k) and k > 0):
+            log.warning("%s: no stiffness found at the contact dofs, using c = 1", self.name)
+            k = 1.0
+        return k
+
+    def _c(self, z: np.ndarray, load_factor: float, ev: ContactEval) -> float:
+        if self.c is None:
+            k = self._stiffness(z, load_factor)
+            if self.multiplier_kind == "traction":
+                h = float(np.mean(ev.area[ev.area > 0])) if np.any(ev.area > 0) else 1.0
+                k /= h * h
+            self.c = k
+            log.debug("%s: complementarity parameter c = %.6g", self.name, k)
+        return self.c
+
+    # -- assembly --------------------------------------------------------------
+    def assemble(self, z: np.ndarray, load_factor: float, tangent: bool = True) -> Contribution:
+        lam = np.asarray(z)[self.dofs]
+        ev = self.evaluate(z, tangent=True, with_lam=tangent)
+        c = self._c(z, load_factor, ev)
+        active = self._active_set(lam, ev, c, track=tangent)
+        gd = self.global_dofs()
+        # body rows: -G^T lam
+        G = ev.G.tocoo()
+        keep = gd[G.col] >= 0
+        rows_u, cols_l, vals = gd[G.col[keep]], self.offset + G.row[keep], G.data[keep]
+        # multiplier rows: C(lam, g)
+        Cval = np.where(active, c * ev.g, lam)
+        out = Contribution(np.concatenate([rows_u, self.offset + np.arange(self.n_dofs)]),
+                           np.concatenate([-vals * lam[G.row[keep]], Cval]))
+        if not tangent:
+            return out
+        kr, kc, kv = [rows_u], [cols_l], [-vals]  # K_ulam = -G^T
+        act_g = active[G.row[keep]]  # K_lamu = c G on active rows
+        kr.append(cols_l[act_g])
+        kc.append(rows_u[act_g])
+        kv.append(c * vals[act_g])
+        inact = np.flatnonzero(~active)  # K_lamlam = I on inactive rows
+        kr.append(self.offset + inact)
+        kc.append(self.offset + inact)
+        kv.append(np.ones(inact.size))
+        if ev.H is not None:  # K_uu = -H
+            H = ev.H.tocoo()
+            ok = (gd[H.row] >= 0) & (gd[H.col] >= 0)
+            kr.append(gd[H.row[ok]])
+            kc.append(gd[H.col[ok]])
+            kv.append(-H.data[ok])
+        out.k_rows = np.concatenate(kr).astype(np.int64)
+        out.k_cols = np.concatenate(kc).astype(np.int64)
+        out.k_vals = np.concatenate(kv)
+        return out
+
+    # -- active set --------------------------------------------------------------
+    def _active_set(self, lam: np.ndarray, ev: ContactEval, c: float, track: bool) -> np.ndarray:
+        """``lam - c g >= 0`` on the masked nodes; tracks changes and cycles when ``track``."""
+        if self._frozen is not None:
+            new = self._frozen & ev.mask
+            if track:
+                self._changed = not np.array_equal(new, self.active)
+                self.active = new
+            return new
+        new = ev.mask & (lam - c * ev.g >= 0)
+        if not track:
+            return new
+        if self._single_flip:
+            diff = np.flatnonzero(new != self.active)
+            if diff.size:  # least-index rule: change only the first violated node
+                new = self.active.copy()
+                new[diff[0]] = ~new[diff[0]]
+        n_flip = int(np.count_nonzero(new != self.active))
+        self._changed = n_flip > 0
+        self._changes += n_flip
+        if self._changed and self.cycle_guard:
+            seen = [i for i, a in enumerate(self._history[:-1]) if np.array_equal(a, new)]
+            if seen and not self._single_flip:
+                self._cycles += 1
+                self._single_flip = True
+                log.warning("%s: active set cycling (a set of %d sets repeats); from now on "
+                            "in this step change one node at a time (least-index rule)",
+                            self.name, len(self._history) - seen[0])
+                diff = np.flatnonzero(new != self.active)
+                new = self.active.copy()
+                new[diff[0]] = ~new[diff[0]]
+                self._history = [self.active.copy()]  # cycles are now counted anew
+            elif seen:
+                cycle = self._history[seen[0]:] + [new]
+                frozen = np.logical_or.reduce(cycle)
+                self._cycles += 1
+                log.warning("%s: active set still cycling; freezing it to the union of "
+                            "the %d sets of the cycle (%d nodes) for the rest of the step",
+                            self.name, len(cycle) - 1, int(frozen.sum()))
+                self._frozen = new = frozen
+            self._changed = not np.array_equal(new, self.active)
+        self._history.append(new.copy())
+        self.active = new
+        return new
+
+    def settled(self) -> bool:
+        return not self._changed
+
+    def begin_step(self, z: np.ndarray, load_factor: float) -> None:
+        self._history = [self.active.copy()]
+        self._frozen = None
+        self._single_flip = False
+        self._changed = False
+        self._changes = 0
+        self._cycles = 0
+
+    def end_step(self, z: np.ndarray, load_factor: float) -> None:
+        if self._cycles:
+            lam = np.asarray(z)[self.dofs]
+            ev = self.evaluate(z, tangent=False, with_lam=False)
+            act = self.active
+            tension = float(np.max(-lam[act], initial=0.0))
+            pen = float(np.max(-ev.g[~act & ev.mask], initial=0.0))
+            log.warning("%s: step converged on a frozen active set; KKT violation: "
+                        "max tension %.3e, max penetration %.3e", self.name, tension, pen)
+
+    def step_info(self) -> dict:
+        """``n_active`` nodes, ``active_set_changes`` (node status flips summed over the
+        step's iterations) and ``active_set_cycles`` (times the guard froze the set)."""
+        return {"n_active": int(self.active.sum()), "active_set_changes": self._changes,
+                "active_set_cycles": self._cycles}
+
+    # -- results -----------------------------------------------------------------
+    def contact_data(self, z: np.ndarray) -> dict[str, np.ndarray]:
+        """Per slave node: ``x, y`` (current), ``gap`` (length) and ``pressure`` (traction).
+
+        NTS: ``pressure = lam / tributary length``; mortar: ``pressure = lam`` and
+        ``gap = weighted gap / tributary length``.
+        """
+        lam = np.asarray(z)[self.dofs]
+        ev = self.evaluate(z, tangent=False, with_lam=False)
+        area = np.where(ev.area > 0, ev.area, 1.0)
+        x = self.slave.x(z)
+        if self.multiplier_kind == "force":
+            p, g = lam / area, ev.g
+        else:
+            p, g = lam.copy(), ev.g / area
+        g = np.where(ev.mask, g, np.nan)
+        return {"x": x[0].copy(), "y": x[1].copy(), "gap": g, "pressure": p}
+
+    def forces(self, z: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Contact forces ``(2, n)`` on the slave and on the master nodes: ``G^T lam``
+        split into the two surfaces (the force the other body exerts; the residual
+        term is its negative)."""
+        lam = np.asarray(z)[self.dofs]
+        ev = self.evaluate(z, tangent=True, with_lam=False)
+        f = ev.G.T @ lam
+        n_s = self.slave.n_nodes
+        return f[:2 * n_s].reshape(-1, 2).T, f[2 * n_s:].reshape(-1, 2).T
+
+    def total_force(self, z: np.ndarray) -> np.ndarray:
+        """Resultant (2,) of the contact force on the slave surface."""
+        return self.forces(z)[0].sum(axis=1)
