@@ -1,0 +1,87 @@
+"""Scene ``cable_arc``: discrete arc to round-off, second-order convergence to
+the continuum arc, slack and taut starts, independence of the regularization."""
+import math
+
+import numpy as np
+import pytest
+
+from skfem_mortar.newton import NewtonOptions
+from skfem_mortar.runner import run_scene
+from skfem_mortar.scenes.cable_arc import arc_discrete, arc_exact
+
+TIGHT = NewtonOptions(rtol=1e-12)
+
+
+def test_arc_exact_relations():
+    e = arc_exact(1.0, 2.5, 100.0, 1.0, "linear")
+    # a = r sin(theta), L = 2 r theta, T = p r = EA (L/L0 - 1)
+    assert e["radius"] * math.sin(e["theta"]) == pytest.approx(1.0, rel=1e-14)
+    assert e["tension"] == pytest.approx(100.0 * (e["length"] / 2.5 - 1), rel=1e-12)
+    d = arc_discrete(1.0, 2.5, 100.0, 1.0, "linear", 4096)
+    # the discrete arc tends to the continuum one
+    assert d["apex_height"] == pytest.approx(e["apex_height"], rel=1e-5)
+    with pytest.raises(ValueError, match="pressure"):
+        arc_exact(1.0, 2.5, 1.0, 100.0, "hencky")
+
+
+@pytest.mark.parametrize("law", ["linear", "svk", "hencky"])
+@pytest.mark.parametrize("L0", [2.0, 2.5, 4.0])
+@pytest.mark.parametrize("n", [5, 32])
+def test_discrete_to_round_off(law, L0, n):
+    m = run_scene("cable_arc", {"law": law, "length0": L0, "n_elements": n},
+                  newton=TIGHT)["metrics"]
+    # Newton rtol 1e-12; the cable's condition (EA against the tension) costs
+    # about two more digits on the tension
+    assert m["apex_height_discrete_error"] < 1e-10
+    assert m["tension_discrete_error"] < 1e-9
+
+
+@pytest.mark.parametrize("law", ["linear", "hencky"])
+def test_second_order_in_n(law):
+    ns = np.array([8, 16, 32, 64, 128])
+    runs = [run_scene("cable_arc", {"law": law, "n_elements": int(n)}, newton=TIGHT)
+            for n in ns]
+    for q in ("apex_height", "tension"):
+        err = np.array([r["metrics"][f"{q}_error"] for r in runs])
+        rate = -np.polyfit(np.log(ns), np.log(err), 1)[0]
+        # the chord/arc defect is O(n^-2) with an O(n^-4) correction: slope 2 to
+        # within a few hundredths on this range
+        assert abs(rate - 2.0) < 0.05, (q, rate, err)
+
+
+@pytest.mark.parametrize("tension_only", [False, True])
+@pytest.mark.parametrize("steps", [1, 4])
+def test_slack_start_solves(tension_only, steps):
+    s = run_scene("cable_arc", {"length0": 3.0, "tension_only": tension_only},
+                  steps=steps, newton=TIGHT)
+    assert s["converged"]
+    assert s["metrics"]["apex_height_discrete_error"] < 1e-10
+
+
+@pytest.mark.parametrize("tension_only", [False, True])
+def test_straight_taut_start_solves_and_regularization_is_harmless(tension_only):
+    apex, tension = [], []
+    for sag in (0.01, 0.05, 0.2):
+        s = run_scene("cable_arc", {"length0": 2.0, "start_sag": sag,
+                                    "tension_only": tension_only}, newton=TIGHT)
+        apex.append(s["metrics"]["apex_height"])
+        tension.append(s["metrics"]["tension"])
+        assert s["metrics"]["apex_height_discrete_error"] < 1e-10
+    # the sag only moves Newton's starting point: the answers agree to the
+    # solver tolerance (rtol 1e-12, a few digits lost to conditioning)
+    assert np.ptp(apex) < 1e-10 * apex[0]
+    assert np.ptp(tension) < 1e-9 * tension[0]
+
+
+def test_pretensioned_start():
+    s = run_scene("cable_arc", {"length0": 1.8}, newton=TIGHT)
+    assert s["metrics"]["apex_height_discrete_error"] < 1e-10
+
+
+@pytest.mark.parametrize("params, match", [
+    ({"n_elements": 1}, "n_elements"), ({"half_span": 0.0}, "half_span"),
+    ({"start_sag": 0.0}, "start_sag"), ({"law": "hencky", "pressure": 1e3}, "pressure"),
+])
+def test_bad_parameters(params, match):
+    with pytest.raises(ValueError, match=match):
+        run_scene("cable_arc", params)
