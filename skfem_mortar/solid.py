@@ -76,7 +76,9 @@ class Solid(Item):
     name : str
         Item name.
     intorder : int, optional
-        Quadrature order (default: skfem's, twice the element order).
+        Quadrature order. Default: 1 for ``tri1`` (``Grad u`` and hence the
+        integrand are constant per element, so one point is exact), otherwise
+        skfem's default (twice the element order).
     """
 
     dof_kind = "u"
@@ -100,6 +102,8 @@ class Solid(Item):
         self.element = element
         self.name = name
         self._cell_type = cell_type
+        if intorder is None and element == "tri1":
+            intorder = 1
         kw = {} if intorder is None else {"intorder": int(intorder)}
         self.basis = Basis(mesh, ElementVector(elem_cls()), **kw)
         self.n_dofs = int(self.basis.N)
@@ -111,11 +115,12 @@ class Solid(Item):
     @property
     def X(self) -> np.ndarray:
         """Reference coordinates of the mesh vertices, shape ``(2, n_nodes)``."""
-        return self.mesh.p
+        return self.mesh.p[:, :self.n_nodes]
 
     @property
     def n_nodes(self) -> int:
-        return int(self.mesh.p.shape[1])
+        """Number of mesh vertices (quadratic meshes list their vertices first)."""
+        return int(self.mesh.nvertices)
 
     @property
     def node_dofs(self) -> np.ndarray:
@@ -149,7 +154,8 @@ class Solid(Item):
         ----------
         boundary : str, array of int or callable
             A tag of ``mesh.boundaries``, an array of facet indices, or a
-            function ``f(x) -> bool`` of facet midpoints (skfem's convention).
+            function ``f(x) -> bool array`` of facet midpoints ``x (2, n)``
+            (skfem's convention: interior facets are tested too).
         component : {None, 0, 1, "x", "y"}
             Both components (None) or only one.
         """
@@ -208,7 +214,7 @@ class Solid(Item):
     def output_mesh(self) -> tuple[np.ndarray, list[tuple[str, np.ndarray]]]:
         """Vertices ``(N, 2)`` and linear cells (corner nodes only)."""
         nv = 3 if self._cell_type == "triangle" else 4
-        return self.mesh.p.T.copy(), [(self._cell_type, self.mesh.t[:nv].T.copy())]
+        return self.X.T.copy(), [(self._cell_type, self.mesh.t[:nv].T.copy())]
 
     def element_average(self, q: np.ndarray) -> np.ndarray:
         """Volume average over each element of a quadrature array ``(..., n_el, n_qp)``."""
