@@ -82,11 +82,19 @@ def test_rigid_rotation_gives_zero_residual(element):
 
 
 def test_inverted_element_raises_inversion_error():
-    solid = make_solid("tri1", MATERIALS["neo-hooke"], refine=1, distort=0.0)
-    # fold the whole body onto itself: y -> -0.5 y has det F = -0.5 everywhere
-    z = solid.interpolate(lambda X: np.array([0 * X[0], -1.5 * X[1]]))
-    with pytest.raises(InversionError):
+    solid = make_solid("tri1", MATERIALS["neo-hooke"], refine=2, distort=0.0)
+    # push one interior vertex (0.5, 0.5) by 2 h = 0.5 to the right: it passes
+    # its neighbours at x = 0.75, so the elements on its right side fold over
+    node = int(np.argmin(np.linalg.norm(solid.X - 0.5, axis=0)))
+    z = np.zeros(solid.n_dofs)
+    z[solid.node_dofs[0, node]] = 0.5
+    F = solid.deformation_gradient(z)
+    J = F[0, 0] * F[1, 1] - F[0, 1] * F[1, 0]
+    assert 0 < np.count_nonzero(J.min(axis=1) <= 0) < solid.mesh.nelements
+    with pytest.raises(InversionError, match="det F <= 0"):
         Model([solid]).assemble(z, 1.0)
+    with pytest.raises(InversionError):
+        solid.internal_force(z)
 
 
 def test_x_is_reference_plus_displacement():
