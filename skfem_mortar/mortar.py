@@ -46,7 +46,7 @@ from .mortar_segmentation import (Jet, Segmentation, cross, nodal_normals,
 
 __all__ = ["evaluate", "segment", "Segmentation", "dual_coefficients"]
 
-_CHUNK_ENTRIES = 4_000_000  # Hessian entries per chunk of segments (memory bound ~32 MB/array)
+_CHUNK_ENTRIES = 200_000  # Hessian entries per chunk of segments (memory bound ~32 MB/array)
 
 
 def dual_coefficients(lo, hi):
@@ -87,8 +87,13 @@ def _local_nodes(sg: Segmentation, seg_s: np.ndarray, seg_m: np.ndarray, n_s: in
     return p, a, b, n, m1, m2, lo_node, hi_node, has_p, has_n
 
 
+def _first(j: Jet) -> Jet:
+    """The same jet without its Hessian."""
+    return Jet(j.v, j.g, None)
+
+
 def _chunk(xs, xm, sl, nd, sg: Segmentation, n_s: int, nv: int, second: bool,
-           dual: bool, cp: np.ndarray, eta: np.ndarray, w: np.ndarray):
+           dual: bool, cp: np.ndarray, eta: np.ndarray, w: np.ndarray, lam_ab=None):
     """Jets of the weighted-gap contributions of the mortar segments ``sl``."""
     p, a, b, n, m1, m2, lo_node, hi_node, has_p, has_n = (q[sl] for q in nd)
     frozen = sg.frozen
@@ -145,33 +150,49 @@ def _chunk(xs, xm, sl, nd, sg: Segmentation, n_s: int, nv: int, second: bool,
         c[2] = Jet.where(cpb, zero, Jet.where(cpa, one, c[2]))
         c[3] = Jet.where(cpb, zero, Jet.where(cpa, one, c[3]))
 
-    # slave Jacobian times the segment's share of the parameter domain
-    tx, ty = Xb[0] - Xa[0], Xb[1] - Xa[1]
-    jac = (tx * tx + ty * ty).sqrt() * ((hi - lo) * 0.25)
+    # Gauss-point quantities as polynomials in xi1 with segment-level coefficients:
+    #   x_s = xc + xi1 d1,  n~ = n0 + xi1 n1,  dm = x_m2 - x_m1,
+    #   alpha = cross(x_m1 - x_s, dm) / cross(n~, dm) = (P0 + P1 xi1) / (Q0 + Q1 xi1)
+    #   (x_s + alpha n~ lies on the master line), gap g_n = alpha |n~|,
+    #   |n~|^2 = R0 + R1 xi1 + R2 xi1^2.
+    d1x, d1y = (Xb[0] - Xa[0]) * 0.5, (Xb[1] - Xa[1]) * 0.5
+    r0x = M1[0] - (Xa[0] + Xb[0]) * 0.5
+    r0y = M1[1] - (Xa[1] + Xb[1]) * 0.5
+    n0x, n0y = (na[0] + nb[0]) * 0.5, (na[1] + nb[1]) * 0.5
+    n1x, n1y = (nb[0] - na[0]) * 0.5, (nb[1] - na[1]) * 0.5
+    dmx, dmy = M2[0] - M1[0], M2[1] - M1[1]
+    P0, P1 = cross(r0x, r0y, dmx, dmy), -cross(d1x, d1y, dmx, dmy)
+    Q0, Q1 = cross(n0x, n0y, dmx, dmy), cross(n1x, n1y, dmx, dmy)
+    R0 = n0x * n0x + n0y * n0y
+    R1 = (n0x * n1x + n0y * n1y) * 2.0
+    R2 = n1x * n1x + n1y * n1y
+    # slave Jacobian |x_b - x_a| / 2 times the segment's share (xi_b - xi_a) / 2
+    jac = (d1x * d1x + d1y * d1y).sqrt() * ((hi - lo) * 0.5)
     # Gauss points: axis 1
     E = lambda j: j.expand()  # noqa: E731
     xi1 = E(lo) * ((1.0 - eta) * 0.5) + E(hi) * ((1.0 + eta) * 0.5)
-    N1 = (1.0 - xi1) * 0.5
-    N2 = (1.0 + xi1) * 0.5
-    xsx = N1 * E(Xa[0]) + N2 * E(Xb[0])
-    xsy = N1 * E(Xa[1]) + N2 * E(Xb[1])
-    nx = N1 * E(na[0]) + N2 * E(nb[0])
-    ny = N1 * E(na[1]) + N2 * E(nb[1])
-    # projection of x_s(xi1) onto the master line along n~: x_m = m1 + s (m2 - m1)
-    dmx, dmy = E(M2[0] - M1[0]), E(M2[1] - M1[1])
-    s = -cross(E(M1[0]) - xsx, E(M1[1]) - xsy, nx, ny) / cross(dmx, dmy, nx, ny)
-    gx = E(M1[0]) + s * dmx - xsx
-    gy = E(M1[1]) + s * dmy - xsy
-    gn = (gx * nx + gy * ny) * (nx * nx + ny * ny).sqrt().inv()
-    dG = E(jac) * w
-    f = gn * dG
-    phi_a = N1 * E(c[0]) + N2 * E(c[1])
-    phi_b = N1 * E(c[2]) + N2 * E(c[3])
-    ga = (phi_a * f).sum(1)
-    gb = (phi_b * f).sum(1)
+    gn = (E(P0) + E(P1) * xi1) * (E(Q0) + E(Q1) * xi1).inv() * (
+        E(R0) + (E(R1) + E(R2) * xi1) * xi1).sqrt()
+    f = gn * E(jac) * w                              # g_n dGamma
+    # multiplier shape functions Phi = K0 + K1 xi1 (first derivatives suffice for G)
+    ka0, ka1 = (c[0] + c[1]) * 0.5, (c[1] - c[0]) * 0.5
+    kb0, kb1 = (c[2] + c[3]) * 0.5, (c[3] - c[2]) * 0.5
+    f1, x1 = _first(f), _first(xi1)
+    ga = ((E(_first(ka0)) + E(_first(ka1)) * x1) * f1).sum(1)
+    gb = ((E(_first(kb0)) + E(_first(kb1)) * x1) * f1).sum(1)
+    q = None
+    if second:  # sum_A lam_A g_A with its Hessian
+        la, lb = lam_ab
+        q = ((E(ka0 * la + kb0 * lb) + E(ka1 * la + kb1 * lb) * xi1) * f).sum(1)
     # values for D, M, area (no derivatives)
-    dv, n1, n2, sv = dG.v, N1.v, N2.v, s.v
-    pa, pb = phi_a.v, phi_b.v
+    xv, dv = xi1.v, (E(jac) * w).v
+    n1, n2 = (1.0 - xv) * 0.5, (1.0 + xv) * 0.5
+    pa = ka0.v[:, None] + ka1.v[:, None] * xv
+    pb = kb0.v[:, None] + kb1.v[:, None] * xv
+    # master parameter s in [0, 1] from x_m1: s = cross(x_m1 - x_s, n~) / cross(n~, dm)
+    V = lambda j: j.v[:, None]  # noqa: E731
+    nxv, nyv = V(n0x) + V(n1x) * xv, V(n0y) + V(n1y) * xv
+    sv = ((V(r0x) - V(d1x) * xv) * nyv - (V(r0y) - V(d1y) * xv) * nxv) / (V(Q0) + V(Q1) * xv)
     extra = dict(
         area=np.stack([(n1 * dv).sum(1), (n2 * dv).sum(1)], 1),
         D=np.stack([(pa * n1 * dv).sum(1), (pa * n2 * dv).sum(1),
@@ -179,7 +200,7 @@ def _chunk(xs, xm, sl, nd, sg: Segmentation, n_s: int, nv: int, second: bool,
         M=np.stack([(pa * (1 - sv) * dv).sum(1), (pa * sv * dv).sum(1),
                     (pb * (1 - sv) * dv).sum(1), (pb * sv * dv).sum(1)], 1),
     )
-    return ga, gb, extra
+    return ga, gb, q, extra
 
 
 def evaluate(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarray,
@@ -265,9 +286,10 @@ def evaluate(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarra
     Gr, Gc, Gv, Hr, Hc, Hv, ex = [], [], [], [], [], [], []
     for start in range(0, nseg, chunk):  # memory blocking only; each block is vectorized
         sl = slice(start, min(start + chunk, nseg))
-        ga, gb, extra = _chunk(xs, xm, sl, nd, sg, n_s, nv, second, dual, cp, eta, w)
-        ex.append(extra)
         aa, bb = a[sl], b[sl]
+        lam_ab = None if lamv is None else (lamv[aa], lamv[bb])
+        ga, gb, q, extra = _chunk(xs, xm, sl, nd, sg, n_s, nv, second, dual, cp, eta, w, lam_ab)
+        ex.append(extra)
         np.add.at(g, aa, ga.v)
         np.add.at(g, bb, gb.v)
         if tangent:
@@ -276,7 +298,7 @@ def evaluate(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarra
             Gc += [dl.ravel(), dl.ravel()]
             Gv += [ga.g.ravel(), gb.g.ravel()]
             if second:
-                hs = ga.h * lamv[aa, None, None] + gb.h * lamv[bb, None, None]
+                hs = q.hessian()
                 Hr.append(np.repeat(dl, nv, axis=1).ravel())
                 Hc.append(np.tile(dl, (1, nv)).ravel())
                 Hv.append(hs.ravel())

@@ -68,12 +68,28 @@ def _outer(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     return a[..., :, None] * b[..., None, :]
 
 
+def _zero(h: np.ndarray) -> bool:
+    """A Hessian known to vanish: the broadcast zero views made by ``Jet.variable``/``constant``."""
+    return h.strides[-1] == 0
+
+
+def _acc(h: np.ndarray, t: np.ndarray) -> np.ndarray:
+    """``h + t``, in place when the shapes allow."""
+    if h.shape == np.broadcast_shapes(h.shape, t.shape):
+        h += t
+        return h
+    return h + t
+
+
 class Jet:
     """A value with its gradient and Hessian w.r.t. ``nv`` local variables.
 
     ``v`` has a shape ``S`` (e.g. ``(n_seg,)`` or ``(n_seg, n_gauss)``), ``g``
     the shape ``S + (nv,)`` and ``h`` the shape ``S + (nv, nv)``; ``h`` is None
-    when only first derivatives are tracked.  Arithmetic with plain floats or
+    when only first derivatives are tracked.  To save the transposed additions
+    ``h`` is stored unsymmetrized: the Hessian is ``(h + h^T) / 2`` (products add
+    ``2 g_a g_b^T`` instead of ``g_a g_b^T + g_b g_a^T``; every rule is linear in
+    ``h`` so this is exact), see :meth:`hessian`.  Arithmetic with plain floats or
     arrays of shape ``S`` treats those as constants.
     """
 
@@ -105,7 +121,14 @@ class Jet:
     # -- arithmetic
     def __add__(self, o):
         if isinstance(o, Jet):
-            h = None if self.h is None else self.h + o.h
+            h = None
+            if self.h is not None:
+                if _zero(o.h):
+                    h = self.h if o.h.shape == self.h.shape else self.h + o.h
+                elif _zero(self.h):
+                    h = o.h if o.h.shape == self.h.shape else self.h + o.h
+                else:
+                    h = self.h + o.h
             return Jet(self.v + o.v, self.g + o.g, h)
         return Jet(self.v + o, self.g, self.h)
 
@@ -125,12 +148,20 @@ class Jet:
             g = self.g * o.v[..., None] + o.g * self.v[..., None]
             h = None
             if self.h is not None:
-                gg = _outer(self.g, o.g)
-                h = (self.h * o.v[..., None, None] + o.h * self.v[..., None, None]
-                     + gg + np.swapaxes(gg, -1, -2))
+                # stored unsymmetrized: sym(h) is the Hessian (see the class doc)
+                h = _outer(self.g, o.g * 2.0)
+                if not _zero(self.h):
+                    h = _acc(h, self.h * o.v[..., None, None])
+                if not _zero(o.h):
+                    h = _acc(h, o.h * self.v[..., None, None])
             return Jet(self.v * o.v, g, h)
         o = np.asarray(o, dtype=float)
-        h = None if self.h is None else self.h * o[..., None, None]
+        h = None
+        if self.h is not None:
+            h = self.h if _zero(self.h) else self.h * o[..., None, None]
+            if _zero(h):
+                h = np.broadcast_to(h[(0,) * (h.ndim - 2)], np.broadcast_shapes(
+                    self.h.shape, o.shape + (1, 1)))
         return Jet(self.v * o, self.g * o[..., None], h)
 
     __rmul__ = __mul__
@@ -139,7 +170,9 @@ class Jet:
         """``f(self)`` given ``f, f', f''`` evaluated at ``self.v``."""
         h = None
         if self.h is not None:
-            h = self.h * f1[..., None, None] + _outer(self.g, self.g) * f2[..., None, None]
+            h = _outer(self.g, self.g) * f2[..., None, None]
+            if not _zero(self.h):
+                h = _acc(h, self.h * f1[..., None, None])
         return Jet(f0, self.g * f1[..., None], h)
 
     def inv(self) -> "Jet":
@@ -159,6 +192,10 @@ class Jet:
         """``sqrt(self)``."""
         s = np.sqrt(self.v)
         return self._chain(s, 0.5 / s, -0.25 / (s * self.v))
+
+    def hessian(self) -> np.ndarray:
+        """The symmetric Hessian ``(h + h^T) / 2``."""
+        return 0.5 * (self.h + np.swapaxes(self.h, -1, -2))
 
     # -- shape helpers
     def expand(self) -> "Jet":

@@ -1,0 +1,286 @@
+"""Tests of the mortar kernel: weighted gaps, their derivatives, D and M, dual multipliers.
+
+Conventions of the fixtures: the slave surface is the top of a lower body
+(outward normal +y, so its nodes run from right to left) and the master the
+bottom of an upper body (outward normal -y, left to right).
+"""
+from __future__ import annotations
+
+import time
+
+import numpy as np
+import pytest
+
+from skfem_mortar.mortar import evaluate, dual_coefficients
+from skfem_mortar.mortar_segmentation import segment
+
+
+def chain(n: int) -> np.ndarray:
+    return np.c_[np.arange(n - 1), np.arange(1, n)]
+
+
+def flat_pair(xs_x, xm_x, d=0.0):
+    """Flat slave at y = 0 (nodes given left to right) and master at y = d."""
+    xs_x = np.asarray(xs_x, float)[::-1]
+    xm_x = np.asarray(xm_x, float)
+    xs = np.vstack([xs_x, np.zeros_like(xs_x)])
+    xm = np.vstack([xm_x, np.full_like(xm_x, d)])
+    return xs, chain(xs.shape[1]), xm, chain(xm.shape[1])
+
+
+def curved_pair(shift: float, seed: int = 0):
+    """Curved, perturbed, partly overlapping surfaces; the master slid by ``shift``."""
+    rng = np.random.default_rng(seed)
+    xsx = np.linspace(0.0, 1.0, 7)[::-1]
+    xs = np.vstack([xsx, -0.3 * (xsx - 0.5) ** 2]) + 0.01 * rng.standard_normal((2, 7))
+    xmx = np.linspace(0.35, 1.5, 6) + shift
+    xm = np.vstack([xmx, 0.01 + 0.2 * (xmx - 0.6) ** 2]) + 0.01 * rng.standard_normal((2, 6))
+    return xs, chain(7), xm, chain(6)
+
+
+def flat_dofs(xs, xm):
+    return np.concatenate([xs.T.ravel(), xm.T.ravel()])
+
+
+def unflat(z, n_s):
+    return z[:2 * n_s].reshape(-1, 2).T, z[2 * n_s:].reshape(-1, 2).T
+
+
+# ----------------------------------------------------------- derivatives (FD)
+# Central differences with h = 1e-6 on coordinates of size 1: truncation error
+# ~h^2 |g'''| ~ 1e-12 and round-off ~eps |g| / h ~ 1e-11, so an exact tangent
+# agrees to ~1e-9 relative to its largest entry (measured: ~1e-10); an error in
+# any derivative term (normal, end points, Jacobian, projections, dual
+# coefficients) shows at O(1e-2..1).  Tolerance 1e-7.
+FD_H = 1e-6
+FD_TOL = 1e-7
+
+
+@pytest.mark.parametrize("dual", [False, True])
+@pytest.mark.parametrize("shift", [0.0, 0.1, 0.237])
+def test_fd_G_and_H_curved_partial_sliding(dual, shift):
+    xs, ss, xm, sm = curved_pair(shift)
+    n_s = xs.shape[1]
+    lam = np.random.default_rng(1).uniform(0.5, 1.5, n_s)
+    r = evaluate(xs, ss, xm, sm, lam=lam, dual=dual)
+    assert 0 < r.mask.sum() < n_s            # partial overlap indeed
+    z = flat_dofs(xs, xm)
+    G, H = r.G.toarray(), r.H.toarray()
+    Gfd, Hfd = np.zeros_like(G), np.zeros_like(H)
+    for i in range(z.size):
+        e = np.zeros(z.size)
+        e[i] = FD_H
+        a, b = unflat(z + e, n_s)
+        rp = evaluate(a, ss, b, sm, dual=dual)
+        a, b = unflat(z - e, n_s)
+        rm = evaluate(a, ss, b, sm, dual=dual)
+        Gfd[:, i] = (rp.g - rm.g) / (2 * FD_H)
+        Hfd[:, i] = (rp.G.T @ lam - rm.G.T @ lam) / (2 * FD_H)
+    assert np.abs(G - Gfd).max() <= FD_TOL * np.abs(G).max()
+    assert np.abs(H - Hfd).max() <= FD_TOL * np.abs(H).max()
+    assert np.abs(H - H.T).max() <= 1e-13 * np.abs(H).max()   # a Hessian: symmetric to round-off
+
+
+@pytest.mark.parametrize("dual", [False, True])
+def test_sliding_path_directional_derivative(dual):
+    """The master slides over slave element ends: dg/dt = G v at 40 positions."""
+    xs, ss, xm, sm = curved_pair(0.0)
+    n_s = xs.shape[1]
+    v = np.zeros(2 * n_s + 2 * xm.shape[1])
+    v[2 * n_s::2] = 1.0                      # rigid tangential slide of the master
+    errs = []
+    for t in np.linspace(-0.3, 0.2, 40):     # master nodes cross several slave nodes
+        xm_t = xm + np.array([[t], [0.0]])
+        r = evaluate(xs, ss, xm_t, sm, dual=dual)
+        rp = evaluate(xs, ss, xm_t + [[FD_H], [0]], sm, dual=dual)
+        rm = evaluate(xs, ss, xm_t - [[FD_H], [0]], sm, dual=dual)
+        fd = (rp.g - rm.g) / (2 * FD_H)
+        errs.append(np.abs(r.G @ v - fd).max() / max(np.abs(r.G @ v).max(), 1e-3))
+    assert max(errs) < FD_TOL * 10            # a few points sit close to a crossing: h^2 g''' larger
+
+
+@pytest.mark.parametrize("dual", [False, True])
+def test_frozen_segmentation_tangent(dual):
+    """Policy step: with the segmentation frozen, G, H are the derivatives of the frozen g."""
+    xs, ss, xm, sm = curved_pair(0.1)
+    n_s = xs.shape[1]
+    sg = segment(xs, ss, xm, sm, frozen=True)
+    live = evaluate(xs, ss, xm, sm, dual=dual)
+    lam = np.linspace(0.5, 1.5, n_s)
+    # perturb the configuration: the frozen g differs from the live one
+    rng = np.random.default_rng(3)
+    xs2, xm2 = xs + 0.01 * rng.standard_normal(xs.shape), xm + 0.01 * rng.standard_normal(xm.shape)
+    r = evaluate(xs2, ss, xm2, sm, lam=lam, dual=dual, segmentation=sg)
+    at_build = evaluate(xs, ss, xm, sm, dual=dual, segmentation=sg)
+    np.testing.assert_allclose(at_build.g, live.g, atol=1e-14)   # same segments at build time
+    z = flat_dofs(xs2, xm2)
+    G, H = r.G.toarray(), r.H.toarray()
+    for i in range(z.size):
+        e = np.zeros(z.size)
+        e[i] = FD_H
+        a, b = unflat(z + e, n_s)
+        rp = evaluate(a, ss, b, sm, dual=dual, segmentation=sg)
+        a, b = unflat(z - e, n_s)
+        rm = evaluate(a, ss, b, sm, dual=dual, segmentation=sg)
+        assert np.abs(G[:, i] - (rp.g - rm.g) / (2 * FD_H)).max() <= FD_TOL * np.abs(G).max()
+        assert (np.abs(H[:, i] - (rp.G.T @ lam - rm.G.T @ lam) / (2 * FD_H)).max()
+                <= FD_TOL * np.abs(H).max())
+
+
+# ------------------------------------------------------- invariances (balance)
+def _rigid_modes(xs, xm):
+    x = np.concatenate([xs, xm], axis=1)
+    tx = np.zeros(x.size); tx[0::2] = 1.0
+    ty = np.zeros(x.size); ty[1::2] = 1.0
+    rot = np.zeros(x.size); rot[0::2] = -x[1]; rot[1::2] = x[0]
+    return tx, ty, rot
+
+
+@pytest.mark.parametrize("dual", [False, True])
+@pytest.mark.parametrize("curved", [False, True])
+def test_linear_and_angular_momentum(dual, curved):
+    """g is invariant under rigid motions of both surfaces, so the contact forces
+    f = G^T lam sum to zero and have zero moment (any geometry, here curved and flat)."""
+    if curved:
+        xs, ss, xm, sm = curved_pair(0.05)
+    else:
+        xs, ss, xm, sm = flat_pair(np.linspace(0, 1, 6), np.linspace(0.13, 1.4, 5), d=-0.01)
+    lam = np.linspace(1.0, 2.0, xs.shape[1])
+    r = evaluate(xs, ss, xm, sm, lam=lam, dual=dual)
+    f = r.G.T @ (lam * r.mask)
+    scale = np.abs(f).max()
+    assert scale > 0
+    for mode in _rigid_modes(xs, xm):
+        # G is exact, so the balance holds to round-off (16 digits, sums of ~50 terms)
+        assert abs(f @ mode) <= 1e-13 * scale * np.abs(mode).max() * f.size
+
+
+# ------------------------------------------------------------------ flat cases
+MESHES = {
+    "matching": (np.linspace(0, 1, 5), np.linspace(0, 1, 5)),
+    "non-matching": (np.linspace(0, 1, 5), np.array([0.0, 0.17, 0.4, 0.66, 0.91, 1.0])),
+    "coarse-master": (np.linspace(0, 1, 9), np.array([0.0, 0.37, 1.0])),
+}
+
+
+@pytest.mark.parametrize("dual", [False, True])
+@pytest.mark.parametrize("name", list(MESHES))
+def test_flat_zero_gap_and_translation(name, dual):
+    """Flat surfaces at zero gap: g = 0; master moved by delta along the slave
+    normal: g_A = delta * area_A (int Phi_A = int N_A for both bases); full
+    overlap: area = tributary lengths, sum D = sum M = contact length."""
+    xs_x, xm_x = MESHES[name]
+    xs, ss, xm, sm = flat_pair(xs_x, xm_x)
+    r = evaluate(xs, ss, xm, sm, dual=dual)
+    assert np.all(r.mask)
+    assert np.abs(r.g).max() <= 1e-15          # exact zeros up to round-off of O(1) products
+    h = np.diff(xs_x)
+    trib = np.r_[h[0] / 2, (h[:-1] + h[1:]) / 2, h[-1] / 2][::-1]   # slave nodes run right to left
+    np.testing.assert_allclose(r.area, trib, rtol=1e-14)
+    D, M = r.info["D"], r.info["M"]
+    np.testing.assert_allclose(D.sum(), 1.0, rtol=1e-14)
+    np.testing.assert_allclose(M.sum(), 1.0, rtol=1e-14)
+    # row sums: sum_B D_AB = sum_C M_AC = int Phi_A = area_A (partition of unity)
+    np.testing.assert_allclose(np.asarray(D.sum(1)).ravel(), trib, rtol=1e-13)
+    np.testing.assert_allclose(np.asarray(M.sum(1)).ravel(), trib, rtol=1e-13)
+    if dual:
+        off = D - np.diag(D.diagonal())
+        assert np.abs(off).max() <= 1e-15
+    delta = 0.0123
+    r2 = evaluate(xs, ss, xm + [[0.0], [delta]], sm, dual=dual)
+    np.testing.assert_allclose(r2.g, delta * trib, rtol=1e-13)
+
+
+@pytest.mark.parametrize("dual", [False, True])
+def test_partial_overlap_flat(dual):
+    """Master covers only x in [0.3, 0.8] of the slave [0, 1]: the area is the
+    integral of N_A over the covered part, uncovered nodes are masked out,
+    and the weighted gap of a translated master is delta * int Phi_A."""
+    xs_x = np.linspace(0, 1, 5)                    # nodes 0, .25, .5, .75, 1
+    xm_x = np.array([0.3, 0.55, 0.8])
+    xs, ss, xm, sm = flat_pair(xs_x, xm_x, d=0.02)
+    r = evaluate(xs, ss, xm, sm, dual=dual)
+
+    def int_hat(xn, h, a, b):                      # int_a^b of the hat function at xn
+        xx = np.linspace(a, b, 200001)
+        y = np.clip(1 - np.abs(xx - xn) / h, 0, None)
+        return np.trapezoid(y, xx)
+    exact = np.array([int_hat(x, 0.25, 0.3, 0.8) for x in xs_x])[::-1]
+    # trapezoid error ~ (dx)^2 * kink count ~ 1e-11
+    np.testing.assert_allclose(r.area, exact, atol=1e-10)
+    assert list(r.mask) == list(exact > 0)
+    D, M = r.info["D"], r.info["M"]
+    np.testing.assert_allclose(D.sum(), 0.5, rtol=1e-13)     # covered length
+    np.testing.assert_allclose(M.sum(), 0.5, rtol=1e-13)
+    if dual:
+        # biorthogonal on the projectable part: D diagonal even on partial elements
+        assert np.abs(D - np.diag(D.diagonal())).max() <= 1e-15
+        np.testing.assert_allclose(D.diagonal(), exact, atol=1e-10)
+    np.testing.assert_allclose(r.g[r.mask], 0.02 * exact[r.mask], atol=1e-12)
+
+
+def test_dual_coefficients_full_element():
+    a11, a12, a21, a22 = dual_coefficients(np.array(-1.0), np.array(1.0))
+    np.testing.assert_allclose([a11, a12, a21, a22], [2, -1, -1, 2], atol=1e-14)
+
+
+def test_dual_coefficients_biorthogonal_on_part():
+    """int_l^h Phi_A N_B = delta_AB int_l^h N_A, checked by Gauss quadrature."""
+    lo, hi = np.array(-0.3), np.array(0.55)
+    a11, a12, a21, a22 = dual_coefficients(lo, hi)
+    t, w = np.polynomial.legendre.leggauss(4)
+    xi = (lo + hi) / 2 + (hi - lo) / 2 * t
+    w = w * (hi - lo) / 2
+    N1, N2 = (1 - xi) / 2, (1 + xi) / 2
+    P1, P2 = a11 * N1 + a12 * N2, a21 * N1 + a22 * N2
+    B = np.array([[w @ (P1 * N1), w @ (P1 * N2)], [w @ (P2 * N1), w @ (P2 * N2)]])
+    np.testing.assert_allclose(B, np.diag([w @ N1, w @ N2]), atol=1e-14)
+
+
+def test_crosspoint_merge():
+    """A crosspoint's multiplier is merged into its neighbour: for standard
+    multipliers g_n(new) = g_n + g_c; for dual the neighbour's function on
+    that element is 1, so on a flat uniform gap g_n(new) = delta * (h + area_n^other)."""
+    xs_x = np.linspace(0, 1, 5)
+    xs, ss, xm, sm = flat_pair(xs_x, np.array([-0.1, 0.33, 0.71, 1.1]), d=0.01)
+    cp = 0                                        # the slave node at x = 1
+    nb = 1
+    r0 = evaluate(xs, ss, xm, sm)
+    r1 = evaluate(xs, ss, xm, sm, crosspoints=[cp])
+    assert not r1.mask[cp] and r1.g[cp] == 0.0
+    np.testing.assert_allclose(r1.g[nb], r0.g[nb] + r0.g[cp], rtol=1e-14)
+    np.testing.assert_allclose(np.delete(r1.g, [cp, nb]), np.delete(r0.g, [cp, nb]), rtol=1e-14)
+    rd = evaluate(xs, ss, xm, sm, crosspoints=[cp], dual=True)
+    np.testing.assert_allclose(rd.g[nb], 0.01 * (0.25 + 0.125), rtol=1e-13)
+
+
+def test_no_contact_pairs():
+    xs, ss, xm, sm = flat_pair(np.linspace(0, 1, 4), np.linspace(2, 3, 3))
+    r = evaluate(xs, ss, xm, sm, lam=np.ones(4))
+    assert not r.mask.any() and r.G.nnz == 0 and r.H.nnz == 0
+
+
+def test_pairs_argument_matches_search():
+    xs, ss, xm, sm = curved_pair(0.05)
+    i_s = np.repeat(np.arange(ss.shape[0]), sm.shape[0])
+    i_m = np.tile(np.arange(sm.shape[0]), ss.shape[0])
+    r_all = evaluate(xs, ss, xm, sm, pairs=(i_s, i_m))
+    r = evaluate(xs, ss, xm, sm)
+    np.testing.assert_allclose(r.g, r_all.g, atol=1e-15)
+
+
+def test_vectorized_timing_1e4(capsys):
+    """1e4 slave segments: measured, not asserted (machine dependent)."""
+    n = 10_000
+    xsx = np.linspace(0, 1, n + 1)[::-1]
+    xs = np.vstack([xsx, 0.05 * np.sin(3 * xsx)])
+    m = int(0.83 * n)
+    xmx = np.linspace(-0.01, 1.01, m + 1)
+    xm = np.vstack([xmx, 0.05 * np.sin(3 * xmx)])
+    t = time.perf_counter()
+    r = evaluate(xs, chain(n + 1), xm, chain(m + 1))
+    dt = time.perf_counter() - t
+    with capsys.disabled():
+        print(f"\n[mortar] 1e4 slave segments, {r.info['n_segments']} mortar segments: "
+              f"g + G in {dt:.3f} s")
+    assert r.mask.sum() == n + 1
