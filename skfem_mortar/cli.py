@@ -77,6 +77,21 @@ def _cmd_demo(args: argparse.Namespace) -> int:
     return _cmd_run(ns)
 
 
+def _cmd_study(args: argparse.Namespace) -> int:
+    from .study import run_study
+
+    steps = [int(v) for v in args.steps.split(",")] if args.steps else None
+    if steps and min(steps) < 1:
+        raise ValueError("--steps values must be integers >= 1")
+    rows = run_study(args.scene, args.out, methods=args.method or None,
+                     sets=_parse_sets(args.set), steps=steps, quick=args.quick,
+                     tolerance=args.tolerance, resume=args.resume, workers=args.workers,
+                     scheduler=args.scheduler, progress=not args.no_progress)
+    failed = sum(r.get("status") != "ok" for r in rows)
+    print(f"{len(rows)} runs ({failed} failed): {args.out}/results.csv, pareto.png, report.md")
+    return 0
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
         prog="skfem-mortar",
@@ -100,6 +115,24 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--resume", action="store_true",
                    help="continue from the checkpoint in --out (same scene and settings)")
     p.set_defaults(func=_cmd_run)
+
+    p = sub.add_parser("study", help="speed-accuracy grid: error against wall time")
+    p.add_argument("--scene", action="append", required=True, help="scene (repeatable)")
+    p.add_argument("--method", action="append", choices=["nts", "mortar", "mortar-dual"],
+                   help="methods to compare (repeatable; default: all of the scene's)")
+    p.add_argument("--set", action="append", default=[], metavar="NAME=V1,V2,...",
+                   help="an axis of the grid: a scene parameter and its values")
+    p.add_argument("--steps", default=None, help="load step counts to compare, e.g. 5,10,20")
+    p.add_argument("--quick", action="store_true", help="a small grid (for CI)")
+    p.add_argument("--tolerance", type=float, default=1e-2,
+                   help="report the cheapest setting within this relative error")
+    p.add_argument("--out", default="skfem-mortar-study")
+    p.add_argument("--resume", action="store_true", help="skip rows already in results.csv")
+    p.add_argument("--workers", type=int, default=0,
+                   help="run on a Dask LocalCluster with this many worker processes")
+    p.add_argument("--scheduler", default=None, help="address of an existing Dask scheduler")
+    p.add_argument("--no-progress", action="store_true")
+    p.set_defaults(func=_cmd_study)
 
     p = sub.add_parser("demo", help="run the demo scene and write its outputs")
     p.add_argument("--out", default="skfem-mortar-demo")
