@@ -99,6 +99,7 @@ class ContactPair(Item):
         self._history: list[np.ndarray] = []
         self._frozen: np.ndarray | None = None
         self._single_flip = False
+        self._started = False
         self._changes = 0
         self._cycles = 0
         self.last_eval: ContactEval | None = None
@@ -244,6 +245,11 @@ class ContactPair(Item):
         return not self._changed
 
     def begin_step(self, z: np.ndarray, load_factor: float) -> None:
+        if not self._started:  # the initial active set: lam - c g >= 0 (gap <= 0 at lam = 0)
+            self._started = True
+            ev = self.evaluate(z, tangent=False, with_lam=False)
+            c = self._c(z, load_factor, ev)
+            self.active = ev.mask & (np.asarray(z)[self.dofs] - c * ev.g >= 0)
         self._history = [self.active.copy()]
         self._frozen = None
         self._single_flip = False
@@ -258,7 +264,7 @@ class ContactPair(Item):
             act = self.active
             tension = float(np.max(-lam[act], initial=0.0))
             pen = float(np.max(-ev.g[~act & ev.mask], initial=0.0))
-            log.warning("%s: step converged on a frozen active set; KKT violation: "
+            log.warning("%s: step converged after the cycling guard acted; KKT violation: "
                         "max tension %.3e, max penetration %.3e", self.name, tension, pen)
 
     def step_info(self) -> dict:

@@ -1,0 +1,137 @@
+"""Scene ``cable_flat``: a pinned cable pressed by a follower pressure against a rigid plane
+(benchmarks section 4).
+
+A cable of reference length ``L0`` pinned at ``(-a, 0)`` and ``(a, 0)``, pressure
+``p`` pushing to ``+y``, the rigid plane ``y = d`` in the way.  Frictionless
+contact keeps the tension ``T`` constant; on the plane (``|x| < c``) the cable is
+straight and the contact pressure equals ``p``; the free parts are arcs of
+radius ``r = T / p`` tangent to the plane at ``(+-c, d)``.  With
+``theta = atan2(a - c, r - d)``:
+
+    (a - c)^2 + (r - d)^2 = r^2,   L = 2 c + 2 r theta,   p r = N(L / L0),
+
+one equation in ``r`` after eliminating ``c = a - sqrt(2 r d - d^2)``; contact
+force ``2 c p``.  Valid while ``0 < c < a``; otherwise the exact values are
+reported as null.
+
+The cable surface facing the plane (its left side, ``+y``) is the slave, the
+plane the master.  The start is the stress-free arc of length ``L0`` bulging to
+the plane (for ``L0 = 2 a`` the shallow regularized arc of
+:meth:`~skfem_mortar.cable.Cable.between`); it must not touch the plane.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from scipy.optimize import brentq
+
+from ..cable import LAWS, Cable, get_law
+from ..contact import ContactPair
+from ..loads import FollowerPressure
+from ..model import Dirichlet, Model
+from ..surfaces import ContactSurface, RigidPlane
+from . import METHODS, Param, Scene, Setup
+
+__all__ = ["SCENE", "build", "flat_exact"]
+
+
+def flat_exact(half_span: float, length0: float, EA: float, pressure: float,
+               plane_gap: float, law: str) -> dict | None:
+    """Exact radius, tension, contact half-width and force, or None outside ``0 < c < a``.
+
+    Solves ``f(r) = p r - N(L(r) / L0) = 0`` for the root nearest below the radius
+    ``r_touch = (a^2 + d^2) / (2 d)`` at which the free arc just touches the plane.
+    """
+    N = get_law(law).force
+    a, L0, p, d = half_span, length0, pressure, plane_gap
+
+    def c_of(r):
+        return a - np.sqrt(np.maximum(2 * r * d - d * d, 0.0))
+
+    def f(r):
+        c = c_of(r)
+        theta = np.arctan2(a - c, r - d)
+        L = 2 * c + 2 * r * theta
+        with np.errstate(all="ignore"):
+            return p * r - N(L / L0, EA)
+
+    r_touch = (a * a + d * d) / (2 * d)
+    grid = np.linspace(r_touch, 0.5 * d, 20001)[:-1]
+    vals = f(grid)
+    if not (np.isfinite(vals[0]) and vals[0] > 0):
+        return None  # the free arc does not reach the plane
+    neg = np.flatnonzero(~(vals > 0))
+    if neg.size == 0:
+        return None
+    i = neg[0]
+    r = brentq(lambda t: float(f(np.array(t))), grid[i], grid[i - 1],
+               xtol=1e-15, rtol=4 * np.finfo(float).eps, maxiter=200)
+    c = float(c_of(r))
+    if not (0.0 < c < a):
+        return None
+    return {"radius": r, "tension": p * r, "contact_half_width": c,
+            "contact_force": 2 * c * p}
+
+
+def build(params: dict, method: str | None = None) -> Setup:
+    """Cable, follower pressure, pinned supports, rigid plane and the contact pair."""
+    a, L0, EA, p, d = (float(params[k]) for k in
+                       ("half_span", "length0", "EA", "pressure", "plane_gap"))
+    law, n = params["law"], int(params["n_elements"])
+    method = method or "nts"
+    if L0 < 2 * a:
+        raise ValueError(f"length0 must be >= 2 half_span = {2 * a:g} (stress-free arc start), "
+                         f"got {L0:g}")
+    exact = flat_exact(a, L0, EA, p, d, law)
+    cable = Cable.between((-a, 0.0), (a, 0.0), L0, n, bulge="left", EA=EA, law=law,
+                          name="cable")
+    if cable.X[1].max() >= d:
+        raise ValueError(f"plane_gap must exceed the height {cable.X[1].max():.6g} of the "
+                         f"start arc of length0 = {L0:g}, got {d:g}")
+    slave = ContactSurface.from_cable(cable, side="left", name="cable_top")
+    plane = RigidPlane((0.0, d), (0.0, -1.0), length=max(100.0 * a, 10 * L0), name="plane")
+    pair = ContactPair(slave, plane, method, name="contact")
+    model = Model([cable, FollowerPressure(cable, p, side="left", name="pressure"),
+                   Dirichlet(cable, cable.support_dofs(), 0.0, name="supports"), pair])
+
+    def metrics(result) -> dict:
+        z = result.z
+        force = float(np.linalg.norm(pair.total_force(z)))
+        tension = float(np.mean(cable.tension(z)))
+        act = pair.active
+        # half the summed tributary lengths of the active nodes (an O(h) estimate)
+        half = float(0.5 * pair.evaluate(z, tangent=False, with_lam=False).area[act].sum())
+        out = {"n_active": int(act.sum())}
+        for q, val in (("contact_force", force), ("contact_half_width", half),
+                       ("tension", tension)):
+            out[q] = val
+            ref = None if exact is None else exact[q]
+            out[f"{q}_exact"] = ref
+            out[f"{q}_error"] = None if ref is None else abs(val - ref) / abs(ref)
+        return out
+
+    return Setup(model=model, metrics=metrics, outputs=[cable], contact=pair.contact_data)
+
+
+SCENE = Scene(
+    name="cable_flat",
+    summary="Cable pinned at (-a, 0), (a, 0) pressed by a follower pressure against the "
+            "rigid plane y = d (benchmarks section 4).",
+    params=(
+        Param("half_span", 1.0, "half the distance a between the supports", float,
+              low=0.0, low_inclusive=False),
+        Param("length0", 2.0, "reference length L0 >= 2a (stress-free arc start)", float,
+              low=0.0, low_inclusive=False),
+        Param("EA", 100.0, "axial stiffness", float, low=0.0, low_inclusive=False),
+        Param("pressure", 20.0, "pressure p pushing to +y (force per current length)",
+              float, low=0.0, low_inclusive=False),
+        Param("plane_gap", 0.5, "height d of the rigid plane y = d", float,
+              low=0.0, low_inclusive=False),
+        Param("law", "linear", "axial law N(lambda)", str, choices=tuple(LAWS)),
+        Param("n_elements", 100, "number of cable elements", int, low=2),
+    ),
+    build=build,
+    methods=METHODS,
+    default_steps=8,
+)
