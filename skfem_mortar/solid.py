@@ -107,6 +107,7 @@ class Solid(Item):
         kw = {} if intorder is None else {"intorder": int(intorder)}
         self.basis = Basis(mesh, ElementVector(elem_cls()), **kw)
         self.n_dofs = int(self.basis.N)
+        self._n_nodes = int(mesh.nvertices)
         every = self.basis.get_dofs(elements=np.arange(mesh.nelements))
         self.dof_component = np.zeros(self.n_dofs, dtype=np.int64)
         self.dof_component[np.asarray(every.all(["u^2"]), dtype=np.int64)] = 1
@@ -120,7 +121,7 @@ class Solid(Item):
     @property
     def n_nodes(self) -> int:
         """Number of mesh vertices (quadratic meshes list their vertices first)."""
-        return int(self.mesh.nvertices)
+        return self._n_nodes
 
     @property
     def node_dofs(self) -> np.ndarray:
