@@ -42,7 +42,7 @@ import scipy.sparse as sp
 
 from .contact_eval import ContactEval
 from .mortar_segmentation import (Jet, Segmentation, cross, nodal_normals,
-                                  project_point_on_slave, segment, slave_topology)
+                                  project_point_on_slave, segment)
 
 __all__ = ["evaluate", "segment", "Segmentation", "dual_coefficients"]
 
@@ -73,18 +73,27 @@ def dual_coefficients(lo, hi):
             -(d2 * m12) * det_inv, d2 * m11 * det_inv)
 
 
-def _local_nodes(sg: Segmentation, seg_s: np.ndarray, seg_m: np.ndarray, n_s: int):
+def _local_nodes(sg: Segmentation, seg_s: np.ndarray, seg_m: np.ndarray,
+                 pnode: np.ndarray, nnode: np.ndarray):
     """Node data of each mortar segment: slave p, a, b, n; master m1, m2, lo, hi."""
-    prev, nxt = slave_topology(seg_s, n_s)
     e, m = sg.e_s, sg.e_m
     a, b = seg_s[e, 0], seg_s[e, 1]
-    has_p, has_n = prev[e] >= 0, nxt[e] >= 0
-    p = np.where(has_p, seg_s[np.maximum(prev[e], 0), 0], a)
-    n = np.where(has_n, seg_s[np.maximum(nxt[e], 0), 1], b)
-    m1, m2 = seg_m[m, 0], seg_m[m, 1]
-    lo_node = sg.elem_node[e, 0]
-    hi_node = sg.elem_node[e, 1]
-    return p, a, b, n, m1, m2, lo_node, hi_node, has_p, has_n
+    return (pnode[a], a, b, nnode[b], seg_m[m, 0], seg_m[m, 1],
+            sg.elem_node[e, 0], sg.elem_node[e, 1])
+
+
+def _embed(j: Jet, idx: np.ndarray, offset: int, nv: int) -> Jet:
+    """Rows ``idx`` of a 6-variable node jet, placed at variables ``offset..offset+5`` of ``nv``."""
+    v = j.v[idx]
+    if nv == 0:
+        return Jet(v, np.zeros((v.size, 0)), None)
+    g = np.zeros((v.size, nv))
+    g[:, offset:offset + 6] = j.g[idx]
+    h = None
+    if j.h is not None:
+        h = np.zeros((v.size, nv, nv))
+        h[:, offset:offset + 6, offset:offset + 6] = j.h[idx]
+    return Jet(v, g, h)
 
 
 def _first(j: Jet) -> Jet:
@@ -93,16 +102,13 @@ def _first(j: Jet) -> Jet:
 
 
 def _chunk(xs, xm, sl, nd, sg: Segmentation, n_s: int, nv: int, second: bool,
-           dual: bool, cp: np.ndarray, eta: np.ndarray, w: np.ndarray, lam_ab=None):
+           dual: bool, cp: np.ndarray, eta: np.ndarray, w: np.ndarray, nrm, lam_ab=None):
     """Jets of the weighted-gap contributions of the mortar segments ``sl``."""
-    p, a, b, n, m1, m2, lo_node, hi_node, has_p, has_n = (q[sl] for q in nd)
+    p, a, b, n, m1, m2, lo_node, hi_node = (q[sl] for q in nd)
     frozen = sg.frozen
     xi_seg, src = sg.xi[sl], sg.src[sl]
     e = sg.e_s[sl]
-    # positions; a missing neighbour gets a dummy position with weight 0
-    xp = np.where(has_p, xs[:, p], 2 * xs[:, a] - xs[:, b])
-    xn = np.where(has_n, xs[:, n], 2 * xs[:, b] - xs[:, a])
-    pos = [xp, xs[:, a], xs[:, b], xn, xm[:, m1], xm[:, m2]]
+    pos = [xs[:, p], xs[:, a], xs[:, b], xs[:, n], xm[:, m1], xm[:, m2]]
     if nv > 12:
         pos += [xm[:, np.maximum(lo_node, 0)], xm[:, np.maximum(hi_node, 0)]]
     V = []
@@ -112,7 +118,9 @@ def _chunk(xs, xm, sl, nd, sg: Segmentation, n_s: int, nv: int, second: bool,
         else:
             V.append((Jet.constant(xk[0], nv, second), Jet.constant(xk[1], nv, second)))
     Xp, Xa, Xb, Xn, M1, M2 = V[:6]
-    na, nb, _ = nodal_normals(Xp, Xa, Xb, Xn, has_p * 1.0, has_n * 1.0)
+    # nodal normals: node jets in (prev, node, next) placed at slots (p, a, b) / (a, b, n)
+    na = (_embed(nrm[0], a, 0, nv), _embed(nrm[1], a, 0, nv))
+    nb = (_embed(nrm[0], b, 2, nv), _embed(nrm[1], b, 2, nv))
 
     def const(v):
         return Jet.constant(v, nv, second)
@@ -205,7 +213,7 @@ def _chunk(xs, xm, sl, nd, sg: Segmentation, n_s: int, nv: int, second: bool,
 
 def evaluate(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarray,
              lam: np.ndarray | None = None, tangent: bool = True, dual: bool = False,
-             n_gauss: int = 3, segmentation: Segmentation | None = None,
+             n_gauss: int = 2, segmentation: Segmentation | None = None,
              pairs: tuple[np.ndarray, np.ndarray] | None = None, margin: float | None = None,
              crosspoints: np.ndarray | None = None, **options: Any) -> ContactEval:
     """Mortar weighted gaps ``g``, ``G = dg/dx`` and ``H = sum_A lam_A d^2 g_A/dx^2``.
@@ -225,8 +233,11 @@ def evaluate(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarra
         The coefficients are computed on the projectable part of each slave
         element and differentiated (unless the segmentation is frozen).
     n_gauss : int
-        Gauss points per mortar segment; 2 integrate ``Phi_A N_B`` exactly on
-        flat segments, the default 3 adds accuracy on curved surfaces.
+        Gauss points per mortar segment; the default 2 integrates ``Phi_A N_B``,
+        ``Phi_A N_C`` and the weighted gaps exactly on flat segments (products
+        of two linear functions of eta); on curved surfaces the integrand is
+        rational in eta and more points add accuracy (the tangent is exact
+        for any rule).
     segmentation : Segmentation, optional
         Reuse these mortar segments (policy ``step``: built by :func:`segment`
         after a converged step).  If ``segmentation.frozen`` the pair list, the
@@ -268,8 +279,9 @@ def evaluate(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarra
     cp_nodes = np.zeros(n_s, bool)
     if crosspoints is not None:
         cp_nodes[np.asarray(crosspoints, dtype=np.int64)] = True
-    nd = _local_nodes(sg, seg_s, seg_m, n_s)
-    p, a, b, n, m1, m2, lo_node, hi_node = nd[:8]
+    nrm, pnode, nnode = nodal_normals(xs, seg_s, second, 6 if tangent else 0)
+    nd = _local_nodes(sg, seg_s, seg_m, pnode, nnode)
+    p, a, b, n, m1, m2, lo_node, hi_node = nd
     cp = np.stack([cp_nodes[a], cp_nodes[b]], 1)
     eta, w = np.polynomial.legendre.leggauss(n_gauss)
     # local dofs of each segment: nodes p, a, b, n (slave), m1, m2, lo, hi (master)
@@ -288,7 +300,8 @@ def evaluate(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarra
         sl = slice(start, min(start + chunk, nseg))
         aa, bb = a[sl], b[sl]
         lam_ab = None if lamv is None else (lamv[aa], lamv[bb])
-        ga, gb, q, extra = _chunk(xs, xm, sl, nd, sg, n_s, nv, second, dual, cp, eta, w, lam_ab)
+        ga, gb, q, extra = _chunk(xs, xm, sl, nd, sg, n_s, nv, second, dual, cp, eta, w, nrm,
+                                  lam_ab)
         ex.append(extra)
         np.add.at(g, aa, ga.v)
         np.add.at(g, bb, gb.v)

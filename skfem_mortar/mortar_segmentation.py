@@ -44,9 +44,9 @@ small set of local variables (the coordinates of the nodes a segment depends
 on), stacked over segments and Gauss points.  Composing jets applies the chain
 rule exactly, so first and second derivatives of every quantity of the mortar
 integral are exact.  Implicitly defined quantities (the projection of a master
-node) are differentiated by two Newton steps in jet arithmetic started from the
-converged value: Newton's map doubles the order of agreement per step, so two
-steps make value, gradient and Hessian exact.
+node, a root of a quadratic f) are differentiated by one Newton step in jet
+arithmetic started from the converged value (exact gradient) plus the
+second-order implicit-function term ``-c2 d^2 / f'`` (exact Hessian).
 """
 from __future__ import annotations
 
@@ -259,19 +259,40 @@ def _unit_normal(x1, y1, x2, y2):
     return normalize(y2 - y1, x1 - x2)
 
 
-def nodal_normals(xp, xa, xb, xn, w_prev, w_next):
-    """Averaged nodal normals ``n_a, n_b`` of slave element (a, b) (jets).
+def nodal_normals(xs: np.ndarray, seg: np.ndarray, second: bool = True, nv: int = 6):
+    """Averaged unit normals of all slave nodes, as jets in the node's 6 local variables.
 
-    ``n_a = normalize(w_prev nu(p, a) + nu(a, b))``, ``n_b = normalize(nu(a, b)
-    + w_next nu(b, n))`` with ``w = 0`` where the neighbour is missing (chain
-    ends); each argument ``x*`` is a pair ``(x, y)``.
+    ``n_k = normalize(w_p nu(p, k) + w_n nu(k, n))`` with ``p``, ``n`` the
+    previous and next node along the chain and ``w = 0`` where that neighbour is
+    missing (chain ends; a dummy position is used there).  Local variables:
+    ``(x_p, y_p, x_k, y_k, x_n, y_n)``; with ``nv = 0`` values only.
+
+    Returns
+    -------
+    (nx, ny) : Jet (n_s,)
+    pnode, nnode : int ndarray (n_s,), the neighbours (the node itself where missing).
     """
-    nux, nuy = _unit_normal(*xa, *xb)
-    npx, npy = _unit_normal(*xp, *xa)
-    nnx, nny = _unit_normal(*xb, *xn)
-    na = normalize(npx * w_prev + nux, npy * w_prev + nuy)
-    nb = normalize(nnx * w_next + nux, nny * w_next + nuy)
-    return na, nb, (nux, nuy)
+    n_s = xs.shape[1]
+    prev, nxt = slave_topology(seg, n_s)
+    ends = np.full(n_s, -1, dtype=np.int64)
+    starts = np.full(n_s, -1, dtype=np.int64)
+    ar = np.arange(seg.shape[0])
+    ends[seg[:, 1]] = ar
+    starts[seg[:, 0]] = ar
+    k = np.arange(n_s)
+    has_p, has_n = ends >= 0, starts >= 0
+    pnode = np.where(has_p, seg[np.maximum(ends, 0), 0], k)
+    nnode = np.where(has_n, seg[np.maximum(starts, 0), 1], k)
+    xk = xs
+    xp = np.where(has_p, xs[:, pnode], np.where(has_n, 2 * xk - xs[:, nnode], xk - [[1.0], [0.0]]))
+    xn = np.where(has_n, xs[:, nnode], np.where(has_p, 2 * xk - xs[:, pnode], xk + [[1.0], [0.0]]))
+    J = [Jet.variable(c, i, nv, second) if i < nv else Jet.constant(c, nv, second)
+         for i, c in enumerate((xp[0], xp[1], xk[0], xk[1], xn[0], xn[1]))]
+    npx, npy = _unit_normal(J[0], J[1], J[2], J[3])
+    nnx, nny = _unit_normal(J[2], J[3], J[4], J[5])
+    wp, wn = has_p * 1.0, has_n * 1.0
+    nx, ny = normalize(npx * wp + nnx * wn, npy * wp + nny * wn)
+    return (nx, ny), pnode, nnode
 
 
 def project_point_on_slave(xa, xb, na, nb, xc, n_newton: int = 8):
@@ -307,11 +328,17 @@ def project_point_on_slave(xa, xb, na, nb, xc, n_newton: int = 8):
     xi = np.where(ok, xi, 0.0)
     if not isinstance(c0, Jet):
         return xi, ok
-    xj = xi
-    for _ in range(2):
-        f = c0 + c1 * xj + c2 * xj * xj
-        df = c1 + c2 * xj * 2.0
-        xj = xj - f / df
+    # one Newton step in jets from the converged value xi0 (a constant):
+    #   xi1 = xi0 - f(xi0) / f'(xi0)            exact value and gradient;
+    # f is quadratic, so 0 = f(xi0) + f'(xi0) d + c2 d^2 for d = xi - xi0 and
+    #   xi = xi1 - c2 d^2 / f'(xi0) + O(|dq|^3),  d^2 having the Hessian 2 g g^T,
+    # which makes the Hessian exact too (implicit function theorem).
+    f0 = c0 + c1 * xi + c2 * (xi * xi)
+    df0 = c1 + c2 * (2.0 * xi)
+    xj = xi - f0 * df0.inv()
+    if xj.h is not None:
+        corr = (-2.0 * c2.v / df0.v)[..., None, None]
+        xj = Jet(xj.v, xj.g, xj.h + _outer(xj.g, xj.g) * corr)
     return xj, ok
 
 
@@ -398,24 +425,16 @@ def segment(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarray
     keep = good_s[i_s] & good_m[i_m]
     i_s, i_m = i_s[keep], i_m[keep]
 
-    prev, nxt = slave_topology(seg_s, xs.shape[1])
+    (nxv, nyv), _, _ = nodal_normals(xs, seg_s, second=False, nv=0)
     a, b = seg_s[i_s, 0], seg_s[i_s, 1]
-    pnode = np.where(prev[i_s] >= 0, seg_s[prev[i_s], 0], a)
-    nnode = np.where(nxt[i_s] >= 0, seg_s[nxt[i_s], 1], b)
     xa, xb = xs[:, a], xs[:, b]
-    # a missing neighbour gets a harmless dummy position with weight 0
-    xp = np.where(prev[i_s] >= 0, xs[:, pnode], 2 * xa - xb)
-    xn = np.where(nxt[i_s] >= 0, xs[:, nnode], 2 * xb - xa)
-    one = 0, False  # values only: no derivatives needed here
-    J = lambda v: Jet.constant(v, *one)  # noqa: E731  values through the jet code
-    jx = [(J(p[0]), J(p[1])) for p in (xp, xa, xb, xn)]
-    na, nb, (nux, nuy) = nodal_normals(*jx, (prev[i_s] >= 0) * 1.0, (nxt[i_s] >= 0) * 1.0)
-    na = (na[0].v, na[1].v)
-    nb = (nb[0].v, nb[1].v)
+    na = (nxv.v[a], nyv.v[a])
+    nb = (nxv.v[b], nyv.v[b])
     # facing test with the master element's unit normal
     m1, m2 = xm[:, seg_m[i_m, 0]], xm[:, seg_m[i_m, 1]]
     tm = m2 - m1
-    facing = (nux.v * tm[1] - nuy.v * tm[0]) < 0.0
+    ts = xb - xa
+    facing = (ts[0] * tm[0] + ts[1] * tm[1]) < 0.0   # nu_s . nu_m = t_s . t_m / (|t_s| |t_m|)
     xa_, xb_ = (xa[0], xa[1]), (xb[0], xb[1])
     p1, ok1 = project_point_on_slave(xa_, xb_, na, nb, (m1[0], m1[1]))
     p2, ok2 = project_point_on_slave(xa_, xb_, na, nb, (m2[0], m2[1]))
