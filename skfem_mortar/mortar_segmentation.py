@@ -264,7 +264,8 @@ def nodal_normals(xs: np.ndarray, seg: np.ndarray, second: bool = True, nv: int 
 
     ``n_k = normalize(w_p nu(p, k) + w_n nu(k, n))`` with ``p``, ``n`` the
     previous and next node along the chain and ``w = 0`` where that neighbour is
-    missing (chain ends; a dummy position is used there).  Local variables:
+    missing (chain ends) or its segment is degenerate (shorter than ``LEN_TOL``
+    times the mean length); a dummy position is used there.  Local variables:
     ``(x_p, y_p, x_k, y_k, x_n, y_n)``; with ``nv = 0`` values only.
 
     Returns
@@ -280,12 +281,17 @@ def nodal_normals(xs: np.ndarray, seg: np.ndarray, second: bool = True, nv: int 
     ends[seg[:, 1]] = ar
     starts[seg[:, 0]] = ar
     k = np.arange(n_s)
-    has_p, has_n = ends >= 0, starts >= 0
+    # degenerate (near zero length) segments take no part in the average
+    length = np.hypot(*(xs[:, seg[:, 1]] - xs[:, seg[:, 0]]))
+    good = length > LEN_TOL * (length.mean() if length.size else 0.0)
+    has_p = (ends >= 0) & good[np.maximum(ends, 0)]
+    has_n = (starts >= 0) & good[np.maximum(starts, 0)]
     pnode = np.where(has_p, seg[np.maximum(ends, 0), 0], k)
     nnode = np.where(has_n, seg[np.maximum(starts, 0), 1], k)
+    # a missing neighbour gets a dummy position (weight 0, any nonzero offset)
     xk = xs
-    xp = np.where(has_p, xs[:, pnode], np.where(has_n, 2 * xk - xs[:, nnode], xk - [[1.0], [0.0]]))
-    xn = np.where(has_n, xs[:, nnode], np.where(has_p, 2 * xk - xs[:, pnode], xk + [[1.0], [0.0]]))
+    xp = np.where(has_p, xs[:, pnode], xk - [[1.0], [0.0]])
+    xn = np.where(has_n, xs[:, nnode], xk + [[1.0], [0.0]])
     J = [Jet.variable(c, i, nv, second) if i < nv else Jet.constant(c, nv, second)
          for i, c in enumerate((xp[0], xp[1], xk[0], xk[1], xn[0], xn[1]))]
     npx, npy = _unit_normal(J[0], J[1], J[2], J[3])
