@@ -7,6 +7,14 @@ traction-free. The exact solution is the affine map ``F = diag(lx, ly)`` with
 ``lx = stretch`` and ``ly`` from the zero lateral stress condition ``P_yy = 0``.
 Every isoparametric element reproduces an affine field exactly, so on any
 (distorted) mesh the computed answer equals the exact one to round-off.
+
+Metrics (errors relative to the exact value, or to ``mu`` where that is 0):
+
+* ``nominal_stress``: reaction on the right face (sum of the residual over its
+  x-dofs) per unit reference height, against ``P_xx``;
+* ``lateral_stretch``: mean current height of the top vertices, against ``ly``;
+* ``max_stress_error``: ``max |P - P_exact|_F / |P_exact|_F`` over all
+  quadrature points of all elements (first Piola-Kirchhoff stress).
 """
 from __future__ import annotations
 
