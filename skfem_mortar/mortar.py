@@ -291,31 +291,41 @@ def evaluate(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarra
     dofs = np.stack([d + k for d in nodes for k in (0, 1)], 1)[:, :nv]
 
     nseg = sg.n
-    chunk = max(1, _CHUNK_ENTRIES // (n_gauss * max(nv, 1) ** (2 if second else 1)))
+    # dual multipliers on partially projectable slave elements depend on the
+    # master nodes bounding the projectable part: 16 local variables there, 12 elsewhere
+    groups = [(np.arange(nseg), nv)]
+    if nv == 16:
+        partial = (lo_node >= 0) | (hi_node >= 0)
+        groups = [(np.flatnonzero(~partial), 12), (np.flatnonzero(partial), 16)]
     g = np.zeros(n_s)
     area = np.zeros(n_s)
     lamv = None if lam is None else np.asarray(lam, dtype=float)
-    Gr, Gc, Gv, Hr, Hc, Hv, ex = [], [], [], [], [], [], []
-    for start in range(0, nseg, chunk):  # memory blocking only; each block is vectorized
-        sl = slice(start, min(start + chunk, nseg))
-        aa, bb = a[sl], b[sl]
-        lam_ab = None if lamv is None else (lamv[aa], lamv[bb])
-        ga, gb, q, extra = _chunk(xs, xm, sl, nd, sg, n_s, nv, second, dual, cp, eta, w, nrm,
-                                  lam_ab)
-        ex.append(extra)
-        np.add.at(g, aa, ga.v)
-        np.add.at(g, bb, gb.v)
-        if tangent:
-            dl = dofs[sl]
-            Gr += [np.repeat(aa, nv), np.repeat(bb, nv)]
-            Gc += [dl.ravel(), dl.ravel()]
-            Gv += [ga.g.ravel(), gb.g.ravel()]
-            if second:
-                hs = q.hessian()
-                Hr.append(np.repeat(dl, nv, axis=1).ravel())
-                Hc.append(np.tile(dl, (1, nv)).ravel())
-                Hv.append(hs.ravel())
+    Gr, Gc, Gv, Hr, Hc, Hv, ex, order = [], [], [], [], [], [], [], []
+    for idx_g, nv_g in groups:
+        chunk = max(1, _CHUNK_ENTRIES // (n_gauss * max(nv_g, 1) ** (2 if second else 1)))
+        for start in range(0, idx_g.size, chunk):  # memory blocking only; blocks are vectorized
+            sl = idx_g[start:start + chunk]
+            order.append(sl)
+            aa, bb = a[sl], b[sl]
+            lam_ab = None if lamv is None else (lamv[aa], lamv[bb])
+            ga, gb, q, extra = _chunk(xs, xm, sl, nd, sg, n_s, nv_g, second, dual, cp, eta, w,
+                                      nrm, lam_ab)
+            ex.append(extra)
+            np.add.at(g, aa, ga.v)
+            np.add.at(g, bb, gb.v)
+            if tangent:
+                dl = dofs[sl, :nv_g]
+                Gr += [np.repeat(aa, nv_g), np.repeat(bb, nv_g)]
+                Gc += [dl.ravel(), dl.ravel()]
+                Gv += [ga.g.ravel(), gb.g.ravel()]
+                if second:
+                    Hr.append(np.repeat(dl, nv_g, axis=1).ravel())
+                    Hc.append(np.tile(dl, (1, nv_g)).ravel())
+                    Hv.append(q.hessian().ravel())
     cat = (lambda L: np.concatenate(L)) if nseg else (lambda L: np.zeros(0))
+    if nseg:  # per-segment values below in the order the chunks were processed
+        o = np.concatenate(order)
+        a, b, m1, m2 = a[o], b[o], m1[o], m2[o]
     area_seg = cat([x["area"] for x in ex]).reshape(-1, 2)
     np.add.at(area, a, area_seg[:, 0])
     np.add.at(area, b, area_seg[:, 1])
