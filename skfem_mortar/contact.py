@@ -20,7 +20,8 @@ tributary length when the multipliers are tractions, as in mortar), so the
 choice is unit-free; it steers only the path of the iteration, not the
 solution.  At ``lam = 0`` a node with ``g <= 0`` is active (``>=`` above):
 a zero initial gap starts active.  Slave nodes without a master partner
-(``mask`` False) are inactive.
+(``mask`` False) are inactive.  The initial active set (first load step)
+also holds nodes that touch within ``touch_tolerance``.
 
 Cycling guard: the active sets of the iterations of a load step are kept; when
 an iteration returns to a set seen before (other than the last one), the
@@ -70,7 +71,13 @@ class ContactPair(Item):
     c : float, optional
         Complementarity parameter (> 0); default from the bodies' stiffness.
     cycle_guard : bool
-        Detect a repeating active set and freeze it (default True).
+        Detect a repeating active set and act on it (default True).
+    touch_tolerance : float
+        The initial active set also holds the nodes whose gap (as a length; for
+        mortar the weighted gap over the tributary length) is at most this
+        fraction of the mean slave segment length (>= 0, default 1e-2): a
+        curved surface touching at one node has a small positive mortar gap
+        there, and a body held only by contact needs that node active.
     **options
         Passed to the discretization's ``evaluate`` (e.g. ``margin``).
     """
@@ -79,7 +86,8 @@ class ContactPair(Item):
     phase = "contact"
 
     def __init__(self, slave: Any, master: Any, method: str = "nts", name: str = "contact",
-                 c: float | None = None, cycle_guard: bool = True, **options: Any):
+                 c: float | None = None, cycle_guard: bool = True,
+                 touch_tolerance: float = 1e-2, **options: Any):
         if method not in METHODS:
             raise ValueError(f"method must be one of {', '.join(METHODS)}, got {method!r}")
         if slave.dofs() is None:
@@ -93,6 +101,10 @@ class ContactPair(Item):
         self.options = {**extra, **options}
         self.n_dofs = slave.n_nodes
         self.c = c
+        if not (np.isfinite(touch_tolerance) and touch_tolerance >= 0):
+            raise ValueError(f"touch_tolerance must be a finite number >= 0, got {touch_tolerance}")
+        self._touch = float(touch_tolerance) * float(np.mean(np.hypot(*np.diff(
+            slave.X[:, slave.segments], axis=2)[:, :, 0])))
         self.cycle_guard = bool(cycle_guard)
         self.active = np.zeros(self.n_dofs, dtype=bool)
         self._changed = False
@@ -100,6 +112,7 @@ class ContactPair(Item):
         self._frozen: np.ndarray | None = None
         self._single_flip = False
         self._started = False
+        self._initial = False
         self._changes = 0
         self._cycles = 0
         self.last_eval: ContactEval | None = None
@@ -205,6 +218,12 @@ class ContactPair(Item):
                 self._changed = not np.array_equal(new, self.active)
                 self.active = new
             return new
+        if self._initial:
+            if not track:
+                return self.active
+            self._initial = False
+            self._changed = False
+            return self.active
         new = ev.mask & (lam - c * ev.g >= 0)
         if not track:
             return new
@@ -241,15 +260,23 @@ class ContactPair(Item):
         self.active = new
         return new
 
+    def _gap_length(self, ev: ContactEval) -> np.ndarray:
+        """Gaps as lengths: NTS gaps, or mortar weighted gaps over the tributary lengths."""
+        if self.multiplier_kind == "force":
+            return ev.g
+        return ev.g / np.where(ev.area > 0, ev.area, 1.0)
+
     def settled(self) -> bool:
         return not self._changed
 
     def begin_step(self, z: np.ndarray, load_factor: float) -> None:
-        if not self._started:  # the initial active set: lam - c g >= 0 (gap <= 0 at lam = 0)
+        if not self._started:  # the initial active set
             self._started = True
             ev = self.evaluate(z, tangent=False, with_lam=False)
             c = self._c(z, load_factor, ev)
-            self.active = ev.mask & (np.asarray(z)[self.dofs] - c * ev.g >= 0)
+            lam = np.asarray(z)[self.dofs]
+            self.active = ev.mask & ((lam - c * ev.g >= 0) | (self._gap_length(ev) <= self._touch))
+            self._initial = True  # the first iteration uses this set as it is
         self._history = [self.active.copy()]
         self._frozen = None
         self._single_flip = False

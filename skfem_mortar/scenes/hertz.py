@@ -1,0 +1,205 @@
+"""Scene ``hertz``: Hertz line contact of a cylinder on a flat body (benchmarks section 6).
+
+A half cylinder of radius ``R`` (axis on ``x = 0``, centre ``(0, R)``, touching
+``y = 0`` at the origin) is pressed by the line load ``P`` (per unit thickness,
+the FULL load of the whole cylinder) against an elastic block or a rigid plane
+(``base``).  By symmetry only ``x >= 0`` is modelled: ``u_x = 0`` on ``x = 0``
+for both bodies, and the quarter disk carries ``P / 2`` as a uniform dead
+traction ``P / (2 R)`` on its flat top face ``y = R``.  The elastic base is a
+block ``[0, W] x [-W, 0]`` with ``W = 30 a`` (at least 20 a wide and deep), its
+bottom clamped.  The slave surface is the cylinder's arc, the master the top of
+the base (or the plane).  With ``1/E* = (1 - nu1^2)/E1 + (1 - nu2^2)/E2`` (a
+rigid base has ``1/E2 = 0``):
+
+    a = sqrt(4 P R / (pi E*)),   p0 = 2 P / (pi a),   p(x) = p0 sqrt(1 - x^2 / a^2) .
+
+Meshes (linear triangles) are graded: element edges are at most
+``h0 = (a / 30) 2^-refine`` within ``1.2 a`` of the contact point (the coarse
+start meshes are refined adaptively, new arc nodes are projected onto the
+circle) and grow by 0.3 times the distance beyond.
+
+Metrics: ``peak_pressure`` (largest nodal pressure), ``half_width`` (midway
+between the last slave node in compression and the next one) with ``_exact``
+and ``_error``; ``pressure_l2_error``, the relative L2 error of the nodal
+pressure over ``[0, 1.5 a]`` (trapezoidal rule on the slave nodes).
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from skfem import MeshTri
+
+from ..contact import ContactPair
+from ..materials import NeoHooke
+from ..model import Dirichlet, Model
+from ..solid import Solid
+from ..surfaces import ContactSurface, RigidPlane
+from ..traction import Traction
+from . import METHODS, Param, Scene, Setup
+
+__all__ = ["SCENE", "build", "hertz_exact", "graded_quarter_disk", "graded_block"]
+
+FINE_ZONE = 1.2   # in units of a: uniform fine elements in this radius
+GRADING = 0.3     # element size growth per unit distance beyond it
+
+
+def hertz_exact(radius: float, load: float, E: float, nu: float,
+                E_base: float | None, nu_base: float) -> dict:
+    """Half-width ``a``, peak pressure ``p0`` and ``E*`` of the Hertz line contact
+    (``E_base=None``: rigid base)."""
+    inv = (1 - nu * nu) / E + (0.0 if E_base is None else (1 - nu_base ** 2) / E_base)
+    Es = 1.0 / inv
+    a = math.sqrt(4 * load * radius / (math.pi * Es))
+    return {"E_star": Es, "half_width": a, "peak_pressure": 2 * load / (math.pi * a)}
+
+
+def _longest_edges(mesh: MeshTri) -> tuple[np.ndarray, np.ndarray]:
+    e = mesh.p[:, mesh.t]  # (2, 3, n_el)
+    h = np.max([np.hypot(*(e[:, (k + 1) % 3] - e[:, k])) for k in range(3)], axis=0)
+    return h, e.mean(axis=1)
+
+
+def _refine_graded(mesh: MeshTri, h0: float, fine: float, project=None) -> MeshTri:
+    """Adaptive refinement near the origin until ``h_e <= h0 + GRADING max(d - fine, 0)``
+    (``d`` the distance of the element from the origin); at most 40 passes."""
+    for _ in range(40):
+        h, c = _longest_edges(mesh)
+        d = np.maximum(np.hypot(c[0], c[1]) - h, 0.0)
+        marked = np.flatnonzero(h > 1.5 * h0 + GRADING * np.maximum(d - fine, 0.0))
+        if marked.size == 0:
+            return mesh
+        mesh = mesh.refined(marked)
+        if project is not None:
+            mesh = MeshTri(project(mesh), mesh.t)
+    raise ValueError("graded mesh did not converge: refine is too large")
+
+
+def graded_quarter_disk(R: float, h0: float, fine: float) -> MeshTri:
+    """Quarter disk ``x >= 0, y <= R`` of the circle of radius ``R`` centred at
+    ``(0, R)``, graded towards the origin; boundaries ``axis``, ``top``, ``arc``."""
+    n = 6
+    th = np.linspace(-np.pi / 2, 0.0, n + 1)
+    r = R * np.arange(1, n + 1) / n
+    P = np.hstack([[[0.0], [R]], np.vstack([np.outer(r, np.cos(th)).ravel(),
+                                            R + np.outer(r, np.sin(th)).ravel()])])
+    idx = 1 + np.arange(n * (n + 1)).reshape(n, n + 1)
+    j = np.arange(n)
+    tris = [np.column_stack([np.zeros(n, int), idx[0, j], idx[0, j + 1]])]
+    a, b = idx[:-1, :-1].ravel(), idx[:-1, 1:].ravel()
+    c, d = idx[1:, :-1].ravel(), idx[1:, 1:].ravel()
+    tris += [np.column_stack([a, c, d]), np.column_stack([a, d, b])]
+    mesh = MeshTri(P, np.vstack(tris).T)
+    tol = 1e-9 * R
+
+    def project(m: MeshTri) -> np.ndarray:
+        p = m.p.copy()
+        bn = m.boundary_nodes()
+        on = bn[(p[0, bn] > tol) & (p[1, bn] < R - tol)]
+        v = p[:, on] - np.array([[0.0], [R]])
+        p[:, on] = np.array([[0.0], [R]]) + R * v / np.hypot(v[0], v[1])
+        return p
+
+    mesh = _refine_graded(mesh, h0, fine, project)
+    return mesh.with_boundaries({
+        "axis": lambda x: x[0] < tol,
+        "top": lambda x: x[1] > R - tol,
+        "arc": lambda x: (x[0] > tol) & (x[1] < R - tol)})
+
+
+def graded_block(W: float, h0: float, fine: float) -> MeshTri:
+    """Block ``[0, W] x [-W, 0]`` graded towards the origin; boundaries
+    ``axis`` (x = 0), ``top``, ``bottom``, ``right``."""
+    mesh = MeshTri.init_tensor(np.linspace(0, W, 4), np.linspace(-W, 0, 4))
+    mesh = _refine_graded(mesh, h0, fine)
+    tol = 1e-9 * W
+    return mesh.with_boundaries({
+        "axis": lambda x: x[0] < tol, "top": lambda x: x[1] > -tol,
+        "bottom": lambda x: x[1] < -W + tol, "right": lambda x: x[0] > W - tol})
+
+
+def build(params: dict, method: str | None = None) -> Setup:
+    """Cylinder (+ base), load, symmetry and supports, contact pair; Hertz metrics."""
+    R, P = float(params["radius"]), float(params["load"])
+    E, nu = float(params["E"]), float(params["nu"])
+    Eb, nub = float(params["E_base"]), float(params["nu_base"])
+    rigid = params["base"] == "rigid"
+    method = method or "nts"
+    ex = hertz_exact(R, P, E, nu, None if rigid else Eb, nub)
+    a = ex["half_width"]
+    if a > 0.2 * R:
+        raise ValueError(f"load must keep the contact half-width a = {a:.4g} below 0.2 radius "
+                         f"(Hertz theory needs a << R); lower load or raise E")
+    h0 = a / 30.0 * 2.0 ** (-int(params["refine"]))
+    cyl = Solid(graded_quarter_disk(R, h0, FINE_ZONE * a), NeoHooke(E=E, nu=nu),
+                name="cylinder")
+    items = [cyl,
+             Traction(cyl, "top", (0.0, -P / (2 * R)), name="load"),
+             Dirichlet(cyl, cyl.dofs_on("axis", "x"), 0.0, name="cylinder_axis")]
+    slave = ContactSurface.from_solid(cyl, "arc", name="cylinder_arc")
+    if rigid:
+        master = RigidPlane((0.0, 0.0), (0.0, 1.0), length=4 * R, name="plane")
+        outputs = [cyl]
+    else:
+        W = 30.0 * a
+        base = Solid(graded_block(W, h0, FINE_ZONE * a), NeoHooke(E=Eb, nu=nub), name="base")
+        master = ContactSurface.from_solid(base, "top", name="base_top")
+        items += [base, Dirichlet(base, base.dofs_on("bottom"), 0.0, name="base_bottom"),
+                  Dirichlet(base, base.dofs_on("axis", "x"), 0.0, name="base_axis")]
+        outputs = [cyl, base]
+    pair = ContactPair(slave, master, method, name="contact")
+    items.append(pair)
+    model = Model(items)
+
+    def metrics(result) -> dict:
+        d = pair.contact_data(result.z)
+        x, p = d["x"], d["pressure"]
+        order = np.argsort(x)
+        x, p = x[order], p[order]
+        comp = np.flatnonzero(p > 1e-8 * max(p.max(), 0.0))  # inactive: lam = 0 up to round-off
+        peak = float(p.max())
+        if comp.size:
+            k = comp.max()
+            half = float(0.5 * (x[k] + x[min(k + 1, len(x) - 1)]))
+        else:
+            half = 0.0
+        sel = x <= 1.5 * a
+        xs, ps = x[sel], p[sel]
+        pe = ex["peak_pressure"] * np.sqrt(np.clip(1 - (xs / a) ** 2, 0.0, None))
+        l2 = math.sqrt(np.trapezoid((ps - pe) ** 2, xs) / np.trapezoid(pe ** 2, xs))
+        out = {"n_active": int(pair.active.sum()), "pressure_l2_error": l2,
+               "element_size": h0, "E_star": ex["E_star"]}
+        for q, val in (("peak_pressure", peak), ("half_width", half)):
+            out[q] = val
+            out[f"{q}_exact"] = ex[q]
+            out[f"{q}_error"] = abs(val - ex[q]) / ex[q]
+        return out
+
+    return Setup(model=model, metrics=metrics, outputs=outputs, contact=pair.contact_data)
+
+
+SCENE = Scene(
+    name="hertz",
+    summary="Hertz line contact: a half cylinder pressed by a line load on an elastic "
+            "block or a rigid plane, symmetric half model (benchmarks section 6).",
+    params=(
+        Param("radius", 8.0, "cylinder radius R", float, low=0.0, low_inclusive=False),
+        Param("load", 3.2032, "line load P per unit thickness (the full cylinder's, also "
+              "in the half model)", float, low=0.0, low_inclusive=False),
+        Param("E", 200.0, "Young's modulus of the cylinder", float, low=0.0,
+              low_inclusive=False),
+        Param("nu", 0.3, "Poisson's ratio of the cylinder", float, low=0.0, high=0.5,
+              high_inclusive=False),
+        Param("E_base", 200.0, "Young's modulus of the elastic base", float, low=0.0,
+              low_inclusive=False),
+        Param("nu_base", 0.3, "Poisson's ratio of the elastic base", float, low=0.0,
+              high=0.5, high_inclusive=False),
+        Param("base", "rigid", "what the cylinder is pressed on", str,
+              choices=("rigid", "elastic")),
+        Param("refine", 0, "mesh level: element size (a/30) 2^-refine in the contact zone",
+              int, low=-3, high=2),
+    ),
+    build=build,
+    methods=METHODS,
+    default_steps=4,
+)
