@@ -77,3 +77,16 @@ def test_bad_parameter():
         run_scene("patch", params={"n_top": 0})
     with pytest.raises(ValueError, match="element"):
         run_scene("patch", params={"element": "tri2"})
+
+
+def test_units_do_not_matter():
+    # c comes from the stiffness: scaling E and q by 1e-6 changes neither the
+    # Newton path nor the relative error (NTS, non-matching; equal to 1e-6
+    # relative: the residual tolerance is relative too)
+    a = run_scene("patch", params={"n_top": 5, "n_bottom": 4}, method="nts")
+    b = run_scene("patch", params={"n_top": 5, "n_bottom": 4, "pressure": 1e-2,
+                                   "E_top": 1.0, "E_bottom": 1.0}, method="nts")
+    assert [s["newton_iterations"] for s in a["steps"]] == \
+        [s["newton_iterations"] for s in b["steps"]]
+    assert b["metrics"]["pressure_error"] == pytest.approx(a["metrics"]["pressure_error"],
+                                                           rel=1e-6)

@@ -100,8 +100,11 @@ def build(params: dict, method: str | None = None) -> Setup:
         force = float(np.linalg.norm(pair.total_force(z)))
         tension = float(np.mean(cable.tension(z)))
         act = pair.active
-        # half the summed tributary lengths of the active nodes (an O(h) estimate)
-        half = float(0.5 * pair.evaluate(z, tangent=False, with_lam=False).area[act].sum())
+        # half the extent of the slave nodes in compression (resolves c to O(h))
+        lam = z[pair.dofs]
+        comp = act & (lam > 1e-8 * max(lam.max(), 0.0))
+        xs = slave.x(z)[0][comp]
+        half = float(0.5 * (xs.max() - xs.min())) if comp.any() else 0.0
         out = {"n_active": int(act.sum())}
         for q, val in (("contact_force", force), ("contact_half_width", half),
                        ("tension", tension)):
