@@ -113,6 +113,7 @@ class ContactPair(Item):
         self._single_flip = False
         self._started = False
         self._initial = False
+        self._prefer: np.ndarray | None = None
         self._changes = 0
         self._cycles = 0
         self.last_eval: ContactEval | None = None
@@ -134,9 +135,10 @@ class ContactPair(Item):
     def evaluate(self, z: np.ndarray, tangent: bool = True, with_lam: bool = True) -> ContactEval:
         """The discretization's :class:`ContactEval` at ``z``."""
         lam = np.asarray(z)[self.dofs] if with_lam else None
+        extra = {"prefer": self._prefer} if (self.method == "nts" and self._prefer is not None) else {}
         return self.module.evaluate(self.slave.x(z), self.slave.segments,
                                     self.master.x(z), self.master.segments,
-                                    lam=lam, tangent=tangent, **self.options)
+                                    lam=lam, tangent=tangent, **extra, **self.options)
 
     def _bodies(self):
         out = [self.slave.body]
@@ -178,6 +180,8 @@ class ContactPair(Item):
         ev = self.evaluate(z, tangent=True, with_lam=tangent)
         c = self._c(z, load_factor, ev)
         active = self._active_set(lam, ev, c, track=tangent)
+        if tangent and "segment" in ev.info:  # NTS: segment hysteresis between iterations
+            self._prefer = np.asarray(ev.info["segment"])
         gd = self.global_dofs()
         # body rows: -G^T lam
         G = ev.G.tocoo()

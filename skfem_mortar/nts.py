@@ -31,7 +31,9 @@ candidates the one at the smallest distance from its clipped projection
 segments, both clipped to it) go to the segment whose unclipped ``xi`` is
 nearest to ``[0, 1]``.  The gap is then the distance to that segment's line
 with the unclipped ``xi`` (a smooth function for a fixed segment; the switch of
-segment at a vertex makes g_N non-smooth there -- the known NTS defect).  A node
+segment at a vertex makes g_N non-smooth there -- the known NTS defect; the
+pair item passes the previous iteration's segments as ``prefer`` so that a
+node keeps its segment within a small hysteresis ``stick``).  A node
 whose projection falls off the free end of an open master chain
 (``xi < -end_tolerance`` on the first segment or ``xi > 1 + end_tolerance`` on
 the last) has left the master surface: ``mask`` is False and it stays inactive.
@@ -66,7 +68,8 @@ def _check(x: np.ndarray, seg: np.ndarray, what: str) -> tuple[np.ndarray, np.nd
 
 
 def project(xs: np.ndarray, xm: np.ndarray, seg_m: np.ndarray, margin: float | None = None,
-            end_tolerance: float = 1e-8) -> dict:
+            end_tolerance: float = 1e-8, prefer: np.ndarray | None = None,
+            stick: float = 0.05) -> dict:
     """Closest-point projection of every slave node on the master chain.
 
     Parameters
@@ -81,6 +84,14 @@ def project(xs: np.ndarray, xm: np.ndarray, seg_m: np.ndarray, margin: float | N
         Box inflation of the search (default: the median master segment length).
     end_tolerance : float
         Tolerance on ``xi`` at the free ends of an open master chain (>= 0).
+    prefer : int ndarray (n_s,), optional
+        The segment of each node at the previous iteration (-1: none).  It is
+        kept while the node's ``xi`` on it stays in ``[-stick, 1 + stick]``
+        (hysteresis: a node at a master vertex with a kink would otherwise
+        jump between the two segments from one Newton iteration to the next
+        and Newton would never converge).
+    stick : float
+        Hysteresis width, a fraction of the segment length (>= 0).
 
     Returns
     -------
@@ -88,6 +99,8 @@ def project(xs: np.ndarray, xm: np.ndarray, seg_m: np.ndarray, margin: float | N
     parameter, ``mask`` (n_s,) bool, ``n``/``e`` (2, n_s) master normal and
     tangent, ``l`` (n_s,) segment length, ``g`` (n_s,) normal gap.
     """
+    if not (np.isfinite(stick) and stick >= 0):
+        raise ValueError(f"stick must be a finite number >= 0, got {stick}")
     if not (np.isfinite(end_tolerance) and end_tolerance >= 0):
         raise ValueError(f"end_tolerance must be a finite number >= 0, got {end_tolerance}")
     n_s, n_m = xs.shape[1], xm.shape[1]
@@ -117,7 +130,14 @@ def project(xs: np.ndarray, xm: np.ndarray, seg_m: np.ndarray, margin: float | N
     xp = np.where(xi <= 0, x1, np.where(xi >= 1, x2, x1 + xi * t))
     dist = np.hypot(*(xs[:, i_n] - xp))
     over = np.maximum(np.maximum(-xi, xi - 1.0), 0.0)
-    order = np.lexsort((over, dist, i_n))
+    if prefer is not None:
+        prefer = np.asarray(prefer, dtype=np.int64).ravel()
+        if prefer.shape != (n_s,):
+            raise ValueError(f"prefer must have shape ({n_s},), got {prefer.shape}")
+        keep = (i_e == prefer[i_n]) & (xi >= -stick) & (xi <= 1.0 + stick)
+    else:
+        keep = np.zeros(i_n.shape, dtype=bool)
+    order = np.lexsort((over, dist, ~keep, i_n))
     first = np.unique(i_n[order], return_index=True)[1]
     best = order[first]
     k, e, xi = i_n[best], i_e[best], xi[best]
@@ -143,7 +163,8 @@ def project(xs: np.ndarray, xm: np.ndarray, seg_m: np.ndarray, margin: float | N
 
 def evaluate(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarray,
              lam: np.ndarray | None = None, tangent: bool = True,
-             margin: float | None = None, end_tolerance: float = 1e-8) -> ContactEval:
+             margin: float | None = None, end_tolerance: float = 1e-8,
+             prefer: np.ndarray | None = None, stick: float = 0.05) -> ContactEval:
     """NTS gaps ``g_N`` of the slave nodes, ``G = dg/dx`` and ``H = sum_k lam_k d^2 g_k/dx^2``.
 
     Parameters
@@ -154,7 +175,7 @@ def evaluate(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarra
         Nodal contact forces (multipliers); needed for ``H``.
     tangent : bool
         Whether to build ``G`` (and ``H`` when ``lam`` is given).
-    margin, end_tolerance : see :func:`project`.
+    margin, end_tolerance, prefer, stick : see :func:`project`.
 
     Returns
     -------
@@ -170,7 +191,7 @@ def evaluate(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarra
         lam = np.asarray(lam, dtype=float).ravel()
         if lam.shape != (n_s,):
             raise ValueError(f"lam must have shape ({n_s},), got {lam.shape}")
-    pr = project(xs, xm, seg_m, margin, end_tolerance)
+    pr = project(xs, xm, seg_m, margin, end_tolerance, prefer, stick)
     mask, g, xi, n, e, l = pr["mask"], pr["g"], pr["xi"], pr["n"], pr["e"], pr["l"]
     area = tributary_lengths(xs, seg_s)
     info = {"xi": xi, "segment": pr["segment"], "normal": n}

@@ -120,3 +120,22 @@ def test_bad_input():
     with pytest.raises(ValueError, match="end_tolerance"):
         nts.evaluate(np.zeros((2, 2)), [[0, 1]], np.array([[0.0, 1], [0, 0]]), [[0, 1]],
                      end_tolerance=-1)
+
+
+def test_segment_hysteresis_at_a_kink():
+    # concave kink at (1, 0): master (2,0.1) -> (1,0) -> (0,0.1), outward normal up.
+    # A node just right of the bisector belongs to segment 0 by distance; with
+    # prefer = segment 1 and xi on segment 1 within [-stick, 1 + stick] it stays.
+    xm = np.array([[2.0, 1.0, 0.0], [0.1, 0.0, 0.1]])
+    seg_m = np.array([[0, 1], [1, 2]])
+    xs = np.array([[1.001], [0.05]])
+    e0 = nts.evaluate(xs, np.zeros((0, 2), int), xm, seg_m)
+    assert e0.info["segment"][0] == 0
+    e1 = nts.evaluate(xs, np.zeros((0, 2), int), xm, seg_m, prefer=np.array([1]))
+    assert e1.info["segment"][0] == 1
+    n1 = np.array([0.1, 1.0]) / np.hypot(0.1, 1.0)
+    assert e1.g[0] == pytest.approx(np.dot(xs[:, 0] - xm[:, 1], n1), abs=1e-15)
+    # far outside the hysteresis band the closest segment wins again
+    xs2 = np.array([[1.5], [0.2]])
+    e2 = nts.evaluate(xs2, np.zeros((0, 2), int), xm, seg_m, prefer=np.array([1]))
+    assert e2.info["segment"][0] == 0
