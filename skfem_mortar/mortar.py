@@ -288,7 +288,8 @@ def evaluate(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarra
     nodes = [2 * p, 2 * a, 2 * b, 2 * n, 2 * n_s + 2 * m1, 2 * n_s + 2 * m2,
              2 * n_s + 2 * np.where(lo_node >= 0, lo_node, m1),
              2 * n_s + 2 * np.where(hi_node >= 0, hi_node, m1)]
-    dofs = np.stack([d + k for d in nodes for k in (0, 1)], 1)[:, :nv]
+    itype = np.int32 if ndof < 2**31 - 1 else np.int64   # halves the COO index memory
+    dofs = np.stack([d + k for d in nodes for k in (0, 1)], 1)[:, :nv].astype(itype)
 
     nseg = sg.n
     # dual multipliers on partially projectable slave elements depend on the
@@ -315,14 +316,14 @@ def evaluate(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarra
             np.add.at(g, bb, gb.v)
             if tangent:
                 dl = dofs[sl, :nv_g]
-                Gr += [np.repeat(aa, nv_g), np.repeat(bb, nv_g)]
+                Gr += [np.repeat(aa.astype(itype), nv_g), np.repeat(bb.astype(itype), nv_g)]
                 Gc += [dl.ravel(), dl.ravel()]
                 Gv += [ga.g.ravel(), gb.g.ravel()]
                 if second:
                     Hr.append(np.repeat(dl, nv_g, axis=1).ravel())
                     Hc.append(np.tile(dl, (1, nv_g)).ravel())
                     Hv.append(q.hessian().ravel())
-    cat = (lambda L: np.concatenate(L)) if nseg else (lambda L: np.zeros(0))
+    cat = (lambda L: np.concatenate(L)) if nseg else (lambda L: np.zeros(0, dtype=itype))
     if nseg:  # per-segment values below in the order the chunks were processed
         o = np.concatenate(order)
         a, b, m1, m2 = a[o], b[o], m1[o], m2[o]
@@ -333,11 +334,9 @@ def evaluate(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarra
     g = np.where(mask, g, 0.0)
     G = H = None
     if tangent:
-        G = sp.coo_matrix((cat(Gv), (cat(Gr).astype(np.int64), cat(Gc).astype(np.int64))),
-                          shape=(n_s, ndof)).tocsr()
+        G = sp.coo_matrix((cat(Gv), (cat(Gr), cat(Gc))), shape=(n_s, ndof)).tocsr()
         if second:
-            H = sp.coo_matrix((cat(Hv), (cat(Hr).astype(np.int64), cat(Hc).astype(np.int64))),
-                              shape=(ndof, ndof)).tocsr()
+            H = sp.coo_matrix((cat(Hv), (cat(Hr), cat(Hc))), shape=(ndof, ndof)).tocsr()
     Dv = cat([x["D"] for x in ex]).reshape(-1, 4)
     Mv = cat([x["M"] for x in ex]).reshape(-1, 4)
     D = sp.coo_matrix((Dv.ravel(), (np.stack([a, a, b, b], 1).ravel(),
