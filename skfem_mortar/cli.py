@@ -64,17 +64,16 @@ def _cmd_run(args: argparse.Namespace) -> int:
 
 
 def _cmd_demo(args: argparse.Namespace) -> int:
-    from .scenes import get_scene
+    from .demo import run_demo
 
-    try:
-        get_scene("seed")
-        scene = "seed"
-    except ValueError:  # the paper's scene is not there yet: run the block
-        scene = "block"
-    ns = argparse.Namespace(scene=scene, set=[], method=args.method if scene == "seed" else None,
-                            steps=None, out=args.out, json=False, no_progress=False,
-                            resume=False)
-    return _cmd_run(ns)
+    summary = run_demo(args.out, method=args.method, progress=True)
+    m = summary["metrics"]
+    print(f"seed ({summary['method']}): {len(summary['steps'])} load steps in "
+          f"{summary['wall_time_s']:.1f} s; contact force {m['contact_force']:.4g}, "
+          f"contact length {m['contact_length']:.4g}, indentation {m['max_indentation']:.4g}")
+    print(f"written to {args.out}/: figure.png, pressure.png, newton.png, summary.json, "
+          f"contact.csv, cushion.pvd, cable.pvd")
+    return 0
 
 
 def _cmd_study(args: argparse.Namespace) -> int:

@@ -58,14 +58,23 @@ def write_json(path: str | os.PathLike, data: dict) -> None:
 
 
 def write_contact_csv(path: str | os.PathLike, data: dict[str, np.ndarray]) -> None:
-    """Write ``x,y,gap,pressure`` (one row per slave node) atomically."""
+    """Write ``x,y,gap,pressure`` (one row per slave node) atomically.
+
+    A slave node that faces no master segment has no gap: its ``gap`` cell is
+    left empty (``data["gap"]`` is NaN there). Any other non-finite value is an
+    error: nothing non-finite is written.
+    """
     cols = ["x", "y", "gap", "pressure"]
     arr = np.column_stack([np.asarray(data[c], dtype=float) for c in cols])
-    if not np.all(np.isfinite(arr)):
+    bad = ~np.isfinite(arr)
+    bad[:, 2] &= ~np.isnan(arr[:, 2])
+    if bad.any():
         raise ValueError("non-finite contact data: refusing to write contact.csv")
+    lines = [",".join(cols)]
+    for row in arr:
+        lines.append(",".join("" if np.isnan(v) else f"{v:.12g}" for v in row))
     with atomic_path(path) as tmp:
-        np.savetxt(tmp, arr, delimiter=",", header=",".join(cols), comments="",
-                   fmt="%.12g")
+        tmp.write_text("\n".join(lines) + "\n")
 
 
 def _points3(points: np.ndarray) -> np.ndarray:

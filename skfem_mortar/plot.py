@@ -72,22 +72,37 @@ def figure(setup, result, path: str | os.PathLike, title: str = "",
                 show_edges=True, edge_color="gray")
             if field is not None and col == 1:
                 cmap = "plasma" if field == "tension" else "viridis"
-                plotter.add_mesh(grid, scalars=field, cmap=cmap,
+                vals = np.asarray(grid.cell_data[field])
+                lo, hi = float(vals.min()), float(vals.max())
+                if hi - lo <= 1e-6 * max(abs(hi), abs(lo), 1e-300):
+                    # a constant field (e.g. the tension of a frictionless cable):
+                    # do not colour its round-off noise
+                    lo, hi = lo - 0.1 * abs(lo) - 1e-12, hi + 0.1 * abs(hi) + 1e-12
+                plotter.add_mesh(grid, scalars=field, cmap=cmap, clim=[lo, hi],
                                  scalar_bar_args={"title": f"{item.name}: {field}",
-                                                  "vertical": False,
-                                                  "position_y": 0.02 + 0.1 * is_line},
+                                                  "vertical": False, "height": 0.06,
+                                                  "width": 0.4, "position_x": 0.55,
+                                                  "position_y": 0.03 + 0.16 * is_line,
+                                                  "title_font_size": 14,
+                                                  "label_font_size": 12, "n_labels": 3},
                                  **kw)
             else:
                 plotter.add_mesh(grid, color="tan" if is_line else "lightsteelblue", **kw)
         if col == 1 and setup.contact is not None:
             c = setup.contact(z1)
-            pts = np.column_stack([c["x"], c["y"], np.full(len(c["x"]), 0.01)])
-            cloud = pv.PolyData(pts)
-            cloud["contact pressure"] = np.asarray(c["pressure"], dtype=float)
-            plotter.add_mesh(cloud, scalars="contact pressure", cmap="inferno",
-                             point_size=9, render_points_as_spheres=True,
-                             scalar_bar_args={"title": "contact pressure",
-                                              "vertical": True})
+            on = np.asarray(c["pressure"], dtype=float) > 0  # the nodes in contact
+            if on.any():
+                pts = np.column_stack([c["x"][on], c["y"][on], np.full(on.sum(), 0.01)])
+                cloud = pv.PolyData(pts)
+                cloud["contact pressure"] = np.asarray(c["pressure"], dtype=float)[on]
+                plotter.add_mesh(cloud, scalars="contact pressure", cmap="inferno",
+                                 point_size=11, render_points_as_spheres=True,
+                                 scalar_bar_args={"title": "contact pressure",
+                                                  "vertical": False, "height": 0.06,
+                                                  "width": 0.4, "position_x": 0.05,
+                                                  "position_y": 0.03,
+                                                  "title_font_size": 14,
+                                                  "label_font_size": 12, "n_labels": 3})
         plotter.view_xy()
         plotter.reset_camera(bounds=union)  # same scale in both panels
     plotter.screenshot(str(path))

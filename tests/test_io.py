@@ -37,7 +37,7 @@ def test_nan_never_reaches_a_file(tmp_path):
         write_json(tmp_path / "summary.json", {"a": {"b": [1.0, math.inf]}})
     with pytest.raises(ValueError, match="non-finite"):
         write_contact_csv(tmp_path / "contact.csv",
-                          {"x": [0.0], "y": [0.0], "gap": [np.nan], "pressure": [1.0]})
+                          {"x": [0.0], "y": [0.0], "gap": [0.0], "pressure": [np.nan]})
     assert list(tmp_path.iterdir()) == []  # no partial or temporary file left
 
 
@@ -55,3 +55,11 @@ def test_run_json_and_out(tmp_path, capsys):
     frames = read_series(out / "block.pvd")
     assert [t for t, _ in frames] == [0.0, 0.5, 1.0]
     assert "von_mises" in frames[-1][1].cell_data
+
+
+def test_contact_csv_leaves_an_undefined_gap_empty(tmp_path):
+    write_contact_csv(tmp_path / "contact.csv", {"x": [0.0, 1.0], "y": [2.0, 3.0],
+                                                 "gap": [np.nan, -0.5], "pressure": [0.0, 4.0]})
+    lines = (tmp_path / "contact.csv").read_text().splitlines()
+    assert lines == ["x,y,gap,pressure", "0,2,,0", "1,3,-0.5,4"]
+    assert "nan" not in (tmp_path / "contact.csv").read_text().lower()

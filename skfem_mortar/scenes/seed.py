@@ -1,0 +1,155 @@
+"""Scene ``seed``: the paper's example, an inflated cable pressed into a soft cushion.
+
+A nonlinear elastic cable (default St Venant-Kirchhoff law) pinned at
+``(-a, 0)`` and ``(a, 0)``, with reference length ``L0 > 2 a`` so that it starts
+as the stress-free arc bulging upwards, is inflated by a follower pressure
+``p`` (pushing to ``+y``) until it meets and presses into a compressible
+neo-Hookean cushion: the rectangle ``|x| <= w/2``, ``gap0 <= y - h_arc <= gap0 + H``
+above the arc's apex, fixed on its top face. The cable's upper side is the
+slave surface, the cushion's bottom face the master.
+
+Mortar segments are rebuilt in every Newton iteration (``segmentation=iteration``)
+or after every converged load step (``segmentation=step``, as in the paper).
+
+No closed form exists. The checks are global: each body must be in
+equilibrium on its own (pressure resultant + support reactions + contact
+force on the cable; contact force + support reactions on the cushion), and
+NTS and mortar must agree as the meshes are refined.
+"""
+from __future__ import annotations
+
+import numpy as np
+import skfem
+
+from ..cable import LAWS, Cable
+from ..contact import ContactPair
+from ..loads import FollowerPressure
+from ..materials import NeoHooke
+from ..model import Dirichlet, Model
+from ..solid import Solid
+from ..surfaces import ContactSurface
+from . import METHODS, Param, Scene, Setup
+
+__all__ = ["SCENE", "build"]
+
+
+def cushion_mesh(width: float, height: float, y0: float, nx: int, ny: int,
+                 refine: int) -> skfem.MeshTri:
+    """Triangle mesh of the cushion, with boundaries ``bottom``, ``top``, ``left``, ``right``."""
+    nx, ny = nx * 2**refine, ny * 2**refine
+    mesh = skfem.MeshTri.init_tensor(np.linspace(-width / 2, width / 2, nx + 1),
+                                     np.linspace(y0, y0 + height, ny + 1))
+    tol = 1e-9 * max(width, height)
+    return mesh.with_boundaries({
+        "bottom": lambda x: np.abs(x[1] - y0) < tol,
+        "top": lambda x: np.abs(x[1] - (y0 + height)) < tol,
+        "left": lambda x: np.abs(x[0] + width / 2) < tol,
+        "right": lambda x: np.abs(x[0] - width / 2) < tol,
+    })
+
+
+def build(params: dict, method: str | None = None) -> Setup:
+    """Cable, pressure, cushion and the contact pair, for ``method``."""
+    a, L0 = float(params["half_span"]), float(params["length0"])
+    method = method or "mortar"
+    if L0 <= 2 * a:
+        raise ValueError(f"length0 must exceed 2 half_span = {2 * a:g} (the cable starts as a "
+                         f"stress-free arc), got {L0:g}")
+    cable = Cable.between((-a, 0.0), (a, 0.0), L0, int(params["n_cable"]), bulge="left",
+                          EA=float(params["EA"]), law=params["law"], name="cable")
+    apex = float(cable.X[1].max())
+    y0 = apex + float(params["gap"])
+    mesh = cushion_mesh(float(params["cushion_width"]), float(params["cushion_height"]), y0,
+                        12, 3, int(params["refine_cushion"]))
+    cushion = Solid(mesh, NeoHooke(E=float(params["E_cushion"]), nu=float(params["nu_cushion"])),
+                    element="tri1", name="cushion")
+    slave = ContactSurface.from_cable(cable, side="left", name="cable_top")
+    master = ContactSurface.from_solid(cushion, "bottom", name="cushion_bottom")
+    options = {}
+    if method != "nts":
+        options = {"n_gauss": int(params["n_gauss"])}
+    pair = ContactPair(slave, master, method, name="contact", **options)
+    pressure = FollowerPressure(cable, float(params["pressure"]), side="left", name="pressure")
+    supports = Dirichlet(cable, cable.support_dofs(), 0.0, name="supports")
+    clamp = Dirichlet(cushion, cushion.dofs_on("top"), 0.0, name="clamp")
+    model = Model([cable, cushion, pressure, supports, clamp, pair])
+
+    def metrics(result) -> dict:
+        z = result.z
+        R = result.residual()
+        f_slave, f_master = pair.forces(z)
+        on_cable, on_cushion = f_slave.sum(axis=1), f_master.sum(axis=1)
+        p_res = pressure.resultant(z, 1.0)
+        # reactions: R at a prescribed dof is the force the support exerts there
+        r_cable = np.array([R[d].sum() for d in _split_xy(cable, supports.local_dofs)])
+        r_cushion = np.array([R[d].sum() for d in _split_xy(cushion, clamp.local_dofs)])
+        data = pair.contact_data(z)
+        act = pair.active
+        ev = pair.evaluate(z, tangent=False, with_lam=False)
+        u_cushion = cushion.x(z) - cushion.X
+        bottom = np.unique(mesh.facets[:, mesh.boundaries["bottom"]])
+        p_norm = float(np.linalg.norm(p_res))
+        c_norm = float(np.linalg.norm(on_cable))
+        return {
+            "contact_force": c_norm,
+            "max_indentation": float(max(0.0, u_cushion[1, bottom].max())),
+            "contact_length": float(ev.area[act].sum()),
+            "pressure_resultant": p_norm,
+            "n_active": int(act.sum()),
+            "max_pressure": float(np.max(data["pressure"])) if data["pressure"].size else 0.0,
+            "action_reaction_error": float(np.linalg.norm(on_cable + on_cushion)
+                                           / max(c_norm, 1e-300)),
+            # the internal forces of a body sum to zero, so the residual summed over
+            # its supports is the reaction: P + F_c + R_supports = 0 on each body
+            "cable_equilibrium_error": float(np.linalg.norm(p_res + on_cable + r_cable)
+                                             / max(p_norm, 1e-300)),
+            "cushion_equilibrium_error": float(np.linalg.norm(on_cushion + r_cushion)
+                                               / max(c_norm, 1e-300)),
+        }
+
+    return Setup(model=model, metrics=metrics, outputs=[cushion, cable],
+                 contact=pair.contact_data)
+
+
+def _split_xy(body, local_dofs) -> tuple[np.ndarray, np.ndarray]:
+    """Global indices of the prescribed x-dofs and y-dofs of a body."""
+    local = np.asarray(local_dofs)
+    is_x = np.isin(local, body.node_dofs[0])
+    if hasattr(body, "dofs_on"):  # solids: x-dofs of every kind (vertex, facet, ...)
+        is_x = np.isin(local, body.dofs_on(np.arange(body.mesh.facets.shape[1]), "x"))
+    return body.offset + local[is_x], body.offset + local[~is_x]
+
+
+SCENE = Scene(
+    name="seed",
+    summary="The paper's example: a nonlinear elastic cable inflated by a follower pressure "
+            "into a soft neo-Hookean cushion.",
+    params=(
+        Param("half_span", 1.0, "half the distance a between the cable's supports", float,
+              low=0.0, low_inclusive=False),
+        Param("length0", 2.4, "reference length L0 of the cable (> 2a: stress-free arc start)",
+              float, low=0.0, low_inclusive=False),
+        Param("EA", 50.0, "axial stiffness of the cable", float, low=0.0, low_inclusive=False),
+        Param("law", "svk", "axial law N(lambda) of the cable", str, choices=tuple(LAWS)),
+        Param("pressure", 20.0, "inflation pressure p (force per current length)", float,
+              low=0.0, low_inclusive=False),
+        Param("gap", 0.1, "initial gap between the arc's apex and the cushion", float,
+              low=0.0, low_inclusive=False),
+        Param("cushion_width", 3.0, "width of the cushion", float, low=0.0, low_inclusive=False),
+        Param("cushion_height", 0.75, "height of the cushion", float, low=0.0,
+              low_inclusive=False),
+        Param("E_cushion", 20.0, "Young's modulus of the cushion", float, low=0.0,
+              low_inclusive=False),
+        Param("nu_cushion", 0.3, "Poisson's ratio of the cushion", float, low=-1.0, high=0.5,
+              low_inclusive=False, high_inclusive=False),
+        Param("n_cable", 48, "number of cable elements", int, low=4),
+        Param("refine_cushion", 2, "uniform refinements of the 12 x 3 cushion mesh", int,
+              low=0, high=6),
+        Param("segmentation", "iteration", "when mortar segments are rebuilt", str,
+              choices=("iteration", "step")),
+        Param("n_gauss", 2, "Gauss points per mortar segment", int, low=1, high=10),
+    ),
+    build=build,
+    methods=("mortar", "mortar-dual", "nts"),
+    default_steps=10,
+)
