@@ -116,7 +116,8 @@ class ContactPair(Item):
         self._prefer: np.ndarray | None = None
         self._changes = 0
         self._cycles = 0
-        self.last_eval: ContactEval | None = None
+        self._converged = self.active.copy()
+        self._prefer_converged: np.ndarray | None = None
 
     # -- helpers -------------------------------------------------------------
     @property
@@ -274,13 +275,19 @@ class ContactPair(Item):
         return not self._changed
 
     def begin_step(self, z: np.ndarray, load_factor: float) -> None:
-        if not self._started:  # the initial active set
+        """Start (or retry) a step from the last converged active set; the first
+        iteration uses it as it is.  Before the first step: the initial active set."""
+        if not self._started:
             self._started = True
             ev = self.evaluate(z, tangent=False, with_lam=False)
             c = self._c(z, load_factor, ev)
             lam = np.asarray(z)[self.dofs]
-            self.active = ev.mask & ((lam - c * ev.g >= 0) | (self._gap_length(ev) <= self._touch))
-            self._initial = True  # the first iteration uses this set as it is
+            self._converged = ev.mask & ((lam - c * ev.g >= 0)
+                                         | (self._gap_length(ev) <= self._touch))
+            self._prefer_converged = None
+        self.active = self._converged.copy()
+        self._prefer = self._prefer_converged
+        self._initial = True
         self._history = [self.active.copy()]
         self._frozen = None
         self._single_flip = False
@@ -289,6 +296,8 @@ class ContactPair(Item):
         self._cycles = 0
 
     def end_step(self, z: np.ndarray, load_factor: float) -> None:
+        self._converged = self.active.copy()
+        self._prefer_converged = self._prefer
         if self._cycles:
             lam = np.asarray(z)[self.dofs]
             ev = self.evaluate(z, tangent=False, with_lam=False)
@@ -300,7 +309,7 @@ class ContactPair(Item):
 
     def step_info(self) -> dict:
         """``n_active`` nodes, ``active_set_changes`` (node status flips summed over the
-        step's iterations) and ``active_set_cycles`` (times the guard froze the set)."""
+        step's iterations) and ``active_set_cycles`` (times the cycling guard acted)."""
         return {"n_active": int(self.active.sum()), "active_set_changes": self._changes,
                 "active_set_cycles": self._cycles}
 
