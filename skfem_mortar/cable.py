@@ -112,6 +112,10 @@ class Cable(Item):
     slack_stiffness : float
         Regularization of the tangent of slack elements when ``tension_only``
         (see Notes), >= 0.  Default 1.
+    tension_floor : float
+        Tangent-only floor ``N_f`` (a force, >= 0) of the geometric stiffness:
+        the tangent uses ``max(N, load_factor * N_f) / l (I - t t^T)`` (see
+        Notes).  Default 0 (exact tangent everywhere).
     name : str
 
     Notes
@@ -127,6 +131,19 @@ class Cable(Item):
     equations.  Where every element is taut at the solution the tangent is
     exact there and convergence quadratic.  ``slack_stiffness=0`` gives the
     exact (singular) derivative, used by the finite-difference tests.
+
+    *Unstressed starts.*  At a stress-free start (``N = 0``) the tangent has no
+    geometric stiffness ``N / l``; under a pressure the equilibrium tension is
+    ``T ~ p r``, so the short-wave transverse modes of a fine cable are
+    under-stiffened by a factor ``T / (p l^2)`` and the first Newton step
+    throws them far off (with 1e4 elements the first step of ``cable_arc`` then
+    needs ~25 iterations, and may fail for the svk and hencky laws).  A
+    ``tension_floor`` ``N_f`` replaces ``N`` by ``max(N, lf N_f)`` in the
+    geometric stiffness of the *tangent only*.  The residual is unchanged, so
+    a converged state solves the exact equations; wherever the tension at the
+    solution exceeds ``lf N_f`` the tangent is exact there and convergence
+    quadratic.  Scenes with a pressure ``p`` on a cable of half-span or
+    radius ``a`` (tension at least ``lf p a``) use ``N_f = 0.1 p a``.
     """
 
     dof_kind = "u"
@@ -136,7 +153,8 @@ class Cable(Item):
                  EA: float | np.ndarray = 1.0, law: str | CableLaw = "linear",
                  tension_only: bool = False, closed: bool = False,
                  rest_length: float | np.ndarray | None = None,
-                 slack_stiffness: float = 1.0, name: str = "cable"):
+                 slack_stiffness: float = 1.0, tension_floor: float = 0.0,
+                 name: str = "cable"):
         X = np.array(X, dtype=float)
         if X.ndim != 2 or X.shape[0] != 2 or X.shape[1] < 2:
             raise ValueError(f"X must have shape (2, n_nodes) with n_nodes >= 2, got {X.shape}")
@@ -160,6 +178,9 @@ class Cable(Item):
         if not slack_stiffness >= 0.0:
             raise ValueError(f"slack_stiffness must be >= 0, got {slack_stiffness}")
         self.slack_stiffness = float(slack_stiffness)
+        if not (np.isfinite(tension_floor) and tension_floor >= 0.0):
+            raise ValueError(f"tension_floor must be finite and >= 0, got {tension_floor}")
+        self.tension_floor = float(tension_floor)
         n_el = len(elements)
         self.EA = np.broadcast_to(np.asarray(EA, dtype=float), (n_el,)).copy()
         if not np.all(np.isfinite(self.EA)) or np.any(self.EA <= 0.0):
@@ -312,7 +333,8 @@ class Cable(Item):
     # -- assembly ----------------------------------------------------------
     def assemble(self, z: np.ndarray, load_factor: float,
                  tangent: bool = True) -> Contribution:
-        """Internal forces ``f_j = -f_i = N t`` and tangent (see module docstring)."""
+        """Internal forces ``f_j = -f_i = N t`` and tangent (see module docstring;
+        regularizations of slack elements and of unstressed states in the class Notes)."""
         d, length = self._geometry(z)
         lam = length / self.rest_length
         N, _, dN_t = self._force(lam)
@@ -326,7 +348,9 @@ class Cable(Item):
             return Contribution.from_dofs(dofs, r)
         tt = np.einsum("ie,je->eij", t, t)               # (n_el, 2, 2)
         kmat = (dN_t / self.rest_length)[:, None, None]
-        kgeo = (N / length)[:, None, None]
+        N_geo = N if self.tension_floor == 0.0 else \
+            np.maximum(N, load_factor * self.tension_floor)
+        kgeo = (N_geo / length)[:, None, None]
         Kjj = kmat * tt + kgeo * (np.eye(2) - tt)
         k = np.empty((len(N), 4, 4))
         k[:, :2, :2] = Kjj

@@ -150,6 +150,30 @@ def test_slack_regularization_is_tangent_only_and_exactly_as_documented():
     np.testing.assert_allclose(K1 - K0, dK, atol=1e-13)
 
 
+def test_tension_floor_is_tangent_only_and_exactly_as_documented():
+    c0, z = wavy_cable(6, law="svk", EA=4.0)
+    N = c0.tension(z)
+    assert N.max() > 0
+    floor = float(N.max())   # lf * floor = max(N) / 2: some elements floored, some not
+    c1 = Cable(c0.X, EA=4.0, law="svk", tension_floor=floor)
+    R0, K0 = dense(c0.assemble(z, 0.5), c0.n_dofs)
+    R1, K1 = dense(c1.assemble(z, 0.5), c0.n_dofs)
+    np.testing.assert_array_equal(R0, R1)  # the residual is untouched
+    x = c0.x(z)
+    dK = np.zeros_like(K0)
+    for e, (i, j) in enumerate(c0.elements):  # reference built element by element
+        d = x[:, j] - x[:, i]
+        length = np.linalg.norm(d)
+        t = d / length
+        k = max(0.0, 0.5 * floor - N[e]) / length * (np.eye(2) - np.outer(t, t))
+        dofs = np.r_[c0.node_dofs[:, i], c0.node_dofs[:, j]]
+        dK[np.ix_(dofs, dofs)] += np.block([[k, -k], [-k, k]])
+    assert np.any(N < 0.5 * floor) and np.any(N > 0.5 * floor)
+    np.testing.assert_allclose(K1 - K0, dK, atol=1e-13)
+    with pytest.raises(ValueError, match="tension_floor"):
+        Cable(c0.X, tension_floor=-1.0)
+
+
 def test_slack_ring_needs_the_regularization_and_solves_with_it():
     """A ring 20 % too long (every element slack at the start) under pressure."""
     n = 16

@@ -21,7 +21,10 @@ Start (see :meth:`skfem_mortar.cable.Cable.between`): for ``L0 > 2 a`` the
 stress-free arc; for ``L0 = 2 a`` a shallow arc of height ``start_sag * 2a``
 with unchanged rest lengths (regularization of the singular straight start;
 it moves only Newton's starting point, not the answer); for ``L0 < 2 a``
-straight and pre-stretched.
+straight and pre-stretched.  The stress-free start has no geometric
+stiffness: the tangent uses the floor ``tension_floor * p a`` (times the load
+factor) on it, below the tension ``p r >= p a`` of every solution (see
+:class:`~skfem_mortar.cable.Cable`).
 """
 from __future__ import annotations
 
@@ -98,7 +101,8 @@ def build(params: dict, method: str | None = None) -> Setup:
     discrete = arc_discrete(a, L0, EA, p, law, n)
     cable = Cable.between((-a, 0.0), (a, 0.0), L0, n, bulge="left",
                           start_sag=float(params["start_sag"]), EA=EA, law=law,
-                          tension_only=bool(params["tension_only"]), name="cable")
+                          tension_only=bool(params["tension_only"]),
+                          tension_floor=float(params["tension_floor"]) * p * a, name="cable")
     model = Model([
         cable,
         FollowerPressure(cable, p, side="left", name="pressure"),
@@ -139,6 +143,9 @@ SCENE = Scene(
         Param("start_sag", 0.05, "height/span of the start arc when length0 equals the "
               "span (regularization of the straight start; does not change the answer)",
               float, low=0.0, high=0.5, low_inclusive=False),
+        Param("tension_floor", 0.1, "tangent-only floor of the geometric stiffness, in units "
+              "of p a (below the tension p r >= p a of the solution, so the answer and the "
+              "quadratic convergence are kept; 0: exact tangent)", float, low=0.0, high=1.0),
     ),
     build=build,
     methods=(None,),

@@ -15,7 +15,10 @@ order in ``1/n``.
 Rigid motions are removed by pinning node 0 (at angle 0) and the ``y``
 displacement of node ``n/2`` (at angle pi; ``n`` must be even).  The ring then
 expands about node 0, so the radius is measured from the centroid of the
-current nodes (the discrete solution is a regular polygon).
+current nodes (the discrete solution is a regular polygon).  The stress-free
+start has no geometric stiffness; the tangent uses the floor
+``tension_floor * p R0`` (times the load factor), below the tension of the
+solution (see :class:`~skfem_mortar.cable.Cable`).
 """
 from __future__ import annotations
 
@@ -77,7 +80,7 @@ def build(params: dict, method: str | None = None) -> Setup:
     R_exact = ring_radius(p, R0, EA, law)          # raises for an impossible pressure
     R_discrete = ring_radius(p, R0, EA, law, n)
     ring = Cable.ring(R0, n, EA=EA, law=law, tension_only=bool(params["tension_only"]),
-                      name="ring")
+                      tension_floor=float(params["tension_floor"]) * p * R0, name="ring")
     nd = ring.node_dofs
     model = Model([
         ring,
@@ -117,6 +120,9 @@ SCENE = Scene(
         Param("law", "svk", "axial law N(lambda)", str, choices=tuple(LAWS)),
         Param("n_elements", 64, "number of elements (even)", int, low=4),
         Param("tension_only", False, "slack elements carry nothing", bool),
+        Param("tension_floor", 0.1, "tangent-only floor of the geometric stiffness, in units "
+              "of p radius0 (below the tension p R > p radius0 of the solution; 0: exact "
+              "tangent)", float, low=0.0, high=1.0),
     ),
     build=build,
     methods=(None,),
