@@ -348,3 +348,21 @@ def test_vectorized_timing_1e4(capsys):
         print(f"\n[mortar] 1e4 slave segments, {r.info['n_segments']} mortar segments: "
               f"g + G in {dt:.3f} s")
     assert r.mask.sum() == n + 1
+
+
+@pytest.mark.parametrize("dual", [False, True])
+def test_sliver_support_is_masked(dual):
+    """A slave node covered over a sliver (1e-4 of its element, at the far end:
+    area / tributary length = 1e-8 < MASK_TOL) is out of mask; one covered
+    over 1e-2 (1e-4 > MASK_TOL) is in, with the right weighted gap delta * area."""
+    for frac, inside in [(1e-4, False), (1e-2, True)]:
+        # last slave node (x = 0) with element [0, .25]: master starts at .25 (1 - frac)
+        xs, ss, xm, sm = flat_pair(np.linspace(0, 1, 5), np.array([0.25 * (1 - frac), 0.6, 1.2]),
+                                   d=0.01)
+        r = evaluate(xs, ss, xm, sm, dual=dual)
+        assert r.mask[-1] == inside
+        if inside:   # area = int over the last frac of the element of N = (1 - x/.25)
+            area = 0.25 * frac ** 2 / 2
+            np.testing.assert_allclose(r.area[-1], area, rtol=1e-10)
+            # dual: coefficients ~ 1/frac^2 amplify round-off (~1e-16 * 1e4 relative)
+            np.testing.assert_allclose(r.g[-1], 0.01 * area, rtol=1e-9 if dual else 1e-12)
