@@ -202,7 +202,8 @@ class Cable(Item):
     # -- construction helpers ----------------------------------------------
     @classmethod
     def from_points(cls, points: np.ndarray, *, closed: bool = False, **kw) -> "Cable":
-        """A polyline through ``points`` (n, 2) (or (2, n)), stress free as given."""
+        """A polyline through ``points`` (n, 2) (or (2, n); a (2, 2) array is read
+        as two points, row-wise), stress free as given; ``kw`` as for :class:`Cable`."""
         P = np.asarray(points, dtype=float)
         if P.ndim == 2 and P.shape[1] == 2 and P.shape[0] != 2:
             P = P.T
@@ -211,8 +212,8 @@ class Cable(Item):
         return cls(P, closed=closed, **kw)
 
     @classmethod
-    def ring(cls, radius0: float, n_elements: int, *, center=(0.0, 0.0),
-             **kw) -> "Cable":
+    def ring(cls, radius0: float, n_elements: int, *,
+             center: tuple[float, float] = (0.0, 0.0), **kw) -> "Cable":
         """A closed ring, nodes counter-clockwise on the circle of radius ``radius0``.
 
         Stress free as built (rest lengths ``2 radius0 sin(pi / n)``).  The
@@ -229,7 +230,8 @@ class Cable(Item):
         return cls(X, closed=True, **kw)
 
     @classmethod
-    def between(cls, start, end, length0: float, n_elements: int, *,
+    def between(cls, start: np.ndarray | tuple[float, float],
+                end: np.ndarray | tuple[float, float], length0: float, n_elements: int, *,
                 bulge: str | int = "left", start_sag: float = 0.05,
                 span_rtol: float = 1e-9, **kw) -> "Cable":
         """An open cable of reference length ``length0`` from ``start`` to ``end``.
@@ -285,7 +287,7 @@ class Cable(Item):
         """Current node coordinates (2, n_nodes)."""
         return self.X + self.u(z)
 
-    def support_dofs(self, nodes=None) -> np.ndarray:
+    def support_dofs(self, nodes: np.ndarray | list[int] | None = None) -> np.ndarray:
         """Local dofs (x and y) of ``nodes``; default both ends of an open cable."""
         if nodes is None:
             if self.closed:

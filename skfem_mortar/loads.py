@@ -110,6 +110,7 @@ class FollowerPressure(Item):
         self._flat = self._dofs.reshape(len(self._dofs), -1)
 
     def current_pressure(self, load_factor: float) -> float:
+        """The applied pressure ``lf p`` (or ``p`` when not ramped)."""
         return self.pressure * (load_factor if self.ramp else 1.0)
 
     def assemble(self, z: np.ndarray, load_factor: float,

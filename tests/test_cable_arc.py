@@ -1,7 +1,9 @@
 """Scene ``cable_arc``: discrete arc to round-off, second-order convergence to
 the continuum arc, slack and taut starts, independence of the regularization."""
+import glob
 import math
 
+import meshio
 import numpy as np
 import pytest
 
@@ -102,3 +104,15 @@ def test_tension_floor_keeps_the_answer_and_helps_fine_cables():
            for fl in (0.0, 0.1)}
     assert its[0.0][0] >= 10
     assert max(its[0.1]) <= 5
+
+
+def test_output_series_holds_the_deformed_cable(tmp_path):
+    s = run_scene("cable_arc", {"n_elements": 8}, out=tmp_path)
+    last = sorted(glob.glob(str(tmp_path / "cable" / "*.vtu")))[-1]
+    m = meshio.read(last)
+    assert m.cells[0].type == "line" and len(m.cells[0].data) == 8
+    y = m.points[:, 1] + m.point_data["displacement"][:, 1]
+    assert y.max() == pytest.approx(s["metrics"]["apex_height"], rel=1e-12)
+    # every element carries the same tension at the discrete solution; Newton's
+    # default rtol 1e-10, amplified by EA / T ~ 100, bounds their spread
+    np.testing.assert_allclose(m.cell_data["tension"][0], s["metrics"]["tension"], rtol=1e-7)
