@@ -78,6 +78,11 @@ class ContactPair(Item):
         fraction of the mean slave segment length (>= 0, default 1e-2): a
         curved surface touching at one node has a small positive mortar gap
         there, and a body held only by contact needs that node active.
+    segmentation : {"iteration", "step"}
+        Mortar only: rebuild the mortar segments at every Newton iteration
+        (default, exact), or build them once per load step from the last
+        converged state and freeze them during the step (cheaper, see
+        :func:`skfem_mortar.mortar.evaluate`).
     **options
         Passed to the discretization's ``evaluate`` (e.g. ``margin``).
     """
@@ -87,7 +92,8 @@ class ContactPair(Item):
 
     def __init__(self, slave: Any, master: Any, method: str = "nts", name: str = "contact",
                  c: float | None = None, cycle_guard: bool = True,
-                 touch_tolerance: float = 1e-2, **options: Any):
+                 touch_tolerance: float = 1e-2, segmentation: str = "iteration",
+                 **options: Any):
         if method not in METHODS:
             raise ValueError(f"method must be one of {', '.join(METHODS)}, got {method!r}")
         if slave.dofs() is None:
@@ -101,6 +107,12 @@ class ContactPair(Item):
         self.options = {**extra, **options}
         self.n_dofs = slave.n_nodes
         self.c = c
+        if segmentation not in ("iteration", "step"):
+            raise ValueError(f"segmentation must be 'iteration' or 'step', got {segmentation!r}")
+        if segmentation == "step" and mod != "mortar":
+            raise ValueError("segmentation='step' is for the mortar methods only")
+        self.segmentation = segmentation
+        self._sg = None
         if not (np.isfinite(touch_tolerance) and touch_tolerance >= 0):
             raise ValueError(f"touch_tolerance must be a finite number >= 0, got {touch_tolerance}")
         self._touch = float(touch_tolerance) * float(np.mean(np.hypot(*np.diff(
@@ -136,7 +148,11 @@ class ContactPair(Item):
     def evaluate(self, z: np.ndarray, tangent: bool = True, with_lam: bool = True) -> ContactEval:
         """The discretization's :class:`ContactEval` at ``z``."""
         lam = np.asarray(z)[self.dofs] if with_lam else None
-        extra = {"prefer": self._prefer} if (self.method == "nts" and self._prefer is not None) else {}
+        extra: dict = {}
+        if self.method == "nts" and self._prefer is not None:
+            extra["prefer"] = self._prefer
+        if self._sg is not None:
+            extra["segmentation"] = self._sg
         return self.module.evaluate(self.slave.x(z), self.slave.segments,
                                     self.master.x(z), self.master.segments,
                                     lam=lam, tangent=tangent, **extra, **self.options)
@@ -287,6 +303,12 @@ class ContactPair(Item):
             self._prefer_converged = None
         self.active = self._converged.copy()
         self._prefer = self._prefer_converged
+        if self.segmentation == "step":
+            from .mortar_segmentation import segment
+            self._sg = None
+            self._sg = segment(self.slave.x(z), self.slave.segments, self.master.x(z),
+                               self.master.segments, margin=self.options.get("margin"),
+                               frozen=True)
         self._initial = True
         self._history = [self.active.copy()]
         self._frozen = None

@@ -85,12 +85,26 @@ def test_action_reaction_two_blocks():
     np.testing.assert_allclose(reaction, -fs.sum(axis=1), rtol=1e-7, atol=1e-8)
 
 
-def test_contact_item_tangent_fd():
+def _has_mortar():
+    try:
+        import skfem_mortar.mortar  # noqa: F401
+        return True
+    except ImportError:
+        return False
+
+
+ALL_METHODS = [m if m == "nts" or _has_mortar() else
+               pytest.param(m, marks=pytest.mark.skip("mortar.py not available"))
+               for m in ("nts", "mortar", "mortar-dual")]
+
+
+@pytest.mark.parametrize("method", ALL_METHODS)
+def test_contact_item_tangent_fd(method):
     """Central differences of the whole pair residual against its tangent, at a
     state with contact forces and a sheared interface (xi and n vary).
     eps = 1e-7 in z whose entries are O(0.01..1): truncation O(eps^2) and
     round-off O(1e-16 * |R| / eps) ~ 1e-9 * |R|, so atol 1e-6 |K| is safe."""
-    top, bot, pair, model = _two_blocks(shift=0.02)
+    top, bot, pair, model = _two_blocks(method, shift=0.02)
     res = solve(model, 1)
     rng = np.random.default_rng(0)
     z = res.z + 1e-4 * rng.standard_normal(model.n) * (np.arange(model.n) < model.n_u)
@@ -211,3 +225,27 @@ def test_active_set_guard_converges(caplog):
     # the LCP is solved exactly by the final linear solve: round-off of a 3x3 system
     np.testing.assert_allclose(body.x(res.z)[1], u, atol=1e-12)
     np.testing.assert_allclose(res.z[pair.dofs], lam, atol=1e-12)
+
+
+def test_segmentation_policy():
+    b = _block(0, 1, 0, 1, 2, 2, "b")
+    s = ContactSurface.from_solid(b, "bottom")
+    with pytest.raises(ValueError, match="segmentation"):
+        ContactPair(s, RigidPlane((0, 0), (0, 1)), "nts", segmentation="step")
+    with pytest.raises(ValueError, match="segmentation"):
+        ContactPair(s, RigidPlane((0, 0), (0, 1)), "mortar", segmentation="never")
+
+
+@pytest.mark.skipif(not _has_mortar(), reason="mortar.py not available")
+def test_step_segmentation_block_on_plane():
+    # the frozen (per step) mortar segmentation on a flat interface is exact:
+    # the analytic uniform pressure as in the NTS test above
+    b = _block(0, 1, 0, 1, 4, 4, "block")
+    plane = RigidPlane((0.5, 0.0), (0.0, 1.0), length=10.0)
+    pair = ContactPair(ContactSurface.from_solid(b, "bottom"), plane, "mortar", name="c",
+                       segmentation="step")
+    model = Model([b, Dirichlet(b, b.dofs_on("top", "y"), -0.02),
+                   Dirichlet(b, b.dofs_on("left", "x"), 0.0), pair])
+    res = solve(model, 2)
+    np.testing.assert_allclose(pair.contact_data(res.z)["pressure"],
+                               -E / 2 * (0.98 - 1 / 0.98), rtol=1e-8)
