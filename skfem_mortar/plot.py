@@ -58,13 +58,16 @@ def figure(setup, result, path: str | os.PathLike, title: str = "",
     path.parent.mkdir(parents=True, exist_ok=True)
     plotter = pv.Plotter(shape=(1, 2), off_screen=True, window_size=list(window_size))
     z0, z1 = result.states[0], result.z
-    bounds = np.array([_grid(item, z).bounds for item in setup.outputs for z in (z0, z1)])
+    bounds = np.array([_grid(item, z).bounds for item in setup.outputs for z in (z0, z1)
+                       if hasattr(item, "n_dofs")])
     union = [bounds[:, 0].min(), bounds[:, 1].max(), bounds[:, 2].min(),
              bounds[:, 3].max(), 0.0, 0.0]
     for col, (z, label) in enumerate(((z0, "initial configuration"), (z1, "deformed"))):
         plotter.subplot(0, col)
         plotter.add_text(f"{title}  {label}".strip(), font_size=11)
         for item in setup.outputs:
+            if not hasattr(item, "n_dofs"):  # contact output: drawn as points below
+                continue
             grid = _grid(item, z)
             field = next((f for f in _COLOUR_BY if f in grid.cell_data), None)
             is_line = "line" in [t for t, _ in item.output_mesh()[1]]

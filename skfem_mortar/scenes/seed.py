@@ -23,6 +23,7 @@ import skfem
 
 from ..cable import LAWS, Cable
 from ..contact import ContactPair
+from ..contact_output import ContactOutput
 from ..loads import FollowerPressure
 from ..materials import NeoHooke
 from ..model import Dirichlet, Model
@@ -107,7 +108,8 @@ def build(params: dict, method: str | None = None) -> Setup:
                                                / max(c_norm, 1e-300)),
         }
 
-    return Setup(model=model, metrics=metrics, outputs=[cushion, cable],
+    return Setup(model=model, metrics=metrics,
+                 outputs=[cushion, cable, ContactOutput(pair)],
                  contact=pair.contact_data)
 
 
