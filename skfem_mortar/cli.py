@@ -91,6 +91,27 @@ def _cmd_study(args: argparse.Namespace) -> int:
     return 0
 
 
+def _cmd_bench(args: argparse.Namespace) -> int:
+    from .bench import run_bench
+
+    report = run_bench(args.out, scenes=args.scene or ("hertz", "seed"), method=args.method,
+                       quick=args.quick, max_dofs=args.max_dofs, steps=args.steps,
+                       progress=not args.no_progress)
+    for scene, data in report["scenes"].items():
+        for r in data["rows"]:
+            if r.get("status") != "ok":
+                print(f"{scene} {r['params']}: {r['status']}")
+                continue
+            t = r["time_per_iteration_s"]
+            print(f"{scene} {r['n_dofs']:>8d} dofs: " + ", ".join(
+                f"{k} {v * 1e3:.2f} ms" for k, v in t.items()) +
+                f"; contact share {100 * r['contact_share']:.1f} %, "
+                f"peak {r['peak_rss_mb']:.0f} MB")
+        print(f"{scene} slopes: {data['slopes']}")
+    print(f"written to {args.out}/bench.json, bench.png")
+    return 0
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
         prog="skfem-mortar",
@@ -132,6 +153,16 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--scheduler", default=None, help="address of an existing Dask scheduler")
     p.add_argument("--no-progress", action="store_true")
     p.set_defaults(func=_cmd_study)
+
+    p = sub.add_parser("bench", help="per-phase timings and peak memory at growing sizes")
+    p.add_argument("--scene", action="append", choices=["hertz", "seed"])
+    p.add_argument("--method", choices=["nts", "mortar", "mortar-dual"], default="mortar")
+    p.add_argument("--quick", action="store_true", help="small sizes only (for CI)")
+    p.add_argument("--max-dofs", type=int, default=None, help="stop a scene after this size")
+    p.add_argument("--steps", type=int, default=None, help="load steps per run")
+    p.add_argument("--out", default="skfem-mortar-bench")
+    p.add_argument("--no-progress", action="store_true")
+    p.set_defaults(func=_cmd_bench)
 
     p = sub.add_parser("demo", help="run the demo scene and write its outputs")
     p.add_argument("--out", default="skfem-mortar-demo")

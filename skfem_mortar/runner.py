@@ -69,6 +69,8 @@ def run_scene(name: str, params: dict[str, Any] | None = None, method: str | Non
         raise ValueError(f"steps must be an integer >= 1, got {n_steps!r}")
     model = setup.model
     model.timers.clear()
+    from .timing import TIMERS, reset
+    reset()
     kwargs = {**setup.solve_options, **solve_kwargs}
     meta = _clean({"scene": name, "method": method, "parameters": values, "steps": n_steps})
     recorder = _Recorder(Path(out), setup, meta) if out is not None else None
@@ -105,6 +107,7 @@ def run_scene(name: str, params: dict[str, Any] | None = None, method: str | Non
         "wall_time_s": time.perf_counter() - t0,
         "phase_times_s": {"bulk": timers.get("bulk", 0.0) + timers.get("loads", 0.0),
                           "contact": timers.get("contact", 0.0),
+                          "search": TIMERS.get("search", 0.0),
                           "solve": result.solve_time, "output": t_out},
         "steps": [s.as_dict() for s in result.steps],
         "metrics": metrics,

@@ -1,0 +1,139 @@
+"""``skfem-mortar bench``: per-phase timings and peak memory at growing sizes.
+
+Each size runs in its own Python process (so that its peak resident memory,
+``ru_maxrss``, is its own) through :func:`~skfem_mortar.runner.run_scene`; the
+phases are the model's item timers (bulk assembly, contact assembly), the
+contact search inside it (:mod:`skfem_mortar.timing`), the linear solves and
+the output. Times are divided by the number of Newton iterations. A log-log
+fit of time per iteration against dofs gives the slope of each phase.
+"""
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+from pathlib import Path
+from typing import Sequence
+
+import numpy as np
+
+__all__ = ["SIZES", "run_bench", "fit_slopes"]
+
+#: scene -> list of parameter sets of growing size (about 1e3 to 2e5 dofs)
+SIZES: dict[str, list[dict]] = {
+    "hertz": [{"refine": r} for r in (0, 1, 2, 3)],
+    "seed": [{"n_cable": 24 * 2**k, "refine_cushion": k + 1} for k in range(6)],
+}
+QUICK: dict[str, list[dict]] = {
+    "hertz": [{"refine": 0}],
+    "seed": [{"n_cable": 24, "refine_cushion": 1}, {"n_cable": 48, "refine_cushion": 2}],
+}
+PHASES = ("bulk", "search", "contact_assembly", "solve", "output")
+
+_WORKER = r"""
+import json, resource, sys
+from skfem_mortar.runner import run_scene
+spec = json.loads(sys.argv[1])
+s = run_scene(spec["scene"], spec["params"], method=spec["method"], steps=spec["steps"])
+s["peak_rss_mb"] = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
+print(json.dumps(s))
+"""
+
+
+def _one(scene: str, params: dict, method: str | None, steps: int | None) -> dict:
+    spec = json.dumps({"scene": scene, "params": params, "method": method, "steps": steps})
+    proc = subprocess.run([sys.executable, "-c", _WORKER, spec], capture_output=True,
+                          text=True)
+    if proc.returncode != 0:
+        reason = (proc.stderr.strip().splitlines() or ["unknown"])[-1]
+        return {"scene": scene, "params": params, "method": method, "status": f"failed: {reason}"}
+    s = json.loads(proc.stdout.strip().splitlines()[-1])
+    its = max(1, sum(st["newton_iterations"] for st in s["steps"]))
+    t = s["phase_times_s"]
+    per_it = {"bulk": t["bulk"], "search": t.get("search", 0.0),
+              "contact_assembly": max(0.0, t["contact"] - t.get("search", 0.0)),
+              "solve": t["solve"], "output": t["output"]}
+    per_it = {k: v / its for k, v in per_it.items()}
+    total = sum(per_it.values())
+    return {"scene": scene, "params": params, "method": s["method"], "status": "ok",
+            "n_dofs": s["n_dofs"], "n_multipliers": s["n_multipliers"],
+            "newton_iterations": its, "max_iterations_per_step":
+                max(st["newton_iterations"] for st in s["steps"]),
+            "wall_time_s": s["wall_time_s"], "peak_rss_mb": s["peak_rss_mb"],
+            "time_per_iteration_s": per_it,
+            "contact_share": (per_it["search"] + per_it["contact_assembly"]) / total
+            if total > 0 else 0.0}
+
+
+def fit_slopes(rows: Sequence[dict]) -> dict[str, float]:
+    """Least-squares slope of log(time per iteration) against log(dofs), per phase."""
+    ok = [r for r in rows if r.get("status") == "ok"]
+    out = {}
+    if len(ok) < 2:
+        return out
+    n = np.log([r["n_dofs"] for r in ok])
+    for ph in PHASES:
+        t = np.array([r["time_per_iteration_s"][ph] for r in ok])
+        if np.all(t > 0):
+            out[ph] = float(np.polyfit(n, np.log(t), 1)[0])
+    return out
+
+
+def run_bench(out: str | Path, scenes: Sequence[str] = ("hertz", "seed"),
+              method: str = "mortar", quick: bool = False, max_dofs: int | None = None,
+              steps: int | None = None, progress: bool = False) -> dict:
+    """Run the sizes of each scene; write ``bench.json`` and ``bench.png`` into ``out``."""
+    from .io import write_json
+    from .scenes import get_scene
+
+    out = Path(out)
+    out.mkdir(parents=True, exist_ok=True)
+    table = QUICK if quick else SIZES
+    report: dict = {"method": method, "scenes": {}}
+    for scene in scenes:
+        get_scene(scene)  # a clear error for an unknown scene
+        if scene not in table:
+            raise ValueError(f"scene must be one of {sorted(table)} for bench, got {scene!r}")
+        rows = []
+        for params in table[scene]:
+            row = _one(scene, params, method, steps)
+            rows.append(row)
+            if progress:
+                print(f"bench {scene} {params}: {row.get('n_dofs', '?')} dofs, "
+                      f"{row.get('status')}", file=sys.stderr)
+            if row.get("status") != "ok" or (max_dofs and row["n_dofs"] >= max_dofs):
+                break
+        report["scenes"][scene] = {"rows": rows, "slopes": fit_slopes(rows)}
+        write_json(out / "bench.json", report)
+    plot_bench(report, out / "bench.png")
+    return report
+
+
+def plot_bench(report: dict, path: str | Path) -> Path:
+    """Time per Newton iteration against dofs (log-log), one line per phase."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from .plot import _save
+
+    scenes = list(report["scenes"])
+    fig, axes = plt.subplots(1, max(1, len(scenes)), figsize=(5.5 * max(1, len(scenes)), 4),
+                             squeeze=False)
+    for ax, scene in zip(axes[0], scenes):
+        ok = [r for r in report["scenes"][scene]["rows"] if r.get("status") == "ok"]
+        slopes = report["scenes"][scene]["slopes"]
+        n = [r["n_dofs"] for r in ok]
+        for ph in PHASES:
+            t = [r["time_per_iteration_s"][ph] for r in ok]
+            if any(v > 0 for v in t):
+                label = f"{ph} (slope {slopes[ph]:.2f})" if ph in slopes else ph
+                ax.loglog(n, np.maximum(t, 1e-7), "o-", label=label)
+        ax.set_title(f"{scene} ({report['method']})")
+        ax.set_xlabel("displacement dofs")
+        ax.set_ylabel("time per Newton iteration (s)")
+        ax.grid(alpha=0.3, which="both")
+        ax.legend(fontsize=8)
+    fig.tight_layout()
+    return _save(fig, path)
