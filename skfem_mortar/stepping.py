@@ -111,7 +111,7 @@ def solve(model: Model, n_steps: int = 1, *, newton_options: NewtonOptions | Non
           z0: np.ndarray | None = None, start: float = 0.0, progress: bool = False,
           callback: Callable[[StepRecord, np.ndarray], None] | None = None,
           history: list[StepRecord] | None = None,
-          increment: float | None = None) -> Result:
+          increment: float | None = None, extrapolate: bool = False) -> Result:
     """Solve the model from load factor ``start`` to 1.
 
     Parameters
@@ -133,6 +133,9 @@ def solve(model: Model, n_steps: int = 1, *, newton_options: NewtonOptions | Non
         Steps already done before ``z0`` (a resumed run keeps them in the result).
     increment : float, optional
         First load increment (a resumed run continues with the one in force).
+    extrapolate : bool
+        Start each step from the linear extrapolation of the last two converged
+        states instead of the last one.
     progress : bool
         Show a tqdm progress bar on stderr.
     callback : callable(StepRecord, z)
@@ -154,6 +157,7 @@ def solve(model: Model, n_steps: int = 1, *, newton_options: NewtonOptions | Non
     result = Result(model, steps=list(history or []), states=[z.copy()])
     nominal = 1.0 / n_steps
     lf, dlf = start, (increment or nominal)
+    lf_prev = start
     n_easy, cuts, step_no = 0, 0, len(result.steps) + 1
     bar = _progress_bar(progress)
     try:
@@ -164,6 +168,12 @@ def solve(model: Model, n_steps: int = 1, *, newton_options: NewtonOptions | Non
             fixed, values = model.prescribed(target)
             free = np.setdiff1d(np.arange(model.n), fixed, assume_unique=True)
             trial = z.copy()
+            if extrapolate and len(result.states) >= 2 and lf > lf_prev:
+                # linear predictor along the last increment (free unknowns only;
+                # the prescribed ones follow the consistent predictor of newton)
+                scale = (target - lf) / (lf - lf_prev)
+                step_dir = z - result.states[-2]
+                trial[free] += scale * step_dir[free]
             dz_fixed = values - trial[fixed]
             for item in model.items:
                 item.begin_step(trial, target)
@@ -182,7 +192,7 @@ def solve(model: Model, n_steps: int = 1, *, newton_options: NewtonOptions | Non
                                  int(info.get("active_set_changes", 0)), cuts, 0.0, info)
                 result.steps.append(rec)
                 result.states.append(z.copy())
-                lf = target
+                lf_prev, lf = lf, target
                 step_no += 1
                 cuts = 0
                 n_easy = n_easy + 1 if rep.iterations <= easy_iterations else 0
