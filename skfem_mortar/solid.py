@@ -181,7 +181,8 @@ class Solid(Item):
 
     # -- kinematics and stress at quadrature points ---------------------------
     def deformation_gradient(self, z: np.ndarray) -> np.ndarray:
-        """``F = I + Grad u`` on all quadrature points, shape ``(2, 2, n_el, n_qp)``."""
+        """``F = I + Grad u`` on all quadrature points, shape ``(2, 2, n_el, n_qp)``,
+        for the global unknowns ``z`` (every method taking ``z`` expects the global vector)."""
         G = np.asarray(grad(self.basis.interpolate(self.u(z))))
         F = G.copy()
         F[0, 0] += 1.0
@@ -189,7 +190,8 @@ class Solid(Item):
         return F
 
     def internal_force(self, z: np.ndarray) -> np.ndarray:
-        """Local internal force vector ``int Grad v : P dV`` (length ``n_dofs``)."""
+        """Internal force ``int Grad v : P dV`` on the body's dofs (length ``n_dofs``)
+        at the global unknowns ``z``."""
         P = self.material.stress(self.deformation_gradient(z))
         return internal_force.assemble(self.basis, P=P)
 

@@ -217,3 +217,37 @@ def test_curved_quadratic_mesh(element):
     fd = (model.assemble(z + h * d, 1.0, False)[0] - model.assemble(z - h * d, 1.0, False)[0]) / (2 * h)
     # same central-difference budget as test_tangent_matches_central_differences
     assert np.linalg.norm(fd - K @ d) <= 1e-6 * np.linalg.norm(K @ d)
+
+
+def test_two_bodies_get_their_own_blocks():
+    """The second body's unknowns start at the first body's n_dofs; its residual and
+    tangent land in its own block and nowhere else."""
+    a = make_solid("tri1", MATERIALS["neo-hooke"])
+    b = Solid(block_mesh("quad", 1, 0.0), MATERIALS["svk"], "quad2", name="other")
+    model = Model([a, b])
+    assert (a.offset, b.offset, model.n) == (0, a.n_dofs, a.n_dofs + b.n_dofs)
+    za, zb = a.interpolate(finite_deformation), b.interpolate(finite_deformation)
+    z = np.concatenate([za, zb])
+    R, K, _ = model.assemble(z, 1.0)
+    # reference: the same body alone in a model (offset 0)
+    b_alone = Solid(block_mesh("quad", 1, 0.0), MATERIALS["svk"], "quad2")
+    Rb, Kb, _ = Model([b_alone]).assemble(zb, 1.0)
+    np.testing.assert_array_equal(R[a.n_dofs:], Rb)
+    np.testing.assert_array_equal(K[a.n_dofs:, a.n_dofs:].toarray(), Kb.toarray())
+    np.testing.assert_array_equal(R[:a.n_dofs], Model([a]).assemble(za, 1.0)[0])
+    assert K[:a.n_dofs, a.n_dofs:].nnz == 0 and K[a.n_dofs:, :a.n_dofs].nnz == 0
+    np.testing.assert_allclose(b.x(z), b.X + finite_deformation(b.X), atol=1e-15)
+
+
+def test_traction_given_as_function_of_position():
+    """T(x) = (y, 1 - y) on the right side x = 1: resultants int_0^1 y dy = 1/2 and
+    int_0^1 (1 - y) dy = 1/2, moment about the origin int_0^1 (x T_y - y T_x) dy = 1/2 - 1/3.
+    Quadratic elements integrate the linear traction exactly (round-off only)."""
+    solid = make_solid("tri2", MATERIALS["svk"])
+    f = Traction(solid, "right", lambda x: np.array([x[1], 1.0 - x[1]])).force
+    xd, yd = solid.dofs_on("right", "x"), solid.dofs_on("right", "y")
+    assert f[xd].sum() == pytest.approx(0.5, rel=1e-13)
+    assert f[yd].sum() == pytest.approx(0.5, rel=1e-13)
+    loc = solid.basis.doflocs
+    moment = np.sum(loc[0, yd] * f[yd]) - np.sum(loc[1, xd] * f[xd])
+    assert moment == pytest.approx(0.5 - 1.0 / 3.0, rel=1e-13)
