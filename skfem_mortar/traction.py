@@ -67,7 +67,8 @@ class Traction(Item):
             raise ValueError("traction must be finite")
         f = _traction_work.assemble(fb, t=t)
         self.body = body
-        self.name = name or f"traction_{body.name}_{boundary if isinstance(boundary, str) else 'facets'}"
+        tag = boundary if isinstance(boundary, str) else "facets"
+        self.name = name or f"traction_{body.name}_{tag}"
         self._idx = np.flatnonzero(f)
         self._f = f[self._idx]
 

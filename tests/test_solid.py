@@ -214,7 +214,8 @@ def test_curved_quadratic_mesh(element):
     R, K, _ = model.assemble(z, 1.0)
     d = np.random.default_rng(1).standard_normal(model.n)
     h = 1e-6
-    fd = (model.assemble(z + h * d, 1.0, False)[0] - model.assemble(z - h * d, 1.0, False)[0]) / (2 * h)
+    fd = (model.assemble(z + h * d, 1.0, False)[0]
+          - model.assemble(z - h * d, 1.0, False)[0]) / (2 * h)
     # same central-difference budget as test_tangent_matches_central_differences
     assert np.linalg.norm(fd - K @ d) <= 1e-6 * np.linalg.norm(K @ d)
 
