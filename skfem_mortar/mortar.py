@@ -102,16 +102,16 @@ def _local_nodes(sg: Segmentation, seg_s: np.ndarray, seg_m: np.ndarray,
 
 
 def _embed(j: Jet, idx: np.ndarray, offset: int, nv: int) -> Jet:
-    """Rows ``idx`` of a 6-variable node jet, placed at variables ``offset..offset+5`` of ``nv``."""
+    """Entries ``idx`` of a 6-variable node jet, placed at variables ``offset..offset+5`` of ``nv``."""
     v = j.v[idx]
     if nv == 0:
-        return Jet(v, np.zeros((v.size, 0)), None)
-    g = np.zeros((v.size, nv))
-    g[:, offset:offset + 6] = j.g[idx]
+        return Jet(v, np.zeros((0, v.size)), None)
+    g = np.zeros((nv, v.size))
+    g[offset:offset + 6] = j.g[:, idx]
     h = None
     if j.h is not None:
-        h = np.zeros((v.size, nv, nv))
-        h[:, offset:offset + 6, offset:offset + 6] = j.h[idx]
+        h = np.zeros((nv, nv, v.size))
+        h[offset:offset + 6, offset:offset + 6] = j.h[:, :, idx]
     return Jet(v, g, h)
 
 
@@ -349,11 +349,11 @@ def evaluate(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarra
                 dl = dofs[sl, :nv_g]
                 Gr += [np.repeat(aa.astype(itype), nv_g), np.repeat(bb.astype(itype), nv_g)]
                 Gc += [dl.ravel(), dl.ravel()]
-                Gv += [ga.g.ravel(), gb.g.ravel()]
+                Gv += [ga.g.T.ravel(), gb.g.T.ravel()]
                 if second:
                     Hr.append(np.repeat(dl, nv_g, axis=1).ravel())
                     Hc.append(np.tile(dl, (1, nv_g)).ravel())
-                    Hv.append(q.hessian().ravel())
+                    Hv.append(q.hessian().transpose(2, 0, 1).ravel())
     cat = (lambda L: np.concatenate(L)) if nseg else (lambda L: np.zeros(0, dtype=itype))
     if nseg:  # per-segment values below in the order the chunks were processed
         o = np.concatenate(order)

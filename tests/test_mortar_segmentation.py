@@ -30,12 +30,12 @@ def test_jet_gradient_and_hessian_against_analytic():
     f2x, f2y = y0 / (2 * r), x0 / (2 * r)
     f2xx, f2yy, f2xy = -y0**2 / (4 * r**3), -x0**2 / (4 * r**3), 1 / (4 * r)
     np.testing.assert_allclose(f.v, x0**2 * y0 / s + r, rtol=1e-15)
-    np.testing.assert_allclose(f.g, np.c_[f1x + f2x, f1y + f2y], rtol=1e-14)
+    np.testing.assert_allclose(f.g, [f1x + f2x, f1y + f2y], rtol=1e-14)   # variables first
     H = f.hessian()
-    np.testing.assert_allclose(H[:, 0, 0], f1xx + f2xx, rtol=1e-13)
-    np.testing.assert_allclose(H[:, 1, 1], f1yy + f2yy, rtol=1e-13)
-    np.testing.assert_allclose(H[:, 0, 1], f1xy + f2xy, rtol=1e-13)
-    np.testing.assert_allclose(H[:, 1, 0], f1xy + f2xy, rtol=1e-13)
+    np.testing.assert_allclose(H[0, 0], f1xx + f2xx, rtol=1e-13)
+    np.testing.assert_allclose(H[1, 1], f1yy + f2yy, rtol=1e-13)
+    np.testing.assert_allclose(H[0, 1], f1xy + f2xy, rtol=1e-13)
+    np.testing.assert_allclose(H[1, 0], f1xy + f2xy, rtol=1e-13)
 
 
 def test_jet_broadcast_over_gauss_axis():
@@ -43,9 +43,9 @@ def test_jet_broadcast_over_gauss_axis():
     a = Jet.variable(np.array([1.0, 2.0, 3.0]), 0, 1, True)
     eta = np.array([-0.5, 0.5])
     b = (a.expand() * eta + 1.0) * a.expand()              # a^2 eta + a
-    assert b.v.shape == (3, 2) and b.g.shape == (3, 2, 1) and b.h.shape == (3, 2, 1, 1)
-    np.testing.assert_allclose(b.hessian()[..., 0, 0], 2 * np.broadcast_to(eta, (3, 2)))
-    np.testing.assert_allclose(b.sum(1).g[:, 0], (2 * a.v[:, None] * eta + 1).sum(1))
+    assert b.v.shape == (3, 2) and b.g.shape == (1, 3, 2) and b.h.shape == (1, 1, 3, 2)
+    np.testing.assert_allclose(b.hessian()[0, 0], 2 * np.broadcast_to(eta, (3, 2)))
+    np.testing.assert_allclose(b.sum(1).g[0], (2 * a.v[:, None] * eta + 1).sum(1))
 
 
 # ------------------------------------------------------------------- topology
@@ -70,7 +70,7 @@ def test_nodal_normals_polygon_on_circle_are_radial():
     np.testing.assert_allclose([nx.v[0], ny.v[0]], [np.cos(mid), np.sin(mid)], atol=1e-15)
     assert pnode[0] == 0 and nnode[-1] == 8              # missing neighbours point to the node
     # the normal is a unit vector: its gradient is orthogonal to it (d|n|^2 = 0)
-    np.testing.assert_allclose(nx.v * nx.g.T + ny.v * ny.g.T, 0, atol=1e-14)
+    np.testing.assert_allclose(nx.v * nx.g + ny.v * ny.g, 0, atol=1e-14)
 
 
 # ----------------------------------------------------------------- projection
