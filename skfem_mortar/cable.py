@@ -26,7 +26,7 @@ from scipy.optimize import brentq
 from .errors import InversionError
 from .model import Contribution, Item
 
-__all__ = ["CableLaw", "LAWS", "get_law", "Cable"]
+__all__ = ["CableLaw", "LAWS", "get_law", "Cable", "newton_rtol"]
 
 
 @dataclass(frozen=True)
@@ -75,6 +75,35 @@ def get_law(law: str | CableLaw) -> CableLaw:
     if law not in LAWS:
         raise ValueError(f"law must be one of {sorted(LAWS)}, got {law!r}")
     return LAWS[law]
+
+
+def newton_rtol(EA: float, tension: float, rtol: float = 1e-10) -> float:
+    """A relative Newton tolerance that a cable's residual can reach.
+
+    The stretch of an element carries a relative round-off of about ``eps``,
+    so its axial force one of about ``eps EA``; the solver measures the
+    residual against forces of the order of the tension ``T``.  Below
+    ``eps EA / T`` the residual is noise (a steel-like cable, ``EA / T ~ 1e6``,
+    cannot reach ``rtol = 1e-10``).  Returns
+
+        max(rtol, 1e3 eps EA / T) ,
+
+    the factor 1e3 leaving room for load steps down to a few percent of the
+    final tension.
+
+    Parameters
+    ----------
+    EA : float
+        Axial stiffness.
+    tension : float
+        Tension scale of the final state (e.g. ``p a`` for a pressure ``p`` on
+        a cable of half-span or radius ``a``), > 0.
+    rtol : float
+        The tolerance wanted where round-off allows it.
+    """
+    if not (tension > 0 and EA > 0):
+        raise ValueError(f"EA and tension must be > 0, got {EA}, {tension}")
+    return max(float(rtol), 1e3 * np.finfo(float).eps * float(EA) / float(tension))
 
 
 def _side_sign(side: str | int) -> int:
@@ -186,6 +215,7 @@ class Cable(Item):
         if not np.all(np.isfinite(self.EA)) or np.any(self.EA <= 0.0):
             raise ValueError("EA must be finite and > 0")
         d = X[:, elements[:, 1]] - X[:, elements[:, 0]]
+        self._dX = d
         if rest_length is None:
             rest_length = np.hypot(d[0], d[1])
         self.rest_length = np.broadcast_to(np.asarray(rest_length, dtype=float),
@@ -251,6 +281,10 @@ class Cable(Item):
           geometric stiffness ``N / l``.  Only the starting point of Newton
           changes, not the equations (the supports are pinned at the same
           points), so the converged answer does not depend on ``start_sag``.
+          A stress-free arc flatter than ``start_sag * span`` (``length0`` below
+          about ``span (1 + (8/3) start_sag^2)``) is nearly as degenerate (its
+          first Newton steps overshoot, and with the hencky law may land on
+          the far equilibrium branch) and starts the same way.
         * ``length0 < span``: straight, pre-stretched (rest length ``length0 / n``).
 
         Supports: pin both ends with ``Dirichlet(cable, cable.support_dofs())``.
@@ -269,11 +303,16 @@ class Cable(Item):
             raise ValueError(f"start_sag must lie in (0, 0.5], got {start_sag}")
         sign = _side_sign(bulge)
         rest = length0 / n
-        if abs(length0 - span) <= span_rtol * span:
-            X = _arc_by_height(p0, p1, start_sag * span, n, sign)
-        elif length0 > span:
+        X = None
+        if length0 > span * (1.0 + span_rtol):
             X = _arc_equal_chords(p0, p1, rest, n, sign)
-        else:
+            t = (p1 - p0) / span
+            height = np.max(sign * (t[0] * (X[1] - p0[1]) - t[1] * (X[0] - p0[0])))
+            if n > 1 and height < start_sag * span:
+                X = None        # too flat: regularized like the straight start
+        if X is None and length0 >= span * (1.0 - span_rtol):
+            X = _arc_by_height(p0, p1, start_sag * span, n, sign)
+        elif X is None:
             s = np.linspace(0.0, 1.0, n + 1)
             X = p0[:, None] + (p1 - p0)[:, None] * s
         return cls(X, closed=False, rest_length=rest, **kw)
@@ -303,8 +342,11 @@ class Cable(Item):
         return np.column_stack([nd[0, i], nd[1, i], nd[0, j], nd[1, j]])
 
     def _geometry(self, z: np.ndarray):
-        x = self.x(z)
-        d = x[:, self.elements[:, 1]] - x[:, self.elements[:, 0]]
+        # chord = reference chord + displacement difference: no round-off of
+        # the absolute positions X + u enters the (short) chords of a fine cable
+        u = self.u(z)
+        i, j = self.elements[:, 0], self.elements[:, 1]
+        d = self._dX + (u[:, j] - u[:, i])
         length = np.hypot(d[0], d[1])
         if not np.all(np.isfinite(length)):
             raise InversionError(f"{self.name}: non-finite node coordinates")

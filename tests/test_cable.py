@@ -3,7 +3,7 @@ central finite differences, construction helpers, slack handling, bad input."""
 import numpy as np
 import pytest
 
-from skfem_mortar.cable import LAWS, Cable, get_law
+from skfem_mortar.cable import LAWS, Cable, get_law, newton_rtol
 from skfem_mortar.errors import ConvergenceError, InversionError
 from skfem_mortar.loads import FollowerPressure
 from skfem_mortar.model import Dirichlet, Model
@@ -298,3 +298,19 @@ def test_collapsed_element_raises_inversion():
         c.assemble(np.array([0.0, 0.0, -1.0, 0.0]), 1.0)
     with pytest.raises(InversionError):
         c.assemble(np.array([np.nan, 0.0, 0.0, 0.0]), 1.0)
+
+
+def test_newton_rtol():
+    assert newton_rtol(100.0, 1.0) == 1e-10                 # round-off allows 1e-10
+    assert newton_rtol(1e6, 1.0) == pytest.approx(1e9 * np.finfo(float).eps)
+    with pytest.raises(ValueError, match="tension"):
+        newton_rtol(1.0, 0.0)
+
+
+def test_between_flat_stress_free_arc_gets_the_regularized_start():
+    # stress-free arc of L0 = 1.001 over a unit span: height ~ sqrt(3e-3/8) = 0.019
+    c = Cable.between((0, 0), (1, 0), 1.001, 10, start_sag=0.05)
+    assert c.X[1].max() == pytest.approx(0.05, rel=1e-12)
+    assert np.all(c.stretch(np.zeros(c.n_dofs)) > 1)     # stretched: tension at start
+    c = Cable.between((0, 0), (1, 0), 1.001, 10, start_sag=0.01)
+    np.testing.assert_allclose(c.stretch(np.zeros(c.n_dofs)), 1.0, atol=1e-12)

@@ -116,3 +116,19 @@ def test_output_series_holds_the_deformed_cable(tmp_path):
     # every element carries the same tension at the discrete solution; Newton's
     # default rtol 1e-10, amplified by EA / T ~ 100, bounds their spread
     np.testing.assert_allclose(m.cell_data["tension"][0], s["metrics"]["tension"], rtol=1e-7)
+
+
+@pytest.mark.parametrize("law", ["linear", "svk", "hencky"])
+@pytest.mark.parametrize("L0, EA, p, n", [
+    (2.5, 1e6, 1.0, 400),    # nearly inextensible: EA / T ~ 1e6
+    (6.0, 1e6, 1.0, 8),      # more than a semicircle
+    (2.001, 100.0, 30.0, 8),  # stress-free arc too flat: regularized start
+    (2.0, 100.0, 30.0, 400),  # taut start, large load
+])
+def test_extremes_solve_on_the_physical_branch(law, L0, EA, p, n):
+    s = run_scene("cable_arc", {"law": law, "length0": L0, "EA": EA, "pressure": p,
+                                "n_elements": n})
+    # the discrete arc is the first root (smallest angle); hencky has a second,
+    # far equilibrium that a poor start can reach.  Newton's tolerance here is
+    # newton_rtol(EA, p a), up to 2e-7 for EA = 1e6: errors stay below 1e-6
+    assert s["metrics"]["apex_height_discrete_error"] < 1e-6

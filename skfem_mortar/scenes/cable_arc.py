@@ -24,7 +24,9 @@ it moves only Newton's starting point, not the answer); for ``L0 < 2 a``
 straight and pre-stretched.  The stress-free start has no geometric
 stiffness: the tangent uses the floor ``tension_floor * p a`` (times the load
 factor) on it, below the tension ``p r >= p a`` of every solution (see
-:class:`~skfem_mortar.cable.Cable`).
+:class:`~skfem_mortar.cable.Cable`).  Newton's relative tolerance is
+:func:`~skfem_mortar.cable.newton_rtol` (1e-10 unless the cable is so stiff
+that round-off forbids it).
 """
 from __future__ import annotations
 
@@ -33,9 +35,10 @@ import math
 import numpy as np
 from scipy.optimize import brentq
 
-from ..cable import LAWS, Cable, get_law
+from ..cable import LAWS, Cable, get_law, newton_rtol
 from ..loads import FollowerPressure
 from ..model import Dirichlet, Model
+from ..newton import NewtonOptions
 from . import Param, Scene, Setup
 
 __all__ = ["SCENE", "build", "arc_exact", "arc_discrete"]
@@ -122,7 +125,8 @@ def build(params: dict, method: str | None = None) -> Setup:
             out[f"{q}_discrete_error"] = abs(val - discrete[q]) / abs(discrete[q])
         return out
 
-    return Setup(model=model, metrics=metrics, outputs=[cable])
+    return Setup(model=model, metrics=metrics, outputs=[cable],
+                 solve_options={"newton": NewtonOptions(rtol=newton_rtol(EA, p * a))})
 
 
 SCENE = Scene(

@@ -18,7 +18,9 @@ expands about node 0, so the radius is measured from the centroid of the
 current nodes (the discrete solution is a regular polygon).  The stress-free
 start has no geometric stiffness; the tangent uses the floor
 ``tension_floor * p R0`` (times the load factor), below the tension of the
-solution (see :class:`~skfem_mortar.cable.Cable`).
+solution (see :class:`~skfem_mortar.cable.Cable`).  Newton's relative
+tolerance is :func:`~skfem_mortar.cable.newton_rtol` (1e-10 unless the ring is
+so stiff that round-off forbids it).
 """
 from __future__ import annotations
 
@@ -27,9 +29,10 @@ import math
 import numpy as np
 from scipy.optimize import brentq
 
-from ..cable import LAWS, Cable, get_law
+from ..cable import LAWS, Cable, get_law, newton_rtol
 from ..loads import FollowerPressure
 from ..model import Dirichlet, Model
+from ..newton import NewtonOptions
 from . import Param, Scene, Setup
 
 __all__ = ["SCENE", "build", "ring_radius"]
@@ -104,7 +107,8 @@ def build(params: dict, method: str | None = None) -> Setup:
             "tension_error": abs(tension - t_exact) / t_exact,
         }
 
-    return Setup(model=model, metrics=metrics, outputs=[ring])
+    return Setup(model=model, metrics=metrics, outputs=[ring],
+                 solve_options={"newton": NewtonOptions(rtol=newton_rtol(EA, p * R0))})
 
 
 SCENE = Scene(
