@@ -366,3 +366,65 @@ def test_sliver_support_is_masked(dual):
             np.testing.assert_allclose(r.area[-1], area, rtol=1e-10)
             # dual: coefficients ~ 1/frac^2 amplify round-off (~1e-16 * 1e4 relative)
             np.testing.assert_allclose(r.g[-1], 0.01 * area, rtol=1e-9 if dual else 1e-12)
+
+
+def _reference_gaps(xs, ss, xm, sm, dual, nsamp=200001):
+    """Independent brute-force weighted gaps: on each slave element, sample xi
+    densely, shoot along the normalized interpolated averaged normal, intersect
+    every facing master segment (Cramer), integrate Phi_A * gap * J by the
+    trapezoidal rule over the samples that hit the master.  Dual coefficients
+    from the same sampled projectable part."""
+    t = xs[:, ss[:, 1]] - xs[:, ss[:, 0]]
+    nu = np.vstack([t[1], -t[0]]) / np.hypot(*t)
+    nn = np.zeros((2, xs.shape[1]))
+    np.add.at(nn.T, ss[:, 0], nu.T)
+    np.add.at(nn.T, ss[:, 1], nu.T)
+    nn /= np.hypot(*nn)
+    g = np.zeros(xs.shape[1])
+    xi = np.linspace(-1, 1, nsamp)
+    N = np.vstack([(1 - xi) / 2, (1 + xi) / 2])
+    for e, (a, b) in enumerate(ss):
+        x = np.outer(xs[:, a], N[0]) + np.outer(xs[:, b], N[1])
+        n = np.outer(nn[:, a], N[0]) + np.outer(nn[:, b], N[1])
+        n /= np.hypot(*n)
+        gap = np.full(nsamp, np.nan)
+        for c, d in sm:
+            m1, dm = xm[:, c], xm[:, d] - xm[:, c]
+            if dm @ t[:, e] >= 0:                  # not facing
+                continue
+            det = -n[0] * dm[1] + n[1] * dm[0]      # x + s n = m1 + r dm
+            rhs = m1[:, None] - x
+            s = (-rhs[0] * dm[1] + rhs[1] * dm[0]) / det
+            r = (n[0] * rhs[1] - n[1] * rhs[0]) / det
+            gap = np.where((r >= 0) & (r <= 1) & np.isnan(gap), s, gap)
+        on = ~np.isnan(gap)
+        if not on.any():
+            continue
+        J = np.hypot(*t[:, e]) / 2
+        f = np.where(on, gap, 0.0) * J
+        C = np.eye(2)
+        if dual:
+            Dd = np.array([np.trapezoid(N[k] * on, xi) for k in range(2)])
+            Mm = np.array([[np.trapezoid(N[i] * N[j] * on, xi) for j in range(2)] for i in range(2)])
+            C = np.diag(Dd) @ np.linalg.inv(Mm)
+        phi = C @ N
+        g[a] += np.trapezoid(phi[0] * f, xi)
+        g[b] += np.trapezoid(phi[1] * f, xi)
+    return g
+
+
+@pytest.mark.parametrize("dual", [False, True])
+@pytest.mark.parametrize("shift", [0.0, 0.1, 0.237])
+def test_curved_against_brute_force_reference(shift, dual):
+    """Segmentation + integration on curved, partly overlapping surfaces against
+    an independent dense-sampling reference.  The reference's trapezoidal rule
+    over an indicator has an O(dxi) end error ~1e-5 x |gap J| ~ 1e-8 (measured
+    agreement 5e-9); the kernel with 4 Gauss points per segment is accurate to
+    far below that, with 2 points to ~1e-7 (the integrand is rational on curved
+    segments)."""
+    xs, ss, xm, sm = curved_pair(shift)
+    ref = _reference_gaps(xs, ss, xm, sm, dual)
+    r = evaluate(xs, ss, xm, sm, dual=dual, n_gauss=4)
+    np.testing.assert_allclose(r.g, ref, atol=2e-8)
+    r2 = evaluate(xs, ss, xm, sm, dual=dual)
+    np.testing.assert_allclose(r2.g, ref, atol=2e-7)
