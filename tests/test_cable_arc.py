@@ -9,7 +9,11 @@ import pytest
 
 from skfem_mortar.newton import NewtonOptions
 from skfem_mortar.runner import run_scene
+from skfem_mortar.cable import Cable
+from skfem_mortar.loads import FollowerPressure
+from skfem_mortar.model import Dirichlet, Model
 from skfem_mortar.scenes.cable_arc import arc_discrete, arc_exact
+from skfem_mortar.stepping import solve
 
 TIGHT = NewtonOptions(rtol=1e-12)
 
@@ -132,3 +136,19 @@ def test_extremes_solve_on_the_physical_branch(law, L0, EA, p, n):
     # far equilibrium that a poor start can reach.  Newton's tolerance here is
     # newton_rtol(EA, p a), up to 2e-7 for EA = 1e6: errors stay below 1e-6
     assert s["metrics"]["apex_height_discrete_error"] < 1e-6
+
+
+@pytest.mark.parametrize("tension_only", [False, True])
+@pytest.mark.parametrize("n", [8, 200])
+def test_snap_through_from_the_wrong_side(tension_only, n):
+    """Start bulging away from the pressure: the cable must pass through a
+    slack or compressed state and settle on the physical arc (measured 15-20
+    Newton iterations in the single load step)."""
+    c = Cable.between((-1, 0), (1, 0), 2.5, n, bulge="right", EA=100.0,
+                      tension_only=tension_only, tension_floor=0.1)
+    model = Model([c, FollowerPressure(c, 1.0, side="left"), Dirichlet(c, c.support_dofs())])
+    res = solve(model, 1, newton=NewtonOptions(max_iter=40))
+    apex = c.x(res.z)[1].max()
+    # Newton rtol 1e-10 (default), amplified by EA / T ~ 100 at most
+    assert apex == pytest.approx(arc_discrete(1.0, 2.5, 100.0, 1.0, "linear", n)["apex_height"],
+                                 rel=1e-8)
