@@ -354,7 +354,8 @@ def evaluate(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarra
                     Hr.append(np.repeat(dl, nv_g, axis=1).ravel())
                     Hc.append(np.tile(dl, (1, nv_g)).ravel())
                     Hv.append(q.hessian().transpose(2, 0, 1).ravel())
-    cat = (lambda L: np.concatenate(L)) if nseg else (lambda L: np.zeros(0, dtype=itype))
+    def cat(L, dtype=float):
+        return np.concatenate(L) if nseg else np.zeros(0, dtype=dtype)
     if nseg:  # per-segment values below in the order the chunks were processed
         o = np.concatenate(order)
         a, b, m1, m2 = a[o], b[o], m1[o], m2[o]
@@ -369,9 +370,10 @@ def evaluate(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarra
     mask = (area > MASK_TOL * trib) & ~cp_nodes
     G = H = None
     if tangent:
-        G = sp.coo_matrix((cat(Gv), (cat(Gr), cat(Gc))), shape=(n_s, ndof)).tocsr()
+        G = sp.coo_matrix((cat(Gv), (cat(Gr, itype), cat(Gc, itype))), shape=(n_s, ndof)).tocsr()
         if second:
-            H = sp.coo_matrix((cat(Hv), (cat(Hr), cat(Hc))), shape=(ndof, ndof)).tocsr()
+            H = sp.coo_matrix((cat(Hv), (cat(Hr, itype), cat(Hc, itype))),
+                              shape=(ndof, ndof)).tocsr()
     Dv = cat([x["D"] for x in ex]).reshape(-1, 4)
     Mv = cat([x["M"] for x in ex]).reshape(-1, 4)
     D = sp.coo_matrix((Dv.ravel(), (np.stack([a, a, b, b], 1).ravel(),

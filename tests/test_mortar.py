@@ -322,6 +322,7 @@ def test_no_contact_pairs():
     xs, ss, xm, sm = flat_pair(np.linspace(0, 1, 4), np.linspace(2, 3, 3))
     r = evaluate(xs, ss, xm, sm, lam=np.ones(4))
     assert not r.mask.any() and r.G.nnz == 0 and r.H.nnz == 0
+    assert r.G.dtype == float and r.H.dtype == float and r.G.shape == (4, 2 * 4 + 2 * 3)
 
 
 def test_pairs_argument_matches_search():
