@@ -130,6 +130,23 @@ def test_solid_pressure_points_inward(element):
 
 
 @pytest.mark.parametrize("element", ["tri1", "tri2", "quad1", "quad2"])
+def test_solid_pressure_work_is_twice_the_area(element):
+    """Inward pressure on the whole boundary: sum_a f_a . x_a = -p int x . n ds
+    = -2 p A (divergence theorem).  Under an affine map x = F X of the unit
+    square A = det F, exactly, for straight and for quadratic facets."""
+    s = _solid(element, refine=2)
+    F = np.array([[1.3, 0.4], [-0.2, 0.9]])
+    z = s.interpolate(lambda X: (F - np.eye(2)) @ X)
+    tags = ("top", "bottom", "left", "right")
+    load = FollowerPressure(s, 2.5, facets=np.concatenate([s.mesh.boundaries[t] for t in tags]))
+    c = load.assemble(z, 1.0, tangent=False)
+    f = -np.bincount(c.r_index, weights=c.r_value, minlength=s.n_dofs)   # R = -f_ext
+    x = s.basis.doflocs[s.dof_component, np.arange(s.n_dofs)] + z
+    # sums of O(1) products: round-off ~1e-15
+    assert f @ x == pytest.approx(-2 * 2.5 * np.linalg.det(F), rel=1e-13)
+
+
+@pytest.mark.parametrize("element", ["tri1", "tri2", "quad1", "quad2"])
 def test_pressurized_block_homogeneous(element):
     """Unit square on symmetry supports, follower pressure p on top and right.
 
