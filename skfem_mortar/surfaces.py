@@ -12,8 +12,8 @@ built from a :class:`~skfem_mortar.solid.Solid`'s tagged boundary facets
 (:meth:`ContactSurface.from_solid`), from a cable
 (:meth:`ContactSurface.from_cable`, the side chosen by the user), or are rigid
 (:class:`RigidPlane`, :class:`RigidCircle`: fixed coordinates, no unknowns).
-Only the vertices of a solid's facets are used (straight segments, also for
-quadratic elements).
+Only the vertices of a solid's facets are used (straight segments), so a
+solid surface needs linear elements.
 """
 from __future__ import annotations
 
@@ -205,6 +205,10 @@ class ContactSurface:
             A tag of ``solid.mesh.boundaries`` or facet indices.
         """
         mesh = solid.mesh
+        element = getattr(solid, "element", "tri1")
+        if element not in ("tri1", "quad1"):
+            raise ValueError(f"contact surfaces need linear elements (tri1, quad1): the "
+                             f"segments join facet vertices only, got element {element!r}")
         if isinstance(boundary, str):
             known = sorted(mesh.boundaries or {})
             if boundary not in known:

@@ -28,6 +28,7 @@ from scipy.optimize import brentq
 
 from ..cable import LAWS, Cable, get_law
 from ..contact import ContactPair
+from ..contact_output import ContactOutput
 from ..loads import FollowerPressure
 from ..model import Dirichlet, Model
 from ..surfaces import ContactSurface, RigidPlane
@@ -114,7 +115,7 @@ def build(params: dict, method: str | None = None) -> Setup:
             out[f"{q}_error"] = None if ref is None else abs(val - ref) / abs(ref)
         return out
 
-    return Setup(model=model, metrics=metrics, outputs=[cable], contact=pair.contact_data)
+    return Setup(model=model, metrics=metrics, outputs=[cable, ContactOutput(pair)], contact=pair.contact_data)
 
 
 SCENE = Scene(

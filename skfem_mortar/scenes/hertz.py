@@ -21,7 +21,10 @@ circle) and grow by 0.3 times the distance beyond.
 Metrics: ``peak_pressure`` (largest nodal pressure), ``half_width`` (midway
 between the last slave node in compression and the next one) with ``_exact``
 and ``_error``; ``pressure_l2_error``, the relative L2 error of the nodal
-pressure over ``[0, 1.5 a]`` (trapezoidal rule on the slave nodes).
+pressure over ``[0, 1.5 a]`` (trapezoidal rule on the slave nodes);
+``pressure_oscillation``, the total variation of the nodal pressure over
+``[0, 1.5 a]`` beyond that of a unimodal profile, divided by ``p0`` (0 without
+oscillations).
 """
 from __future__ import annotations
 
@@ -31,6 +34,7 @@ import numpy as np
 from skfem import MeshTri
 
 from ..contact import ContactPair
+from ..contact_output import ContactOutput
 from ..materials import NeoHooke
 from ..model import Dirichlet, Model
 from ..solid import Solid
@@ -167,7 +171,12 @@ def build(params: dict, method: str | None = None) -> Setup:
         xs, ps = x[sel], p[sel]
         pe = ex["peak_pressure"] * np.sqrt(np.clip(1 - (xs / a) ** 2, 0.0, None))
         l2 = math.sqrt(np.trapezoid((ps - pe) ** 2, xs) / np.trapezoid(pe ** 2, xs))
+        # variation of the nodal pressure beyond that of a unimodal profile, over p0:
+        # 0 for a profile that rises then falls, > 0 for oscillations
+        tv = float(np.abs(np.diff(ps)).sum()) if ps.size > 1 else 0.0
+        excess = tv - ((ps.max() - ps[0]) + (ps.max() - ps[-1])) if ps.size else 0.0
         out = {"n_active": int(pair.active.sum()), "pressure_l2_error": l2,
+               "pressure_oscillation": max(excess, 0.0) / ex["peak_pressure"],
                "element_size": h0, "E_star": ex["E_star"]}
         for q, val in (("peak_pressure", peak), ("half_width", half)):
             out[q] = val
@@ -175,7 +184,8 @@ def build(params: dict, method: str | None = None) -> Setup:
             out[f"{q}_error"] = abs(val - ex[q]) / ex[q]
         return out
 
-    return Setup(model=model, metrics=metrics, outputs=outputs, contact=pair.contact_data)
+    return Setup(model=model, metrics=metrics, outputs=outputs + [ContactOutput(pair)],
+                 contact=pair.contact_data)
 
 
 SCENE = Scene(

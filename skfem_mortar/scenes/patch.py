@@ -24,6 +24,7 @@ import numpy as np
 from skfem import MeshQuad, MeshTri
 
 from ..contact import ContactPair
+from ..contact_output import ContactOutput
 from ..loads import FollowerPressure
 from ..materials import NeoHooke
 from ..model import Dirichlet, Model
@@ -80,7 +81,7 @@ def build(params: dict, method: str | None = None) -> Setup:
                 "n_active": int(pair.active.sum()),
                 "max_abs_gap": float(np.nanmax(np.abs(d["gap"])))}
 
-    return Setup(model=model, metrics=metrics, outputs=[top, bottom], contact=pair.contact_data)
+    return Setup(model=model, metrics=metrics, outputs=[top, bottom, ContactOutput(pair)], contact=pair.contact_data)
 
 
 SCENE = Scene(
