@@ -139,3 +139,30 @@ def test_segment_hysteresis_at_a_kink():
     xs2 = np.array([[1.5], [0.2]])
     e2 = nts.evaluate(xs2, np.zeros((0, 2), int), xm, seg_m, prefer=np.array([1]))
     assert e2.info["segment"][0] == 0
+
+
+def test_fd_at_a_convex_vertex():
+    """A node facing a convex master vertex (outside both segments' ranges):
+    the gap is taken along the segment whose unclipped xi is nearest to [0, 1]
+    (here xi slightly > 1 on segment 0), and G, H stay the exact derivatives of
+    that smooth branch. Tolerance as in test_fd_G_and_H."""
+    th = np.array([0.0, 0.4, 0.8])
+    xm = 2.0 * np.vstack([np.cos(th), np.sin(th)])  # convex, outward away from 0
+    seg_m = np.array([[0, 1], [1, 2]])
+    v = xm[:, 1]
+    xs = (v * 1.05 + np.array([0.004, -0.01]))[:, None]  # outside, near the vertex
+    seg_s = np.zeros((0, 2), dtype=int)
+    lam = np.array([1.3])
+    ev = nts.evaluate(xs, seg_s, xm, seg_m, lam=lam)
+    assert ev.info["segment"][0] == 0 and ev.info["xi"][0] > 1.0
+    q0 = _pack(xs, xm)
+    eps = 1e-6
+    G, H = ev.G.toarray(), ev.H.toarray()
+    for i in range(len(q0)):
+        dq = np.zeros_like(q0)
+        dq[i] = eps
+        ep = nts.evaluate(*_mix(q0 + dq, 1, seg_s, seg_m), lam=lam)
+        em = nts.evaluate(*_mix(q0 - dq, 1, seg_s, seg_m), lam=lam)
+        assert ep.info["segment"][0] == em.info["segment"][0] == 0
+        np.testing.assert_allclose(G[:, i], (ep.g - em.g) / (2 * eps), atol=1e-7)
+        np.testing.assert_allclose(H[:, i], (ep.G.T @ lam - em.G.T @ lam) / (2 * eps), atol=1e-7)
