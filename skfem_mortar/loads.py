@@ -78,8 +78,9 @@ class FollowerPressure(Item):
     dof_kind = None
     phase = "loads"
 
-    def __init__(self, body, pressure: float, *, side: str | None = None,
-                 facets=None, ramp: bool = True, load_stiffness: bool = True,
+    def __init__(self, body: Item, pressure: float, *, side: str | None = None,
+                 facets: str | np.ndarray | None = None, ramp: bool = True,
+                 load_stiffness: bool = True,
                  name: str | None = None):
         pressure = float(pressure)
         if not np.isfinite(pressure):
