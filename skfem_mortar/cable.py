@@ -165,8 +165,9 @@ class Cable(Item):
     geometric stiffness ``N / l``; under a pressure the equilibrium tension is
     ``T ~ p r``, so the short-wave transverse modes of a fine cable are
     under-stiffened by a factor ``T / (p l^2)`` and the first Newton step
-    throws them far off (with 1e4 elements the first step of ``cable_arc`` then
-    needs ~25 iterations, and may fail for the svk and hencky laws).  A
+    throws them far off (measured on ``cable_arc``, svk and hencky laws, 1e3
+    to 1e4 elements: 15-25 iterations in the first step, and step cuts; 4
+    iterations with the floor below).  A
     ``tension_floor`` ``N_f`` replaces ``N`` by ``max(N, lf N_f)`` in the
     geometric stiffness of the *tangent only*.  The residual is unchanged, so
     a converged state solves the exact equations; wherever the tension at the
