@@ -21,7 +21,9 @@ choice is unit-free; it steers only the path of the iteration, not the
 solution.  At ``lam = 0`` a node with ``g <= 0`` is active (``>=`` above):
 a zero initial gap starts active.  Slave nodes without a master partner
 (``mask`` False) are inactive.  The initial active set (first load step)
-also holds nodes that touch within ``touch_tolerance``.
+also holds nodes that touch within ``touch_tolerance``.  Every step (and every
+retry of a cut step) starts from the last converged active set, which its
+first iteration uses as it is.
 
 Cycling guard: the active sets of the iterations of a load step are kept; when
 an iteration returns to a set seen before (other than the last one), the
@@ -40,7 +42,6 @@ import logging
 from typing import Any
 
 import numpy as np
-import scipy.sparse as sp
 
 from .contact_eval import ContactEval
 from .model import Contribution, Item
