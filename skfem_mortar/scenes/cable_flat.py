@@ -21,7 +21,6 @@ the plane (for ``L0 = 2 a`` the shallow regularized arc of
 """
 from __future__ import annotations
 
-
 import numpy as np
 from scipy.optimize import brentq
 
