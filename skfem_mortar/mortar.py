@@ -64,7 +64,8 @@ from .mortar_segmentation import (Jet, Segmentation, cross, nodal_normals,
 __all__ = ["evaluate", "segment", "Segmentation", "dual_coefficients", "MASK_TOL"]
 
 MASK_TOL = 1e-6
-"""Slave nodes with a mortar support below this fraction of their tributary length are masked out."""
+"""Slave nodes whose mortar support is below this fraction of their tributary length
+are masked out (see :func:`evaluate`, Notes)."""
 _CHUNK_ENTRIES = 200_000  # Hessian entries per block of segments: 1.6 MB arrays stay in cache
 
 
@@ -102,7 +103,7 @@ def _local_nodes(sg: Segmentation, seg_s: np.ndarray, seg_m: np.ndarray,
 
 
 def _embed(j: Jet, idx: np.ndarray, offset: int, nv: int) -> Jet:
-    """Entries ``idx`` of a 6-variable node jet, placed at variables ``offset..offset+5`` of ``nv``."""
+    """Entries ``idx`` of a 6-variable node jet, placed at variables ``offset..offset+5``."""
     v = j.v[idx]
     if nv == 0:
         return Jet(v, np.zeros((0, v.size)), None)
@@ -120,9 +121,20 @@ def _first(j: Jet) -> Jet:
     return Jet(j.v, j.g, None)
 
 
-def _chunk(xs, xm, sl, nd, sg: Segmentation, n_s: int, nv: int, second: bool,
-           dual: bool, cp: np.ndarray, eta: np.ndarray, w: np.ndarray, nrm, lam_ab=None):
-    """Jets of the weighted-gap contributions of the mortar segments ``sl``."""
+def _chunk(xs: np.ndarray, xm: np.ndarray, sl: np.ndarray, nd: tuple, sg: Segmentation,
+           n_s: int, nv: int, second: bool, dual: bool, cp: np.ndarray, eta: np.ndarray,
+           w: np.ndarray, nrm: tuple[Jet, Jet],
+           lam_ab: tuple[np.ndarray, np.ndarray] | None = None
+           ) -> tuple[Jet, Jet, Jet | None, dict[str, np.ndarray]]:
+    """Weighted-gap contributions of the mortar segments ``sl`` (one block).
+
+    Returns the first-order jets of ``g_a``, ``g_b`` (the contributions to the
+    two slave nodes of each segment's element), the second-order jet of
+    ``lam_a g_a + lam_b g_b`` (None without ``lam``) and values for D, M, area.
+    Local variables: ``x`` and ``y`` of the slave nodes p, a, b, n, the master
+    nodes m1, m2 and (``nv = 16``) the two master nodes bounding the
+    projectable part of the slave element.
+    """
     p, a, b, n, m1, m2, lo_node, hi_node = (q[sl] for q in nd)
     frozen = sg.frozen
     xi_seg, src = sg.xi[sl], sg.src[sl]
@@ -133,7 +145,8 @@ def _chunk(xs, xm, sl, nd, sg: Segmentation, n_s: int, nv: int, second: bool,
     V = []
     for k, xk in enumerate(pos):
         if 2 * k + 1 < nv:
-            V.append((Jet.variable(xk[0], 2 * k, nv, second), Jet.variable(xk[1], 2 * k + 1, nv, second)))
+            V.append((Jet.variable(xk[0], 2 * k, nv, second),
+                      Jet.variable(xk[1], 2 * k + 1, nv, second)))
         else:
             V.append((Jet.constant(xk[0], nv, second), Jet.constant(xk[1], nv, second)))
     Xp, Xa, Xb, Xn, M1, M2 = V[:6]
@@ -379,6 +392,7 @@ def evaluate(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarra
     D = sp.coo_matrix((Dv.ravel(), (np.stack([a, a, b, b], 1).ravel(),
                                     np.stack([a, b, a, b], 1).ravel())), shape=(n_s, n_s)).tocsr()
     M = sp.coo_matrix((Mv.ravel(), (np.stack([a, a, b, b], 1).ravel(),
-                                    np.stack([m1, m2, m1, m2], 1).ravel())), shape=(n_s, n_m)).tocsr()
+                                    np.stack([m1, m2, m1, m2], 1).ravel())),
+                      shape=(n_s, n_m)).tocsr()
     return ContactEval(g=g, G=G, H=H, area=area, mask=mask,
                        info={"D": D, "M": M, "segmentation": sg, "n_segments": nseg})

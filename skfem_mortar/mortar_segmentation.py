@@ -344,7 +344,8 @@ def project_point_on_slave(xa, xb, na, nb, xc, n_newton: int = 8):
         for _ in range(n_newton):
             xi = xi - (v0 + xi * (v1 + xi * v2)) / (v1 + 2.0 * xi * v2)
         res = v0 + xi * (v1 + xi * v2)
-        ok = np.isfinite(xi) & (np.abs(res) <= 1e-10 * (np.abs(v0) + np.abs(v1) + np.abs(v2)) + 1e-300)
+        scale = np.abs(v0) + np.abs(v1) + np.abs(v2)
+        ok = np.isfinite(xi) & (np.abs(res) <= 1e-10 * scale + 1e-300)
     xi = np.where(ok, xi, 0.0)
     if not isinstance(c0, Jet):
         return xi, ok

@@ -406,7 +406,8 @@ def _reference_gaps(xs, ss, xm, sm, dual, nsamp=200001):
         C = np.eye(2)
         if dual:
             Dd = np.array([np.trapezoid(N[k] * on, xi) for k in range(2)])
-            Mm = np.array([[np.trapezoid(N[i] * N[j] * on, xi) for j in range(2)] for i in range(2)])
+            Mm = np.array([[np.trapezoid(N[i] * N[j] * on, xi) for j in range(2)]
+                           for i in range(2)])
             C = np.diag(Dd) @ np.linalg.inv(Mm)
         phi = C @ N
         g[a] += np.trapezoid(phi[0] * f, xi)

@@ -149,7 +149,8 @@ def test_segments_cover_overlap_exactly():
     xm_x = np.sort(np.r_[0.4, rng.uniform(0.4, 1.6, 9), 1.6])
     xs, ss, xm, sm = flat(xs_x, xm_x, d=-0.02)
     sg = segment(xs, ss, xm, sm)
-    lengths = np.abs(np.diff(xs[0][ss[sg.e_s]], axis=1)).ravel() * np.diff(sg.xi, axis=1).ravel() / 2
+    elem_len = np.abs(np.diff(xs[0][ss[sg.e_s]], axis=1)).ravel()
+    lengths = elem_len * np.diff(sg.xi, axis=1).ravel() / 2
     np.testing.assert_allclose(lengths.sum(), 0.6, rtol=1e-14)
 
 
