@@ -152,3 +152,9 @@ def test_snap_through_from_the_wrong_side(tension_only, n):
     # Newton rtol 1e-10 (default), amplified by EA / T ~ 100 at most
     assert apex == pytest.approx(arc_discrete(1.0, 2.5, 100.0, 1.0, "linear", n)["apex_height"],
                                  rel=1e-8)
+
+
+def test_pressure_limit_in_the_message():
+    # linear: as theta -> pi, N ~ EA 2 pi a / (L0 sin) against p a / sin: p < 2 pi EA / L0
+    with pytest.raises(ValueError, match=r"below about 251\.3"):
+        arc_exact(1.0, 2.5, 100.0, 1e3, "linear")

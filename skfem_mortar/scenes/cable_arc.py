@@ -44,12 +44,12 @@ from . import Param, Scene, Setup
 __all__ = ["SCENE", "build", "arc_exact", "arc_discrete"]
 
 
-def _first_root(g, grid: np.ndarray, what: str) -> float:
+def _first_root(g, grid: np.ndarray, what: str, p_limit: float) -> float:
     vals = g(grid)
     pos = np.nonzero(np.isfinite(vals) & (vals > 0.0))[0]
     if pos.size == 0 or pos[0] == 0:
-        raise ValueError(f"pressure admits no inflated equilibrium ({what}): "
-                         "lower the pressure or raise EA")
+        raise ValueError(f"pressure admits no inflated equilibrium ({what}): pressure "
+                         f"must be below about {p_limit:.6g} (or raise EA)")
     i = pos[0]
     return brentq(lambda t: float(g(np.array([t]))[0]), grid[i - 1], grid[i],
                   xtol=1e-16, rtol=4 * np.finfo(float).eps, maxiter=200)
@@ -69,7 +69,9 @@ def arc_exact(half_span: float, length0: float, EA: float, pressure: float,
         return N(2 * a * t / (L0 * s), EA) - p * a / s
 
     grid = np.linspace(0.0, math.pi, 20001)[1:-1]
-    theta = _first_root(g, grid, f"{get_law(law).name} law, continuum arc")
+    # largest pressure with an equilibrium: max of N(lambda(theta)) sin(theta) / a
+    limit = float(np.max(N(2 * a * grid / (L0 * np.sin(grid)), EA) * np.sin(grid) / a))
+    theta = _first_root(g, grid, f"{get_law(law).name} law, continuum arc", limit)
     r = a / math.sin(theta)
     return {"theta": theta, "radius": r, "tension": p * r, "length": 2 * r * theta,
             "apex_height": r * (1.0 - math.cos(theta))}
@@ -87,7 +89,9 @@ def arc_discrete(half_span: float, length0: float, EA: float, pressure: float,
         return N(2 * n * a * np.sin(al) / (L0 * sn), EA) - p * a * np.cos(al) / sn
 
     grid = np.linspace(0.0, math.pi / n, 20001)[1:-1]
-    alpha = _first_root(g, grid, f"{get_law(law).name} law, {n} elements")
+    lam = 2 * n * a * np.sin(grid) / (L0 * np.sin(n * grid))
+    limit = float(np.max(N(lam, EA) * np.sin(n * grid) / (a * np.cos(grid))))
+    alpha = _first_root(g, grid, f"{get_law(law).name} law, {n} elements", limit)
     r = a / math.sin(n * alpha)
     top = 1.0 if n % 2 == 0 else math.cos(alpha)
     return {"alpha": alpha, "radius": r, "tension": p * r * math.cos(alpha),

@@ -63,10 +63,11 @@ def ring_radius(pressure: float, radius0: float, EA: float, law: str,
     vals = N(grid, EA) - k * grid
     sign = np.nonzero(vals > 0.0)[0]
     if sign.size == 0 or g(1.0) >= 0.0:
-        limit = {"linear": "EA / (radius0 cos(pi/n))",
-                 "hencky": "EA / (e radius0 cos(pi/n))"}.get(get_law(law).name, "a finite limit")
+        # largest pressure with an equilibrium: max of N(lam) / (lam c R0)
+        limit = float(np.max(N(grid, EA) / (grid * c * radius0)))
         raise ValueError(f"pressure = {pressure} admits no inflated equilibrium for the "
-                         f"{get_law(law).name} law: pressure must be below {limit}")
+                         f"{get_law(law).name} law: pressure must be below about "
+                         f"{limit:.6g} (linear: EA / (c R0), hencky: EA / (e c R0))")
     i = sign[0]
     lo = 1.0 if i == 0 else grid[i - 1]
     lam = brentq(g, lo, grid[i], xtol=1e-16, rtol=4 * np.finfo(float).eps, maxiter=200)
