@@ -68,7 +68,8 @@ def build(params: dict, method: str | None = None) -> Setup:
     master = ContactSurface.from_solid(cushion, "bottom", name="cushion_bottom")
     options = {}
     if method != "nts":
-        options = {"n_gauss": int(params["n_gauss"])}
+        options = {"n_gauss": int(params["n_gauss"]),
+                   "segmentation": params["segmentation"]}
     pair = ContactPair(slave, master, method, name="contact", **options)
     pressure = FollowerPressure(cable, float(params["pressure"]), side="left", name="pressure")
     supports = Dirichlet(cable, cable.support_dofs(), 0.0, name="supports")
