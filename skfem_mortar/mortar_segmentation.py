@@ -7,7 +7,8 @@ Slave normal field
 ------------------
 A slave segment ``e = (a, b)`` with tangent ``t = x_b - x_a`` has the outward
 unit normal ``nu_e = (t_y, -t_x) / |t|``.  The nodal normal of a slave node is
-the normalized average of the unit normals of its (one or two) slave segments,
+the normalized average of the unit normals of its (one or two, degenerate ones
+left out) slave segments,
 ``n_A = (nu_prev + nu_next) / |nu_prev + nu_next|``, and it is interpolated
 linearly (not normalized) along the slave segment,
 
@@ -288,7 +289,6 @@ def nodal_normals(xs: np.ndarray, seg: np.ndarray, second: bool = True, nv: int 
     pnode, nnode : int ndarray (n_s,), the neighbours (the node itself where missing).
     """
     n_s = xs.shape[1]
-    prev, nxt = slave_topology(seg, n_s)
     ends = np.full(n_s, -1, dtype=np.int64)
     starts = np.full(n_s, -1, dtype=np.int64)
     ar = np.arange(seg.shape[0])
@@ -320,13 +320,14 @@ def project_point_on_slave(xa, xb, na, nb, xc, n_newton: int = 8):
 
     Solves ``f(xi) = (x_s(xi) - x_c) x n(xi) = c0 + c1 xi + c2 xi^2 = 0`` with
     ``x_s = N_1 x_a + N_2 x_b`` and ``n = N_1 n_a + N_2 n_b``.  Newton on values
-    from the linear estimate ``-c0 / c1``, then two Newton steps in jet
-    arithmetic for exact first and second derivatives.  Works for jets (returns
-    a jet) and, with ``Jet`` inputs only, for any shape.
+    from the linear estimate ``-c0 / c1``; with jet inputs then one Newton step
+    in jet arithmetic from the converged value plus the second-order implicit
+    function term, for exact first and second derivatives.  Each argument is a
+    pair ``(x, y)`` of arrays (values only) or of jets.
 
     Returns
     -------
-    xi : Jet
+    xi : ndarray or Jet
     ok : bool ndarray, whether the value iteration converged to a finite root.
     """
     d0x = (xa[0] + xb[0]) * 0.5 - xc[0]
