@@ -278,7 +278,9 @@ def evaluate(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarra
         and ``G``, ``H`` its exact derivatives with those parameters fixed (the
         normals, the slave Jacobian and the Gauss-point projections onto the
         master still move; a Gauss point may then project onto the extension of
-        its master element).  If not frozen only the pair list is reused.
+        its master element, and a slave node without a frozen segment stays out
+        of ``mask`` until the next rebuild).  If not frozen only the pair list
+        is reused.
         Default: segment the current configuration (policy ``iteration``).
     pairs : (i_s, i_m), optional
         Candidate element pairs (otherwise ``search.segment_pairs``).
