@@ -44,3 +44,11 @@ print("active nodes:", int(pair.active.sum()),
 # %% the contact forces on both sides balance (action and reaction)
 f_cable, f_cushion = pair.forces(z)
 print("action + reaction:", f_cable.sum(axis=1) + f_cushion.sum(axis=1))
+
+# %% save the result series (ParaView: open cable.pvd, cushion.pvd, contact.pvd) and a picture
+import tempfile  # noqa: E402
+
+out = tempfile.mkdtemp(prefix="cable_cushion_")
+result.save(out)
+picture = result.plot(f"{out}/figure.png", title="cable against cushion")
+print("written to", out)

@@ -11,7 +11,9 @@ falls below ``min_step`` a :class:`ConvergenceError` is raised.
 from __future__ import annotations
 
 import logging
+import os
 import time
+from pathlib import Path
 from dataclasses import dataclass, field
 from typing import Callable
 
@@ -88,6 +90,47 @@ class Result:
     @property
     def load_factors(self) -> np.ndarray:
         return np.array([0.0] + [s.load_factor for s in self.steps])
+
+    def outputs(self) -> list:
+        """What can be written or drawn: the bodies, and the slave surface of each
+        contact pair (pressure and gap)."""
+        from .contact_output import ContactOutput
+
+        outs = [it for it in self.model.items if hasattr(it, "output_mesh")]
+        outs += [ContactOutput(it) for it in self.model.items if hasattr(it, "contact_data")]
+        return outs
+
+    def fields(self, k: int = -1) -> dict[str, tuple[dict, dict]]:
+        """Per output (by name): ``(point_data, cell_data)`` at state ``k``."""
+        return {o.name: o.output_data(self.states[k]) for o in self.outputs()}
+
+    def save(self, out: str | os.PathLike) -> Path:
+        """Write one PVD/VTU series per output, one frame per state, into ``out``;
+        for a contact model also ``contact.csv`` (final state) of the first pair."""
+        from .io import SeriesWriter, write_contact_csv
+
+        out = Path(out)
+        for o in self.outputs():
+            writer = SeriesWriter(out, o.name, o.output_mesh())
+            for lf, z in zip(self.load_factors, self.states):
+                writer.write(lf, *o.output_data(z))
+        pairs = [it for it in self.model.items if hasattr(it, "contact_data")]
+        if pairs:
+            write_contact_csv(out / "contact.csv", pairs[0].contact_data(self.z))
+        return out
+
+    def plot(self, path: str | os.PathLike, title: str = "") -> Path:
+        """The initial and the final configuration side by side, as a PNG
+        (see :func:`skfem_mortar.plot.figure`)."""
+        from types import SimpleNamespace
+
+        from .plot import figure
+
+        pairs = [it for it in self.model.items if hasattr(it, "contact_data")]
+        view = SimpleNamespace(outputs=[it for it in self.model.items
+                                        if hasattr(it, "output_mesh")],
+                               contact=pairs[0].contact_data if pairs else None)
+        return figure(view, self, path, title=title)
 
     def residual(self, k: int = -1) -> np.ndarray:
         """Global residual at state ``k`` (reactions at prescribed dofs)."""

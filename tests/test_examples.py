@@ -23,3 +23,9 @@ def test_cable_cushion_example():
     assert np.linalg.norm(f_cable + f_cushion) < 1e-12 * np.linalg.norm(f_cable)
     # the contact pushes the cable down (-y) and the cushion up
     assert f_cable[1] < 0 < f_cushion[1]
+    # the saved series hold one frame per state, with the contact pressure
+    from skfem_mortar.io import read_series
+    frames = read_series(f"{ex.out}/contact.pvd")
+    assert len(frames) == len(ex.result.states)
+    assert (frames[-1][1].point_data["pressure"] > 0).sum() == ex.pair.active.sum()
+    assert ex.picture.stat().st_size > 10000

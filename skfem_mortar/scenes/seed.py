@@ -56,8 +56,12 @@ def build(params: dict, method: str | None = None) -> Setup:
     if L0 <= 2 * a:
         raise ValueError(f"length0 must exceed 2 half_span = {2 * a:g} (the cable starts as a "
                          f"stress-free arc), got {L0:g}")
+    # tension_floor (tangent only, see Cable): the stress-free start has no N/l
+    # stiffness; a floor well below the final tension p a keeps the first Newton
+    # iterations from overshooting into the cushion. It does not change the answer.
     cable = Cable.between((-a, 0.0), (a, 0.0), L0, int(params["n_cable"]), bulge="left",
-                          EA=float(params["EA"]), law=params["law"], name="cable")
+                          EA=float(params["EA"]), law=params["law"], name="cable",
+                          tension_floor=0.1 * float(params["pressure"]) * a)
     apex = float(cable.X[1].max())
     y0 = apex + float(params["gap"])
     mesh = cushion_mesh(float(params["cushion_width"]), float(params["cushion_height"]), y0,
