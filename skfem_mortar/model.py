@@ -143,7 +143,9 @@ class Item:
 class Dirichlet(Item):
     """Prescribed values of global unknowns, ramped with the load factor.
 
-    ``value(load_factor) = ramp * load_factor * value + (1 - ramp) * value``.
+    ``value(load_factor) = ramp * load_factor * value + (1 - ramp) * value``, or,
+    when ``value`` is a callable, ``value(load_factor)`` itself (a load path,
+    e.g. press a die down, then slide it).
 
     Parameters
     ----------
@@ -151,8 +153,9 @@ class Dirichlet(Item):
         The body whose unknowns are prescribed.
     dofs : array of int
         Indices *local to the body's block*.
-    value : float or array
-        Final prescribed value(s) (displacement).
+    value : float, array or callable
+        Final prescribed value(s) (displacement), or a function of the load
+        factor returning a scalar or one value per dof (in the order of ``dofs``).
     ramp : bool
         Scale the value with the load factor (default) or hold it fixed.
     """
@@ -164,12 +167,15 @@ class Dirichlet(Item):
         if self.local_dofs.size and (self.local_dofs.min() < 0
                                      or self.local_dofs.max() >= body.n_dofs):
             raise ValueError(f"dofs must lie in [0, {body.n_dofs}) for body {body.name!r}")
+        self._order = np.unique(np.asarray(dofs).ravel(), return_index=True)[1]
+        self.path = value if callable(value) else None
+        if self.path is not None:
+            value = np.asarray(self.path(0.0), dtype=float)
         value = np.asarray(value, dtype=float)
         if value.ndim and value.shape != np.asarray(dofs).ravel().shape:
             raise ValueError("value must be a scalar or one value per dof")
         if value.ndim:  # keep values aligned with the sorted unique dofs
-            order = np.unique(np.asarray(dofs).ravel(), return_index=True)[1]
-            value = value[order]
+            value = value[self._order]
         if not np.all(np.isfinite(value)):
             raise ValueError("value must be finite")
         self.value = value
@@ -177,6 +183,14 @@ class Dirichlet(Item):
         self.name = name or f"dirichlet_{body.name}"
 
     def prescribed(self, load_factor: float) -> tuple[np.ndarray, np.ndarray]:
+        if self.path is not None:
+            vals = np.asarray(self.path(load_factor), dtype=float)
+            vals = vals[self._order] if vals.ndim else vals
+            if not np.all(np.isfinite(vals)):
+                raise ValueError(f"{self.name}: the prescribed path gave non-finite values "
+                                 f"at load factor {load_factor}")
+            return (self.body.offset + self.local_dofs,
+                    np.broadcast_to(vals, self.local_dofs.shape).astype(float))
         scale = load_factor if self.ramp else 1.0
         vals = np.broadcast_to(scale * self.value, self.local_dofs.shape).astype(float)
         return self.body.offset + self.local_dofs, vals

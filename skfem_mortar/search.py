@@ -25,6 +25,8 @@ from __future__ import annotations
 import numpy as np
 from scipy.spatial import cKDTree
 
+from .timing import timed
+
 __all__ = ["segment_pairs", "node_segment_pairs", "box_pairs", "segment_boxes"]
 
 _LARGE = 4.0  # a box is "large" above this many median half sizes
@@ -150,9 +152,10 @@ def segment_pairs(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.n
     i_s, i_m : int ndarray (n_pairs,)
         Indices of slave and master segments, sorted by ``i_s`` then ``i_m``.
     """
-    lo_s, hi_s = segment_boxes(xs, seg_s)
-    lo_m, hi_m = segment_boxes(xm, seg_m)
-    return box_pairs(lo_s, hi_s, lo_m, hi_m, margin)
+    with timed("search"):
+        lo_s, hi_s = segment_boxes(xs, seg_s)
+        lo_m, hi_m = segment_boxes(xm, seg_m)
+        return box_pairs(lo_s, hi_s, lo_m, hi_m, margin)
 
 
 def node_segment_pairs(xn: np.ndarray, xm: np.ndarray, seg_m: np.ndarray, margin: float
@@ -175,6 +178,7 @@ def node_segment_pairs(xn: np.ndarray, xm: np.ndarray, seg_m: np.ndarray, margin
     i_node, i_m : int ndarray (n_pairs,)
         Sorted by node then segment.
     """
-    xn = np.asarray(xn, dtype=float).reshape(2, -1)
-    lo_m, hi_m = segment_boxes(xm, seg_m)
-    return box_pairs(xn, xn, lo_m, hi_m, margin)
+    with timed("search"):
+        xn = np.asarray(xn, dtype=float).reshape(2, -1)
+        lo_m, hi_m = segment_boxes(xm, seg_m)
+        return box_pairs(xn, xn, lo_m, hi_m, margin)

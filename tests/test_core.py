@@ -89,3 +89,14 @@ def test_bad_newton_options():
         NewtonOptions(rtol=2.0)
     with pytest.raises(ValueError, match="max_iter"):
         NewtonOptions(max_iter=0)
+
+
+def test_dirichlet_load_path():
+    # a two-phase path: pull to 0.6 in the first half, then back to 0.2
+    s = Spring(3, k=2.0)
+    path = lambda lf: 1.2 * lf if lf <= 0.5 else 0.6 - 0.8 * (lf - 0.5)  # noqa: E731
+    model = Model([s, Dirichlet(s, [0]), Dirichlet(s, [2], path, name="path")])
+    res = solve(model, 4)
+    ends = [z[2] for z in res.states]
+    assert np.allclose(ends, [0.0, 0.3, 0.6, 0.4, 0.2], atol=1e-14)
+    assert np.isclose(res.z[1], 0.1, atol=1e-12)  # two equal springs share the stretch
