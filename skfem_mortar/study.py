@@ -56,6 +56,10 @@ GRIDS: dict[str, dict[str, Any]] = {
 }
 
 
+#: settings that only mortar methods have (an NTS run ignores them)
+MORTAR_ONLY = ("n_gauss", "segmentation")
+
+
 @dataclass
 class StudyPlan:
     """The list of runs of a study and how to measure each."""
@@ -110,9 +114,11 @@ def plan_study(scenes: Sequence[str], *, methods: Sequence[str] | None = None,
         for method, step, combo in itertools.product(
                 scene_methods, list(steps or [None]),
                 itertools.product(*(axes[k] for k in keys)) if keys else [()]):
-            params = {k: scene.param(k).parse(v) for k, v in zip(keys, combo)}
-            plan.runs.append({"scene": name, "method": method, "steps": step,
-                              "params": params})
+            params = {k: scene.param(k).parse(v) for k, v in zip(keys, combo)
+                      if not (method == "nts" and k in MORTAR_ONLY)}
+            run = {"scene": name, "method": method, "steps": step, "params": params}
+            if run not in plan.runs:  # NTS ignores the mortar axes: run it once
+                plan.runs.append(run)
         if "reference" in conf:
             plan.references[name] = {"metric": conf["reference"],
                                      "params": conf.get("reference_params", {})}

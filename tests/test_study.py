@@ -75,3 +75,12 @@ def test_dask_gives_the_same_rows(tmp_path):
     # the metrics are the same numbers wherever the run happened
     for a, b in zip(serial, dask):
         assert json.loads(a["metrics"]) == json.loads(b["metrics"])
+
+
+def test_nts_runs_once_across_mortar_only_axes():
+    plan = plan_study(["seed"], quick=True, sets={"n_gauss": "2,4", "segmentation": "iteration,step"})
+    by_method = {}
+    for r in plan.runs:
+        by_method.setdefault(r["method"], []).append(r)
+    assert len(by_method["nts"]) == 1 and "n_gauss" not in by_method["nts"][0]["params"]
+    assert len(by_method["mortar"]) == 4
