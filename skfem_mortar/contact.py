@@ -15,7 +15,8 @@ with the semi-smooth complementarity function (primal-dual active set)
 
 as the multiplier rows of the same linear system, so inactive multipliers are
 set to zero by the Newton step itself.  ``c`` is a stiffness taken from the
-bodies' tangent diagonals at the contact dofs (divided by the squared mean
+bodies' tangent diagonals at the contact dofs (their harmonic mean over the
+two bodies: the series stiffness, set by the softer body) (divided by the squared mean
 tributary length when the multipliers are tractions, as in mortar), so the
 choice is unit-free; it steers only the path of the iteration, not the
 solution.  At ``lam = 0`` a node with ``g <= 0`` is active (``>=`` above):
@@ -119,6 +120,18 @@ class ContactPair(Item):
         self._touch = float(touch_tolerance) * float(np.mean(np.hypot(*np.diff(
             slave.X[:, slave.segments], axis=2)[:, :, 0])))
         self.cycle_guard = bool(cycle_guard)
+        self._hint = ""
+        if mod == "nts" and master.body is not None:
+            hs = float(np.median(np.hypot(*np.diff(slave.X[:, slave.segments], axis=2)[:, :, 0])))
+            hm = float(np.median(np.hypot(*np.diff(master.X[:, master.segments],
+                                                   axis=2)[:, :, 0])))
+            if hs > 1.2 * hm:
+                self._hint = (f"{name}: the NTS slave surface is coarser than the master "
+                              f"(median segment lengths {hs:.3g} > {hm:.3g}); single-pass NTS "
+                              f"then pushes point forces into dents of the master and lets "
+                              f"master nodes pass through the slave: make the finer surface "
+                              f"the slave, or refine the slave, or use mortar")
+                log.info("%s", self._hint)
         self.active = np.zeros(self.n_dofs, dtype=bool)
         self._changed = False
         self._history: list[np.ndarray] = []
@@ -127,6 +140,10 @@ class ContactPair(Item):
         self._started = False
         self._initial = False
         self._prefer: np.ndarray | None = None
+        self._lock: np.ndarray | None = None
+        self._lock_converged: np.ndarray | None = None
+        self._seg_hist: list[np.ndarray] = []
+        self._locks = 0
         self._changes = 0
         self._cycles = 0
         self._converged = self.active.copy()
@@ -152,6 +169,8 @@ class ContactPair(Item):
         extra: dict = {}
         if self.method == "nts" and self._prefer is not None:
             extra["prefer"] = self._prefer
+            if self._lock is not None and self._lock.any():
+                extra["lock"] = self._lock
         if self._sg is not None:
             extra["segmentation"] = self._sg
         return self.module.evaluate(self.slave.x(z), self.slave.segments,
@@ -165,7 +184,8 @@ class ContactPair(Item):
         return out
 
     def _stiffness(self, z: np.ndarray, load_factor: float) -> float:
-        """Mean |diagonal| of the bodies' tangents at the contact dofs (force / length)."""
+        """Harmonic mean over the bodies of the mean |diagonal| of each body's tangent
+        at the contact dofs (force / length)."""
         vals = []
         gd = self.global_dofs()
         gd = gd[gd >= 0]
@@ -176,7 +196,10 @@ class ContactPair(Item):
             d = np.abs(d[d != 0])
             if d.size:
                 vals.append(d.mean())
-        k = float(np.mean(vals)) if vals else 0.0
+        # series stiffness of the bodies (harmonic mean): the softer body sets the
+        # interface compliance; the arithmetic mean let a 1000x stiffer die make c
+        # so large that gaps of round-off size flipped nodes (ironing, die as slave)
+        k = float(len(vals) / np.sum(1.0 / np.asarray(vals))) if vals else 0.0
         if not (np.isfinite(k) and k > 0):
             log.warning("%s: no stiffness found at the contact dofs, using c = 1", self.name)
             k = 1.0
@@ -200,6 +223,7 @@ class ContactPair(Item):
         active = self._active_set(lam, ev, c, track=tangent)
         if tangent and "segment" in ev.info:  # NTS: segment hysteresis between iterations
             self._prefer = np.asarray(ev.info["segment"])
+            self._watch_segments(self._prefer)
         gd = self.global_dofs()
         # body rows: -G^T lam
         G = ev.G.tocoo()
@@ -282,11 +306,47 @@ class ContactPair(Item):
         self.active = new
         return new
 
+    def _watch_segments(self, seg: np.ndarray) -> None:
+        """NTS vertex trap: lock a node whose master segment alternates a, b, a.
+
+        At a reflex vertex of the deformed master (the master body locally
+        concave, e.g. dented by the slave), the equilibrium of a slave node
+        with the normal of segment ``a`` can lie beyond the vertex on ``b`` and
+        the one with the normal of ``b`` before the vertex on ``a``: the
+        single-segment NTS gap has no solution there, the node's projection
+        jumps between the two segments in every Newton iteration (the
+        ``seed`` scene, nts, ``refine_cushion=3``: residual alternating
+        0.42 / 0.29 for 25 iterations).  Once a node repeats a segment of two
+        iterations ago, it is locked onto it for the rest of the step attempt
+        and the following steps, while its parameter on that segment stays in
+        ``[-0.5, 1.5]`` (:data:`skfem_mortar.nts.LOCK_STICK`); its projection
+        continues on the segment's extension line, so its gap is that of the
+        extended segment, off by at most the overshoot times the kink angle.
+        """
+        seg = np.asarray(seg)
+        self._seg_hist = (self._seg_hist + [seg.copy()])[-3:]
+        if len(self._seg_hist) < 3:
+            return
+        s2, s1, s0 = self._seg_hist
+        trap = (s0 == s2) & (s0 != s1) & (s0 >= 0) & (s1 >= 0)
+        if self._lock is None:
+            self._lock = np.zeros(seg.shape, dtype=bool)
+        new = trap & ~self._lock
+        if new.any():
+            self._locks += int(new.sum())
+            log.info("%s: %d slave node(s) alternate between two master segments; "
+                     "locked onto one for the rest of the step", self.name, int(new.sum()))
+            self._lock |= new
+
     def _gap_length(self, ev: ContactEval) -> np.ndarray:
         """Gaps as lengths: NTS gaps, or mortar weighted gaps over the tributary lengths."""
         if self.multiplier_kind == "force":
             return ev.g
         return ev.g / np.where(ev.area > 0, ev.area, 1.0)
+
+    def failure_hint(self) -> str:
+        """A likely cause to add to a :class:`ConvergenceError` ("" if none known)."""
+        return self._hint
 
     def settled(self) -> bool:
         return not self._changed
@@ -304,6 +364,8 @@ class ContactPair(Item):
             self._prefer_converged = None
         self.active = self._converged.copy()
         self._prefer = self._prefer_converged
+        self._lock = None if self._lock_converged is None else self._lock_converged.copy()
+        self._seg_hist = []
         if self.segmentation == "step":
             from .mortar_segmentation import segment
             self._sg = None
@@ -317,10 +379,14 @@ class ContactPair(Item):
         self._changed = False
         self._changes = 0
         self._cycles = 0
+        self._locks = 0
 
     def end_step(self, z: np.ndarray, load_factor: float) -> None:
         self._converged = self.active.copy()
         self._prefer_converged = self._prefer
+        if self._lock is not None and self._prefer is not None:
+            # a lock lasts while the node stays on its segment (nts.LOCK_STICK)
+            self._lock_converged = self._lock & (self._prefer >= 0)
         if self._cycles:
             lam = np.asarray(z)[self.dofs]
             ev = self.evaluate(z, tangent=False, with_lam=False)
@@ -332,9 +398,10 @@ class ContactPair(Item):
 
     def step_info(self) -> dict:
         """``n_active`` nodes, ``active_set_changes`` (node status flips summed over the
-        step's iterations) and ``active_set_cycles`` (times the cycling guard acted)."""
+        step's iterations), ``active_set_cycles`` (times the cycling guard acted)
+        and ``segment_locks`` (NTS nodes locked by the vertex-trap guard)."""
         return {"n_active": int(self.active.sum()), "active_set_changes": self._changes,
-                "active_set_cycles": self._cycles}
+                "active_set_cycles": self._cycles, "segment_locks": self._locks}
 
     # -- results -----------------------------------------------------------------
     def contact_data(self, z: np.ndarray) -> dict[str, np.ndarray]:

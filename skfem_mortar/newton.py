@@ -80,6 +80,7 @@ class NewtonReport:
     residual_norms: list[float] = field(default_factory=list)
     reason: str = ""
     solve_time: float = 0.0
+    inversion_cuts: int = 0
 
 
 def _round_off_floor(scale: float) -> float:
@@ -109,9 +110,10 @@ def newton(model: Model, z: np.ndarray, load_factor: float, free: np.ndarray,
     opt = options or NewtonOptions()
     report = NewtonReport(False, 0)
     ref = 0.0
+    last: tuple[np.ndarray, float] | None = None  # the last update (dz_f, alpha)
     for it in range(opt.max_iter + 1):
         try:
-            R, K, scale = model.assemble(z, load_factor, tangent=True)
+            R, K, scale = _assemble_damped(model, z, load_factor, free, last, opt, report)
         except InversionError as exc:
             report.reason = f"inversion: {exc}"
             return report
@@ -156,8 +158,34 @@ def newton(model: Model, z: np.ndarray, load_factor: float, free: np.ndarray,
         if opt.line_search:
             alpha = _backtrack(model, z, load_factor, free, dzf, rnorm, opt)
         z[free] += alpha * dzf
+        last = (dzf, alpha)
         report.iterations = it + 1
     return report  # pragma: no cover (loop always returns)
+
+
+def _assemble_damped(model: Model, z: np.ndarray, load_factor: float, free: np.ndarray,
+                     last: tuple[np.ndarray, float] | None, opt: NewtonOptions,
+                     report: NewtonReport):
+    """Assemble at ``z``; if an element is inverted there, halve the last update.
+
+    Inversion safeguard: a Newton update that inverts an element (a contact
+    node pushed through a soft element by a linearized step, e.g. ``seed``
+    with nts at ``refine_cushion=3``) is taken back by halves (at most
+    ``max_backtracks`` times) before the step is given up and cut; a
+    converged answer does not depend on it.  The first iteration (no update
+    yet) raises at once.
+    """
+    while True:
+        try:
+            return model.assemble(z, load_factor, tangent=True)
+        except InversionError:
+            if last is None or report.inversion_cuts >= opt.max_backtracks:
+                raise
+            dzf, alpha = last
+            z[free] -= 0.5 * alpha * dzf
+            last = (dzf, 0.5 * alpha)
+            report.inversion_cuts += 1
+            log.debug("inversion: update halved to alpha = %.3g", 0.5 * alpha)
 
 
 def _backtrack(model: Model, z: np.ndarray, load_factor: float, free: np.ndarray,

@@ -54,7 +54,10 @@ from .contact_eval import ContactEval
 from .search import node_segment_pairs
 from .surfaces import segment_normals, tributary_lengths
 
-__all__ = ["evaluate", "project"]
+__all__ = ["evaluate", "project", "LOCK_STICK"]
+
+LOCK_STICK = 0.5
+"""Hysteresis width (fraction of the segment length) of a node locked at a reflex vertex."""
 
 
 def _check(x: np.ndarray, seg: np.ndarray, what: str) -> tuple[np.ndarray, np.ndarray]:
@@ -69,7 +72,7 @@ def _check(x: np.ndarray, seg: np.ndarray, what: str) -> tuple[np.ndarray, np.nd
 
 def project(xs: np.ndarray, xm: np.ndarray, seg_m: np.ndarray, margin: float | None = None,
             end_tolerance: float = 1e-8, prefer: np.ndarray | None = None,
-            stick: float = 0.05) -> dict:
+            stick: float = 0.05, lock: np.ndarray | None = None) -> dict:
     """Closest-point projection of every slave node on the master chain.
 
     Parameters
@@ -92,6 +95,11 @@ def project(xs: np.ndarray, xm: np.ndarray, seg_m: np.ndarray, margin: float | N
         and Newton would never converge).
     stick : float
         Hysteresis width, a fraction of the segment length (>= 0).
+    lock : bool ndarray (n_s,), optional
+        Nodes that keep their ``prefer`` segment while their ``xi`` stays in
+        ``[-LOCK_STICK, 1 + LOCK_STICK]`` (the closest-point projection then
+        continues onto the segment's extension line).  Used by :class:`~skfem_mortar.contact.ContactPair` for a node
+        caught at a reflex vertex of the master (see docs/robustness.md).
 
     Returns
     -------
@@ -134,7 +142,13 @@ def project(xs: np.ndarray, xm: np.ndarray, seg_m: np.ndarray, margin: float | N
         prefer = np.asarray(prefer, dtype=np.int64).ravel()
         if prefer.shape != (n_s,):
             raise ValueError(f"prefer must have shape ({n_s},), got {prefer.shape}")
-        keep = (i_e == prefer[i_n]) & (xi >= -stick) & (xi <= 1.0 + stick)
+        inside = (xi >= -stick) & (xi <= 1.0 + stick)
+        if lock is not None:
+            lock = np.asarray(lock, dtype=bool).ravel()
+            if lock.shape != (n_s,):
+                raise ValueError(f"lock must have shape ({n_s},), got {lock.shape}")
+            inside |= lock[i_n] & (xi >= -LOCK_STICK) & (xi <= 1.0 + LOCK_STICK)
+        keep = (i_e == prefer[i_n]) & inside
     else:
         keep = np.zeros(i_n.shape, dtype=bool)
     order = np.lexsort((over, dist, ~keep, i_n))
@@ -164,7 +178,8 @@ def project(xs: np.ndarray, xm: np.ndarray, seg_m: np.ndarray, margin: float | N
 def evaluate(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarray,
              lam: np.ndarray | None = None, tangent: bool = True,
              margin: float | None = None, end_tolerance: float = 1e-8,
-             prefer: np.ndarray | None = None, stick: float = 0.05) -> ContactEval:
+             prefer: np.ndarray | None = None, stick: float = 0.05,
+             lock: np.ndarray | None = None) -> ContactEval:
     """NTS gaps ``g_N`` of the slave nodes, ``G = dg/dx`` and ``H = sum_k lam_k d^2 g_k/dx^2``.
 
     Parameters
@@ -175,7 +190,7 @@ def evaluate(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarra
         Nodal contact forces (multipliers); needed for ``H``.
     tangent : bool
         Whether to build ``G`` (and ``H`` when ``lam`` is given).
-    margin, end_tolerance, prefer, stick : see :func:`project`.
+    margin, end_tolerance, prefer, stick, lock : see :func:`project`.
 
     Returns
     -------
@@ -191,7 +206,7 @@ def evaluate(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarra
         lam = np.asarray(lam, dtype=float).ravel()
         if lam.shape != (n_s,):
             raise ValueError(f"lam must have shape ({n_s},), got {lam.shape}")
-    pr = project(xs, xm, seg_m, margin, end_tolerance, prefer, stick)
+    pr = project(xs, xm, seg_m, margin, end_tolerance, prefer, stick, lock)
     mask, g, xi, n, e, l = pr["mask"], pr["g"], pr["xi"], pr["n"], pr["e"], pr["l"]
     area = tributary_lengths(xs, seg_s)
     info = {"xi": xi, "segment": pr["segment"], "normal": n}

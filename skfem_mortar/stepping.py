@@ -258,8 +258,11 @@ def solve(model: Model, n_steps: int = 1, *, newton_options: NewtonOptions | Non
             cuts += 1
             n_easy = 0
             if dlf < min_step * (1.0 - 1e-12):
+                hints = [h for h in (getattr(it, "failure_hint", lambda: "")()
+                                     for it in model.items) if h]
+                reason = "; ".join([rep.reason] + hints)
                 raise ConvergenceError(step_no, target, rep.iterations,
-                                       rep.residual_norms, rep.reason)
+                                       rep.residual_norms, reason)
     finally:
         if bar is not None:
             bar.close()
