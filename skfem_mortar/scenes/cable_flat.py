@@ -90,7 +90,8 @@ def build(params: dict, method: str | None = None) -> Setup:
                          f"start arc of length0 = {L0:g}, got {d:g}")
     slave = ContactSurface.from_cable(cable, side="left", name="cable_top")
     plane = RigidPlane((0.0, d), (0.0, -1.0), length=max(100.0 * a, 10 * L0), name="plane")
-    pair = ContactPair(slave, plane, method, name="contact")
+    options = {} if method == "nts" else {"segmentation": params["segmentation"]}
+    pair = ContactPair(slave, plane, method, name="contact", **options)
     model = Model([cable, FollowerPressure(cable, p, side="left", name="pressure"),
                    Dirichlet(cable, cable.support_dofs(), 0.0, name="supports"), pair])
 
@@ -132,6 +133,9 @@ SCENE = Scene(
               low=0.0, low_inclusive=False),
         Param("law", "linear", "axial law N(lambda)", str, choices=tuple(LAWS)),
         Param("n_elements", 100, "number of cable elements", int, low=2),
+        Param("segmentation", "iteration", "mortar only: rebuild the mortar segments every "
+              "Newton iteration, or once per load step (frozen during the step)", str,
+              choices=("iteration", "step")),
     ),
     build=build,
     methods=METHODS,

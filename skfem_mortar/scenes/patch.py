@@ -17,6 +17,28 @@ slides and the test is no longer exact.
 Matching meshes (``n_top == n_bottom``) pass with every method; on
 non-matching meshes single-pass NTS does not (its error is reported, not
 hidden), mortar does.
+
+Offset and overlap (``offset``, ``top_width``): the upper block spans
+``[offset, offset + top_width]``, the lower one ``[0, 1]``; they touch on the
+overlapped part ``[max(0, offset), min(1, offset + top_width)]``.  The parts of
+the interface that face nothing are loaded by the same pressure ``q`` directly:
+the overhang of the upper block's bottom face pushed up, the uncovered part of
+the lower block's top face pushed down (consistent nodal forces of the uniform
+traction ``q`` over the uncovered part of each facet, integrated exactly, also
+on a facet cut by the end of the other surface; dead loads, exact because with
+``nu = 0`` both faces keep their length and direction).  Every face of both
+blocks then carries ``q`` and the uniform state stays exact: contact pressure
+``q`` on the overlapped part, ``sigma_yy = -q`` everywhere.  The end of each
+surface generally falls inside an element of the other, so this tests the
+partial elements at the surface ends: a slave element that reaches beyond the
+master (``offset < 0`` or ``offset + top_width > 1``) and a master element
+that reaches beyond the slave.  With mortar the contact traction is
+``lam_h = sum_A Phi_A lam_A`` on the overlap, and ``lam_h = q`` holds when every
+slave node whose multiplier support meets the overlap carries ``lam_A = q``
+(the ``Phi_A`` sum to one there, for standard and dual multipliers), including
+the outer node of a partially overlapped slave element; slave nodes without a
+master partner carry no load.  The defaults (``offset = 0``,
+``top_width = 1``) are the aligned test of benchmarks section 5.
 """
 from __future__ import annotations
 
@@ -30,6 +52,7 @@ from ..materials import NeoHooke
 from ..model import Dirichlet, Model
 from ..solid import Solid
 from ..surfaces import ContactSurface
+from ..traction import PointLoad
 from . import METHODS, Param, Scene, Setup
 
 __all__ = ["SCENE", "build"]
@@ -37,9 +60,10 @@ __all__ = ["SCENE", "build"]
 WIDTH, HEIGHT = 1.0, 0.5
 
 
-def _block(y0: float, nx: int, element: str, E: float, nu: float, name: str) -> Solid:
+def _block(x0: float, width: float, y0: float, nx: int, element: str, E: float, nu: float,
+           name: str) -> Solid:
     ny = max(1, (nx + 1) // 2)
-    xs = np.linspace(0.0, WIDTH, nx + 1)
+    xs = np.linspace(x0, x0 + width, nx + 1)
     ys = np.linspace(y0, y0 + HEIGHT, ny + 1)
     mesh_cls = MeshTri if element == "tri1" else MeshQuad
     mesh = mesh_cls.init_tensor(xs, ys).with_defaults()
@@ -51,33 +75,81 @@ def _corner(body: Solid, x: float, y: float) -> int:
     return int(np.argmin(d))
 
 
+def uncovered_load(body: Solid, boundary: str, lo: float, hi: float, traction: float,
+                   name: str) -> PointLoad | None:
+    """Consistent nodal forces of the uniform traction ``(0, traction)`` on the part of a
+    horizontal face outside ``[lo, hi]`` (None if the face lies inside).
+
+    For a linear facet ``[x0, x1]`` and a loaded piece ``[c0, c1]`` of it,
+    ``f_1 = t int_c0^c1 (x - x0) / (x1 - x0) dx`` and ``f_0 = t (c1 - c0) - f_1``,
+    integrated exactly (a facet cut by ``lo`` or ``hi`` gets its loaded part only).
+    """
+    mesh = body.mesh
+    ends = mesh.facets[:, mesh.boundaries[boundary]]            # (2, n_f)
+    x = mesh.p[0, ends]
+    swap = x[0] > x[1]
+    ends = np.where(swap, ends[::-1], ends)
+    x0, x1 = np.minimum(*x), np.maximum(*x)
+    f0, f1 = np.zeros(x0.size), np.zeros(x0.size)
+    for c0, c1 in ((x0, np.minimum(x1, lo)), (np.maximum(x0, hi), x1)):  # two pieces per facet
+        c1 = np.maximum(c0, c1)
+        m1 = ((c1 - x0) ** 2 - (c0 - x0) ** 2) / (2.0 * (x1 - x0))
+        f1 += traction * m1
+        f0 += traction * ((c1 - c0) - m1)
+    f = np.zeros(mesh.p.shape[1])
+    np.add.at(f, ends[0], f0)
+    np.add.at(f, ends[1], f1)
+    nodes = np.flatnonzero(f)
+    if nodes.size == 0:
+        return None
+    return PointLoad(body, body.node_dofs[1, nodes], f[nodes], name=name)
+
+
 def build(params: dict, method: str | None = None) -> Setup:
     """Two blocks, pressure, supports and the contact pair; metric: the pressure error."""
     q, nu = float(params["pressure"]), float(params["nu"])
+    s, wt = float(params["offset"]), float(params["top_width"])
+    lo, hi = max(0.0, s), min(WIDTH, s + wt)
+    if hi - lo < 1e-3 * WIDTH:
+        raise ValueError(f"offset and top_width must leave the blocks overlapping: "
+                         f"offset in ({-wt:g}, {WIDTH:g}) for top_width = {wt:g}, "
+                         f"got offset = {s:g} (overlap {max(hi - lo, 0.0):g})")
     method = method or "nts"
     element = params["element"]
-    bottom = _block(0.0, int(params["n_bottom"]), element, float(params["E_bottom"]), nu,
-                    "bottom")
-    top = _block(HEIGHT, int(params["n_top"]), element, float(params["E_top"]), nu, "top")
+    bottom = _block(0.0, WIDTH, 0.0, int(params["n_bottom"]), element,
+                    float(params["E_bottom"]), nu, "bottom")
+    top = _block(s, wt, HEIGHT, int(params["n_top"]), element, float(params["E_top"]), nu,
+                 "top")
     slave = ContactSurface.from_solid(top, "bottom", name="top_bottom")
     master = ContactSurface.from_solid(bottom, "top", name="bottom_top")
     pair = ContactPair(slave, master, method, name="contact")
-    model = Model([
+    items = [
         top, bottom, pair,
         FollowerPressure(top, q, facets="top", side="inward", name="pressure"),
         Dirichlet(bottom, bottom.dofs_on("bottom", "y"), 0.0, name="support_y"),
         Dirichlet(bottom, bottom.dofs_at_nodes([_corner(bottom, 0.0, 0.0)], "x"), 0.0,
                   name="support_x"),
-        Dirichlet(top, top.dofs_at_nodes([_corner(top, 0.0, 2 * HEIGHT)], "x"), 0.0,
+        Dirichlet(top, top.dofs_at_nodes([_corner(top, s, 2 * HEIGHT)], "x"), 0.0,
                   name="top_x"),
-    ])
+    ]
+    # the parts of the interface facing nothing carry q directly (module doc)
+    items += [ld for ld in (uncovered_load(top, "bottom", lo, hi, q, "overhang_load"),
+                            uncovered_load(bottom, "top", lo, hi, -q, "uncovered_load"))
+              if ld is not None]
+    model = Model(items)
+    xs0 = slave.X[0]
+    tol = 1e-12 * WIDTH
+    inside = (xs0 >= lo - tol) & (xs0 <= hi + tol)
 
     def metrics(result) -> dict:
         d = pair.contact_data(result.z)
         p = d["pressure"]
-        err = float(np.max(np.abs(p - q)) / q)
-        return {"pressure_error": err, "pressure_min": float(p.min()),
-                "pressure_max": float(p.max()), "pressure_exact": q,
+        err = float(np.max(np.abs(p[inside] - q)) / q)
+        free = ~np.isfinite(d["gap"])  # no master partner: must carry nothing
+        return {"pressure_error": err, "pressure_min": float(p[inside].min()),
+                "pressure_max": float(p[inside].max()), "pressure_exact": q,
+                "n_overlap": int(inside.sum()),
+                "unsupported_pressure": float(np.max(np.abs(p[free]), initial=0.0) / q),
                 "n_active": int(pair.active.sum()),
                 "max_abs_gap": float(np.nanmax(np.abs(d["gap"])))}
 
@@ -102,6 +174,12 @@ SCENE = Scene(
               low=1),
         Param("element", "quad1", "linear element (straight contact segments)", str,
               choices=("tri1", "quad1")),
+        Param("offset", 0.0, "x of the upper block's left edge (the lower block spans "
+              "[0, 1]); != 0 shifts the slave against the master", float,
+              low=-WIDTH, high=WIDTH, low_inclusive=False, high_inclusive=False),
+        Param("top_width", WIDTH, "width of the upper (slave) block; > 1 makes the slave "
+              "surface longer than the master", float, low=0.0, high=10.0,
+              low_inclusive=False),
     ),
     build=build,
     methods=METHODS,
