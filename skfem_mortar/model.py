@@ -222,6 +222,10 @@ class Model:
         self.n = offset
         self.n_lam = self.n - self.n_u
         self.timers: dict[str, float] = defaultdict(float)
+        # tangent assembly cache (see _tangent): the last index arrays of every
+        # item, and the CSR pattern of the items whose indices did not change
+        self._last_idx: list[tuple[np.ndarray, np.ndarray] | None] = [None] * len(self.items)
+        self._pattern: _Pattern | None = None
 
     # -- queries -----------------------------------------------------------
     def item(self, name: str) -> Item:
@@ -278,11 +282,75 @@ class Model:
                 scale = max(scale, float(np.linalg.norm(c.r_value)))
             parts.append(c)
         t0 = time.perf_counter()
-        c = Contribution.concat(parts)
-        R = np.bincount(c.r_index, weights=c.r_value, minlength=self.n)
-        K = None
-        if tangent:
-            K = sp.coo_matrix((c.k_vals, (c.k_rows, c.k_cols)),
-                              shape=(self.n, self.n)).tocsr()
+        R = np.bincount(np.concatenate([p.r_index for p in parts]),
+                        weights=np.concatenate([p.r_value for p in parts]), minlength=self.n)
+        K = self._tangent(parts) if tangent else None
         self.timers["bulk"] += time.perf_counter() - t0
         return R, K, scale
+
+    def _tangent(self, parts: list[Contribution]) -> sp.csr_matrix:
+        """Sum the tangent triplets of all items into one CSR matrix.
+
+        Items whose index arrays equal those of their previous call (bodies,
+        loads: a fixed mesh) are *stable*: their values are summed with one
+        ``bincount`` into a CSR pattern built once (no sorting of COO triplets
+        per iteration).  The others (contact pairs: active sets and segments
+        change) go through a COO to CSR conversion of their own, added at the end.
+        """
+        stable = []
+        for i, c in enumerate(parts):
+            last = self._last_idx[i]
+            if last is not None and _same(last[0], c.k_rows) and _same(last[1], c.k_cols):
+                stable.append(i)
+            self._last_idx[i] = (c.k_rows, c.k_cols)
+        stable = tuple(i for i in stable if parts[i].k_vals.size)
+        pat = self._pattern
+        if stable and (pat is None or pat.items != stable
+                       or any(pat.idx[j][0] is not parts[i].k_rows
+                              and not _same(pat.idx[j][0], parts[i].k_rows)
+                              for j, i in enumerate(stable))):
+            pat = self._pattern = _Pattern(stable, [parts[i] for i in stable], self.n)
+        if not stable:
+            pat = None
+        rest = [p for i, p in enumerate(parts) if pat is None or i not in pat.items]
+        rest = [p for p in rest if p.k_vals.size]
+        K = None
+        if pat is not None:
+            K = pat.matrix([parts[i].k_vals for i in pat.items])
+        if rest or K is None:
+            Kr = sp.coo_matrix((_cat([p.k_vals for p in rest], float),
+                                (_cat([p.k_rows for p in rest], np.int64),
+                                 _cat([p.k_cols for p in rest], np.int64))),
+                               shape=(self.n, self.n)).tocsr()
+            K = Kr if K is None else K + Kr
+        return K
+
+
+def _cat(arrays: list[np.ndarray], dtype) -> np.ndarray:
+    return np.concatenate(arrays) if arrays else np.zeros(0, dtype=dtype)
+
+
+def _same(a: np.ndarray, b: np.ndarray) -> bool:
+    return a is b or (a.shape == b.shape and np.array_equal(a, b))
+
+
+class _Pattern:
+    """A fixed CSR pattern of the triplets of some items and where each triplet goes."""
+
+    def __init__(self, items: tuple[int, ...], parts: list[Contribution], n: int):
+        self.items = items
+        self.idx = [(p.k_rows, p.k_cols) for p in parts]
+        rows = np.concatenate([p.k_rows for p in parts]).astype(np.int64)
+        cols = np.concatenate([p.k_cols for p in parts]).astype(np.int64)
+        keys, self.where = np.unique(rows * n + cols, return_inverse=True)
+        self.nnz = keys.size
+        self.indices = (keys % n).astype(np.int32 if n < 2**31 else np.int64)
+        self.indptr = np.zeros(n + 1, dtype=self.indices.dtype)
+        np.cumsum(np.bincount(keys // n, minlength=n), out=self.indptr[1:])
+        self.n = n
+
+    def matrix(self, vals: list[np.ndarray]) -> sp.csr_matrix:
+        data = np.bincount(self.where, weights=np.concatenate(vals), minlength=self.nnz)
+        K = sp.csr_matrix((data, self.indices.copy(), self.indptr.copy()), shape=(self.n, self.n))
+        K.has_sorted_indices = True
+        return K

@@ -8,15 +8,31 @@ and its consistent tangent
 
     K(u)_ab = int_Omega0 Grad v_a : A(F) : Grad v_b dV ,   A = dP/dF ,
 
-are written as skfem ``LinearForm``/``BilinearForm`` over a vector basis; the
-stress ``P`` and tangent ``A`` are evaluated once per assembly on all quadrature
-points (vectorized, see :mod:`skfem_mortar.materials`) and handed to the forms.
+are the skfem forms ``internal_force``/``material_stiffness`` below over a vector
+basis; the stress ``P`` and tangent ``A`` are evaluated once per assembly on all
+quadrature points (vectorized, see :mod:`skfem_mortar.materials`).
+
+Speed: :meth:`Solid.assemble` evaluates the same integrals with kernels of its
+own instead of the generic skfem form assembly (which contracts full
+``(2, 2)`` gradients of every vector basis function with ``A`` by ``einsum``
+and sorts a fresh COO matrix each time): the scalar shape function gradients
+``dN`` and the weights ``dx`` of the basis are cached once, each local vector
+dof ``l`` has one component ``c_l``, and
+
+    r_e[l]    = sum_q  P[c_l, J] dN[l, J] dx ,
+    K_e[l, m] = sum_q  dN[l, J] A[c_l, J, c_m, L] dN[m, L] dx ,
+
+with the global COO index arrays built once (the model sums them into a fixed
+CSR pattern, see :meth:`skfem_mortar.model.Model.assemble`).  Linear triangles
+use the one-point (centroid) rule: ``Grad u`` is constant per element, so it
+is exact.  The tests compare both paths.
 """
 from __future__ import annotations
 
 from typing import Callable
 
 import numpy as np
+import scipy.sparse as sp
 from skfem import (Basis, BilinearForm, ElementQuad1, ElementQuad2, ElementTriP1,
                    ElementTriP2, ElementVector, LinearForm, Mesh)
 from skfem.helpers import ddot, grad
@@ -103,14 +119,48 @@ class Solid(Item):
         self.name = name
         self._cell_type = cell_type
         if intorder is None and element == "tri1":
-            intorder = 1
-        kw = {} if intorder is None else {"intorder": int(intorder)}
+            # the centroid: exact for piecewise constant integrands (skfem's
+            # lowest triangle rule has three points)
+            kw = {"quadrature": (np.array([[1.0 / 3.0], [1.0 / 3.0]]), np.array([0.5]))}
+        else:
+            kw = {} if intorder is None else {"intorder": int(intorder)}
         self.basis = Basis(mesh, ElementVector(elem_cls()), **kw)
+        self._kernel_data()
         self.n_dofs = int(self.basis.N)
         self._n_nodes = int(mesh.nvertices)
         every = self.basis.get_dofs(elements=np.arange(mesh.nelements))
         self.dof_component = np.zeros(self.n_dofs, dtype=np.int64)
         self.dof_component[np.asarray(every.all(["u^2"]), dtype=np.int64)] = 1
+
+    def _kernel_data(self) -> None:
+        """Cache what every assembly needs: local dofs, components, ``dN`` and ``dx``."""
+        b = self.basis
+        self._edofs = np.asarray(b.element_dofs, dtype=np.int64)       # (n_loc, n_el)
+        grads = [np.asarray(b.basis[l][0].grad) for l in range(b.Nbfun)]  # (2, 2, n_el, n_qp)
+        self._comp = np.array([int(np.argmax(np.abs(g).sum(axis=(1, 2, 3)))) for g in grads])
+        self._dN = np.stack([g[c] for g, c in zip(grads, self._comp)])  # (n_loc, 2, n_el, n_qp)
+        self._dx = np.asarray(b.dx)                                      # (n_el, n_qp)
+        self._kidx: tuple[int, np.ndarray, np.ndarray] | None = None
+
+    def _tangent_index(self) -> tuple[np.ndarray, np.ndarray]:
+        """Global COO rows and columns of the element tangents ``(n_loc, n_loc, n_el)``,
+        built once per offset (the same arrays every call)."""
+        if self._kidx is None or self._kidx[0] != self.offset:
+            d = self.offset + self._edofs
+            n = d.shape[0]
+            rows = np.broadcast_to(d[:, None, :], (n, n, d.shape[1])).ravel()
+            cols = np.broadcast_to(d[None, :, :], (n, n, d.shape[1])).ravel()
+            self._kidx = (self.offset, rows, cols)
+        return self._kidx[1], self._kidx[2]
+
+    def _grad_u(self, u: np.ndarray) -> np.ndarray:
+        """``Grad u`` on all quadrature points, ``(2, 2, n_el, n_qp)``, from the cached ``dN``."""
+        ue = u[self._edofs]                                              # (n_loc, n_el)
+        G = np.zeros((2,) + self._dN.shape[1:])
+        for c in (0, 1):
+            on = self._comp == c
+            G[c] = np.einsum("le,lJeq->Jeq", ue[on], self._dN[on])
+        return G
 
     # -- geometry ----------------------------------------------------------
     @property
@@ -183,8 +233,7 @@ class Solid(Item):
     def deformation_gradient(self, z: np.ndarray) -> np.ndarray:
         """``F = I + Grad u`` on all quadrature points, shape ``(2, 2, n_el, n_qp)``,
         for the global unknowns ``z`` (every method taking ``z`` expects the global vector)."""
-        G = np.asarray(grad(self.basis.interpolate(self.u(z))))
-        F = G.copy()
+        F = self._grad_u(np.asarray(self.u(z), dtype=float))
         F[0, 0] += 1.0
         F[1, 1] += 1.0
         return F
@@ -199,11 +248,34 @@ class Solid(Item):
                  ) -> Contribution:
         F = self.deformation_gradient(z)
         P, A = self.material.stress_and_tangent(F, tangent=tangent)
-        r = internal_force.assemble(self.basis, P=P)
+        dN, dx, comp = self._dN, self._dx, self._comp
+        # r_e[l] = sum_q P[c_l, J] dN[l, J] dx
+        re = np.einsum("lJeq,lJeq->le", P[comp], dN * dx)
+        r = np.bincount(self._edofs.ravel(), weights=re.ravel(), minlength=self.n_dofs)
         if not tangent:
             return Contribution.from_local(self.offset, r)
-        K = material_stiffness.assemble(self.basis, At=np.transpose(A, (2, 3, 0, 1, 4, 5)))
-        return Contribution.from_local(self.offset, r, K)
+        Adx = A * dx
+        n_loc = len(comp)
+        ke = np.empty((n_loc, n_loc, dN.shape[2]))
+        for l in range(n_loc):
+            # W[k, L] = sum_J dN[l, J] A[c_l, J, k, L] dx, then K_e[l, m] = W[c_m, L] dN[m, L]
+            W = dN[l, 0] * Adx[comp[l], 0] + dN[l, 1] * Adx[comp[l], 1]   # (2, 2, n_el, n_qp)
+            ke[l] = np.einsum("mLeq,mLeq->me", W[comp], dN)
+        rows, cols = self._tangent_index()
+        out = Contribution.from_local(self.offset, r)
+        out.k_rows, out.k_cols, out.k_vals = rows, cols, ke.ravel()
+        return out
+
+    def assemble_forms(self, z: np.ndarray, tangent: bool = True
+                       ) -> tuple[np.ndarray, sp.csr_matrix | None]:
+        """Residual and tangent on the body's dofs through the skfem forms
+        ``internal_force`` and ``material_stiffness`` (a reference for :meth:`assemble`)."""
+        F = self.deformation_gradient(z)
+        P, A = self.material.stress_and_tangent(F, tangent=tangent)
+        r = internal_force.assemble(self.basis, P=P)
+        if not tangent:
+            return r, None
+        return r, material_stiffness.assemble(self.basis, At=np.transpose(A, (2, 3, 0, 1, 4, 5)))
 
     def reaction(self, R: np.ndarray, dofs: np.ndarray) -> float:
         """Sum of the global residual ``R`` over the body's local ``dofs``.
