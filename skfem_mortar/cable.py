@@ -216,6 +216,12 @@ class Cable(Item):
         if not np.all(np.isfinite(self.EA)) or np.any(self.EA <= 0.0):
             raise ValueError("EA must be finite and > 0")
         d = X[:, elements[:, 1]] - X[:, elements[:, 0]]
+        chord = np.hypot(d[0], d[1])
+        if np.any(chord <= 1e-12 * max(float(np.max(chord)), np.finfo(float).tiny)):
+            k = int(np.argmin(chord))
+            ends = tuple(int(i) for i in elements[k])
+            raise ValueError(f"X: element {k} joins coincident nodes {ends}; "
+                             f"every element must have a length > 0")
         self._dX = d
         if rest_length is None:
             rest_length = np.hypot(d[0], d[1])

@@ -100,6 +100,10 @@ class ContactPair(Item):
             raise ValueError(f"method must be one of {', '.join(METHODS)}, got {method!r}")
         if slave.dofs() is None:
             raise ValueError("slave must be a deformable surface (a rigid surface is a master)")
+        if slave is master or (slave.body is not None and slave.body is master.body
+                               and np.array_equal(np.sort(slave.nodes), np.sort(master.nodes))):
+            raise ValueError(f"slave and master must be two different surfaces, got the same "
+                             f"surface {slave.name!r} twice")
         if c is not None and not (np.isfinite(c) and c > 0):
             raise ValueError(f"c must be a finite number > 0, got {c}")
         self.slave, self.master, self.method, self.name = slave, master, method, name
@@ -120,6 +124,7 @@ class ContactPair(Item):
         self._touch = float(touch_tolerance) * float(np.mean(np.hypot(*np.diff(
             slave.X[:, slave.segments], axis=2)[:, :, 0])))
         self.cycle_guard = bool(cycle_guard)
+        self._row_scale: float | None = None
         self._hint = ""
         if mod == "nts" and master.body is not None:
             hs = float(np.median(np.hypot(*np.diff(slave.X[:, slave.segments], axis=2)[:, :, 0])))
@@ -132,6 +137,14 @@ class ContactPair(Item):
                               f"master nodes pass through the slave: make the finer surface "
                               f"the slave, or refine the slave, or use mortar")
                 log.info("%s", self._hint)
+        ls = np.hypot(*np.diff(slave.X[:, slave.segments], axis=2)[:, :, 0])
+        if mod == "nts" and ls.min() < 1e-4 * np.median(ls):
+            tiny = (f"{name}: slave segments of nearly coincident nodes (shortest "
+                    f"{ls.min():.3g}, median {np.median(ls):.3g}): their NTS constraints are "
+                    f"nearly redundant and the saddle-point system nearly singular; merge "
+                    f"the nodes or use mortar")
+            self._hint = "; ".join(h for h in (self._hint, tiny) if h)
+            log.info("%s", tiny)
         self.active = np.zeros(self.n_dofs, dtype=bool)
         self._changed = False
         self._history: list[np.ndarray] = []
@@ -206,6 +219,12 @@ class ContactPair(Item):
         return k
 
     def _c(self, z: np.ndarray, load_factor: float, ev: ContactEval) -> float:
+        if self._row_scale is None:
+            # traction rows times a length are forces, like the body rows: the
+            # residual norm (and Newton's test) is then unit-free
+            self._row_scale = 1.0
+            if self.multiplier_kind == "traction" and np.any(ev.area > 0):
+                self._row_scale = float(np.mean(ev.area[ev.area > 0]))
         if self.c is None:
             k = self._stiffness(z, load_factor)
             if self.multiplier_kind == "traction":
@@ -230,7 +249,8 @@ class ContactPair(Item):
         keep = gd[G.col] >= 0
         rows_u, cols_l, vals = gd[G.col[keep]], self.offset + G.row[keep], G.data[keep]
         # multiplier rows: C(lam, g)
-        Cval = np.where(active, c * ev.g, lam)
+        rs = self._row_scale
+        Cval = np.where(active, c * ev.g, lam) * rs
         out = Contribution(np.concatenate([rows_u, self.offset + np.arange(self.n_dofs)]),
                            np.concatenate([-vals * lam[G.row[keep]], Cval]))
         if not tangent:
@@ -239,11 +259,11 @@ class ContactPair(Item):
         act_g = active[G.row[keep]]  # K_lamu = c G on active rows
         kr.append(cols_l[act_g])
         kc.append(rows_u[act_g])
-        kv.append(c * vals[act_g])
+        kv.append(c * rs * vals[act_g])
         inact = np.flatnonzero(~active)  # K_lamlam = I on inactive rows
         kr.append(self.offset + inact)
         kc.append(self.offset + inact)
-        kv.append(np.ones(inact.size))
+        kv.append(np.full(inact.size, rs))
         if ev.H is not None:  # K_uu = -H
             H = ev.H.tocoo()
             ok = (gd[H.row] >= 0) & (gd[H.col] >= 0)

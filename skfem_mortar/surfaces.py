@@ -257,13 +257,18 @@ class ContactSurface:
 class RigidPlane(ContactSurface):
     """A rigid straight line through ``point`` with outward unit normal ``normal``.
 
-    Represented by one segment of length ``length`` centred on ``point``,
-    from ``point - (length/2) t`` to ``point + (length/2) t`` with
-    ``t = (-n_y, n_x)`` (so that its right-hand normal is ``n``).
+    Represented by ``n_segments`` equal segments (default one) of total
+    length ``length`` centred on ``point``, from ``point - (length/2) t`` to
+    ``point + (length/2) t`` with ``t = (-n_y, n_x)`` (so that its right-hand
+    normal is ``n``).  Mortar projects the master nodes onto the slave
+    elements along the slave's normal field; a node very far away (one long
+    segment) may have no projection onto a slave element whose normal field
+    turns (grazing contact, see docs/robustness.md): more segments, of about
+    the slave's size over the contact zone, avoid it.
     """
 
     def __init__(self, point: tuple[float, float], normal: tuple[float, float],
-                 length: float = 1e3, name: str = "plane"):
+                 length: float = 1e3, name: str = "plane", n_segments: int = 1):
         point = np.asarray(point, dtype=float).reshape(2)
         normal = np.asarray(normal, dtype=float).reshape(2)
         nn = np.linalg.norm(normal)
@@ -271,10 +276,15 @@ class RigidPlane(ContactSurface):
             raise ValueError("normal must be a finite non-zero vector")
         if not (np.isfinite(length) and length > 0):
             raise ValueError(f"length must be a finite number > 0, got {length}")
+        if int(n_segments) != n_segments or n_segments < 1:
+            raise ValueError(f"n_segments must be an integer >= 1, got {n_segments}")
+        n_segments = int(n_segments)
         normal = normal / nn
         t = np.array([-normal[1], normal[0]])
-        X = np.column_stack([point - 0.5 * length * t, point + 0.5 * length * t])
-        super().__init__(None, None, np.array([[0, 1]]), X=X, name=name)
+        s = np.linspace(-0.5 * length, 0.5 * length, n_segments + 1)
+        X = point[:, None] + t[:, None] * s
+        seg = np.column_stack([np.arange(n_segments), np.arange(1, n_segments + 1)])
+        super().__init__(None, None, seg, X=X, name=name)
         self.point, self.normal = point, normal
 
 
