@@ -276,7 +276,7 @@ def test_bad_input(kwargs, match):
 def test_bad_geometry_and_helpers():
     with pytest.raises(ValueError, match="X must have shape"):
         Cable(np.zeros((3, 4)))
-    with pytest.raises(ValueError, match="rest_length"):  # coincident nodes
+    with pytest.raises(ValueError, match="coincident nodes"):
         Cable(np.zeros((2, 3)))
     with pytest.raises(ValueError, match="radius0"):
         Cable.ring(-1.0, 8)
