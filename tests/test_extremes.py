@@ -404,6 +404,7 @@ def _hertz_model(method, L, S, refine=-2):
     return model, pair, p0
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("method", METHODS)
 def test_units_scale_free(method):
     """Hertz scaled by 1e-3 and 1e3 in length and by 1e6 in stiffness gives the
@@ -411,7 +412,7 @@ def test_units_scale_free(method):
     iterations: the complementarity scale and every tolerance are unit-free.
     1e-9: the runs stop at rtol 1e-10 of similar residuals."""
     out = {}
-    for L, S in [(1.0, 1.0), (1e-3, 1e6), (1e3, 1e6), (1e-3, 1.0), (1e3, 1.0)]:
+    for L, S in [(1.0, 1.0), (1e-3, 1e6), (1e3, 1e6)]:
         model, pair, p0 = _hertz_model(method, L, S)
         res = solve(model, 4)
         out[L, S] = ([s.newton_iterations for s in res.steps],
@@ -441,3 +442,55 @@ def test_seed_nts_vertex_trap_and_coarse_slave():
     assert r["metrics"]["cable_equilibrium_error"] < 1e-8
     with pytest.raises(ConvergenceError, match="slave surface is coarser than the master"):
         run_scene("seed", {"refine_cushion": 3}, method="nts")
+
+
+# --------------------------------------------------------------------------- locking
+def _hertz_rigid(method, nu, kind, refine=-2):
+    """Hertz on a rigid plane (the scene's default geometry and load), cylinder
+    of ``tri1`` (the scene's mesh) or of selectively reduced integrated quads
+    (:mod:`skfem_mortar.sri`, the same graded mesh at twice the size split
+    into three quads per triangle: a similar resolution).  Returns the peak
+    pressure error of the nodal pressures averaged over neighbouring node
+    pairs (filters the node-to-node checkerboard of one-point volumetric
+    integration, see docs/robustness.md) and of the raw nodal pressures."""
+    from skfem_mortar.scenes.hertz import FINE_ZONE, graded_quarter_disk
+    from skfem_mortar.sri import SRISolid, split_to_quads
+    from skfem_mortar.traction import Traction
+    R, P, E = 8.0, 3.2032, 200.0
+    ex = hertz_exact(R, P, E, nu, None, 0.3)
+    a = ex["half_width"]
+    h0 = a / 30.0 * 2.0 ** (-refine)
+    tol = 1e-9 * R
+    if kind == "sri":
+        m = split_to_quads(graded_quarter_disk(R, 2 * h0, FINE_ZONE * a)).with_boundaries({
+            "axis": lambda x: x[0] < tol, "top": lambda x: x[1] > R - tol,
+            "arc": lambda x: (x[0] > tol) & (x[1] < R - tol)})
+        cyl = SRISolid(m, NeoHooke(E=E, nu=nu), name="cyl")
+    else:
+        cyl = Solid(graded_quarter_disk(R, h0, FINE_ZONE * a), NeoHooke(E=E, nu=nu), name="cyl")
+    pair = ContactPair(ContactSurface.from_solid(cyl, "arc"),
+                       RigidPlane((0, 0), (0, 1), length=4 * R), method)
+    model = Model([cyl, Traction(cyl, "top", (0.0, -P / (2 * R))),
+                   Dirichlet(cyl, cyl.dofs_on("axis", "x"), 0.0), pair])
+    res = solve(model, 2)
+    d = pair.contact_data(res.z)
+    p = d["pressure"][np.argsort(d["x"])]
+    p0 = ex["peak_pressure"]
+    pair_avg = 0.5 * (p[1:] + p[:-1])
+    return abs(pair_avg.max() - p0) / p0, abs(p.max() - p0) / p0
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("method", ["nts", "mortar-dual"])
+def test_nearly_incompressible_hertz_needs_the_anti_locking_solid(method):
+    """nu = 0.499: linear triangles lock (peak pressure 63 % off, measured), the
+    selectively reduced integrated quads do not (8 %, measured at this coarse
+    refine = -2 mesh; 2 % at nu = 0.3 for both elements).  Bounds: 15 % for SRI
+    (twice the measured error: mesh-level discretization), 40 % for the
+    locking triangles (any bound that far above the SRI one shows the lock)."""
+    sri, _ = _hertz_rigid(method, 0.499, "sri")
+    tri, _ = _hertz_rigid(method, 0.499, "tri1")
+    assert sri < 0.15
+    assert tri > 0.4
+    sri3, _ = _hertz_rigid(method, 0.3, "sri")
+    assert sri3 < 0.05  # compressible: as good as tri1 (2 %, measured)
