@@ -109,7 +109,7 @@ def test_offset_patch_uniform_pressure_on_the_overlap(method, offset, top_width,
     # slave element cut by a master end (none when the master is the longer one)
     xs = np.sort(pair.slave.X[0])
     lo, hi = max(0.0, offset), min(1.0, offset + top_width)
-    n_cut = int(np.any((xs[:-1] < lo) & (xs[1:] > lo))) + int(np.any((xs[:-1] < hi) & (xs[1:] > hi)))
+    n_cut = sum(int(np.any((xs[:-1] < e) & (xs[1:] > e))) for e in (lo, hi))
     assert ev.mask.sum() == m["n_overlap"] + n_cut
     np.testing.assert_allclose(lam[ev.mask], Q, rtol=1e-8)
     assert np.all(pair.active == ev.mask)
@@ -474,3 +474,23 @@ def test_long_master_segment_against_a_kinked_slave():
     sm = np.array([[0, 1]])
     sg = segment(xs, ss, xm, sm)
     assert sorted(set(sg.e_s.tolist())) == [0, 1, 2, 3]
+
+
+@pytest.mark.xfail(strict=True, reason="policy step freezes the segments of the step's start; "
+                   "mortar_segmentation.segment gives the curved cable elements next to the "
+                   "contact zone no segment against the 100-long plane segment (far master "
+                   "nodes, see test_long_master_segment_against_a_kinked_slave), so the nodes "
+                   "reaching the plane during the last step stay masked and penetrate")
+@pytest.mark.parametrize("method", MORTAR)
+def test_cable_flat_step_segmentation_does_not_penetrate(method):
+    """cable_flat, n = 200, 8 steps, ``segmentation=step``.  Measured: contact force
+    error 3.8e-3 (mortar) / 3.7e-3 (dual) against 1.8e-5 / 1.0e-5 with
+    ``iteration``; the cable penetrates the plane by 3.7e-4 (18 nodes) / 3.6e-4
+    (8 nodes); with 16 steps no node enters contact in the last step and the
+    error is 1e-5.  With the plane as a chain of short segments (as in hertz)
+    both policies give the same answer (1.8e-5 / 1.0e-5, no penetration)."""
+    s, res, setup = run_scene("cable_flat", params={"n_elements": 200, "segmentation": "step"},
+                              method=method, return_result=True)
+    y = setup.model.item("cable").x(res.z)[1]
+    assert y.max() - 0.5 < 1e-8
+    assert s["metrics"]["contact_force_error"] < 1e-3

@@ -153,7 +153,8 @@ def build(params: dict, method: str | None = None) -> Setup:
                 "n_active": int(pair.active.sum()),
                 "max_abs_gap": float(np.nanmax(np.abs(d["gap"])))}
 
-    return Setup(model=model, metrics=metrics, outputs=[top, bottom, ContactOutput(pair)], contact=pair.contact_data)
+    return Setup(model=model, metrics=metrics, outputs=[top, bottom, ContactOutput(pair)],
+                 contact=pair.contact_data)
 
 
 SCENE = Scene(
