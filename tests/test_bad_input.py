@@ -12,6 +12,8 @@ from skfem_mortar.newton import NewtonOptions
 from skfem_mortar.stepping import solve
 from skfem_mortar.surfaces import ContactSurface, RigidCircle, RigidPlane, chain_segments
 
+pytestmark = pytest.mark.extremes
+
 
 def _square(tagged=True):
     m = skfem.MeshTri.init_tensor(np.linspace(0, 1, 5), np.linspace(0, 1, 5))
