@@ -239,15 +239,15 @@ def test_grazing_cable_on_a_plane(method):
     assert abs(f - ex["contact_force"]) / ex["contact_force"] < 1e-3
 
 
-@pytest.mark.xfail(strict=False, reason=(
+@pytest.mark.xfail(strict=True, reason=(
     "mortar_segmentation drops a slave/master element pair when a master node "
     "has no projection onto the slave element along its (turning) normal field: "
     "the far ends of a long one-segment rigid plane (cable_flat's default, "
     "length 100) lose their projection, the pair vanishes, contact is lost or "
     "the mask flips every iteration (see docs/robustness.md)"))
-@pytest.mark.parametrize("method", ["mortar", "mortar-dual"])
-def test_grazing_cable_on_a_long_one_segment_plane(method):
-    r = run_scene("cable_flat", {"plane_gap": 0.25}, method=method)
+def test_grazing_cable_on_a_long_one_segment_plane():
+    """(mortar-dual happens to converge here, mortar does not; both drop pairs)"""
+    r = run_scene("cable_flat", {"plane_gap": 0.25}, method="mortar")
     assert r["metrics"]["contact_force_error"] < 1e-3
 
 
