@@ -98,8 +98,9 @@ def project(xs: np.ndarray, xm: np.ndarray, seg_m: np.ndarray, margin: float | N
     lock : bool ndarray (n_s,), optional
         Nodes that keep their ``prefer`` segment while their ``xi`` stays in
         ``[-LOCK_STICK, 1 + LOCK_STICK]`` (the closest-point projection then
-        continues onto the segment's extension line).  Used by :class:`~skfem_mortar.contact.ContactPair` for a node
-        caught at a reflex vertex of the master (see docs/robustness.md).
+        continues onto the segment's extension line).  Used by
+        :class:`~skfem_mortar.contact.ContactPair` for a node caught at a
+        reflex vertex of the master (see docs/robustness.md).
 
     Returns
     -------

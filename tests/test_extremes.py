@@ -12,7 +12,6 @@ Tolerances
 * Discretization answers (Hertz, cable on a plane) use bounds stated next to
   each test, a few times the error measured at that mesh.
 """
-import logging
 import math
 
 import numpy as np
@@ -268,7 +267,8 @@ def test_cable_contact_zone_grows_to_its_supports(method):
 def test_cable_goes_slack_and_taut_again():
     """A tension-only cable between two supports: the right support moves out by
     0.1 (taut), in to a span of 1.9 (every element slack, N = 0: the tangent is
-    the slack regularization), then out to a span of 2.1 again (taut).  Exact end state: a straight cable with
+    the slack regularization), then out to a span of 2.1 again (taut).
+    Exact end state: a straight cable with
     tension EA (2.1 / 2 - 1) = 5 (linear law, EA = 100), equal in every element.
     A straight stress-free cable has no transverse stiffness: the tangent-only
     ``tension_floor`` supplies one (the residual, hence the answer, is exact)."""

@@ -1,6 +1,7 @@
-"""Scene ``ironing``: a stiff half-ring die pressed into a soft block, then slid (benchmarks section 7).
+"""Scene ``ironing``: a stiff half-ring die pressed into a soft block, then slid.
 
-Finite sliding (Puso and Laursen 2004; Yastrebov 2013, "shallow ironing"):
+Finite sliding (benchmarks section 7; Puso and Laursen 2004; Yastrebov 2013,
+"shallow ironing"):
 a neo-Hookean block ``[0, W] x [0, H]`` (``W = 9``, ``H = 3``, ``E = 1``,
 ``nu = 0.3``) clamped on its bottom, and a deformable die, the lower half of a
 ring of outer radius ``R = 3`` and inner radius ``0.933 R = 2.8``
