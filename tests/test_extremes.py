@@ -494,3 +494,26 @@ def test_nearly_incompressible_hertz_needs_the_anti_locking_solid(method):
     assert tri > 0.4
     sri3, _ = _hertz_rigid(method, 0.3, "sri")
     assert sri3 < 0.05  # compressible: as good as tri1 (2 %, measured)
+
+
+def test_sri_solid_tangent_is_the_derivative_of_its_residual():
+    """Central differences of the SRI residual (h = 1e-6 on displacements of
+    size 0.05) match the assembled tangent: truncation O(h^2) and round-off
+    O(eps / h) give about 1e-9 relative, bound 1e-6."""
+    import skfem
+    from skfem_mortar.sri import SRISolid
+    mesh = skfem.MeshQuad().refined(1)
+    s = SRISolid(mesh, NeoHooke(E=1.0, nu=0.499), name="q")
+    Model([s])
+    z = 0.05 * np.random.default_rng(0).standard_normal(s.n_dofs)
+    c = s.assemble(z, 1.0, tangent=True)
+    import scipy.sparse as sp
+    K = sp.coo_matrix((c.k_vals, (c.k_rows, c.k_cols)), shape=(s.n_dofs, s.n_dofs)).toarray()
+
+    def res(zz):
+        cc = s.assemble(zz, 1.0, tangent=False)
+        return np.bincount(cc.r_index, weights=cc.r_value, minlength=s.n_dofs)
+    h = 1e-6
+    Kfd = np.column_stack([(res(z + h * e) - res(z - h * e)) / (2 * h)
+                           for e in np.eye(s.n_dofs)])
+    assert np.max(np.abs(K - Kfd)) < 1e-6 * np.max(np.abs(K))
