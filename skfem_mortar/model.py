@@ -225,6 +225,7 @@ class Model:
         # tangent assembly cache (see _tangent): the last index arrays of every
         # item, and the CSR pattern of the items whose indices did not change
         self._last_idx: list[tuple[np.ndarray, np.ndarray] | None] = [None] * len(self.items)
+        self._varying = np.zeros(len(self.items), dtype=bool)
         self._pattern: _Pattern | None = None
 
     # -- queries -----------------------------------------------------------
@@ -291,18 +292,28 @@ class Model:
     def _tangent(self, parts: list[Contribution]) -> sp.csr_matrix:
         """Sum the tangent triplets of all items into one CSR matrix.
 
-        Items whose index arrays equal those of their previous call (bodies,
-        loads: a fixed mesh) are *stable*: their values are summed with one
-        ``bincount`` into a CSR pattern built once (no sorting of COO triplets
-        per iteration).  The others (contact pairs: active sets and segments
-        change) go through a COO to CSR conversion of their own, added at the end.
+        Items whose index arrays have equalled those of their previous call at
+        every call so far (bodies, loads: a fixed mesh) are *stable*: their
+        values are summed with one ``bincount`` into a CSR pattern built once
+        (no sorting of COO triplets per iteration).  An item whose indices
+        changed once (a contact pair: active sets and segments change) is
+        *varying* from then on; its triplets go through a COO to CSR conversion
+        of their own, added at the end.  So the pattern is rebuilt at most once
+        per item that turns out to vary.
         """
         stable = []
         for i, c in enumerate(parts):
+            if self._varying[i]:
+                continue
             last = self._last_idx[i]
-            if last is not None and _same(last[0], c.k_rows) and _same(last[1], c.k_cols):
-                stable.append(i)
             self._last_idx[i] = (c.k_rows, c.k_cols)
+            if last is None:
+                continue
+            if _same(last[0], c.k_rows) and _same(last[1], c.k_cols):
+                stable.append(i)
+            else:
+                self._varying[i] = True
+                self._last_idx[i] = None
         stable = tuple(i for i in stable if parts[i].k_vals.size)
         pat = self._pattern
         if stable and (pat is None or pat.items != stable
