@@ -96,3 +96,22 @@ def test_superlu_does_not_change_the_input():
     for backend in BACKENDS:
         solve_linear(A, b, backend=backend)
     assert (A != A0).nnz == 0 and np.array_equal(b, b0)
+
+
+@pytest.mark.skipif(not HAS_PARDISO, reason="pypardiso not installed (extra 'fast')")
+def test_pardiso_reuses_the_analysis_of_a_repeated_pattern():
+    """Same pattern, new values (a Newton iteration without active set change): the
+    analysis is reused and the answer is still right; a new pattern starts afresh."""
+    A, b = saddle_point(seed=4)
+    solve_linear(A, b, backend="pardiso")
+    kept = linsolve._pardiso_solver.pattern
+    assert kept is not None
+    A2 = A.copy()
+    A2.data = A2.data * (1.0 + 0.3 * np.random.default_rng(5).random(A2.nnz))
+    x = solve_linear(A2, b, backend="pardiso")
+    assert linsolve._pardiso_solver.pattern is kept  # no new analysis
+    np.testing.assert_allclose(x, np.linalg.solve(A2.toarray(), b), rtol=1e-9, atol=1e-12)
+    A3, b3 = saddle_point(n=50, seed=6)
+    x3 = solve_linear(A3, b3, backend="pardiso")
+    assert linsolve._pardiso_solver.pattern is not kept
+    np.testing.assert_allclose(x3, np.linalg.solve(A3.toarray(), b3), rtol=1e-9, atol=1e-12)
