@@ -125,6 +125,7 @@ class ContactPair(Item):
             slave.X[:, slave.segments], axis=2)[:, :, 0])))
         self.cycle_guard = bool(cycle_guard)
         self._row_scale: float | None = None
+        self._pinned: np.ndarray | None = None
         self._hint = ""
         if mod == "nts" and master.body is not None:
             hs = float(np.median(np.hypot(*np.diff(slave.X[:, slave.segments], axis=2)[:, :, 0])))
@@ -186,9 +187,32 @@ class ContactPair(Item):
                 extra["lock"] = self._lock
         if self._sg is not None:
             extra["segmentation"] = self._sg
-        return self.module.evaluate(self.slave.x(z), self.slave.segments,
-                                    self.master.x(z), self.master.segments,
-                                    lam=lam, tangent=tangent, **extra, **self.options)
+        if (self._module_name == "mortar" and self._pinned is not None
+                and self._pinned.any()):
+            # mortar: the pinned node's multiplier is merged into its neighbour's
+            # (crosspoint), so the multipliers still sum to one on its elements
+            extra["crosspoints"] = np.flatnonzero(self._pinned)
+        ev = self.module.evaluate(self.slave.x(z), self.slave.segments,
+                                  self.master.x(z), self.master.segments,
+                                  lam=lam, tangent=tangent, **extra, **self.options)
+        if self._pinned is not None and self._pinned.any():
+            ev.mask = ev.mask & ~self._pinned
+        return ev
+
+    def set_fixed(self, fixed: np.ndarray) -> None:
+        """Told the prescribed global dofs (by :func:`~skfem_mortar.stepping.solve`).
+
+        Pinned-node safeguard: a slave node whose two dofs are prescribed, against a
+        rigid master, has a gap that no unknown can change; its multiplier row would
+        be zero and the system singular (a cable pinned on the plane it is pressed
+        onto: the contact zone reaching the supports).  Such nodes are kept out of
+        contact (``mask`` False; for mortar they are crosspoints whose multiplier
+        is merged into the neighbour's); their support carries the load.
+        """
+        self._pinned = None
+        if self.master.body is None:
+            ds = self.slave.dofs()  # (2, n)
+            self._pinned = np.all(np.isin(ds, np.asarray(fixed)), axis=0)
 
     def _bodies(self):
         out = [self.slave.body]

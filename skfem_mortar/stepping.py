@@ -219,6 +219,8 @@ def solve(model: Model, n_steps: int = 1, *, newton_options: NewtonOptions | Non
                 trial[free] += scale * step_dir[free]
             dz_fixed = values - trial[fixed]
             for item in model.items:
+                if hasattr(item, "set_fixed"):  # e.g. contact pairs drop pinned slave nodes
+                    item.set_fixed(fixed)
                 item.begin_step(trial, target)
             rep: NewtonReport = newton_step(model, trial, target, free, fixed, dz_fixed, opts)
             result.solve_time += rep.solve_time

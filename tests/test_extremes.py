@@ -264,6 +264,27 @@ def test_cable_contact_zone_grows_to_its_supports(method):
     assert abs(f - ex["contact_force"]) / ex["contact_force"] < 1e-3
 
 
+@pytest.mark.parametrize("method", METHODS)
+def test_cable_contact_zone_reaches_its_supports(method):
+    """A straight stress-free cable pinned on the plane it is pressed onto: the
+    contact zone covers the whole span, up to and including the pinned nodes.
+    Exact: the cable stays on the plane, every free node carries the pressure
+    p (NTS: lam over the tributary length).  Needs the pinned-node safeguard:
+    a pinned slave node on a rigid master has a zero multiplier row (singular
+    system at the first iteration without it)."""
+    cable = Cable.from_points(np.column_stack([np.linspace(-1, 1, 21), np.zeros(21)]),
+                              EA=100.0, law="linear", name="cable")
+    pair = ContactPair(ContactSurface.from_cable(cable, side="left"),
+                       RigidPlane((0.0, 0.0), (0.0, -1.0), length=4.0, n_segments=40), method)
+    model = Model([cable, FollowerPressure(cable, 20.0, side="left"),
+                   Dirichlet(cable, cable.support_dofs()), pair])
+    res = solve(model, 2)
+    d = pair.contact_data(res.z)
+    assert np.max(np.abs(d["pressure"][1:-1] - 20.0)) / 20.0 < 1e-9
+    assert np.max(np.abs(cable.x(res.z)[1])) < 1e-12
+    assert not pair.active[0] and not pair.active[-1]
+
+
 def test_cable_goes_slack_and_taut_again():
     """A tension-only cable between two supports: the right support moves out by
     0.1 (taut), in to a span of 1.9 (every element slack, N = 0: the tangent is
