@@ -29,7 +29,12 @@ Mortar segments
 For a candidate pair (slave element e, master element m) whose unit normals
 face each other (``nu_e . nu_m < 0``), the two master nodes project to
 ``p_1, p_2`` on e; the mortar segment is ``[xi_a, xi_b] = [max(-1, min p),
-min(1, max p)]`` in the slave parameter (a slave node projecting inside the
+min(1, max p)]`` in the slave parameter.  Only roots in [-1, 1] are used as
+values: a master node beyond an end of e (its master parameter past that of the
+slave end point projected onto the master line along its normal) counts as
+``p = +-inf``, clipped to that end; this decides far master nodes, whose
+quadratic has no real root or spurious ones against a turning normal field
+(a long master segment against a curved slave) (a slave node projecting inside the
 master element makes that slave end an end point; this is the projection of the
 slave nodes onto the master).  Segments with ``xi_b - xi_a <= XI_TOL`` are
 dropped (a segment that short contributes O(XI_TOL) to every integral, below
@@ -408,6 +413,24 @@ def _element_lengths(x: np.ndarray, seg: np.ndarray) -> np.ndarray:
     return np.hypot(d[0], d[1])
 
 
+def _side(p, ok, dsa, dsb, dab):
+    """Projection ``p`` of a master node, ``+-inf`` where it is outside [-1, 1] or missing.
+
+    ``dsa = s_k - s_a``, ``dsb = s_k - s_b``, ``dab = s_b - s_a`` (master
+    parameters, see :func:`segment`): ``+inf`` where the node lies beyond the
+    slave end b, ``-inf`` beyond a (this overrides any root: against a turning
+    normal field the quadratic may have spurious roots, behind the centre of
+    curvature, of either sign), else the root if it is in [-1, 1] or its sign.
+    Returns ``(p, ok)`` with ``ok`` False where neither a root nor a side is found.
+    """
+    beyond_b = dsb * dab > 0.0
+    beyond_a = dsa * dab < 0.0
+    decided = beyond_a ^ beyond_b
+    inside = ok & (np.abs(p) <= 1.0) & ~decided
+    far = np.where(decided, np.where(beyond_b, np.inf, -np.inf), np.copysign(np.inf, p))
+    return np.where(inside, p, far), inside | decided | ok
+
+
 def segment(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarray,
             pairs: tuple[np.ndarray, np.ndarray] | None = None, margin: float | None = None,
             frozen: bool = True) -> Segmentation:
@@ -460,6 +483,19 @@ def segment(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarray
     xa_, xb_ = (xa[0], xa[1]), (xb[0], xb[1])
     p1, ok1 = project_point_on_slave(xa_, xb_, na, nb, (m1[0], m1[1]))
     p2, ok2 = project_point_on_slave(xa_, xb_, na, nb, (m2[0], m2[1]))
+    # A master node whose projection is outside [-1, 1] (or has no root at all: a
+    # far node against a turning normal field) only matters through its side of
+    # the slave element, decided by the master parameters s_a, s_b of the slave
+    # end points projected along their normals onto the master line (s = 0 at
+    # m1, 1 at m2): beyond b if s_k lies past s_b, beyond a if past s_a.  Its end
+    # point is then clipped at +-1 (a constant); p = +-1 is s_k = s_b or s_a, so
+    # the choice is continuous with the root.
+    with np.errstate(divide="ignore", invalid="ignore"):
+        sa = ((m1[0] - xa[0]) * na[1] - (m1[1] - xa[1]) * na[0]) / (na[0] * tm[1] - na[1] * tm[0])
+        sb = ((m1[0] - xb[0]) * nb[1] - (m1[1] - xb[1]) * nb[0]) / (nb[0] * tm[1] - nb[1] * tm[0])
+        dab = sb - sa
+        p1, ok1 = _side(p1, ok1, 0.0 - sa, 0.0 - sb, dab)
+        p2, ok2 = _side(p2, ok2, 1.0 - sa, 1.0 - sb, dab)
     lo = np.maximum(-1.0, np.minimum(p1, p2))
     hi = np.minimum(1.0, np.maximum(p1, p2))
     src_lo = np.where(lo == -1.0, -1, np.where(p1 <= p2, 0, 1))

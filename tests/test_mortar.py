@@ -468,3 +468,35 @@ def test_newton_converges_quadratically(dual, policy):
     for r0, r1 in zip(hist[:-1], hist[1:]):
         if r0 < 1e-3 and r1 > 1e-15:
             assert r1 <= 100 * r0 ** 2
+
+
+def _long_master_pair(x_end: float):
+    """A curved slave (7 nodes on a circle of radius 0.5, normal +y at its apex,
+    about 30 degrees of turning between neighbours) under one flat master segment
+    from x = -40 to ``x_end``: the far master node(s) have no projection onto the
+    curved slave elements along their normal field (no real root), so the pair
+    keeps its segment through the side test of ``segment``."""
+    th = np.linspace(0.25 * np.pi, 0.75 * np.pi, 7)      # right to left: normal outward
+    xs = np.vstack([0.5 * np.cos(th), 0.5 * np.sin(th) - 0.5 - 0.002])
+    xm = np.array([[-40.0, x_end], [0.0, 0.0]])
+    return xs, chain(7), xm, chain(2)
+
+
+@pytest.mark.parametrize("dual", [False, True])
+@pytest.mark.parametrize("x_end", [40.0, 0.1])
+def test_fd_long_master_segment_far_nodes(dual, x_end):
+    """Far master nodes (both, or the left one with the right end 0.1 inside the
+    slave) clipped at +-1 by the side test: every slave element keeps a segment
+    (the partial one ends at the projection of the near master node), and G and H
+    stay exact (clipped end points are constants)."""
+    xs, ss, xm, sm = _long_master_pair(x_end)
+    sg = segment(xs, ss, xm, sm)
+    covered = set(sg.e_s.tolist())
+    if x_end > 1.0:
+        assert covered == set(range(6))
+        assert np.all(sg.src == -1)
+    else:
+        assert {3, 4, 5} <= covered and (sg.src >= 0).sum() == 1
+    lam = np.linspace(1.0, 2.0, 7)
+    eG, eH, _ = fd_errors(xs, ss, xm, sm, lam, dual=dual)
+    assert eG < FD_TOL and eH < FD_TOL

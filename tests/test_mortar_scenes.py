@@ -467,17 +467,15 @@ def test_hertz_split_corner_and_segmented_plane():
     assert plane.X[0].min() == pytest.approx(-3 * a) and plane.X[0].max() == pytest.approx(3 * a)
 
 
-@pytest.mark.xfail(strict=True, reason="mortar_segmentation.segment drops the pairs of "
-                   "slave elements at a kink when the master nodes are far away (their "
-                   "projection along the interpolated slave normals fails); hertz uses "
-                   "a segmented plane for that reason (see the report of issue 6)")
 def test_long_master_segment_against_a_kinked_slave():
     """Five slave nodes 0.004 apart with the middle one 1.2e-4 below its
     neighbours (as in the converged standard-mortar Hertz run at h = a/60, where
     it happened with the plane as one segment of length 4 R = 32): against a
     flat master segment of length 0.1 .. 4 all four slave elements get their
-    mortar segment; against one of length 32 the two kinked elements get none
-    and the middle node is masked out of contact, so it penetrates."""
+    mortar segment; against one of length 32 the far master nodes have no
+    projection onto the two kinked elements along their turning normal field
+    (no real root): they are clipped at the slave end on their side instead of
+    dropping the pair (before: no segment, the middle node masked, penetrating)."""
     xs = np.array([[-0.004, 0.0, 0.004, 0.008, 0.012], [0.0, 0.0, -1.2e-4, 0.0, 0.0]])
     ss = np.array([[0, 1], [1, 2], [2, 3], [3, 4]])
     xm = np.array([[16.0, -16.0], [0.0, 0.0]])
