@@ -355,13 +355,20 @@ def test_vectorized_timing_1e4(capsys):
 def test_sliver_support_is_masked(dual):
     """A slave node covered over a sliver (1e-4 of its element, at the far end:
     area / tributary length = 1e-8 < MASK_TOL) is out of mask; one covered
-    over 1e-2 (1e-4 > MASK_TOL) is in, with the right weighted gap delta * area."""
+    over 1e-2 (1e-4 > MASK_TOL) is in, with the right weighted gap delta * area.
+    Either way the multipliers in mask cover the whole overlap (the masked node is
+    merged into its neighbour like a crosspoint): on a uniform gap delta the sum of
+    their weighted gaps is delta times the covered length."""
     for frac, inside in [(1e-4, False), (1e-2, True)]:
         # last slave node (x = 0) with element [0, .25]: master starts at .25 (1 - frac)
         xs, ss, xm, sm = flat_pair(np.linspace(0, 1, 5), np.array([0.25 * (1 - frac), 0.6, 1.2]),
                                    d=0.01)
         r = evaluate(xs, ss, xm, sm, dual=dual)
         assert r.mask[-1] == inside
+        covered = 1.0 - 0.25 * (1 - frac)
+        np.testing.assert_allclose(r.g[r.mask].sum(), 0.01 * covered, rtol=1e-12)
+        if not inside:
+            assert r.g[-1] == 0.0
         if inside:   # area = int over the last frac of the element of N = (1 - x/.25)
             area = 0.25 * frac ** 2 / 2
             np.testing.assert_allclose(r.area[-1], area, rtol=1e-10)
@@ -499,4 +506,20 @@ def test_fd_long_master_segment_far_nodes(dual, x_end):
         assert {3, 4, 5} <= covered and (sg.src >= 0).sum() == 1
     lam = np.linspace(1.0, 2.0, 7)
     eG, eH, _ = fd_errors(xs, ss, xm, sm, lam, dual=dual)
+    assert eG < FD_TOL and eH < FD_TOL
+
+
+@pytest.mark.parametrize("dual", [False, True])
+def test_fd_sliver_node_merged(dual):
+    """A curved pair shifted so that a slave end node is supported over a sliver
+    (below MASK_TOL, merged into its neighbour): G and H stay exact."""
+    xs, ss, xm, sm = flat_pair(np.linspace(0, 1, 5), np.array([0.25 * (1 - 1e-4), 0.6, 1.2]),
+                               d=0.01)
+    rng = np.random.default_rng(3)
+    xs = xs + 0.003 * rng.standard_normal(xs.shape)
+    xm = xm + 0.003 * rng.standard_normal(xm.shape)
+    xm[:, 0] = [0.25 * (1 - 1e-4), 0.01]      # keep the sliver: 1e-4 of the element
+    r = evaluate(xs, ss, xm, sm, dual=dual)
+    assert not r.mask[-1] and r.mask[:-1].all()
+    eG, eH, _ = fd_errors(xs, ss, xm, sm, np.linspace(1.0, 2.0, 5), dual=dual)
     assert eG < FD_TOL and eH < FD_TOL

@@ -150,18 +150,15 @@ def test_offset_patch_sliver_is_exact_above_the_mask_threshold(method):
     assert _stress_error(setup, res) < 1e-8
 
 
-@pytest.mark.xfail(strict=True, reason="mortar.py masks a slave node whose support is "
-                   "below MASK_TOL = 1e-6 of its tributary length without handing its "
-                   "sliver to the neighbour's multiplier: the multiplier shape functions "
-                   "no longer sum to one on the sliver (see the report of issue 6)")
 @pytest.mark.parametrize("method", MORTAR)
 def test_offset_patch_sliver_below_the_mask_threshold(method):
     """Covered fraction f = 5e-4 of a slave end element: the outer node's support
     (f^2 / 2 of the element, 2.5e-7 of its tributary length) is below MASK_TOL, the
-    node is masked out and the sliver's traction is carried by the neighbour's
-    Phi_B alone.  Measured pressure error 4.5e-7 (standard and dual, ~1.8 f^2); at
-    f = 1e-3 (on the threshold) the mask flips between Newton iterations and the
-    dual run needs the active-set cycling guard."""
+    node is masked out and merged into its neighbour like a crosspoint (Phi_B = 1
+    on the element), so the sliver's traction is kept.  Before the merge the
+    pressure error was 4.5e-7 (standard and dual, ~1.8 f^2); at f = 1e-3 (on the
+    threshold) the mask flipped between Newton iterations and the dual run needed
+    the active-set cycling guard."""
     h = 1.0 / 7
     s, res, setup = _patch(method, n_top=7, n_bottom=10, element="tri1",
                            offset=-(h - 5e-4 * h))
