@@ -481,24 +481,23 @@ def test_long_master_segment_against_a_kinked_slave():
     assert sorted(set(sg.e_s.tolist())) == [0, 1, 2, 3]
 
 
-@pytest.mark.xfail(strict=True, reason="policy step freezes the segments of the step's start; "
-                   "mortar_segmentation.segment gives the curved cable elements next to the "
-                   "contact zone no segment against the 100-long plane segment (far master "
-                   "nodes, see test_long_master_segment_against_a_kinked_slave), so the nodes "
-                   "reaching the plane during the last step stay masked and penetrate")
 @pytest.mark.parametrize("method", MORTAR)
 def test_cable_flat_step_segmentation_does_not_penetrate(method):
-    """cable_flat, n = 200, 8 steps, ``segmentation=step``.  Measured: contact force
-    error 3.8e-3 (mortar) / 3.7e-3 (dual) against 1.8e-5 / 1.0e-5 with
-    ``iteration``; the cable penetrates the plane by 3.7e-4 (18 nodes) / 3.6e-4
-    (8 nodes); with 16 steps no node enters contact in the last step and the
-    error is 1e-5.  With the plane as a chain of short segments (as in hertz)
-    both policies give the same answer (1.8e-5 / 1.0e-5, no penetration)."""
+    """cable_flat, n = 200, 8 steps, ``segmentation=step``, the plane one segment of
+    length 100.  Before the far master nodes were clipped by side (see
+    test_long_master_segment_against_a_kinked_slave) the curved cable elements
+    next to the contact zone had no frozen segment, the nodes reaching the plane
+    during the last step stayed masked and penetrated (3.7e-4, force error
+    3.8e-3).  Now step and iteration give the same answer: force errors 1.8e-5
+    (mortar) / 1.0e-5 (dual); no penetration with dual multipliers, and with
+    standard ones only the intrinsic one at the contact edge (the weighted gap
+    of the last active node averages its penetration against the rising free
+    arc: 1.06e-5, also with ``iteration``; 1.2e-6 at n = 400)."""
     s, res, setup = run_scene("cable_flat", params={"n_elements": 200, "segmentation": "step"},
                               method=method, return_result=True)
     y = setup.model.item("cable").x(res.z)[1]
-    assert y.max() - 0.5 < 1e-8
-    assert s["metrics"]["contact_force_error"] < 1e-3
+    assert y.max() - 0.5 < (1e-8 if method == "mortar-dual" else 2e-5)
+    assert s["metrics"]["contact_force_error"] < 1e-4
 
 
 @pytest.mark.slow
