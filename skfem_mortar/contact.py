@@ -309,10 +309,14 @@ class ContactPair(Item):
                 self.active = new
             return new
         if self._initial:
+            # the last converged set, less the nodes no longer in mask (with
+            # segmentation=step the segments are rebuilt at the step start: an
+            # active node without support has a zero row, a singular tangent)
             if not track:
-                return self.active
+                return self.active & ev.mask
             self._initial = False
             self._changed = False
+            self.active = self.active & ev.mask
             return self.active
         new = ev.mask & (lam - c * ev.g >= 0)
         if not track:
@@ -397,7 +401,8 @@ class ContactPair(Item):
 
     def begin_step(self, z: np.ndarray, load_factor: float) -> None:
         """Start (or retry) a step from the last converged active set; the first
-        iteration uses it as it is.  Before the first step: the initial active set."""
+        iteration uses it as it is (less the nodes out of mask).  Before the first
+        step: the initial active set."""
         if not self._started:
             self._started = True
             ev = self.evaluate(z, tangent=False, with_lam=False)

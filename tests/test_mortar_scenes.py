@@ -521,3 +521,38 @@ def test_hertz_elastic_refinement(method):
     assert all(s["metrics"]["peak_pressure_error"] < 0.025 for s, _, _ in runs)
     osc = [s["metrics"]["pressure_oscillation"] for s, _, _ in runs]
     assert max(osc) < (0.15 if method == "mortar" else 1e-3), osc
+
+
+@pytest.mark.parametrize("method", MORTAR)
+def test_step_start_active_set_stays_in_mask(method):
+    """The first iteration of a step reuses the last converged active set; nodes
+    no longer in ``mask`` (with ``segmentation=step`` the segments are rebuilt at
+    the step start) must leave it, else their multiplier row is zero and the
+    tangent singular (cable_flat, n = 400, step: 'Matrix is exactly singular' at
+    iteration 0 of step 9 before the segmentation fix).  Here every node is
+    declared active while the plane (length 0.5) supports only the middle ones."""
+    from skfem import MeshTri
+
+    from skfem_mortar.contact import ContactPair
+    from skfem_mortar.materials import NeoHooke
+    from skfem_mortar.solid import Solid
+    from skfem_mortar.surfaces import ContactSurface, RigidPlane
+    m = MeshTri.init_tensor(np.linspace(0, 1, 5), np.linspace(0, 1, 5)).with_defaults()
+    b = Solid(m, NeoHooke(E=100.0, nu=0.0), name="block")
+    pair = ContactPair(ContactSurface.from_solid(b, "bottom"),
+                       RigidPlane((0.5, 0.0), (0.0, 1.0), length=0.5), method, name="c",
+                       segmentation="step")
+    from skfem_mortar.model import Model
+    model = Model([b, pair])
+    z = np.zeros(model.n)
+    pair.begin_step(z, 1.0)                     # initial set, then pretend all were active
+    pair._converged = np.ones(pair.n_dofs, bool)
+    pair.begin_step(z, 1.0)
+    ev = pair.evaluate(z, tangent=False, with_lam=False)
+    assert not ev.mask.all()
+    c = pair.assemble(z, 1.0)
+    assert np.array_equal(pair.active, ev.mask)
+    K = np.zeros((model.n, model.n))
+    np.add.at(K, (c.k_rows, c.k_cols), c.k_vals)
+    rows = K[pair.offset:pair.offset + pair.n_dofs]
+    assert np.all(np.abs(rows).max(axis=1) > 0)   # no zero multiplier row
