@@ -95,6 +95,8 @@ def run_scene(name: str, params: dict[str, Any] | None = None, method: str | Non
     t_out = time.perf_counter()
     if recorder is not None:
         recorder.finish(result)
+        if setup.plots is not None:
+            setup.plots(metrics, Path(out))
     t_out = time.perf_counter() - t_out + (recorder.time if recorder else 0.0)
     timers = dict(model.timers)
     summary = {

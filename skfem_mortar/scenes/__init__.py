@@ -95,6 +95,8 @@ class Setup:
         Number of load steps this setup wants by default.
     solve_options : dict
         Extra keyword arguments of :func:`skfem_mortar.stepping.solve`.
+    plots : callable(metrics, out_dir) or None
+        Scene-specific pictures written into ``--out`` (e.g. force histories).
     """
 
     model: Any
@@ -103,6 +105,7 @@ class Setup:
     contact: Callable[[Any], dict] | None = None
     n_steps: int | None = None
     solve_options: dict = field(default_factory=dict)
+    plots: Callable[[dict, Any], None] | None = None
 
 
 @dataclass

@@ -156,7 +156,9 @@ def build(params: dict, method: str | None = None) -> Setup:
 
     return Setup(model=model, metrics=metrics,
                  outputs=[block, die, ContactOutput(pair)], contact=pair.contact_data,
-                 n_steps=int(params["n_steps"]))
+                 n_steps=int(params["n_steps"]),
+                 plots=lambda metrics, out: plot_history(
+                     metrics, Path(out) / "reactions.png", title=f"ironing ({method})"))
 
 
 def plot_history(metrics: dict, path: str | Path, title: str = "") -> Path:
