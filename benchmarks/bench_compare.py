@@ -51,7 +51,9 @@ def _rows(d: str) -> dict:
     for line in Path(d, "rows.jsonl").read_text().splitlines():
         r = json.loads(line)
         if r.get("status") == "ok":
-            out.setdefault(r["scene"], {})[r["n_dofs"]] = r  # a rerun of a size replaces it
+            # keyed by the size parameters (a scene's mesh may change by a few dofs
+            # between versions); a rerun of a size replaces it
+            out.setdefault(r["scene"], {})[json.dumps(r["params"], sort_keys=True)] = r
     return out
 
 
@@ -60,10 +62,10 @@ def table(args) -> None:
     for scene in sorted(set(before) | set(after)):
         b, a = before.get(scene, {}), after.get(scene, {})
         print(f"\n## {scene}: time per Newton iteration (ms), before -> after\n")
-        print("| dofs | " + " | ".join(PHASES[:-1]) + " | total | contact share | "
+        print("| params | dofs | " + " | ".join(PHASES[:-1]) + " | total | contact share | "
               "max its/step |")
-        print("|---" * (len(PHASES) + 3) + "|")
-        for n in sorted(set(b) | set(a)):
+        print("|---" * (len(PHASES) + 4) + "|")
+        for n in sorted(set(b) | set(a), key=lambda k: (b.get(k) or a.get(k))["n_dofs"]):
             cells = []
             for ph in PHASES[:-1] + ("total",):
                 v = []
@@ -79,7 +81,8 @@ def table(args) -> None:
                                 for r in (b.get(n), a.get(n)))
             its = " -> ".join("-" if r is None else str(r["max_iterations_per_step"])
                               for r in (b.get(n), a.get(n)))
-            print(f"| {n} | " + " | ".join(cells) + f" | {share} | {its} |")
+            dofs = " -> ".join("-" if r is None else str(r["n_dofs"]) for r in (b.get(n), a.get(n)))
+            print(f"| {n} | {dofs} | " + " | ".join(cells) + f" | {share} | {its} |")
         for name, rows in (("before", b), ("after", a)):
             sl = fit_slopes(list(rows.values()))
             print(f"\nslopes {name}: " + ", ".join(f"{k} {v:.2f}" for k, v in sl.items()))
