@@ -84,3 +84,20 @@ def test_nts_runs_once_across_mortar_only_axes():
         by_method.setdefault(r["method"], []).append(r)
     assert len(by_method["nts"]) == 1 and "n_gauss" not in by_method["nts"][0]["params"]
     assert len(by_method["mortar"]) == 4
+
+
+@pytest.mark.slow
+def test_hertz_and_patch_quick_study(tmp_path):
+    rows = run_study(["hertz", "patch"], tmp_path, quick=True, methods=["mortar", "nts"],
+                     tolerance=0.02)
+    assert all(r["status"] == "ok" for r in rows)
+    hertz = sorted((r for r in rows if r["scene"] == "hertz" and r["method"] == "mortar"),
+                   key=lambda r: r["param.refine"])
+    errors = [r["error"] for r in hertz]
+    assert len(errors) == 2 and errors[1] < errors[0]  # refining helps mortar
+    # the recommendation is the cheapest row within the tolerance
+    report = (tmp_path / "report.md").read_text()
+    ok = [r for r in rows if r["scene"] == "hertz" and r["error"] <= 0.02]
+    best = min(ok, key=lambda r: r["wall_time_s"])
+    section = report.split("## hertz")[1].split("## ")[0]
+    assert f"**{best['method']}**, refine={best['param.refine']}" in section
