@@ -47,10 +47,13 @@ GRIDS: dict[str, dict[str, Any]] = {
     "hertz": {"error": "peak_pressure_error",
               "grid": {"refine": [-2, -1, 0, 1]},
               "quick": {"refine": [-2, -1]}},
-    "seed": {"reference": "contact_force", "reference_params": {"n_cable": 256,
-                                                                "refine_cushion": 3},
-             "grid": {"n_cable": [16, 32, 64, 128]},
-             "quick": {"n_cable": [16]}},
+    # seed refines both meshes together (a "levels" axis: zipped parameter sets)
+    "seed": {"reference": "contact_force", "reference_params": {"n_cable": 192,
+                                                                "refine_cushion": 4},
+             "grid": {"levels": [{"n_cable": 24, "refine_cushion": 1},
+                                 {"n_cable": 48, "refine_cushion": 2},
+                                 {"n_cable": 96, "refine_cushion": 3}]},
+             "quick": {"levels": [{"n_cable": 24, "refine_cushion": 1}]}},
     "ironing": {"reference": "normal_force_mean",
                 "grid": {}, "quick": {}},
 }
@@ -95,11 +98,13 @@ def plan_study(scenes: Sequence[str], *, methods: Sequence[str] | None = None,
         scene = get_scene(name)
         conf = GRIDS.get(name, {})
         axes = dict(conf.get("quick" if quick else "grid", {}))
+        levels = axes.pop("levels", [{}])
         known = {p.name for p in scene.params}
         for key, text in sets.items():
             if key in known:
                 axes[key] = _parse_values(text)
                 used.add(key)
+                levels = [{k: v for k, v in lv.items() if k != key} for lv in levels]
         for key, vals in axes.items():  # validate now: a bad value is a clear error
             for v in vals:
                 scene.param(key).parse(v)
@@ -111,10 +116,12 @@ def plan_study(scenes: Sequence[str], *, methods: Sequence[str] | None = None,
                 raise ValueError(f"method(s) {bad} are not available for scene {name!r}; "
                                  f"allowed: {[m for m in scene.methods if m]}")
         keys = sorted(axes)
-        for method, step, combo in itertools.product(
-                scene_methods, list(steps or [None]),
+        for method, step, level, combo in itertools.product(
+                scene_methods, list(steps or [None]), levels,
                 itertools.product(*(axes[k] for k in keys)) if keys else [()]):
-            params = {k: scene.param(k).parse(v) for k, v in zip(keys, combo)
+            params = {**{k: scene.param(k).parse(v) for k, v in level.items()},
+                      **{k: scene.param(k).parse(v) for k, v in zip(keys, combo)}}
+            params = {k: v for k, v in params.items()
                       if not (method == "nts" and k in MORTAR_ONLY)}
             run = {"scene": name, "method": method, "steps": step, "params": params}
             if run not in plan.runs:  # NTS ignores the mortar axes: run it once
