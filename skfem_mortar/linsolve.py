@@ -26,6 +26,7 @@ from __future__ import annotations
 import ctypes
 import logging
 import os
+import sys
 import warnings
 
 import numpy as np
@@ -49,7 +50,24 @@ PARDISO_SERIAL_BELOW = 20000
 _pardiso_solver = None  # the process's _Pardiso
 
 
+def _point_to_mkl() -> None:
+    """Tell pypardiso where MKL's runtime library is, when it lies in ``sys.prefix/lib``
+    (pip's place): otherwise its import and every solver it builds search the whole
+    prefix tree for it (about 1 s each)."""
+    if os.environ.get("PYPARDISO_MKL_RT"):
+        return
+    import glob
+
+    for prefix in (sys.prefix, sys.base_prefix):
+        found = sorted(glob.glob(os.path.join(prefix, "lib", "libmkl_rt.so*")), key=len)
+        if found:
+            os.environ["PYPARDISO_MKL_RT"] = found[0]
+            return
+
+
 def _pardiso_available() -> bool:
+    if "pypardiso" not in sys.modules:
+        _point_to_mkl()
     try:
         import pypardiso  # noqa: F401
     except Exception:  # ImportError, or MKL missing at import time
@@ -125,6 +143,7 @@ class _Pardiso:
     """
 
     def __init__(self):
+        _point_to_mkl()
         import pypardiso
 
         self.solver = pypardiso.PyPardisoSolver()
