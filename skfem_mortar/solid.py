@@ -37,6 +37,7 @@ from skfem import (Basis, BilinearForm, ElementQuad1, ElementQuad2, ElementTriP1
                    ElementTriP2, ElementVector, LinearForm, Mesh)
 from skfem.helpers import ddot, grad
 
+from .checks import check_mesh
 from .materials import Material
 from .model import Contribution, Item
 
@@ -113,6 +114,7 @@ class Solid(Item):
                              f"got {type(mesh).__name__}")
         if intorder is not None and (int(intorder) != intorder or intorder < 1):
             raise ValueError(f"intorder must be an integer >= 1 (got {intorder})")
+        check_mesh(mesh, f"mesh of {name!r}")  # folded, zero-area, non-convex elements
         self.mesh = mesh
         self.material = material
         self.element = element

@@ -107,8 +107,6 @@ def test_valid_meshes_pass_the_mesh_check():
         check_mesh(m)
 
 
-@pytest.mark.xfail(strict=True, reason="check_mesh is not yet called by Solid.__init__ "
-                   "(solid.py is owned by the performance work; see docs/robustness.md)")
 def test_solid_rejects_an_inverted_mesh():
     m = skfem.MeshTri().refined(2)
     p = m.p.copy()
