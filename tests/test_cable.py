@@ -11,27 +11,11 @@ from skfem_mortar.newton import NewtonOptions
 from skfem_mortar.scenes.ring import ring_radius
 from skfem_mortar.stepping import solve
 
-
-def dense(c, n):
-    """Residual vector and dense tangent of one item's Contribution."""
-    R = np.bincount(c.r_index, weights=c.r_value, minlength=n)
-    K = np.zeros((n, n))
-    np.add.at(K, (c.k_rows, c.k_cols), c.k_vals)
-    return R, K
+from fd import dense, fd_tangent
 
 
-def fd_tangent(item, z, lf, h=1e-6):
-    """Central differences of the residual: truncation error O(h^2 |R'''|) ~ 1e-12
-    and round-off O(eps |R| / h) ~ 1e-10 (relative), for unit-size geometry."""
-    n = len(z)
-    K = np.zeros((n, n))
-    for k in range(n):
-        e = np.zeros(n)
-        e[k] = h
-        rp = dense(item.assemble(z + e, lf, tangent=False), n)[0]
-        rm = dense(item.assemble(z - e, lf, tangent=False), n)[0]
-        K[:, k] = (rp - rm) / (2 * h)
-    return K
+# fd_tangent: for these unit-size cables the truncation error O(h^2 R_xxx) is
+# ~1e-12 and round-off ~1e-10 (relative), which sets the FD tolerances below
 
 
 def wavy_cable(n=6, closed=False, **kw):

@@ -17,25 +17,11 @@ from skfem_mortar.newton import NewtonOptions
 from skfem_mortar.solid import Solid
 from skfem_mortar.stepping import solve
 
-
-def dense(c, n):
-    R = np.bincount(c.r_index, weights=c.r_value, minlength=n)
-    K = np.zeros((n, n))
-    np.add.at(K, (c.k_rows, c.k_cols), c.k_vals)
-    return R, K
+from fd import dense, fd_tangent
 
 
-def fd_tangent(item, z, lf, n, h=1e-6):
-    """Central differences.  The load is linear in x, so the truncation error is
-    zero and only round-off O(eps |R| / h) ~ 1e-10 (relative) remains."""
-    K = np.zeros((n, n))
-    for k in range(n):
-        e = np.zeros(n)
-        e[k] = h
-        rp = dense(item.assemble(z + e, lf, tangent=False), n)[0]
-        rm = dense(item.assemble(z - e, lf, tangent=False), n)[0]
-        K[:, k] = (rp - rm) / (2 * h)
-    return K
+# fd_tangent: the follower load is linear in x, so central differences have no
+# truncation error and only round-off O(eps |R| / h) ~ 1e-10 (relative) remains
 
 
 def test_facet_load_matrix():
