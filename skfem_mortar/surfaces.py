@@ -24,7 +24,11 @@ import scipy.sparse as sp
 from scipy.sparse.csgraph import connected_components
 
 __all__ = ["ContactSurface", "RigidPlane", "RigidCircle", "chain_segments",
-           "segment_normals", "tributary_lengths"]
+           "segment_normals", "tributary_lengths", "LINEAR_TRACE"]
+
+#: solid elements whose boundary trace is linear between facet vertices: tri1,
+#: quad1 and the mixed "mini" triangle (P1 + bubble, the bubble vanishes on facets)
+LINEAR_TRACE = ("tri1", "quad1", "mini")
 
 
 def segment_normals(x: np.ndarray, seg: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -206,9 +210,10 @@ class ContactSurface:
         """
         mesh = solid.mesh
         element = getattr(solid, "element", "tri1")
-        if element not in ("tri1", "quad1"):
-            raise ValueError(f"contact surfaces need linear elements (tri1, quad1): the "
-                             f"segments join facet vertices only, got element {element!r}")
+        if element not in LINEAR_TRACE:
+            raise ValueError(f"contact surfaces need elements whose boundary trace is linear "
+                             f"{LINEAR_TRACE}: the segments join facet vertices only, got "
+                             f"element {element!r}")
         if isinstance(boundary, str):
             known = sorted(mesh.boundaries or {})
             if boundary not in known:
