@@ -175,7 +175,7 @@ class MixedSolid(Solid):
         pe = np.asarray(self.pbasis.element_dofs, dtype=np.int64)        # (3, n_el)
         self._pdofs = pe
         self._alldofs = np.vstack([self._edofs, self.n_u + pe])          # (n_loc, n_el)
-        self._N = np.stack([np.asarray(self.pbasis.basis[b][0].value)
+        self._N = np.stack([np.asarray(self.pbasis.basis[b][0])
                             for b in range(self.pbasis.Nbfun)])           # (3, n_el, n_qp)
         n_u_loc, n_p_loc = self._edofs.shape[0], pe.shape[0]
         n_el, n_qp = self._dx.shape
