@@ -213,6 +213,17 @@ def test_traction_lands_on_vertex_displacement_dofs():
     assert np.isclose(f[b.node_dofs[1]].sum(), -0.2 * 16.0, rtol=1e-12)
 
 
+def test_result_files_carry_the_pressure(tmp_path):
+    """The VTU series of a MixedSolid has the nodal pressure next to the
+    displacement, and the element stresses (as a Solid's)."""
+    import meshio
+    _, res, b, _ = _cook_run("mini", 4, 1e-3)
+    out = res.save(tmp_path)
+    m = meshio.read(sorted(out.rglob("b_*.vtu"))[-1])
+    assert np.allclose(m.point_data["pressure"], b.pressure(res.z)[b.pbasis.nodal_dofs[0]])
+    assert set(m.cell_data) >= {"sigma_xx", "sigma_yy", "sigma_xy", "sigma_zz", "von_mises"}
+
+
 # --------------------------------------------------------------------------- Hertz
 def _hertz(method, nu, kind, refine=-2):
     """Hertz on a rigid plane (the scene's geometry and load, as ``_hertz_rigid``
