@@ -119,6 +119,7 @@ class ContactPair(Item):
             raise ValueError("segmentation='step' is for the mortar methods only")
         self.segmentation = segmentation
         self._sg = None
+        self._x0: tuple[np.ndarray, np.ndarray] | None = None  # contact nodes at the step start
         if not (np.isfinite(touch_tolerance) and touch_tolerance >= 0):
             raise ValueError(f"touch_tolerance must be a finite number >= 0, got {touch_tolerance}")
         self._touch = float(touch_tolerance) * float(np.mean(np.hypot(*np.diff(
@@ -187,6 +188,9 @@ class ContactPair(Item):
                 extra["lock"] = self._lock
         if self._sg is not None:
             extra["segmentation"] = self._sg
+        elif (self._module_name == "mortar" and "margin" not in self.options
+              and self._x0 is not None):
+            extra["reach"] = self._reach(z)
         if (self._module_name == "mortar" and self._pinned is not None
                 and self._pinned.any()):
             # mortar: the pinned node's multiplier is merged into its neighbour's
@@ -198,6 +202,15 @@ class ContactPair(Item):
         if self._pinned is not None and self._pinned.any():
             ev.mask = ev.mask & ~self._pinned
         return ev
+
+    def _reach(self, z: np.ndarray) -> float:
+        """Largest motion of a slave node plus that of a master node since the last
+        converged state: a node open there can penetrate at most this deep,
+        so the mortar search adds it to its local margin (the element lengths)."""
+        xs0, xm0 = self._x0
+        ds = np.abs(self.slave.x(z) - xs0).max(initial=0.0)
+        dm = np.abs(self.master.x(z) - xm0).max(initial=0.0)
+        return float(np.sqrt(2.0) * (ds + dm))
 
     def set_fixed(self, fixed: np.ndarray) -> None:
         """Told the prescribed global dofs (by :func:`~skfem_mortar.stepping.solve`).
@@ -411,6 +424,8 @@ class ContactPair(Item):
             self._converged = ev.mask & ((lam - c * ev.g >= 0)
                                          | (self._gap_length(ev) <= self._touch))
             self._prefer_converged = None
+        if self._x0 is None:  # later: kept from the last converged state (end_step)
+            self._x0 = (self.slave.x(z), self.master.x(z))
         self.active = self._converged.copy()
         self._prefer = self._prefer_converged
         self._lock = None if self._lock_converged is None else self._lock_converged.copy()
@@ -432,6 +447,7 @@ class ContactPair(Item):
 
     def end_step(self, z: np.ndarray, load_factor: float) -> None:
         self._converged = self.active.copy()
+        self._x0 = (self.slave.x(z), self.master.x(z))
         self._prefer_converged = self._prefer
         if self._lock is not None and self._prefer is not None:
             # a lock lasts while the node stays on its segment (nts.LOCK_STICK)

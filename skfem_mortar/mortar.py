@@ -248,7 +248,8 @@ def evaluate(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarra
              lam: np.ndarray | None = None, tangent: bool = True, dual: bool = False,
              n_gauss: int = 2, segmentation: Segmentation | None = None,
              pairs: tuple[np.ndarray, np.ndarray] | None = None, margin: float | None = None,
-             crosspoints: np.ndarray | None = None, **options: Any) -> ContactEval:
+             crosspoints: np.ndarray | None = None, reach: float = 0.0,
+             **options: Any) -> ContactEval:
     """Mortar weighted gaps ``g``, ``G = dg/dx`` and ``H = sum_A lam_A d^2 g_A/dx^2``.
 
     Parameters
@@ -285,8 +286,10 @@ def evaluate(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarra
         Default: segment the current configuration (policy ``iteration``).
     pairs : (i_s, i_m), optional
         Candidate element pairs (otherwise ``search.segment_pairs``).
-    margin : float, optional
-        Search margin (default: the largest element length).
+    margin, reach : float, optional
+        Search margin and motion allowance, see
+        :func:`~skfem_mortar.mortar_segmentation.segment` (default: local, the
+        two element lengths).
     crosspoints : int array, optional
         Slave nodes (e.g. on a Dirichlet boundary) whose multiplier is merged
         into the neighbour: on their element the neighbour's multiplier shape
@@ -325,7 +328,7 @@ def evaluate(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarra
     n_s, n_m = xs.shape[1], xm.shape[1]
     ndof = 2 * n_s + 2 * n_m
     sg = segmentation if segmentation is not None else segment(
-        xs, seg_s, xm, seg_m, pairs=pairs, margin=margin, frozen=False)
+        xs, seg_s, xm, seg_m, pairs=pairs, margin=margin, frozen=False, reach=reach)
     second = tangent and lam is not None
     nv = (16 if (dual and not sg.frozen) else 12) if tangent else 0
     cp_nodes = np.zeros(n_s, bool)

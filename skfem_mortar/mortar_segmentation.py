@@ -250,7 +250,7 @@ def _side(p, ok, dsa, dsb, dab):
 
 def segment(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarray,
             pairs: tuple[np.ndarray, np.ndarray] | None = None, margin: float | None = None,
-            frozen: bool = True) -> Segmentation:
+            frozen: bool = True, reach: float = 0.0) -> Segmentation:
     """Build the mortar segments for the current coordinates (vectorized over pairs).
 
     Parameters
@@ -262,9 +262,20 @@ def segment(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarray
     pairs : (i_s, i_m), optional
         Candidate element pairs; by default ``search.segment_pairs`` with ``margin``.
     margin : float, optional
-        Search margin; default the largest slave or master element length.
+        Global search margin: every pair of boxes within ``margin``.  Default:
+        local, a slave element ``i`` and a master element ``j`` are candidates
+        when their boxes come within ``l_i + l_j + reach`` (``l`` the element
+        lengths).  The kept pairs are those whose projections overlap, which
+        only needs the boxes to come within the gap; the default holds every
+        pair with a gap (or a penetration) up to the two element lengths plus
+        ``reach``.  Beyond that a slave node has no master partner and is
+        inactive (an open gap of more than an element length).
     frozen : bool
         Stored in the result (see :class:`Segmentation`).
+    reach : float
+        Added to the local margin (>= 0): :class:`~skfem_mortar.contact.ContactPair`
+        passes twice the largest motion of a contact node since the load step
+        began, so a node that penetrates deeply within one step is still paired.
 
     Returns
     -------
@@ -278,8 +289,9 @@ def segment(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarray
     if pairs is None:
         from .search import segment_pairs
         if margin is None:
-            margin = float(max(ls.max(initial=0.0), lm.max(initial=0.0)))
-        pairs = segment_pairs(xs, seg_s, xm, seg_m, margin)
+            pairs = segment_pairs(xs, seg_s, xm, seg_m, float(reach), ls, lm)
+        else:
+            pairs = segment_pairs(xs, seg_s, xm, seg_m, margin)
     i_s = np.asarray(pairs[0], dtype=np.int64)
     i_m = np.asarray(pairs[1], dtype=np.int64)
     good_s = ls > LEN_TOL * max(ls.mean() if ls.size else 0.0, 1e-300)

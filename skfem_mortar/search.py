@@ -131,8 +131,16 @@ def box_pairs(lo_a: np.ndarray, hi_a: np.ndarray, lo_b: np.ndarray, hi_b: np.nda
 
 
 def segment_pairs(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarray,
-                  margin: float) -> tuple[np.ndarray, np.ndarray]:
+                  margin: float, margin_s: np.ndarray | None = None,
+                  margin_m: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
     """Candidate slave/master segment pairs whose bounding boxes come within ``margin``.
+
+    With per-segment margins the slave box ``i`` is inflated by
+    ``margin + margin_s[i]`` and the master box ``j`` by ``margin_m[j]``: the pair
+    is a candidate when the boxes come within ``margin + margin_s[i] + margin_m[j]``
+    (e.g. the two element lengths: a local reach on graded meshes, where a global
+    one pairs every fine slave element with every master element within the
+    largest element length).
 
     Parameters
     ----------
@@ -146,6 +154,8 @@ def segment_pairs(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.n
         Master segments.
     margin : float
         Inflation of the slave boxes (>= 0).
+    margin_s, margin_m : ndarray (n_seg_s,), (n_seg_m,), optional
+        Further inflation of each slave and master box (>= 0).
 
     Returns
     -------
@@ -155,6 +165,15 @@ def segment_pairs(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.n
     with timed("search"):
         lo_s, hi_s = segment_boxes(xs, seg_s)
         lo_m, hi_m = segment_boxes(xm, seg_m)
+        for name, m, lo, hi in (("margin_s", margin_s, lo_s, hi_s),
+                                ("margin_m", margin_m, lo_m, hi_m)):
+            if m is None:
+                continue
+            m = np.asarray(m, dtype=float)
+            if m.shape != lo.shape[1:] or not np.all(np.isfinite(m)) or np.any(m < 0):
+                raise ValueError(f"{name} must be {lo.shape[1]} finite numbers >= 0")
+            lo -= m
+            hi += m
         return box_pairs(lo_s, hi_s, lo_m, hi_m, margin)
 
 

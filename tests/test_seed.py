@@ -70,11 +70,14 @@ def test_demo_writes_everything(tmp_path, capsys):
     cable = read_series(out / "cable.pvd")[-1][1]
     assert "tension" in cable.cell_data
     contact = read_series(out / "contact.pvd")[-1][1]
-    assert (contact.point_data["pressure"] > 0).sum() == summary["steps"][-1]["n_active"]
+    # inactive multipliers are zeroed by the Newton update lam - lam, which leaves
+    # round-off (1e-33 seen): count pressures above 1e-12 of the largest
+    p = contact.point_data["pressure"]
+    assert (p > 1e-12 * p.max()).sum() == summary["steps"][-1]["n_active"]
     rows = (out / "contact.csv").read_text().splitlines()
     assert rows[0] == "x,y,gap,pressure" and len(rows) == summary["parameters"]["n_cable"] + 2
     pressure = np.array([float(r.split(",")[3]) for r in rows[1:]])
-    assert (pressure > 0).sum() == summary["steps"][-1]["n_active"]
+    assert (pressure > 1e-12 * pressure.max()).sum() == summary["steps"][-1]["n_active"]
 
 
 @pytest.mark.slow

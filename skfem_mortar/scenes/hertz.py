@@ -267,7 +267,7 @@ SCENE = Scene(
         Param("base", "rigid", "what the cylinder is pressed on", str,
               choices=("rigid", "elastic")),
         Param("refine", 0, "mesh level: element size (a/30) 2^-refine in the contact zone",
-              int, low=-3, high=2),
+              int, low=-3, high=3),
         Param("segmentation", "iteration", "mortar only: rebuild the mortar segments every "
               "Newton iteration, or once per load step (frozen during the step)", str,
               choices=("iteration", "step")),
