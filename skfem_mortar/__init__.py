@@ -19,7 +19,7 @@ _EXPORTS = {
     "NewtonOptions": "newton",
     "ConvergenceError": "errors", "InversionError": "errors",
     "NeoHooke": "materials", "SaintVenantKirchhoff": "materials",
-    "Solid": "solid", "Traction": "traction", "PointLoad": "traction",
+    "Solid": "solid", "MixedSolid": "mixed", "Traction": "traction", "PointLoad": "traction",
     "Cable": "cable",
     "FollowerPressure": "loads",
     "ContactPair": "contact",
