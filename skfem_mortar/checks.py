@@ -13,6 +13,14 @@ __all__ = ["check_mesh", "signed_areas"]
 
 #: an element is degenerate below this fraction of the mean element area
 AREA_TOL = 1e-12
+#: a sliver: area below this fraction of its longest edge squared (aspect
+#: ratio above ~1e7).  Its stiffness across the short side is ~1/ratio times
+#: the others' and the contact segments on it are as short: measured on two
+#: blocks in contact with one column of nodes moved next to another
+#: (tests/test_extremes.py), ratio 1e-6 converges to round-off for every method,
+#: 1e-8 fails for nts and mortar (dual at 1e-9), each after 25 iterations
+#: and every step cut; such a mesh is refused before anything is assembled
+SLIVER_TOL = 1e-7
 
 
 def _corners(mesh) -> np.ndarray:
@@ -35,8 +43,9 @@ def check_mesh(mesh, name: str = "mesh") -> None:
     skfem accepts elements listed clockwise or counter-clockwise, so an
     inverted element is found by a fold: the two elements on an interior
     facet must lie on opposite sides of it.  Every element area must exceed
-    ``AREA_TOL`` times the mean, and a quadrilateral must be convex (its four
-    corner turns of one sign).
+    ``AREA_TOL`` times the mean and ``SLIVER_TOL`` times its longest edge
+    squared, and a quadrilateral must be convex (its four corner turns of one
+    sign).
 
     Parameters
     ----------
@@ -59,6 +68,15 @@ def check_mesh(mesh, name: str = "mesh") -> None:
                          f"{int(zero[0])}); every element area must exceed {AREA_TOL:g} "
                          f"times the mean")
     c = _corners(mesh)
+    edges = np.roll(c, -1, axis=1) - c
+    longest = np.max(edges[0] ** 2 + edges[1] ** 2, axis=0)
+    sliver = np.flatnonzero(np.abs(a) < SLIVER_TOL * longest)
+    if sliver.size:
+        k = int(sliver[0])
+        raise ValueError(f"{name}: {sliver.size} sliver element(s) (e.g. element {k}, area / "
+                         f"longest edge^2 = {abs(a[k]) / longest[k]:.2g}); every element must "
+                         f"have area / longest edge^2 >= {SLIVER_TOL:g} (nearly coincident "
+                         f"nodes?)")
     if c.shape[1] == 4:
         d_next = np.roll(c, -1, axis=1) - c
         d_prev = np.roll(c, 1, axis=1) - c

@@ -92,6 +92,16 @@ def test_zero_area_element():
         check_mesh(skfem.MeshQuad(p, m.t))
 
 
+def test_sliver_element():
+    """Two triangles, one of them a sliver whose apex lies 1e-8 above its base
+    of length 1: area / longest edge^2 = 5e-9, below the 1e-7 limit (the area
+    is still far above the zero-area limit, 1e-12 of the mean)."""
+    p = np.array([[0.0, 1.0, 0.5, 0.5], [0.0, 0.0, 1e-8, 1.0]])
+    t = np.array([[0, 1, 2], [2, 1, 3]]).T
+    with pytest.raises(ValueError, match="sliver element"):
+        check_mesh(skfem.MeshTri(p, t))
+
+
 def test_non_convex_quadrilateral():
     m = skfem.MeshQuad().refined(2)
     p = m.p.copy()

@@ -366,6 +366,17 @@ def test_tiny_slave_segment_from_nearly_coincident_nodes(method):
     _tiny_segment_case(method, 1e-6)
 
 
+@pytest.mark.extremes
+@pytest.mark.parametrize("tiny", [1e-8, 1e-10])
+def test_nearly_coincident_nodes_are_refused_as_slivers(tiny):
+    """Nodes 1e-8 apart (relative) made nts and mortar fail after every step
+    cut (dual at 1e-9; 1e-6 converges, test above): the mesh check refuses
+    such sliver elements up front and names the cause (1e-12 is refused as a
+    zero area)."""
+    with pytest.raises(ValueError, match="sliver element"):
+        _tiny_segment_case("mortar", tiny)
+
+
 def _tiny_segment_case(method, tiny):
     """The top block's second column of nodes is moved to within ``tiny`` of the
     first (a slave segment of length tiny x h).  A uniform stress state is
