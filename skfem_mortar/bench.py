@@ -19,10 +19,10 @@ import numpy as np
 
 __all__ = ["SIZES", "run_bench", "fit_slopes"]
 
-#: scene -> list of parameter sets of growing size: hertz 1e3 to 5e4 dofs (its
-#: ``refine`` stops at 2), seed 4e2 to 3e5 dofs (each cushion refinement is 4x)
+#: scene -> list of parameter sets of growing size: hertz 2e3 to 1.7e5 dofs,
+#: seed 4e2 to 3e5 dofs (each cushion refinement is 4x)
 SIZES: dict[str, list[dict]] = {
-    "hertz": [{"refine": r} for r in (-2, -1, 0, 1, 2)],
+    "hertz": [{"refine": r} for r in (-2, -1, 0, 1, 2, 3)],
     "seed": [{"n_cable": 24 * 2**k, "refine_cushion": k + 1} for k in range(6)],
 }
 QUICK: dict[str, list[dict]] = {
@@ -66,15 +66,24 @@ def _one(scene: str, params: dict, method: str | None, steps: int | None) -> dic
             if total > 0 else 0.0}
 
 
-def fit_slopes(rows: Sequence[dict]) -> dict[str, float]:
-    """Least-squares slope of log(time per iteration) against log(dofs), per phase."""
+def fit_slopes(rows: Sequence[dict], size: str = "n_dofs") -> dict[str, float]:
+    """Least-squares slope of log(time per iteration) against log(size), per phase
+    and for the contact work (``contact``: search + contact assembly).
+
+    ``size`` is a row key: ``n_dofs``, or ``n_multipliers`` (the slave nodes:
+    the contact work should grow linearly with them, slope 1).
+    """
     ok = [r for r in rows if r.get("status") == "ok"]
     out = {}
     if len(ok) < 2:
         return out
-    n = np.log([r["n_dofs"] for r in ok])
-    for ph in PHASES:
-        t = np.array([r["time_per_iteration_s"][ph] for r in ok])
+    n = np.log([r[size] for r in ok])
+    for ph in PHASES + ("contact",):
+        if ph == "contact":
+            t = np.array([r["time_per_iteration_s"]["search"]
+                          + r["time_per_iteration_s"]["contact_assembly"] for r in ok])
+        else:
+            t = np.array([r["time_per_iteration_s"][ph] for r in ok])
         if np.all(t > 0):
             out[ph] = float(np.polyfit(n, np.log(t), 1)[0])
     return out
@@ -104,7 +113,8 @@ def run_bench(out: str | Path, scenes: Sequence[str] = ("hertz", "seed"),
                       f"{row.get('status')}", file=sys.stderr)
             if row.get("status") != "ok" or (max_dofs and row["n_dofs"] >= max_dofs):
                 break
-        report["scenes"][scene] = {"rows": rows, "slopes": fit_slopes(rows)}
+        report["scenes"][scene] = {"rows": rows, "slopes": fit_slopes(rows),
+                                   "slopes_vs_contact_nodes": fit_slopes(rows, "n_multipliers")}
         write_json(out / "bench.json", report)
     plot_bench(report, out / "bench.png")
     return report

@@ -107,7 +107,9 @@ def _cmd_bench(args: argparse.Namespace) -> int:
                 f"{k} {v * 1e3:.2f} ms" for k, v in t.items()) +
                 f"; contact share {100 * r['contact_share']:.1f} %, "
                 f"peak {r['peak_rss_mb']:.0f} MB")
-        print(f"{scene} slopes: {data['slopes']}")
+        fmt = lambda d: ", ".join(f"{k} {v:.2f}" for k, v in d.items())  # noqa: E731
+        print(f"{scene} slopes vs dofs: {fmt(data['slopes'])}")
+        print(f"{scene} slopes vs contact nodes: {fmt(data['slopes_vs_contact_nodes'])}")
     print(f"written to {args.out}/bench.json, bench.png")
     return 0
 

@@ -19,6 +19,11 @@ def test_fit_slopes_recovers_power_laws():
     assert slopes["contact_assembly"] == pytest.approx(0.5)
     assert slopes["solve"] == pytest.approx(1.5)
     assert "output" not in slopes  # zero times have no slope
+    # the contact work (search + assembly) 1e-7 k + 1e-5 k^0.5 against the
+    # number of contact nodes m = k^0.5: slope between 1 and 2
+    rows_m = [dict(r, n_multipliers=r["n_dofs"] ** 0.5) for r in rows]
+    assert fit_slopes(rows_m, "n_multipliers")["search"] == pytest.approx(2.0)
+    assert 1.0 < fit_slopes(rows_m, "n_multipliers")["contact"] < 2.0
 
 
 @pytest.mark.slow
@@ -32,4 +37,5 @@ def test_quick_bench_writes_json_and_plot(tmp_path):
     for r in rows:
         assert set(r["time_per_iteration_s"]) == set(PHASES)
         assert r["peak_rss_mb"] > 10 and 0 <= r["contact_share"] <= 1
+    assert "contact" in data["scenes"]["seed"]["slopes_vs_contact_nodes"]
     assert (tmp_path / "bench.png").stat().st_size > 1000
