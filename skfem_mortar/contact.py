@@ -26,11 +26,12 @@ also holds nodes that touch within ``touch_tolerance``.  Every step (and every
 retry of a cut step) starts from the last converged active set, which its
 first iteration uses as it is.
 
-Extrapolated release (NTS, dual mortar; ``accelerate``): releasing only the
+Extrapolated release (``accelerate``): releasing only the
 tensile nodes of a too-wide zone halves its overshoot per iteration (Hertz);
 beyond the tensile tail of a run of active nodes, as many nodes again are
-released as the multipliers' sign change extrapolates, until a node released
-so penetrates again (then plain updates for the rest of the step).
+released as the multipliers' sign change extrapolates (standard mortar: that
+of the nodal forces), until a node released so penetrates again (then plain
+updates for the rest of the step).
 
 Cycling guard: the active sets of the iterations of a load step are kept; when
 an iteration returns to a set seen before (other than the last one), the
@@ -92,7 +93,7 @@ class ContactPair(Item):
         converged state and freeze them during the step (cheaper, see
         :func:`skfem_mortar.mortar.evaluate`).
     accelerate : bool
-        NTS and dual mortar: when the tensile tail of a too-wide contact zone
+        When the tensile tail of a too-wide contact zone
         is released, release as many nodes again beyond the tail as the sign
         change of the multipliers extrapolates (default True; see
         :meth:`_extrapolate_release`).  Steers only the path of the iteration.
@@ -350,7 +351,7 @@ class ContactPair(Item):
         if not track:
             return new
         if self.accelerate and not self._single_flip:
-            new = self._extrapolate_release(new, lam)
+            new = self._extrapolate_release(new, lam, ev)
         if self._single_flip:
             diff = np.flatnonzero(new != self.active)
             if diff.size:  # least-index rule: change only the first violated node
@@ -395,7 +396,8 @@ class ContactPair(Item):
             return None
         return order
 
-    def _extrapolate_release(self, new: np.ndarray, lam: np.ndarray) -> np.ndarray:
+    def _extrapolate_release(self, new: np.ndarray, lam: np.ndarray,
+                             ev: ContactEval | None = None) -> np.ndarray:
         """Release beyond the tensile tail of a contact zone (extrapolated active set update).
 
         Releasing only the tensile nodes of a too-wide zone converges linearly:
@@ -415,16 +417,20 @@ class ContactPair(Item):
         penetrate again, the extrapolation is off for the rest of the step
         attempt (plain primal-dual updates, which the cycling guard watches).
 
-        NTS and dual mortar only.  Standard mortar multipliers alternate in sign
-        at the edge of a too-wide zone, so their tensile nodes are no tail; a
-        tail taken up to the innermost tensile node reached without passing two
-        non-tensile ones, with the doubling, cut hertz refine 2 from
-        14,14,11,10 to 7,6,6,6 iterations but made the small zones of the
-        ``seed`` scene cycle (up to 12 iterations a step; 7 with the cycling
-        guard acting when only zones four times longer than the tail count).
+        Standard mortar multipliers alternate in sign at the edge of a too-wide
+        zone (e.g. -0.35, -0.90, -0.34, -3.14, +2.15, -12.7 from inside to the
+        edge), so their tensile nodes are no tail: there the tail and the sign
+        change are taken from the normal nodal contact force ``D^T lam`` of the
+        slave nodes (``G^T lam`` projected on each node's own gap gradient),
+        which keeps one sign, and the end node must be released by the plain
+        rule too.  (Releasing the alternating tail of ``lam`` itself cut hertz
+        refine 2 from 14,14,11,10 to 7,6,6,6 iterations but made the small
+        zones of the ``seed`` scene cycle, up to 12 iterations a step.)
         """
-        if (self._accel_off or self._chain is None or self._frozen is not None
-                or (self._module_name == "mortar" and not self.options.get("dual"))):
+        std = self._module_name == "mortar" and not self.options.get("dual")
+        if self._accel_off or self._chain is None or self._frozen is not None:
+            return new
+        if std and (ev is None or ev.G is None):
             return new
         prev = self.active
         if np.any(self._extra & new):
@@ -439,7 +445,20 @@ class ContactPair(Item):
         rel = A & ~N
         if not rel.any():
             return new
-        L = lam[o]
+        if std:  # the normal nodal force D^T lam on the slave nodes: no sign alternation
+            G = ev.G.tocsr()
+            ns = self.slave.n_nodes
+            f = (G.T @ lam)[:2 * ns].reshape(-1, 2)
+            j = np.arange(ns)
+            gd = np.column_stack([np.asarray(G[j, 2 * j]).ravel(),
+                                  np.asarray(G[j, 2 * j + 1]).ravel()])
+            nrm = np.hypot(gd[:, 0], gd[:, 1])
+            w = np.where(nrm > 0, np.sum(f * gd, axis=1) / np.where(nrm > 0, nrm, 1.0), 0.0)
+            L = w[o]
+            rel_tail = A & (L < 0)
+        else:
+            L = lam[o]
+            rel_tail = rel
         n = A.size
         d = np.diff(np.r_[0, A.astype(np.int8), 0])
         starts, stops = np.flatnonzero(d == 1), np.flatnonzero(d == -1)  # run A[s:e]
@@ -451,14 +470,16 @@ class ContactPair(Item):
                 if end == 0:
                     if e0 >= n or N[e0]:
                         continue
-                    r, lr = rel[s0:e0][::-1], L[s0:e0][::-1]
+                    r, lr, r0 = rel_tail[s0:e0][::-1], L[s0:e0][::-1], rel[e0 - 1]
                 else:
                     if s0 == 0 or N[s0 - 1]:
                         continue
-                    r, lr = rel[s0:e0], L[s0:e0]
-                if not r[0]:
+                    r, lr, r0 = rel_tail[s0:e0], L[s0:e0], rel[s0]
+                if not (r0 and r[0]):
                     continue
                 m = int(np.argmin(r)) if not r.all() else r.size  # the tensile tail
+                if std:  # its nodes need not be tensile: keep at least half of the run
+                    m = min(m, max(1, length // 2))
                 k = m
                 if m < r.size and lr[m - 1] < 0 <= lr[m]:
                     # the sign change, by linear interpolation (in nodes from the end)

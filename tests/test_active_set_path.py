@@ -1,13 +1,17 @@
-"""The path of the active set: extrapolated release of the tensile tail (NTS, dual mortar).
+"""The path of the active set: extrapolated release of the tensile tail.
 
 Releasing only the tensile nodes of a too-wide Hertz zone halves its overshoot
 per iteration (the pressure of a zone forced to |x| < b changes sign at
 x0^2 = (a^2 + b^2) / 2), so the plain primal-dual active set update needs
 O(log(1/h)) iterations a step; ``ContactPair._extrapolate_release`` releases
-up to twice the distance to the sign change instead.
+up to twice the distance to the sign change instead (standard mortar: the
+sign change of the normal nodal forces, as its multipliers alternate in sign).
 """
+from types import SimpleNamespace
+
 import numpy as np
 import pytest
+import scipy.sparse as sp
 from skfem import MeshTri
 
 from skfem_mortar.contact import ContactPair
@@ -33,10 +37,17 @@ def _run(pair, first, last, lam_run):
     lam = np.zeros(pair.n_dofs)
     lam[o[first:last]] = lam_run
     plain = pair.active & (lam >= 0)
-    return plain, pair._extrapolate_release(plain.copy(), lam)
+    return plain, pair._extrapolate_release(plain.copy(), lam, _ev(pair))
 
 
-@pytest.mark.parametrize("method", ["nts", "mortar-dual"])
+def _ev(pair):
+    """Standard mortar reads the nodal forces G^T lam: a unit normal per slave node."""
+    n = pair.n_dofs
+    G = sp.csr_matrix((np.ones(n), (np.arange(n), 2 * np.arange(n) + 1)), shape=(n, 2 * n + 4))
+    return SimpleNamespace(G=G)
+
+
+@pytest.mark.parametrize("method", ["nts", "mortar-dual", "mortar"])
 def test_kkt_point_is_a_fixed_point(method):
     pair = _pair(method)
     assert pair._chain is not None
@@ -46,8 +57,10 @@ def test_kkt_point_is_a_fixed_point(method):
     assert not pair._extra.any()
 
 
-def test_tail_release_doubles_to_the_sign_change():
-    pair = _pair("nts")
+@pytest.mark.parametrize("method", ["nts", "mortar"])
+def test_tail_release_doubles_to_the_sign_change(method):
+    """(standard mortar: the nodal forces of the unit-normal G above equal lam)"""
+    pair = _pair(method)
     o = pair._chain
     # run 0..15 (the chain start is no edge); tensile tail of 3 at the end,
     # sign change interpolated at t0 = 2.5 nodes from the end -> release 5
@@ -62,25 +75,23 @@ def test_tail_release_doubles_to_the_sign_change():
     pair.active = out
     new = out.copy()
     new[o[11]] = True
-    np.testing.assert_array_equal(pair._extrapolate_release(new.copy(), np.zeros(pair.n_dofs)),
-                                  new)
+    lam = np.zeros(pair.n_dofs)
+    np.testing.assert_array_equal(pair._extrapolate_release(new.copy(), lam, _ev(pair)), new)
     assert pair._accel_off
 
 
-def test_standard_mortar_is_plain():
-    """Standard multipliers alternate in sign at the edge: no tail, no extrapolation."""
-    pair = _pair("mortar")
-    plain, out = _run(pair, 0, 16, np.r_[np.linspace(4.0, 1.0, 13), -1.0, -2.0, -3.0])
-    np.testing.assert_array_equal(out, plain)
-
-
-@pytest.mark.parametrize("method,before", [("nts", [7, 6, 6, 5]),
-                                           ("mortar-dual", [7, 6, 6, 6])])
-def test_hertz_refine1_iterations(method, before):
+@pytest.mark.parametrize("method,before,most,total", [
+    ("nts", [7, 6, 6, 5], 6, 21),
+    ("mortar-dual", [7, 6, 6, 6], 6, 21),
+    ("mortar", [13, 10, 7, 7], 7, 25),
+])
+def test_hertz_refine1_iterations(method, before, most, total):
     """hertz refine 1 (14k dofs): plain releases took ``before`` iterations a step
-    (the overshoot halving); the extrapolation measured 5,5,5,5 (nts) and
-    5,5,5,6 (dual).  Bound: at most 6 a step and 21 in all (before: 24, 25)."""
+    (nts, dual: the overshoot halving; standard mortar: the edge walking back one
+    or two nodes an iteration); the extrapolation measured 5,5,5,5 (nts),
+    5,5,5,6 (dual), 7,6,5,5 (mortar).  Bound: ``most`` a step and ``total`` in
+    all, one iteration of slack a step or so, below the plain numbers."""
     s = run_scene("hertz", {"refine": 1}, method=method)
     its = [st["newton_iterations"] for st in s["steps"]]
-    assert max(its) <= 6 and sum(its) <= 21, (its, before)
+    assert max(its) <= most and sum(its) <= total, (its, before)
     assert all(st.get("active_set_cycles", 0) == 0 for st in s["steps"])
