@@ -26,22 +26,8 @@ also holds nodes that touch within ``touch_tolerance``.  Every step (and every
 retry of a cut step) starts from the last converged active set, which its
 first iteration uses as it is.
 
-Extrapolated release (``accelerate``): releasing only the
-tensile nodes of a too-wide zone halves its overshoot per iteration (Hertz);
-beyond the tensile tail of a run of active nodes, as many nodes again are
-released as the multipliers' sign change extrapolates (standard mortar: that
-of the nodal forces), until a node released so penetrates again (then plain
-updates for the rest of the step).
-
-Cycling guard: the active sets of the iterations of a load step are kept; when
-an iteration returns to a set seen before (other than the last one), the
-iteration is cycling (primal-dual active set methods can cycle when the
-stiffness is not an M-matrix).  The guard (logged as a warning) then changes
-only one node per iteration, the first one whose status is violated (Murty's
-least-index rule, which terminates for linear complementarity problems with a
-P-matrix, e.g. any symmetric positive definite stiffness).  Should a set
-repeat even so, it is frozen to the union of the sets of the cycle for the
-rest of the step attempt, and the KKT violation at convergence is logged.
+The active set through the iterations of a step (extrapolated release of a
+too-wide zone, cycling guard) is :class:`~skfem_mortar.active_set.ActiveSet`'s.
 """
 from __future__ import annotations
 
@@ -51,6 +37,7 @@ from typing import Any
 
 import numpy as np
 
+from .active_set import ActiveSet, chain_order, normal_nodal_force
 from .contact_eval import ContactEval
 from .model import Contribution, Item
 
@@ -93,10 +80,11 @@ class ContactPair(Item):
         converged state and freeze them during the step (cheaper, see
         :func:`skfem_mortar.mortar.evaluate`).
     accelerate : bool
-        When the tensile tail of a too-wide contact zone
-        is released, release as many nodes again beyond the tail as the sign
-        change of the multipliers extrapolates (default True; see
-        :meth:`_extrapolate_release`).  Steers only the path of the iteration.
+        When the tensile tail of a too-wide contact zone is released, release
+        as many nodes again beyond the tail as the sign change of the
+        multipliers extrapolates (default True; see
+        :class:`~skfem_mortar.active_set.ActiveSet`).  Steers only the path of
+        the iteration.
     **options
         Passed to the discretization's ``evaluate`` (e.g. ``margin``).
     """
@@ -136,7 +124,6 @@ class ContactPair(Item):
             raise ValueError(f"touch_tolerance must be a finite number >= 0, got {touch_tolerance}")
         self._touch = float(touch_tolerance) * float(np.mean(np.hypot(*np.diff(
             slave.X[:, slave.segments], axis=2)[:, :, 0])))
-        self.cycle_guard = bool(cycle_guard)
         self._row_scale: float | None = None
         self._pinned: np.ndarray | None = None
         self._hint = ""
@@ -159,25 +146,15 @@ class ContactPair(Item):
                     f"the nodes or use mortar")
             self._hint = "; ".join(h for h in (self._hint, tiny) if h)
             log.info("%s", tiny)
-        self.active = np.zeros(self.n_dofs, dtype=bool)
-        self.accelerate = bool(accelerate)
-        self._chain = self._chain_order(slave)
-        self._extra = np.zeros(self.n_dofs, dtype=bool)  # released by extrapolation
-        self._accel_off = False
-        self._changed = False
-        self._history: list[np.ndarray] = []
-        self._frozen: np.ndarray | None = None
-        self._single_flip = False
+        self.state = ActiveSet(self.n_dofs, chain_order(slave.segments, slave.closed,
+                                                        slave.n_nodes),
+                               name, cycle_guard=cycle_guard, accelerate=accelerate)
         self._started = False
-        self._initial = False
         self._prefer: np.ndarray | None = None
         self._lock: np.ndarray | None = None
         self._lock_converged: np.ndarray | None = None
         self._seg_hist: list[np.ndarray] = []
         self._locks = 0
-        self._changes = 0
-        self._cycles = 0
-        self._converged = self.active.copy()
         self._prefer_converged: np.ndarray | None = None
 
     # -- helpers -------------------------------------------------------------
@@ -329,171 +306,29 @@ class ContactPair(Item):
         return out
 
     # -- active set --------------------------------------------------------------
+    @property
+    def active(self) -> np.ndarray:
+        """The current active set (bool per slave node), see :class:`ActiveSet`."""
+        return self.state.active
+
+    @active.setter
+    def active(self, value: np.ndarray) -> None:
+        self.state.active = np.asarray(value, dtype=bool)
+
     def _active_set(self, lam: np.ndarray, ev: ContactEval, c: float, track: bool) -> np.ndarray:
-        """``lam - c g >= 0`` on the masked nodes; tracks changes and cycles when ``track``."""
-        if self._frozen is not None:
-            new = self._frozen & ev.mask
-            if track:
-                self._changed = not np.array_equal(new, self.active)
-                self.active = new
-            return new
-        if self._initial:
-            # the last converged set, less the nodes no longer in mask (with
-            # segmentation=step the segments are rebuilt at the step start: an
-            # active node without support has a zero row, a singular tangent)
-            if not track:
-                return self.active & ev.mask
-            self._initial = False
-            self._changed = False
-            self.active = self.active & ev.mask
-            return self.active
-        new = ev.mask & (lam - c * ev.g >= 0)
-        if not track:
-            return new
-        if self.accelerate and not self._single_flip:
-            new = self._extrapolate_release(new, lam, ev)
-        if self._single_flip:
-            diff = np.flatnonzero(new != self.active)
-            if diff.size:  # least-index rule: change only the first violated node
-                new = self.active.copy()
-                new[diff[0]] = ~new[diff[0]]
-        n_flip = int(np.count_nonzero(new != self.active))
-        self._changed = n_flip > 0
-        self._changes += n_flip
-        if self._changed and self.cycle_guard:
-            seen = [i for i, a in enumerate(self._history[:-1]) if np.array_equal(a, new)]
-            if seen and not self._single_flip:
-                self._cycles += 1
-                self._single_flip = True
-                log.warning("%s: active set cycling (a set of %d sets repeats); from now on "
-                            "in this step change one node at a time (least-index rule)",
-                            self.name, len(self._history) - seen[0])
-                diff = np.flatnonzero(new != self.active)
-                new = self.active.copy()
-                new[diff[0]] = ~new[diff[0]]
-                self._history = [self.active.copy()]  # cycles are now counted anew
-            elif seen:
-                cycle = self._history[seen[0]:] + [new]
-                frozen = np.logical_or.reduce(cycle)
-                self._cycles += 1
-                log.warning("%s: active set still cycling; freezing it to the union of "
-                            "the %d sets of the cycle (%d nodes) for the rest of the step",
-                            self.name, len(cycle) - 1, int(frozen.sum()))
-                self._frozen = new = frozen
-            self._changed = not np.array_equal(new, self.active)
-        self._history.append(new.copy())
-        self.active = new
-        return new
+        """``lam - c g >= 0`` on the masked nodes, then :meth:`ActiveSet.update`."""
+        plain = ev.mask & (lam - c * ev.g >= 0)
+        return self.state.update(plain, ev.mask, track, lambda: self._tail_signal(lam, ev))
 
-    @staticmethod
-    def _chain_order(slave: Any) -> np.ndarray | None:
-        """Slave nodes in chain order (None when the segments do not visit every node once)."""
-        seg = np.asarray(slave.segments)
-        if seg.size == 0:
-            return None
-        order = seg[:, 0] if slave.closed else np.r_[seg[:, 0], seg[-1, 1]]
-        if order.size != slave.n_nodes or np.unique(order).size != order.size:
-            return None
-        return order
-
-    def _extrapolate_release(self, new: np.ndarray, lam: np.ndarray,
-                             ev: ContactEval | None = None) -> np.ndarray:
-        """Release beyond the tensile tail of a contact zone (extrapolated active set update).
-
-        Releasing only the tensile nodes of a too-wide zone converges linearly:
-        forcing contact over ``|x| < b`` where the answer is ``a < b`` (a smooth
-        line contact, Hertz locally) gives a pressure that changes sign at
-        ``x0^2 = (a^2 + b^2) / 2``, so each release halves the overshoot and a
-        mesh of size h needs ``O(log((b - a) / h))`` iterations.  At each end of
-        a run of active nodes (along the slave chain) whose outer neighbour
-        stays inactive and whose end node is released, the tail is the ``m``
-        released nodes from the end inwards; the sign change of ``lam`` between
-        the tail and the next node, linearly interpolated, is ``t0`` nodes from
-        the end, and the nodes up to ``2 t0`` from the end (rounded, at most
-        ``2 m``, keeping at least half of the run) are released: the secant
-        ``x^2 = 2 x0^2 - b^2`` of the halving, linearised (a little less).  A
-        KKT point releases nothing, so it remains a fixed point; the set still
-        has to repeat for Newton to stop.  Should a node released this way
-        penetrate again, the extrapolation is off for the rest of the step
-        attempt (plain primal-dual updates, which the cycling guard watches).
-
-        Standard mortar multipliers alternate in sign at the edge of a too-wide
-        zone (e.g. -0.35, -0.90, -0.34, -3.14, +2.15, -12.7 from inside to the
-        edge), so their tensile nodes are no tail: there the tail and the sign
-        change are taken from the normal nodal contact force ``D^T lam`` of the
-        slave nodes (``G^T lam`` projected on each node's own gap gradient),
-        which keeps one sign, and the end node must be released by the plain
-        rule too.  (Releasing the alternating tail of ``lam`` itself cut hertz
-        refine 2 from 14,14,11,10 to 7,6,6,6 iterations but made the small
-        zones of the ``seed`` scene cycle, up to 12 iterations a step.)
-        """
-        std = self._module_name == "mortar" and not self.options.get("dual")
-        if self._accel_off or self._chain is None or self._frozen is not None:
-            return new
-        if std and (ev is None or ev.G is None):
-            return new
-        prev = self.active
-        if np.any(self._extra & new):
-            # the extrapolation went too far: plain updates from here; the sets
-            # seen so far came from the extrapolation, not from a cycle of
-            # primal-dual active set updates, so the cycling guard starts anew
-            self._accel_off = True
-            self._history = [prev.copy()]
-            return new
-        o = self._chain
-        A, N = prev[o], new[o]
-        rel = A & ~N
-        if not rel.any():
-            return new
-        if std:  # the normal nodal force D^T lam on the slave nodes: no sign alternation
-            G = ev.G.tocsr()
-            ns = self.slave.n_nodes
-            f = (G.T @ lam)[:2 * ns].reshape(-1, 2)
-            j = np.arange(ns)
-            gd = np.column_stack([np.asarray(G[j, 2 * j]).ravel(),
-                                  np.asarray(G[j, 2 * j + 1]).ravel()])
-            nrm = np.hypot(gd[:, 0], gd[:, 1])
-            w = np.where(nrm > 0, np.sum(f * gd, axis=1) / np.where(nrm > 0, nrm, 1.0), 0.0)
-            L = w[o]
-            rel_tail = A & (L < 0)
-        else:
-            L = lam[o]
-            rel_tail = rel
-        n = A.size
-        d = np.diff(np.r_[0, A.astype(np.int8), 0])
-        starts, stops = np.flatnonzero(d == 1), np.flatnonzero(d == -1)  # run A[s:e]
-        out = N.copy()
-        extra = np.zeros(n, dtype=bool)
-        for s0, e0 in zip(starts, stops):
-            length = e0 - s0
-            for end in (0, 1):  # 0: the run's last node (outer neighbour e0), 1: its first
-                if end == 0:
-                    if e0 >= n or N[e0]:
-                        continue
-                    r, lr, r0 = rel_tail[s0:e0][::-1], L[s0:e0][::-1], rel[e0 - 1]
-                else:
-                    if s0 == 0 or N[s0 - 1]:
-                        continue
-                    r, lr, r0 = rel_tail[s0:e0], L[s0:e0], rel[s0]
-                if not (r0 and r[0]):
-                    continue
-                m = int(np.argmin(r)) if not r.all() else r.size  # the tensile tail
-                if std:  # its nodes need not be tensile: keep at least half of the run
-                    m = min(m, max(1, length // 2))
-                k = m
-                if m < r.size and lr[m - 1] < 0 <= lr[m]:
-                    # the sign change, by linear interpolation (in nodes from the end)
-                    t0 = m - 1 + lr[m - 1] / (lr[m - 1] - lr[m])
-                    k = int(np.clip(np.rint(2.0 * t0) - m, 0, m))
-                k = max(0, min(k, length // 2 - m))  # keep at least half of the run
-                pos = np.arange(m + k)
-                idx = (e0 - 1 - pos) if end == 0 else (s0 + pos)
-                extra[idx] = out[idx]
-                out[idx] = False
-        res = new.copy()
-        res[o] = out
-        self._extra[o] |= extra
-        return res
+    def _tail_signal(self, lam: np.ndarray, ev: ContactEval) -> tuple[np.ndarray | None, bool]:
+        """What the extrapolated release reads: the multipliers, or for standard
+        mortar (whose multipliers alternate in sign at a too-wide edge) the
+        normal nodal forces, from whose sign the tail is taken."""
+        if self._module_name == "mortar" and not self.options.get("dual"):
+            if ev.G is None:
+                return None, True
+            return normal_nodal_force(ev.G, lam, self.slave.n_nodes), True
+        return lam, False
 
     def _watch_segments(self, seg: np.ndarray) -> None:
         """NTS vertex trap: lock a node whose master segment alternates a, b, a.
@@ -538,7 +373,7 @@ class ContactPair(Item):
         return self._hint
 
     def settled(self) -> bool:
-        return not self._changed
+        return not self.state.changed
 
     def begin_step(self, z: np.ndarray, load_factor: float) -> None:
         """Start (or retry) a step from the last converged active set; the first
@@ -549,12 +384,12 @@ class ContactPair(Item):
             ev = self.evaluate(z, tangent=False, with_lam=False)
             c = self._c(z, load_factor, ev)
             lam = np.asarray(z)[self.dofs]
-            self._converged = ev.mask & ((lam - c * ev.g >= 0)
-                                         | (self._gap_length(ev) <= self._touch))
+            self.state.converged = ev.mask & ((lam - c * ev.g >= 0)
+                                              | (self._gap_length(ev) <= self._touch))
             self._prefer_converged = None
         if self._x0 is None:  # later: kept from the last converged state (end_step)
             self._x0 = (self.slave.x(z), self.master.x(z))
-        self.active = self._converged.copy()
+        self.state.begin()
         self._prefer = self._prefer_converged
         self._lock = None if self._lock_converged is None else self._lock_converged.copy()
         self._seg_hist = []
@@ -564,25 +399,16 @@ class ContactPair(Item):
             self._sg = segment(self.slave.x(z), self.slave.segments, self.master.x(z),
                                self.master.segments, margin=self.options.get("margin"),
                                frozen=True)
-        self._initial = True
-        self._history = [self.active.copy()]
-        self._frozen = None
-        self._single_flip = False
-        self._extra[:] = False
-        self._accel_off = False
-        self._changed = False
-        self._changes = 0
-        self._cycles = 0
         self._locks = 0
 
     def end_step(self, z: np.ndarray, load_factor: float) -> None:
-        self._converged = self.active.copy()
+        self.state.end()
         self._x0 = (self.slave.x(z), self.master.x(z))
         self._prefer_converged = self._prefer
         if self._lock is not None and self._prefer is not None:
             # a lock lasts while the node stays on its segment (nts.LOCK_STICK)
             self._lock_converged = self._lock & (self._prefer >= 0)
-        if self._cycles:
+        if self.state.cycles:
             lam = np.asarray(z)[self.dofs]
             ev = self.evaluate(z, tangent=False, with_lam=False)
             act = self.active
@@ -595,8 +421,8 @@ class ContactPair(Item):
         """``n_active`` nodes, ``active_set_changes`` (node status flips summed over the
         step's iterations), ``active_set_cycles`` (times the cycling guard acted)
         and ``segment_locks`` (NTS nodes locked by the vertex-trap guard)."""
-        return {"n_active": int(self.active.sum()), "active_set_changes": self._changes,
-                "active_set_cycles": self._cycles, "segment_locks": self._locks}
+        return {"n_active": int(self.active.sum()), "active_set_changes": self.state.changes,
+                "active_set_cycles": self.state.cycles, "segment_locks": self._locks}
 
     # -- results -----------------------------------------------------------------
     def contact_data(self, z: np.ndarray) -> dict[str, np.ndarray]:

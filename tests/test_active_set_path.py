@@ -3,7 +3,7 @@
 Releasing only the tensile nodes of a too-wide Hertz zone halves its overshoot
 per iteration (the pressure of a zone forced to |x| < b changes sign at
 x0^2 = (a^2 + b^2) / 2), so the plain primal-dual active set update needs
-O(log(1/h)) iterations a step; ``ContactPair._extrapolate_release`` releases
+O(log(1/h)) iterations a step; ``ActiveSet.release`` (skfem_mortar/active_set.py) releases
 up to twice the distance to the sign change instead (standard mortar: the
 sign change of the normal nodal forces, as its multipliers alternate in sign).
 """
@@ -31,13 +31,13 @@ def _pair(method="nts", n=20):
 def _run(pair, first, last, lam_run):
     """Active run on chain positions first..last-1 with multipliers lam_run; returns
     the set after the plain rule (lam >= 0) and after the extrapolation."""
-    o = pair._chain
+    o = pair.state.chain
     pair.active = np.zeros(pair.n_dofs, dtype=bool)
     pair.active[o[first:last]] = True
     lam = np.zeros(pair.n_dofs)
     lam[o[first:last]] = lam_run
     plain = pair.active & (lam >= 0)
-    return plain, pair._extrapolate_release(plain.copy(), lam, _ev(pair))
+    return plain, pair.state.release(plain.copy(), lambda: pair._tail_signal(lam, _ev(pair)))
 
 
 def _ev(pair):
@@ -50,18 +50,18 @@ def _ev(pair):
 @pytest.mark.parametrize("method", ["nts", "mortar-dual", "mortar"])
 def test_kkt_point_is_a_fixed_point(method):
     pair = _pair(method)
-    assert pair._chain is not None
+    assert pair.state.chain is not None
     plain, out = _run(pair, 0, 12, np.linspace(3.0, 0.1, 12))  # no tensile node
     np.testing.assert_array_equal(out, plain)
     np.testing.assert_array_equal(out, pair.active)
-    assert not pair._extra.any()
+    assert not pair.state.extra.any()
 
 
 @pytest.mark.parametrize("method", ["nts", "mortar"])
 def test_tail_release_doubles_to_the_sign_change(method):
     """(standard mortar: the nodal forces of the unit-normal G above equal lam)"""
     pair = _pair(method)
-    o = pair._chain
+    o = pair.state.chain
     # run 0..15 (the chain start is no edge); tensile tail of 3 at the end,
     # sign change interpolated at t0 = 2.5 nodes from the end -> release 5
     lam_run = np.r_[np.linspace(4.0, 1.0, 13), -1.0, -2.0, -3.0][:16]
@@ -70,14 +70,14 @@ def test_tail_release_doubles_to_the_sign_change(method):
     plain, out = _run(pair, 0, 16, lam_run)
     assert plain[o].sum() == 13
     assert out[o].sum() == 11 and out[o[:11]].all()
-    assert pair._extra[o[11:13]].all() and pair._extra.sum() == 2
+    assert pair.state.extra[o[11:13]].all() and pair.state.extra.sum() == 2
     # an extrapolated node penetrates again: plain updates for the rest of the step
     pair.active = out
     new = out.copy()
     new[o[11]] = True
     lam = np.zeros(pair.n_dofs)
-    np.testing.assert_array_equal(pair._extrapolate_release(new.copy(), lam, _ev(pair)), new)
-    assert pair._accel_off
+    np.testing.assert_array_equal(pair.state.release(new.copy(), lambda: pair._tail_signal(lam, _ev(pair))), new)
+    assert pair.state.accel_off
 
 
 @pytest.mark.parametrize("method,before,most,total", [

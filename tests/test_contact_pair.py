@@ -115,9 +115,9 @@ def test_contact_item_tangent_fd(method):
     active = pair.active.copy()
 
     def R(zz):
-        pair._frozen = active  # same active set for the differences
+        pair.state.frozen = active  # same active set for the differences
         c = pair.assemble(zz, 1.0, tangent=False)
-        pair._frozen = None
+        pair.state.frozen = None
         return np.bincount(c.r_index, c.r_value, minlength=model.n)
 
     eps = 1e-7

@@ -546,7 +546,7 @@ def test_step_start_active_set_stays_in_mask(method):
     model = Model([b, pair])
     z = np.zeros(model.n)
     pair.begin_step(z, 1.0)                     # initial set, then pretend all were active
-    pair._converged = np.ones(pair.n_dofs, bool)
+    pair.state.converged = np.ones(pair.n_dofs, bool)
     pair.begin_step(z, 1.0)
     ev = pair.evaluate(z, tangent=False, with_lam=False)
     assert not ev.mask.all()
