@@ -28,11 +28,15 @@ from skfem_mortar.bench import PHASES, SIZES, _one, fit_slopes
 
 
 def run(args) -> None:
-    out = Path(args.out)
+    out = Path(args.out).resolve()
     out.mkdir(parents=True, exist_ok=True)
     if args.src:
+        src = str(Path(args.src).resolve())
         os.environ["PYTHONPATH"] = os.pathsep.join(
-            [str(Path(args.src).resolve())] + [p for p in [os.environ.get("PYTHONPATH")] if p])
+            [src] + [p for p in [os.environ.get("PYTHONPATH")] if p])
+        # the workers run ``python -c``, whose sys.path starts with the current
+        # directory: inside a checkout that is the checkout's package, not src's
+        os.chdir(src)
     sizes = {s: SIZES[s] for s in args.scene}
     with open(out / "rows.jsonl", "a") as f:
         for scene, table in sizes.items():
