@@ -12,28 +12,33 @@ import pytest  # noqa: E402
 _RECORD = os.environ.get("SKFEM_MORTAR_RECORD")
 
 
-@pytest.fixture(autouse=True)
-def _record_load_steps(request, monkeypatch):
-    """Counts, per test, the attempts of load steps (``stepping.newton_step``):
-    converged steps, Newton iterations per converged step and failed attempts
-    (step cuts).  Active only when ``SKFEM_MORTAR_RECORD`` names a file."""
+_CURRENT: dict = {"iterations": [], "cuts": 0}
+
+
+def pytest_configure(config):
+    """With ``SKFEM_MORTAR_RECORD``: count the attempts of load steps
+    (``stepping.newton_step``) of every test, including those of the
+    module-scoped fixtures its set-up runs: converged steps, Newton iterations
+    per converged step, failed attempts (step cuts)."""
     if not _RECORD:
-        yield
         return
     import skfem_mortar.stepping as stepping
-    seen = {"iterations": [], "cuts": 0}
     real = stepping.newton_step
 
     def counting(*args, **kwargs):
         rep = real(*args, **kwargs)
         if rep.converged:
-            seen["iterations"].append(rep.iterations)
+            _CURRENT["iterations"].append(rep.iterations)
         else:
-            seen["cuts"] += 1
+            _CURRENT["cuts"] += 1
         return rep
-    monkeypatch.setattr(stepping, "newton_step", counting)
-    request.node._load_steps = seen  # filled during the call, read by the report hook
-    yield
+    stepping.newton_step = counting
+
+
+@pytest.hookimpl(tryfirst=True)
+def pytest_runtest_setup(item):
+    global _CURRENT
+    _CURRENT = item._load_steps = {"iterations": [], "cuts": 0}
 
 
 @pytest.hookimpl(hookwrapper=True)
