@@ -40,6 +40,7 @@ import numpy as np
 from .active_set import ActiveSet, chain_order, normal_nodal_force
 from .contact_eval import ContactEval
 from .model import Contribution, Item
+from .nts import failure_hints, vertex_trap
 
 __all__ = ["ContactPair", "METHODS"]
 
@@ -126,26 +127,9 @@ class ContactPair(Item):
             slave.X[:, slave.segments], axis=2)[:, :, 0])))
         self._row_scale: float | None = None
         self._pinned: np.ndarray | None = None
-        self._hint = ""
-        if mod == "nts" and master.body is not None:
-            hs = float(np.median(np.hypot(*np.diff(slave.X[:, slave.segments], axis=2)[:, :, 0])))
-            hm = float(np.median(np.hypot(*np.diff(master.X[:, master.segments],
-                                                   axis=2)[:, :, 0])))
-            if hs > 1.2 * hm:
-                self._hint = (f"{name}: the NTS slave surface is coarser than the master "
-                              f"(median segment lengths {hs:.3g} > {hm:.3g}); single-pass NTS "
-                              f"then pushes point forces into dents of the master and lets "
-                              f"master nodes pass through the slave: make the finer surface "
-                              f"the slave, or refine the slave, or use mortar")
-                log.info("%s", self._hint)
-        ls = np.hypot(*np.diff(slave.X[:, slave.segments], axis=2)[:, :, 0])
-        if mod == "nts" and ls.min() < 1e-4 * np.median(ls):
-            tiny = (f"{name}: slave segments of nearly coincident nodes (shortest "
-                    f"{ls.min():.3g}, median {np.median(ls):.3g}): their NTS constraints are "
-                    f"nearly redundant and the saddle-point system nearly singular; merge "
-                    f"the nodes or use mortar")
-            self._hint = "; ".join(h for h in (self._hint, tiny) if h)
-            log.info("%s", tiny)
+        self._hint = failure_hints(slave, master, name) if mod == "nts" else ""
+        if self._hint:
+            log.info("%s", self._hint)
         self.state = ActiveSet(self.n_dofs, chain_order(slave.segments, slave.closed,
                                                         slave.n_nodes),
                                name, cycle_guard=cycle_guard, accelerate=accelerate)
@@ -331,31 +315,14 @@ class ContactPair(Item):
         return lam, False
 
     def _watch_segments(self, seg: np.ndarray) -> None:
-        """NTS vertex trap: lock a node whose master segment alternates a, b, a.
-
-        At a reflex vertex of the deformed master (the master body locally
-        concave, e.g. dented by the slave), the equilibrium of a slave node
-        with the normal of segment ``a`` can lie beyond the vertex on ``b`` and
-        the one with the normal of ``b`` before the vertex on ``a``: the
-        single-segment NTS gap has no solution there, the node's projection
-        jumps between the two segments in every Newton iteration (the
-        ``seed`` scene, nts, ``refine_cushion=3``: residual alternating
-        0.42 / 0.29 for 25 iterations).  Once a node repeats a segment of two
-        iterations ago, it is locked onto it for the rest of the step attempt
-        and the following steps, while its parameter on that segment stays in
-        ``[-0.5, 1.5]`` (:data:`skfem_mortar.nts.LOCK_STICK`); its projection
-        continues on the segment's extension line, so its gap is that of the
-        extended segment, off by at most the overshoot times the kink angle.
-        """
-        seg = np.asarray(seg)
-        self._seg_hist = (self._seg_hist + [seg.copy()])[-3:]
-        if len(self._seg_hist) < 3:
+        """NTS vertex trap: lock a node whose master segment alternates a, b, a
+        (:func:`skfem_mortar.nts.vertex_trap`)."""
+        self._seg_hist = (self._seg_hist + [np.asarray(seg).copy()])[-3:]
+        new = vertex_trap(self._seg_hist, self._lock)
+        if new is None:
             return
-        s2, s1, s0 = self._seg_hist
-        trap = (s0 == s2) & (s0 != s1) & (s0 >= 0) & (s1 >= 0)
         if self._lock is None:
-            self._lock = np.zeros(seg.shape, dtype=bool)
-        new = trap & ~self._lock
+            self._lock = np.zeros(new.shape, dtype=bool)
         if new.any():
             self._locks += int(new.sum())
             log.info("%s: %d slave node(s) alternate between two master segments; "
