@@ -158,6 +158,7 @@ class ContactPair(Item):
     def evaluate(self, z: np.ndarray, tangent: bool = True, with_lam: bool = True) -> ContactEval:
         """The discretization's :class:`ContactEval` at ``z``."""
         lam = np.asarray(z)[self.dofs] if with_lam else None
+        xs, xm = self.slave.x(z), self.master.x(z)
         extra: dict = {}
         if self.method == "nts" and self._prefer is not None:
             extra["prefer"] = self._prefer
@@ -167,26 +168,25 @@ class ContactPair(Item):
             extra["segmentation"] = self._sg
         elif (self._module_name == "mortar" and "margin" not in self.options
               and self._x0 is not None):
-            extra["reach"] = self._reach(z)
+            extra["reach"] = self._reach(xs, xm)
         if (self._module_name == "mortar" and self._pinned is not None
                 and self._pinned.any()):
             # mortar: the pinned node's multiplier is merged into its neighbour's
             # (crosspoint), so the multipliers still sum to one on its elements
             extra["crosspoints"] = np.flatnonzero(self._pinned)
-        ev = self.module.evaluate(self.slave.x(z), self.slave.segments,
-                                  self.master.x(z), self.master.segments,
+        ev = self.module.evaluate(xs, self.slave.segments, xm, self.master.segments,
                                   lam=lam, tangent=tangent, **extra, **self.options)
         if self._pinned is not None and self._pinned.any():
             ev.mask = ev.mask & ~self._pinned
         return ev
 
-    def _reach(self, z: np.ndarray) -> float:
+    def _reach(self, xs: np.ndarray, xm: np.ndarray) -> float:
         """Largest motion of a slave node plus that of a master node since the last
         converged state: a node open there can penetrate at most this deep,
         so the mortar search adds it to its local margin (the element lengths)."""
         xs0, xm0 = self._x0
-        ds = np.abs(self.slave.x(z) - xs0).max(initial=0.0)
-        dm = np.abs(self.master.x(z) - xm0).max(initial=0.0)
+        ds = np.abs(xs - xs0).max(initial=0.0)
+        dm = np.abs(xm - xm0).max(initial=0.0)
         return float(np.sqrt(2.0) * (ds + dm))
 
     def set_fixed(self, fixed: np.ndarray) -> None:

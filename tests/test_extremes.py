@@ -145,6 +145,19 @@ def _bottom_supports(bottom):
                       name="sx")]
 
 
+def _pressed(top, bottom, method, q):
+    """The top block pressed by ``q`` onto the supported bottom one (its top-left
+    corner held in x); returns ``(model, pair)``."""
+    pair = ContactPair(ContactSurface.from_solid(top, "bottom"),
+                       ContactSurface.from_solid(bottom, "top"), method)
+    corner = _corner(top, 0, top.X[1].max())
+    model = Model([top, bottom, pair,
+                   FollowerPressure(top, q, facets="top", side="inward"),
+                   Dirichlet(top, top.dofs_at_nodes([corner], "x"), 0.0, name="tx"),
+                   *_bottom_supports(bottom)])
+    return model, pair
+
+
 @pytest.mark.parametrize("method", METHODS)
 def test_initial_penetration_is_removed_in_the_first_step(method):
     """The top block starts 0.01 (2 % of its height) inside the lower one.
@@ -156,12 +169,7 @@ def test_initial_penetration_is_removed_in_the_first_step(method):
     """
     q = 1e4
     bottom, top = _blocks(0.5 - 0.01, n_top=4, n_bottom=4)
-    pair = ContactPair(ContactSurface.from_solid(top, "bottom"),
-                       ContactSurface.from_solid(bottom, "top"), method)
-    model = Model([top, bottom, pair,
-                   FollowerPressure(top, q, facets="top", side="inward"),
-                   Dirichlet(top, top.dofs_at_nodes([_corner(top, 0, 0.99)], "x"), 0.0,
-                             name="tx"), *_bottom_supports(bottom)])
+    model, pair = _pressed(top, bottom, method, q)
     res = solve(model, 1)
     d = pair.contact_data(res.z)
     assert np.max(np.abs(d["pressure"] - q)) / q < 1e-9
@@ -391,12 +399,7 @@ def _tiny_segment_case(method, tiny):
     p[0, col] = tiny * 0.25
     top = Solid(MeshQuad(p, top.mesh.t).with_defaults(), NeoHooke(E=1e6, nu=0.0),
                 element="quad1", name="top")
-    pair = ContactPair(ContactSurface.from_solid(top, "bottom"),
-                       ContactSurface.from_solid(bottom, "top"), method)
-    model = Model([top, bottom, pair,
-                   FollowerPressure(top, q, facets="top", side="inward"),
-                   Dirichlet(top, top.dofs_at_nodes([_corner(top, 0, 1.0)], "x"), 0.0,
-                             name="tx"), *_bottom_supports(bottom)])
+    model, pair = _pressed(top, bottom, method, q)
     res = solve(model, 1)
     f = pair.forces(res.z)[0].sum(axis=1)
     # total contact force on the top block = q x width upwards (its equilibrium)
