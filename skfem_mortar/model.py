@@ -134,6 +134,18 @@ class Item:
         """Numbers to keep per converged step (e.g. ``n_active``)."""
         return {}
 
+    # -- checkpoint ---------------------------------------------------------
+    def state_dict(self) -> dict[str, np.ndarray]:
+        """Everything of the item that shapes the next load step (active sets,
+        segment preferences, scales), as named arrays for a checkpoint; ``{}``
+        for a stateless item.  ``load_state_dict(state_dict())`` restores it."""
+        return {}
+
+    def load_state_dict(self, state: dict[str, np.ndarray]) -> None:
+        """Restore what :meth:`state_dict` returned (ValueError if it does not fit)."""
+        if state:
+            raise ValueError(f"{self.name}: this item keeps no state, got {sorted(state)}")
+
     @property
     def dofs(self) -> slice:
         """Global slice of the unknowns this item owns."""
@@ -241,6 +253,11 @@ class Model:
 
     def zeros(self) -> np.ndarray:
         return np.zeros(self.n)
+
+    # -- checks --------------------------------------------------------------
+    def preflight(self, z: np.ndarray, load_factor: float, fixed: np.ndarray) -> None:
+        """Refuse, before the first load step, a model that cannot work (ValueError
+        naming the item and the fix)."""
 
     # -- assembly ----------------------------------------------------------
     def prescribed(self, load_factor: float) -> tuple[np.ndarray, np.ndarray]:

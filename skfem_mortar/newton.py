@@ -91,7 +91,8 @@ def _round_off_floor(scale: float) -> float:
 
 def newton(model: Model, z: np.ndarray, load_factor: float, free: np.ndarray,
            fixed: np.ndarray, dz_fixed: np.ndarray,
-           options: NewtonOptions | None = None) -> NewtonReport:
+           options: NewtonOptions | None = None,
+           start: tuple[np.ndarray, float] | None = None) -> NewtonReport:
     """Solve one load step in place on ``z``.
 
     Parameters
@@ -107,6 +108,9 @@ def newton(model: Model, z: np.ndarray, load_factor: float, free: np.ndarray,
     dz_fixed : ndarray
         Increment of the prescribed values over the step.
     options : NewtonOptions
+    start : (z, load_factor), optional
+        The converged state the step starts from and its load factor (default:
+        ``z`` itself at ``load_factor``).
     """
     opt = options or NewtonOptions()
     report = NewtonReport(False, 0)

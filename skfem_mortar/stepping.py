@@ -197,6 +197,7 @@ def solve(model: Model, n_steps: int = 1, *, newton_options: NewtonOptions | Non
         raise ValueError(f"z0 must have shape ({model.n},), got {z.shape}")
     fixed, values = model.prescribed(start)
     z[fixed] = values
+    model.preflight(z, start, fixed)  # refuse what cannot work before the first step
     result = Result(model, steps=list(history or []), states=[z.copy()])
     nominal = 1.0 / n_steps
     lf, dlf = start, (increment or nominal)
@@ -222,7 +223,8 @@ def solve(model: Model, n_steps: int = 1, *, newton_options: NewtonOptions | Non
                 if hasattr(item, "set_fixed"):  # e.g. contact pairs drop pinned slave nodes
                     item.set_fixed(fixed)
                 item.begin_step(trial, target)
-            rep: NewtonReport = newton_step(model, trial, target, free, fixed, dz_fixed, opts)
+            rep: NewtonReport = newton_step(model, trial, target, free, fixed, dz_fixed, opts,
+                                            start=(z, lf))
             result.solve_time += rep.solve_time
             if rep.converged:
                 z = trial
