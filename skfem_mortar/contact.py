@@ -384,6 +384,59 @@ class ContactPair(Item):
             log.warning("%s: step converged after the cycling guard acted; KKT violation: "
                         "max tension %.3e, max penetration %.3e", self.name, tension, pen)
 
+    # -- checkpoint --------------------------------------------------------------
+    def state_dict(self) -> dict[str, np.ndarray]:
+        """What shapes the next load step: the converged active set, the
+        complementarity parameter ``c`` and the row scale, the contact node
+        positions at the last converged state (the search reach), the NTS
+        segment preferences and locks.  Missing entries are ``[]`` (not set yet)."""
+        def arr(a, dtype=float):
+            return np.zeros(0, dtype=dtype) if a is None else np.asarray(a, dtype=dtype).copy()
+        return {"started": np.array(self._started),
+                "active": self.state.converged.copy(),
+                "c": arr(None if self.c is None else [self.c]),
+                "row_scale": arr(None if self._row_scale is None else [self._row_scale]),
+                "x0_slave": arr(None if self._x0 is None else self._x0[0]),
+                "x0_master": arr(None if self._x0 is None else self._x0[1]),
+                "prefer": arr(self._prefer_converged, np.int64),
+                "lock": arr(self._lock_converged, bool)}
+
+    def load_state_dict(self, state: dict[str, np.ndarray]) -> None:
+        """Restore :meth:`state_dict` (ValueError naming the entry that does not fit)."""
+        need = set(self.state_dict())
+        if set(state) != need:
+            raise ValueError(f"{self.name}: checkpoint state has entries {sorted(state)}, "
+                             f"expected {sorted(need)}")
+        ns, nm = self.slave.n_nodes, self.master.n_nodes
+        shapes = {"active": [(ns,)], "c": [(0,), (1,)], "row_scale": [(0,), (1,)],
+                  "x0_slave": [(0,), (2, ns)], "x0_master": [(0,), (2, nm)],
+                  "prefer": [(0,), (ns,)], "lock": [(0,), (ns,)], "started": [()]}
+        for k, ok in shapes.items():
+            a = np.asarray(state[k])
+            if a.shape not in ok:
+                raise ValueError(f"{self.name}: checkpoint entry {k!r} has shape {a.shape}, "
+                                 f"expected one of {ok}")
+            if a.dtype.kind == "f" and not np.all(np.isfinite(a)):
+                raise ValueError(f"{self.name}: checkpoint entry {k!r} is not finite")
+        for k in ("c", "row_scale"):
+            if state[k].size and not state[k][0] > 0:
+                raise ValueError(f"{self.name}: checkpoint entry {k!r} must be > 0, "
+                                 f"got {state[k][0]}")
+        if state["prefer"].size and (state["prefer"].min() < -1
+                                     or state["prefer"].max() >= len(self.master.segments)):
+            raise ValueError(f"{self.name}: checkpoint entry 'prefer' indexes no master segment")
+        self._started = bool(state["started"])
+        self.state.converged = np.asarray(state["active"], dtype=bool).copy()
+        self.c = float(state["c"][0]) if state["c"].size else None
+        self._row_scale = float(state["row_scale"][0]) if state["row_scale"].size else None
+        self._x0 = ((np.array(state["x0_slave"], dtype=float),
+                     np.array(state["x0_master"], dtype=float))
+                    if state["x0_slave"].size else None)
+        self._prefer_converged = (np.array(state["prefer"], dtype=np.int64)
+                                  if state["prefer"].size else None)
+        self._lock_converged = (np.array(state["lock"], dtype=bool)
+                                if state["lock"].size else None)
+
     def step_info(self) -> dict:
         """``n_active`` nodes, ``active_set_changes`` (node status flips summed over the
         step's iterations), ``active_set_cycles`` (times the cycling guard acted)
