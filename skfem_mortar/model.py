@@ -124,7 +124,8 @@ class Item:
         """Called before each attempt of a load step (``z`` is the last converged state)."""
 
     def end_step(self, z: np.ndarray, load_factor: float) -> None:
-        """Called once a load step has converged."""
+        """Called once a load step has converged.  May clean its own unknowns in
+        ``z`` in place (a contact pair sets its inactive multipliers to exact 0)."""
 
     def settled(self) -> bool:
         """False while the item's discrete state (an active set) still changes."""
@@ -133,6 +134,15 @@ class Item:
     def step_info(self) -> dict:
         """Numbers to keep per converged step (e.g. ``n_active``)."""
         return {}
+
+    def violation(self, z: np.ndarray, scale: float) -> str:
+        """Why ``z`` violates the item's own conditions ("" if it does not).
+
+        Asked by Newton once the residual has passed its test; a non-empty
+        answer makes the attempt fail (the step is cut), never a converged
+        step.  ``scale`` is the step's force scale (newton module docstring).
+        """
+        return ""
 
     # -- checkpoint ---------------------------------------------------------
     def state_dict(self) -> dict[str, np.ndarray]:

@@ -11,11 +11,24 @@ first iteration through the consistent predictor ``K_ff dz_f = -(R_f + K_fp dz_p
 so that a large boundary displacement does not invert the elements next to
 the boundary before the interior has followed.
 
-Convergence: ``||R_f|| <= rtol * scale`` where ``scale`` is the largest of the
-first residual norm of the step and the current largest single item's residual
-norm (a force scale of the problem, so the test is unit-free), and every item is
-*settled* (no active set change in the last iteration). An iteration whose
-residual exceeds ``divergence`` times the step's first scale is divergent.
+Convergence (a step is reported converged only when all three hold):
+
+(a) equilibrium: ``|| max(|R_f| - floor, 0) || <= max(rtol * S, atol)`` with the step's force
+    scale ``S = max(||R_f(z0, lf1) - R_f(z0, lf0)||, ||K_fp dz_p||)`` (the
+    external load increment over the step and the stiffness times the
+    prescribed increment, both at the converged start state ``z0``), fixed
+    before the first iteration from data only, so a blown-up iterate cannot
+    inflate it; ``floor`` is each row's round-off of the stiffness scale,
+    ``ROUND_OFF * eps * max_j |K_ij| * L`` (``L`` the largest coordinate), so
+    a residual that is round-off in every row passes;
+(b) every item is *settled* (no active set change in the last iteration) and
+    reports no violation of its own conditions (:meth:`Item.violation`, e.g.
+    the contact pair's KKT conditions, to the tolerances it states);
+(c) every unknown is finite.
+
+A stalled residual is accepted at round-off only below ``STAGNATION_RESIDUAL * S``
+(see :func:`_stagnated_at_round_off`).  An iteration whose residual exceeds
+``divergence`` times the step's scale is divergent.
 """
 from __future__ import annotations
 
@@ -45,7 +58,9 @@ class NewtonOptions:
     rtol : float
         Relative residual tolerance, in (0, 1).
     atol : float
-        Absolute residual tolerance (>= 0); 0 means unit-free, relative only.
+        Absolute residual tolerance (>= 0, a force): the test is
+        ``|| max(|R_f| - floor, 0) || <= max(rtol * S, atol)``; 0 (default)
+        means the step's force scale ``S`` and the round-off floor alone.
     line_search : bool
         Backtracking on the residual norm (halving, Armijo factor 1e-4).
     max_backtracks : int
@@ -67,8 +82,13 @@ class NewtonOptions:
             raise ValueError(f"max_iter must be an integer >= 1, got {self.max_iter!r}")
         if not (0.0 < self.rtol < 1.0):
             raise ValueError(f"rtol must lie in (0, 1), got {self.rtol!r}")
-        if not self.atol >= 0.0:
-            raise ValueError(f"atol must be >= 0, got {self.atol!r}")
+        if not (np.isfinite(self.atol) and self.atol >= 0.0):
+            raise ValueError(f"atol must be a finite number >= 0, got {self.atol!r}")
+        if not (np.isfinite(self.divergence) and self.divergence > 1.0):
+            raise ValueError(f"divergence must be a finite number > 1, got {self.divergence!r}")
+        if not (isinstance(self.max_backtracks, (int, np.integer)) and self.max_backtracks >= 0):
+            raise ValueError(f"max_backtracks must be an integer >= 0, "
+                             f"got {self.max_backtracks!r}")
 
 
 @dataclass
@@ -82,11 +102,55 @@ class NewtonReport:
     solve_time: float = 0.0
     inversion_cuts: int = 0
     roundoff: bool = False
+    #: the step's force scale S, the residual tolerance it gave, and the norm
+    #: of the rows' round-off floor
+    scale: float = 0.0
+    tolerance: float = 0.0
+    floor: float = 0.0
 
 
-def _round_off_floor(scale: float) -> float:
-    # residuals summed from O(n) terms of size `scale` cannot be trusted below this
-    return 1e3 * np.finfo(float).eps * scale
+#: factor of the round-off floor of a row, ``ROUND_OFF * eps * max_j |K_ij| * L``:
+#: the force in row i carries a round-off of about ``eps max_j |K_ij| L``
+#: (positions x = X + u are known to ``eps L``, and the row's largest stiffness
+#: turns that into a force); summed over the few elements at a node, 100 times
+#: that is the level below which a row's residual is noise
+ROUND_OFF = 1e2
+
+
+def round_off_floor(model: Model, z: np.ndarray, K, free: np.ndarray) -> np.ndarray:
+    """Per free row, ``ROUND_OFF * eps * max_j |K_ij| * L``: the residual below
+    which the row's force is round-off (``L`` the largest coordinate of a body
+    node at ``z``).  Per row, so that a body 1e6 times stiffer than another
+    does not lend its round-off to the soft body's rows."""
+    length = 0.0
+    for body in model.bodies:
+        x = getattr(body, "x", None)
+        if x is not None:
+            length = max(length, float(np.max(np.abs(x(z)), initial=0.0)))
+    Kf = abs(K[free][:, free])
+    k_row = np.asarray(Kf.max(axis=1).todense()).ravel() if Kf.nnz else np.zeros(free.size)
+    return ROUND_OFF * np.finfo(float).eps * length * k_row
+
+
+def excess_norm(Rf: np.ndarray, floor: np.ndarray) -> float:
+    """``|| max(|R_i| - floor_i, 0) ||``: the residual beyond each row's round-off."""
+    return float(np.linalg.norm(np.maximum(np.abs(Rf) - floor, 0.0)))
+
+
+def step_scale(model: Model, z0: np.ndarray, lf0: float, lf1: float, free: np.ndarray,
+               K_dz_fixed: np.ndarray | None) -> float:
+    """The step's force scale ``S = max(||R_f(z0, lf1) - R_f(z0, lf0)||, ||K_fp dz_p||)``.
+
+    The first term is the external load increment at the converged start
+    state (only loads depend on the load factor; trial evaluations, so no
+    item's state changes), the second the force of the prescribed increment.
+    """
+    R1, _, _ = model.assemble(z0, lf1, tangent=False)
+    R0, _, _ = model.assemble(z0, lf0, tangent=False)
+    s = float(np.linalg.norm(R1[free] - R0[free]))
+    if K_dz_fixed is not None:
+        s = max(s, float(np.linalg.norm(K_dz_fixed)))
+    return s if np.isfinite(s) else np.inf
 
 
 def newton(model: Model, z: np.ndarray, load_factor: float, free: np.ndarray,
@@ -110,43 +174,47 @@ def newton(model: Model, z: np.ndarray, load_factor: float, free: np.ndarray,
     options : NewtonOptions
     start : (z, load_factor), optional
         The converged state the step starts from and its load factor (default:
-        ``z`` itself at ``load_factor``).
+        ``z`` itself at ``load_factor``): the step's force scale is taken there.
     """
     opt = options or NewtonOptions()
     report = NewtonReport(False, 0)
-    ref = 0.0
+    z0, lf0 = (z.copy(), load_factor) if start is None else start
+    ref = tol = 0.0
+    floor = np.zeros(free.size)
     last: tuple[np.ndarray, float] | None = None  # the last update (dz_f, alpha)
     for it in range(opt.max_iter + 1):
         try:
-            R, K, scale = _assemble_damped(model, z, load_factor, free, last, opt, report)
+            R, K, _ = _assemble_damped(model, z, load_factor, free, last, opt, report)
         except InversionError as exc:
             report.reason = f"inversion: {exc}"
             return report
-        if it == 0 and fixed.size:
-            Rf = R[free] + K[free][:, fixed] @ dz_fixed
-        else:
-            Rf = R[free]
+        K_dz = K[free][:, fixed] @ dz_fixed if (it == 0 and fixed.size) else None
+        Rf = R[free] + K_dz if K_dz is not None else R[free]
         rnorm = float(np.linalg.norm(Rf))
         report.residual_norms.append(rnorm)
         if not np.isfinite(rnorm):
             report.reason = "non-finite residual"
             return report
-        if it == 0:
-            ref = max(rnorm, scale)  # fixed for the step: the divergence yardstick
-        current = max(ref, scale)
-        settled = all(item.settled() for item in model.items)
-        tol = max(opt.rtol * current, opt.atol, _round_off_floor(current))
+        if it == 0:  # the step's yardsticks, from data only (module docstring)
+            report.scale = step_scale(model, z0, lf0, load_factor, free, K_dz)
+            floor = round_off_floor(model, z0, K, free)
+            tol = report.tolerance = max(opt.rtol * report.scale, opt.atol)
+            report.floor = float(np.linalg.norm(floor))
+            ref = max(rnorm, report.scale, report.floor)
         if it > 0 or not fixed.size:
-            if rnorm <= tol and settled:
-                report.converged = True
+            settled = all(item.settled() for item in model.items)
+            done = settled and excess_norm(Rf, floor) <= tol
+            if not done and settled and _stagnated_at_round_off(model, z, free, last, report,
+                                                                report.scale):
+                log.info("residual %.3e stagnates at round-off (tolerance %.3e)", rnorm, tol)
+                report.roundoff = done = True
+            if done:
                 report.iterations = it
-                return report
-            if settled and _stagnated_at_round_off(model, z, free, last, report, current):
-                log.info("residual %.3e stagnates at round-off (tolerance %.3e): converged",
-                         rnorm, tol)
-                report.converged = True
-                report.roundoff = True
-                report.iterations = it
+                report.reason = _violations(model, z, max(report.scale, report.floor))
+                report.converged = not report.reason
+                if report.reason:
+                    report.roundoff = False
+                    log.info("residual converged, but %s", report.reason)
                 return report
         if it == opt.max_iter:
             report.reason = f"no convergence in {opt.max_iter} iterations"
@@ -175,6 +243,14 @@ def newton(model: Model, z: np.ndarray, load_factor: float, free: np.ndarray,
     return report  # pragma: no cover (loop always returns)
 
 
+def _violations(model: Model, z: np.ndarray, scale: float) -> str:
+    """Why a state whose residual passed is still not a solution ("" if none):
+    a non-finite unknown, or an item's own conditions (:meth:`Item.violation`)."""
+    if not np.all(np.isfinite(z)):
+        return "non-finite unknowns"
+    return "; ".join(m for m in (item.violation(z, scale) for item in model.items) if m)
+
+
 #: relative size of the last Newton update below which it is round-off (both blocks)
 STAGNATION_UPDATE = 1e-7
 #: a stagnating residual is accepted only below this fraction of the force scale
@@ -186,12 +262,12 @@ def _stagnated_at_round_off(model: Model, z: np.ndarray, free: np.ndarray,
                             current: float) -> bool:
     """Round-off safeguard: the residual no longer decreases and the iterate no longer moves.
 
-    The floor :func:`_round_off_floor` is relative to the force scale; with
+    The floor :func:`round_off_floor` holds the stiffness scale; with
     a body ``1e6`` times stiffer than the other (the patch test at a stiffness
     ratio of 1e6) the internal forces carry a round-off of ``eps E h``, far
     above it, and the residual stalls there.  Accepted as converged when
     (all of) the active set is settled, the residual is below
-    ``STAGNATION_RESIDUAL`` times the force scale and did not halve over the
+    ``STAGNATION_RESIDUAL`` times the step's force scale and did not halve over the
     last two iterations, and the last update was below ``STAGNATION_UPDATE``
     of the current unknowns, separately for the displacements and the
     multipliers (each block relative to itself: unit-free).

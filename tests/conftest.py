@@ -14,6 +14,10 @@ _RECORD = os.environ.get("SKFEM_MORTAR_RECORD")
 
 _CURRENT: dict = {"iterations": [], "cuts": 0}
 
+#: ``SKFEM_MORTAR_REQUIRE_EXTRAS=1`` (CI's second step, after installing
+#: ``[fast,distributed]``): a test skipped for a missing extra is a failure
+_REQUIRE_EXTRAS = bool(os.environ.get("SKFEM_MORTAR_REQUIRE_EXTRAS"))
+
 
 def pytest_configure(config):
     """With ``SKFEM_MORTAR_RECORD``: count the attempts of load steps
@@ -45,6 +49,11 @@ def pytest_runtest_setup(item):
 def pytest_runtest_makereport(item, call):
     outcome = yield
     rep = outcome.get_result()
+    if _REQUIRE_EXTRAS and rep.skipped and call.excinfo is not None:
+        why = str(call.excinfo.value)
+        if "not installed" in why or "could not import" in why:
+            rep.outcome = "failed"
+            rep.longrepr = f"an extra is required here but missing: {why}"
     if not _RECORD or rep.when != "call":
         return
     seen = getattr(item, "_load_steps", None) or {"iterations": [], "cuts": 0}
@@ -52,3 +61,4 @@ def pytest_runtest_makereport(item, call):
         f.write(json.dumps({"test": item.nodeid, "outcome": rep.outcome,
                             "doc": (item.function.__doc__ or "").strip().split("\n")[0],
                             **seen}) + "\n")
+

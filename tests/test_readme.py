@@ -16,3 +16,11 @@ def test_readme_test_command_is_what_ci_runs():
     ci = (README.parent / ".ci" / "run").read_text()
     cmd = re.search(r"Run the tests.*?\n\n\s+(.+?)\n", README.read_text(), re.S).group(1)
     assert cmd.strip() in ci
+
+
+def test_readme_install_command_is_what_ci_runs():
+    """CI's first step is a newcomer's: the README's install command, verbatim."""
+    ci = (README.parent / ".ci" / "run").read_text()
+    cmd = re.search(r"Install and run the demo.*?\n\n\s+(.+?)\n", README.read_text(), re.S).group(1)
+    assert "pip install" in cmd
+    assert cmd.strip() in ci
