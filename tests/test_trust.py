@@ -179,3 +179,29 @@ def test_round_off_floor_is_per_row():
     np.testing.assert_allclose(floor, 100 * eps * np.array([1, 1, 1e8, 1e8]), rtol=1e-12)
     assert excess_norm(np.array([0, 0, 1e-9, 0]), floor) == 0.0
     assert excess_norm(np.array([1e-9, 0, 0, 0]), floor) > 0.0
+
+
+@pytest.mark.parametrize("method", METHODS)
+def test_a_forced_active_set_that_violates_kkt_is_cut(method, monkeypatch):
+    """The class of 'accepted after the cycling guard acted': a safeguard that
+    imposes an active set (here every node facing the master, as a frozen union
+    of a cycle would) on a block that is lifted off.  The
+    residual converges for that set, but the nodes that should open carry
+    tension or sit on an open gap: never reported converged."""
+    from skfem_mortar.active_set import ActiveSet
+
+    def forced(self, plain, mask, track, signal=None):
+        if track:
+            self.changed = not np.array_equal(mask, self.active)
+            self.active = mask.copy()
+        return mask.copy()
+
+    monkeypatch.setattr(ActiveSet, "update", forced)
+    # the upper block starts touching and is lifted by 0.01: every node should open
+    model, pair = blocks(method, gap=0.0, offset=0.2, depth=-0.01)
+    with pytest.raises(ConvergenceError, match="KKT violated.*tension"):
+        solve(model, n_steps=1, min_step=0.5)
+    monkeypatch.undo()  # the plain update opens every node: converged, no pressure
+    model, pair = blocks(method, gap=0.0, offset=0.2, depth=-0.01)
+    result = solve(model, n_steps=1)
+    assert not pair.active.any() and np.all(result.z[pair.dofs] == 0.0)
