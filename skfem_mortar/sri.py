@@ -32,7 +32,10 @@ from .materials import NeoHooke
 from .model import Contribution
 from .solid import Solid, internal_force, material_stiffness
 
-__all__ = ["SRISolid", "split_to_quads", "volumetric_stress_and_tangent"]
+__all__ = ["SRISolid", "split_to_quads", "volumetric_stress_and_tangent", "ONE_POINT"]
+
+#: the one-point Gauss rule of the reference square [0, 1]^2: (points, weights)
+ONE_POINT = (np.array([[0.5], [0.5]]), np.array([1.0]))
 
 
 def volumetric_stress_and_tangent(F: np.ndarray, lmbda: float, tangent: bool = True):
@@ -82,7 +85,10 @@ class SRISolid(Solid):
                          name=name)
         self.full_material = material
         self.lmbda = float(material.lmbda)
-        self.vbasis = Basis(mesh, ElementVector(ElementQuad1()), intorder=1)
+        # one point at the centre of the reference square [0, 1]^2, weight 1:
+        # scikit-fem gives quads 2 x 2 points for every intorder, so the rule
+        # is passed explicitly (intorder=1 gave 4 points: plain quad1, locking)
+        self.vbasis = Basis(mesh, ElementVector(ElementQuad1()), quadrature=ONE_POINT)
 
     def assemble(self, z: np.ndarray, load_factor: float, tangent: bool = True
                  ) -> Contribution:
