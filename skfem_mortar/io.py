@@ -84,6 +84,15 @@ def _points3(points: np.ndarray) -> np.ndarray:
     return points
 
 
+def _vectors3(arr: np.ndarray) -> np.ndarray:
+    """A point field of 2D vectors ``(N, 2)`` as ``(N, 3)`` with a zero z column;
+    anything else unchanged."""
+    arr = np.asarray(arr)
+    if arr.ndim == 2 and arr.shape[1] == 2:
+        return np.column_stack([arr, np.zeros(arr.shape[0], dtype=arr.dtype)])
+    return arr
+
+
 def _check_finite_fields(point_data: dict, cell_data: dict, t: float) -> None:
     for name, arr in list(point_data.items()) + [(k, a) for k, v in cell_data.items()
                                                  for a in v]:
@@ -131,6 +140,8 @@ class SeriesWriter:
         index = len(self.frames) if index is None else index
         del self.frames[index:]
         rel = f"{self.name}/{self.name}_{index:04d}.vtu"
+        # ParaView's Warp By Vector takes 3-component vectors: 2D vectors get z = 0
+        point_data = {k: _vectors3(v) for k, v in point_data.items()}
         mesh = meshio.Mesh(self.points, self.cells, point_data=point_data,
                            cell_data=cell_data)
         with atomic_path(self.directory / rel, suffix=".vtu") as tmp:

@@ -18,7 +18,9 @@ def test_series_round_trip(tmp_path):
     assert sorted(p.name for p in tmp_path.iterdir()) == ["body", "body.pvd"]
     frames = read_series(tmp_path / "body.pvd")
     assert [t for t, _ in frames] == [0.0, 0.5, 1.0]
-    assert np.all(frames[2][1].point_data["u"] == 1.0)
+    u = frames[2][1].point_data["u"]
+    # 2D vectors are written with 3 components (ParaView's Warp By Vector needs them)
+    assert u.shape == (3, 3) and np.all(u[:, :2] == 1.0) and np.all(u[:, 2] == 0.0)
     assert np.all(frames[1][1].cell_data["s"][0] == 1.0)
     # a resumed run rewrites from a given frame on and drops the later ones
     w.write(0.25, {"u": np.zeros((3, 2))}, {"s": [np.zeros(1)]}, index=1)
