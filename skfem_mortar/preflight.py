@@ -11,8 +11,8 @@ right answer; a model that cannot give one is refused before any work):
    penetration).
 2. :func:`check_rigid_modes`: every rigid mode of every body is held by the
    Dirichlet data, the normals of the touching contact nodes, or a stiffness
-   other than the bodies' own (a spring); otherwise the tangent is singular
-   or the answer drifts.
+   other than the solids' and cables' own (a spring); otherwise the tangent
+   is singular or the answer drifts.
 3. :func:`warn_methods`: where a method is known not to work for the
    configuration (NTS with a slave coarser than the master), a
    :class:`PreflightWarning` before the solve, naming the fix.
@@ -35,8 +35,8 @@ Tolerances (all scale-free)
     that moves a constrained dof by less than 1e-8 of its largest motion
     (a support within 1e-8 L of the rotation centre) holds nothing.
 ``SPRING = 1e-10``
-    A stiffness other than the bodies' own (a user's spring item, a load
-    stiffness) holds a mode when ``|K m|`` is at least 1e-10 of the bodies'
+    A stiffness other than that of the solids and cables (a user's spring
+    item or body, a load stiffness) holds a mode when ``|K m|`` is at least 1e-10 of the bodies'
     mean diagonal stiffness: a spring that soft leaves the saddle-point
     system with a condition number above 1e10 (its rigid part then carries
     round-off of order 1e-6); round-off of ``K m`` for a mode it does not
@@ -165,7 +165,14 @@ def check_orientation(pair: Any, z: np.ndarray) -> None:
     with ``n_s . n_m > FACING`` exceeds that of the nodes with
     ``n_s . n_m < -FACING``, the surfaces point the same way: ValueError
     naming the pair, the surface to turn and how.
+
+    Skipped for NTS with a slave on a body that is neither a solid nor a cable
+    (a user's item, e.g. springs): such a surface has no outside, and NTS uses
+    only the master's normal (mortar uses the slave's, so it is checked).
     """
+    if (pair.method == "nts" and _solid_mesh(pair.slave) is None
+            and _cable_side(pair.slave) is None):
+        return
     f = _facing(pair, z)
     if not f.near.any():
         return
@@ -358,20 +365,30 @@ def _r_factor(blocks: Iterator[np.ndarray], ncols: int) -> np.ndarray:
     return R
 
 
+def _continuum(body: Any) -> bool:
+    """A solid or a cable: a body whose own energy is invariant under rigid motions."""
+    from .cable import Cable
+    from .solid import Solid
+    return isinstance(body, (Solid, Cable))
+
+
 def _stiffness_rows(model: Any, z: np.ndarray, load_factor: float, free_u: np.ndarray,
                     n: int) -> tuple[sp.csr_matrix | None, float]:
-    """The tangent ``K_x`` of the items that are neither bodies nor multiplier items
-    nor Dirichlet data (springs, loads), on the free displacement rows, and the
-    tolerance ``SPRING * k_b`` (``k_b``: the largest over the bodies of their mean
-    absolute tangent diagonal).  ``(None, 0)`` when those items add no stiffness.
+    """The tangent ``K_x`` of the items that are neither solids, cables, multiplier
+    items nor Dirichlet data (springs, loads, a user's own body), on the free
+    displacement rows, and the tolerance ``SPRING * k_b`` (``k_b``: the largest
+    over the bodies of their mean absolute tangent diagonal).  ``(None, 0)``
+    when those items add no stiffness.
 
-    The bodies' own tangents are left out: they never hold a rigid mode (their
-    energy is invariant under rigid motions), except through tangent-only
-    regularizations (a cable's tension floor) that must not count.
+    The tangents of solids and cables are left out: they never hold a rigid
+    mode (their energy is invariant under rigid motions), except through
+    tangent-only regularizations (a cable's tension floor) or the rotation of
+    their stresses in a loaded state, which must not count.
     """
     from .model import Dirichlet
     parts = [it.assemble(z, load_factor, tangent=True) for it in model.items
-             if it.dof_kind is None and not isinstance(it, Dirichlet)]
+             if (it.dof_kind is None and not isinstance(it, Dirichlet))
+             or (it.dof_kind == "u" and not _continuum(it))]
     parts = [p for p in parts if p.k_vals.size and np.any(p.k_vals != 0)]
     if not parts:
         return None, 0.0
@@ -521,6 +538,7 @@ def _describe(bd: _Body, Nb: np.ndarray) -> str:
         if r == 1:  # u = t + (a / L) e_z x (x - c) = (a / L) e_z x (x - p)
             t, a = B[:2, 0], B[2, 0]
             p = bd.center + bd.L * np.array([-t[1], t[0]]) / a
+            p = np.where(np.abs(p) < 1e-9 * bd.L, 0.0, p)  # round-off: (0, 2), not (5e-18, 2)
             names.append(f"rotation about ({p[0]:.3g}, {p[1]:.3g})")
         else:
             names.append("rotation")
@@ -539,7 +557,7 @@ def _direction(t: np.ndarray) -> str:
 def _fix(bd: _Body, modes: str) -> str:
     """The fix for the free modes named in ``modes``."""
     name = bd.item.name
-    cx, cy = np.where(np.abs(bd.center) < 1e-9 * bd.L, 0.0, bd.center)  # no -9e-18
+    cx, cy = np.where(np.abs(bd.center) < 1e-9 * bd.L, 0.0, bd.center)  # as in _describe
     how = (f"{name}.dofs_at_nodes(nodes, component=c)" if hasattr(bd.item, "dofs_at_nodes")
            else f"{name}.support_dofs(nodes)" if hasattr(bd.item, "support_dofs")
            else "its dofs at those nodes")
