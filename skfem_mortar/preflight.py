@@ -44,6 +44,8 @@ Tolerances (all scale-free)
 """
 from __future__ import annotations
 
+import os
+import sys
 import warnings
 from dataclasses import dataclass
 from typing import Any, Iterator
@@ -232,7 +234,7 @@ def _turn(pair: Any, which: str) -> str:
     s = pair.slave if which == "slave" else pair.master
     head = f"to turn the {which} {s.name!r}: "
     if isinstance(s, RigidPlane):
-        n = -np.asarray(s.normal)
+        n = -np.asarray(s.normal) + 0.0  # + 0.0: no '-0'
         return head + (f"flip the plane's normal, RigidPlane(point, normal=({n[0]:.3g}, "
                        f"{n[1]:.3g}))")
     if isinstance(s, RigidCircle):
@@ -498,11 +500,18 @@ def _free_message(bodies: list[_Body], N: np.ndarray, fixed: np.ndarray,
 
 def _touch_text(name: str, tc: _Touch) -> str:
     """What contact ``name`` holds at the start; for a pair touching nowhere, how to
-    make it touch (a touch tolerance above its smallest gap)."""
+    make it touch: a touch tolerance of 1.5 times its smallest gap (rounded up)
+    where that gap is below 0.1 of the mean slave segment length (the weighted
+    mortar gap of a curved surface touching at one node is of order ``h^2 / R``),
+    else close the gap."""
     k = tc.normals.shape[1]
     if k == 0:
         if not np.isfinite(tc.min_gap):
             return f"contact {name!r} touches at no node (no slave node faces the master)"
+        if tc.min_gap > 0.1 * tc.h:  # a real gap, not the weighted gap of a curved surface
+            return (f"contact {name!r} touches at no node: it starts open (smallest gap "
+                    f"{tc.min_gap:.3g}); close the gap in the mesh, or drive the body onto "
+                    f"the other (a Dirichlet path) until it touches")
         need = 1.5 * tc.min_gap / tc.h
         sug = float(f"{need:.1g}") if float(f"{need:.1g}") >= need else float(f"{2 * need:.1g}")
         return (f"contact {name!r} touches at no node: its smallest gap {tc.min_gap:.3g} "
@@ -587,4 +596,14 @@ def warn_methods(model: Any) -> None:
         if pair.method == "nts":
             hint = pair.failure_hint()  # nts.failure_hints, computed by the pair
             if hint:
-                warnings.warn(hint, PreflightWarning, stacklevel=2)
+                warnings.warn(hint, PreflightWarning, stacklevel=_user_stacklevel())
+
+
+def _user_stacklevel() -> int:
+    """The ``stacklevel`` of the first caller outside this package (the user's
+    ``solve``), counted from the function that calls ``warnings.warn``."""
+    pkg = os.path.dirname(os.path.abspath(__file__))
+    frame, level = sys._getframe(1), 1  # the caller of warnings.warn: stacklevel 1
+    while frame is not None and os.path.abspath(frame.f_code.co_filename).startswith(pkg):
+        frame, level = frame.f_back, level + 1
+    return level
