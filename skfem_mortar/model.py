@@ -267,7 +267,11 @@ class Model:
     # -- checks --------------------------------------------------------------
     def preflight(self, z: np.ndarray, load_factor: float, fixed: np.ndarray) -> None:
         """Refuse, before the first load step, a model that cannot work (ValueError
-        naming the item and the fix)."""
+        naming the item and the fix): contact surfaces that do not face each
+        other, rigid modes held by nothing; warn where a method is known to fail
+        (:mod:`skfem_mortar.preflight`).  ``fixed``: the prescribed global dofs."""
+        from .preflight import run  # preflight needs the contact pair, which imports this
+        run(self, np.asarray(z, dtype=float), float(load_factor), np.asarray(fixed))
 
     # -- assembly ----------------------------------------------------------
     def prescribed(self, load_factor: float) -> tuple[np.ndarray, np.ndarray]:

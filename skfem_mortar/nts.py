@@ -54,7 +54,8 @@ from .contact_eval import ContactEval
 from .search import node_segment_pairs
 from .surfaces import segment_normals, tributary_lengths
 
-__all__ = ["evaluate", "project", "LOCK_STICK", "failure_hints", "vertex_trap"]
+__all__ = ["evaluate", "project", "LOCK_STICK", "COARSE_RATIO", "failure_hints",
+           "nearest_nodes", "vertex_trap"]
 
 LOCK_STICK = 0.5
 """Hysteresis width (fraction of the segment length) of a node locked at a reflex vertex."""
@@ -240,26 +241,74 @@ def _lengths(surface) -> np.ndarray:
     return np.hypot(*np.diff(surface.X[:, surface.segments], axis=2)[:, :, 0])
 
 
+def nearest_nodes(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarray,
+                  band: float = 1.0) -> tuple[np.ndarray, dict]:
+    """The slave nodes nearest the master, with their closest-point projections.
+
+    With ``d_k`` the distance of slave node ``k`` from its clipped closest point
+    on the master (:func:`project`) and ``h_k`` the length of its longest
+    slave segment, the nearest nodes are those with a master partner and
+
+        d_k <= min_j d_j + band * h_k ,
+
+    the part of the slave that faces the master first (about ``band`` slave
+    element lengths deep).
+
+    Returns
+    -------
+    near : bool ndarray (n_s,)
+    projection : dict
+        :func:`project`'s output plus ``dist`` (n_s,) (``inf`` without a partner).
+    """
+    pr = project(xs, xm, seg_m)
+    k = np.flatnonzero(pr["mask"])
+    es = pr["segment"][k]
+    x1 = xm[:, seg_m[es, 0]]
+    xp = x1 + np.clip(pr["xi"][k], 0.0, 1.0) * (xm[:, seg_m[es, 1]] - x1)
+    dist = np.full(xs.shape[1], np.inf)
+    dist[k] = np.hypot(*(xs[:, k] - xp))
+    _, ls = segment_normals(xs, seg_s)
+    h = np.zeros(xs.shape[1])
+    np.maximum.at(h, seg_s.ravel(), np.repeat(ls, 2))
+    near = pr["mask"] & (dist <= (dist[k].min() if k.size else 0.0) + band * h)
+    pr["dist"] = dist
+    return near, pr
+
+
+#: slave / master segment length ratio near the contact above which single-pass NTS is flagged
+COARSE_RATIO = 1.2
+
+
 def failure_hints(slave, master, name: str = "contact") -> str:
     """Likely causes of an NTS failure that the geometry shows ("" if none).
 
-    A slave surface coarser than a deformable master (median segment lengths
-    more than 1.2 times the master's): single-pass NTS pushes point forces into
-    dents of the master and lets master nodes pass through the slave.  Slave
-    segments of nearly coincident nodes (shorter than 1e-4 of the median):
-    their constraints are nearly redundant, the saddle-point system nearly
-    singular.
+    A slave surface coarser than a deformable master where they face each
+    other: over the slave nodes nearest the master (:func:`nearest_nodes`,
+    two slave element lengths deep, reference configuration), the median of
+    the slave nodes' longest segment length ``h_s`` is more than
+    :data:`COARSE_RATIO` times the median length ``h_m`` of the master segments they
+    project on.  Single-pass NTS then pushes point forces into dents of the
+    master and lets master nodes pass through the slave.  (Compared where the
+    surfaces meet, not over the whole surfaces: graded meshes, fine only in
+    the contact zone, would otherwise be compared by their coarse parts.)
+    Slave segments of nearly coincident nodes (shorter than 1e-4 of the
+    median): their constraints are nearly redundant, the saddle-point system
+    nearly singular.
     """
     hints = []
     ls = _lengths(slave)
     if master.body is not None:
-        hs, hm = float(np.median(ls)), float(np.median(_lengths(master)))
-        if hs > 1.2 * hm:
-            hints.append(f"{name}: the NTS slave surface is coarser than the master "
-                         f"(median segment lengths {hs:.3g} > {hm:.3g}); single-pass NTS "
-                         f"then pushes point forces into dents of the master and lets "
-                         f"master nodes pass through the slave: make the finer surface "
-                         f"the slave, or refine the slave, or use mortar")
+        near, pr = nearest_nodes(slave.X, slave.segments, master.X, master.segments, band=2.0)
+        if near.any():
+            h = np.zeros(slave.n_nodes)
+            np.maximum.at(h, slave.segments.ravel(), np.repeat(ls, 2))
+            hs, hm = float(np.median(h[near])), float(np.median(pr["l"][near]))
+            if hs > COARSE_RATIO * hm:
+                hints.append(f"{name}: the NTS slave surface is coarser than the master "
+                             f"where they meet (median segment lengths {hs:.3g} > {hm:.3g}); "
+                             f"single-pass NTS then pushes point forces into dents of the "
+                             f"master and lets master nodes pass through the slave: make the "
+                             f"finer surface the slave, or refine the slave, or use mortar")
     if ls.min() < 1e-4 * np.median(ls):
         hints.append(f"{name}: slave segments of nearly coincident nodes (shortest "
                      f"{ls.min():.3g}, median {np.median(ls):.3g}): their NTS constraints are "

@@ -294,7 +294,9 @@ class RigidPlane(ContactSurface):
 
 
 class RigidCircle(ContactSurface):
-    """A rigid circle (or arc) as a fine polygon, outward normal pointing away from the centre.
+    """A rigid circle (or arc) as a fine polygon, outward normal pointing away from the centre
+    (a body pressed onto it from outside), or towards it with ``inside=True`` (a hole, a
+    body pressed onto it from inside).
 
     Parameters
     ----------
@@ -303,10 +305,14 @@ class RigidCircle(ContactSurface):
     n_segments : int (>= 3)
     arc : (theta0, theta1), optional
         Angles (radians, counter-clockwise) of the arc; default the full circle.
+    inside : bool
+        The contacting body is inside the circle: the segments run clockwise,
+        so that the right-hand normal points to the centre (default False).
     """
 
     def __init__(self, center: tuple[float, float], radius: float, n_segments: int = 256,
-                 arc: tuple[float, float] | None = None, name: str = "circle"):
+                 arc: tuple[float, float] | None = None, name: str = "circle",
+                 inside: bool = False):
         if not (np.isfinite(radius) and radius > 0):
             raise ValueError(f"radius must be a finite number > 0, got {radius}")
         if int(n_segments) != n_segments or n_segments < 3:
@@ -323,6 +329,7 @@ class RigidCircle(ContactSurface):
             th = np.linspace(th0, th1, n_segments + 1)
             seg = np.column_stack([np.arange(n_segments), np.arange(1, n_segments + 1)])
         X = center[:, None] + radius * np.vstack([np.cos(th), np.sin(th)])
-        # counter-clockwise nodes: right-hand normal points outward
-        super().__init__(None, None, seg, X=X, name=name)
-        self.center, self.radius = center, float(radius)
+        # counter-clockwise nodes: right-hand normal points outward; reversed
+        # segments (clockwise) for a body inside the circle: normal to the centre
+        super().__init__(None, None, seg[:, ::-1] if inside else seg, X=X, name=name)
+        self.center, self.radius, self.inside = center, float(radius), bool(inside)

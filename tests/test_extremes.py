@@ -21,6 +21,7 @@ from skfem import MeshQuad
 from skfem_mortar import (Cable, ContactPair, Dirichlet, FollowerPressure, Model, NeoHooke,
                           Solid, solve)
 from skfem_mortar.errors import ConvergenceError
+from skfem_mortar.preflight import PreflightWarning
 from skfem_mortar.runner import run_scene
 from skfem_mortar.scenes.cable_flat import flat_exact
 from skfem_mortar.scenes.hertz import hertz_exact
@@ -108,9 +109,12 @@ def test_patch_mesh_ratio_nts_coarse_slave_is_flagged():
     """NTS, slave 10x coarser than the master: master nodes pass between the
     slave nodes and the slave's point forces are not spread (measured pressure
     error 2.5): a known limit of single-pass NTS, reported by the pair
-    (``failure_hint``, also appended to a ConvergenceError) instead of hidden."""
-    r, _, setup = run_scene("patch", {"n_top": 2, "n_bottom": 20}, method="nts",
-                            return_result=True)
+    (``failure_hint``, also appended to a ConvergenceError) instead of hidden,
+    and before the solve as a PreflightWarning naming the fix (issue 13)."""
+    with pytest.warns(PreflightWarning, match="coarser than the master.*make the finer "
+                                              "surface the slave"):
+        r, _, setup = run_scene("patch", {"n_top": 2, "n_bottom": 20}, method="nts",
+                                return_result=True)
     assert r["metrics"]["pressure_error"] > 1.0
     assert "coarser than the master" in setup.model.item("contact").failure_hint()
 
