@@ -37,7 +37,10 @@ from typing import Callable
 import numpy as np
 import scipy.sparse as sp
 
-__all__ = ["ActiveSet", "chain_order", "extrapolated_release", "normal_nodal_force"]
+from .search import node_segment_pairs
+
+__all__ = ["ActiveSet", "chain_order", "extrapolated_release", "normal_nodal_force",
+           "touching_nodes"]
 
 log = logging.getLogger("skfem_mortar.contact")
 
@@ -52,6 +55,49 @@ def chain_order(segments: np.ndarray, closed: bool, n_nodes: int) -> np.ndarray 
     if order.size != n_nodes or np.unique(order).size != order.size:
         return None
     return order
+
+
+def _point_segment(xp: np.ndarray, xq: np.ndarray, seg_q: np.ndarray, tol: float
+                   ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Points ``xp`` within ``tol`` of a segment of ``(xq, seg_q)``: point index,
+    segment index and the clipped parameter ``t`` in [0, 1] of the closest point."""
+    i_p, i_e = node_segment_pairs(xp, xq, seg_q, tol)
+    x1, x2 = xq[:, seg_q[i_e, 0]], xq[:, seg_q[i_e, 1]]
+    d = x2 - x1
+    l2 = np.sum(d * d, axis=0)
+    t = np.clip(np.sum((xp[:, i_p] - x1) * d, axis=0) / np.where(l2 > 0, l2, 1.0), 0.0, 1.0)
+    near = np.hypot(*(xp[:, i_p] - x1 - t * d)) <= tol
+    return i_p[near], i_e[near], t[near]
+
+
+def touching_nodes(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarray,
+                   tol: float) -> np.ndarray:
+    """Slave nodes whose own part of the slave surface the master touches within ``tol``.
+
+    A node's own part is its half of each of its segments (the points nearer to it
+    than to the segment's other node).  The distance between two polylines is
+    attained at a vertex of one of them, so a node touches when it lies within
+    ``tol`` of a master segment, or a master vertex lies within ``tol`` of its own
+    part of a slave segment (the nearer node of that segment; both at the midpoint).
+
+    This is the closest approach, not a weighted gap: a polygon resting on a line
+    at one vertex has, at that vertex, the mortar weighted gap over the tributary
+    length ``h^2 / (6 R)`` (the chords leave the line linearly), far above
+    ``1e-2 h`` unless ``h < 0.06 R``; a flat slave under a master vertex between
+    two of its nodes has positive gaps at both nodes.  Bool ``(n_s,)``.
+    """
+    xs, xm = np.asarray(xs, dtype=float), np.asarray(xm, dtype=float)
+    seg_s = np.asarray(seg_s, dtype=np.int64).reshape(-1, 2)
+    seg_m = np.asarray(seg_m, dtype=np.int64).reshape(-1, 2)
+    out = np.zeros(xs.shape[1], dtype=bool)
+    if not (seg_s.size and seg_m.size):
+        return out
+    k, _, _ = _point_segment(xs, xm, seg_m, tol)   # slave vertices on the master
+    out[k] = True
+    _, e, t = _point_segment(xm, xs, seg_s, tol)   # master vertices on the slave
+    out[seg_s[e[t <= 0.5], 0]] = True
+    out[seg_s[e[t >= 0.5], 1]] = True
+    return out
 
 
 def normal_nodal_force(G: sp.spmatrix, lam: np.ndarray, n_slave: int) -> np.ndarray:

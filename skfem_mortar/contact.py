@@ -37,7 +37,7 @@ from typing import Any
 
 import numpy as np
 
-from .active_set import ActiveSet, chain_order, normal_nodal_force
+from .active_set import ActiveSet, chain_order, normal_nodal_force, touching_nodes
 from .contact_eval import ContactEval
 from .model import Contribution, Item
 from .nts import failure_hints, vertex_trap
@@ -82,9 +82,12 @@ class ContactPair(Item):
     touch_tolerance : float
         The initial active set also holds the nodes whose gap (as a length; for
         mortar the weighted gap over the tributary length) is at most this
-        fraction of the mean slave segment length (>= 0, default 1e-2): a
-        curved surface touching at one node has a small positive mortar gap
-        there, and a body held only by contact needs that node active.
+        fraction of the mean slave segment length (>= 0, default 1e-2), and
+        the nodes that the master touches within that distance
+        (:func:`~skfem_mortar.active_set.touching_nodes`, the closest approach:
+        a polygon resting on one vertex has the mortar gap ``h^2 / (6 R)``
+        there, a master vertex between two slave nodes positive gaps at both);
+        a body held only by contact needs them active.
     segmentation : {"iteration", "step"}
         Mortar only: rebuild the mortar segments at every Newton iteration
         (default, exact), or build them once per load step from the last
@@ -363,7 +366,9 @@ class ContactPair(Item):
             ev = self.evaluate(z, tangent=False, with_lam=False)
             c = self._c(z, load_factor, ev)
             lam = np.asarray(z)[self.dofs]
-            self.state.converged = ev.mask & ((lam - c * ev.g >= 0)
+            touch = touching_nodes(self.slave.x(z), self.slave.segments, self.master.x(z),
+                                   self.master.segments, self._touch)
+            self.state.converged = ev.mask & ((lam - c * ev.g >= 0) | touch
                                               | (self._gap_length(ev) <= self._touch))
             self._prefer_converged = None
         if self._x0 is None:  # later: kept from the last converged state (end_step)
