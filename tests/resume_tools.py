@@ -33,15 +33,16 @@ class Killed(BaseException):
 
 
 @contextmanager
-def renames(kill_at: int | None = None) -> Iterator[list[str]]:
-    """Count the atomic renames (every output file is written through one) and,
-    at the ``kill_at``-th, leave a truncated temporary file behind, as a kill
-    during the write does, and raise :class:`Killed` before the rename."""
+def renames(kill_at: int | None = None) -> Iterator[list[tuple[str, int]]]:
+    """Log the atomic renames (every output file is written through one) as
+    ``(target, bytes)`` and, at the ``kill_at``-th, leave a truncated temporary
+    file behind, as a kill during the write does, and raise :class:`Killed`
+    before the rename."""
     real = os.replace
-    log: list[str] = []
+    log: list[tuple[str, int]] = []
 
     def replace(src, dst):
-        log.append(str(dst))
+        log.append((str(dst), Path(src).stat().st_size))
         if len(log) == kill_at:
             data = Path(src).read_bytes()
             Path(src).with_name(Path(src).name + "-killed").write_bytes(data[:len(data) // 2])

@@ -36,11 +36,11 @@ def _run(case, out, resume=False):
     return run_scene(scene, params, method, steps=steps, out=out, resume=resume)
 
 
-def _moments(log: list[str], seed: int) -> list[int]:
+def _moments(log: list[tuple[str, int]], seed: int) -> list[int]:
     """Three rename numbers (1-based): in the checkpoint write, in the frames, anywhere."""
     rng = np.random.default_rng(seed)
-    ckpt = [i + 1 for i, p in enumerate(log) if "checkpoint" in p]
-    frames = [i + 1 for i, p in enumerate(log) if p.endswith((".vtu", ".pvd"))]
+    ckpt = [i + 1 for i, (p, _) in enumerate(log) if "/checkpoint/" in p]
+    frames = [i + 1 for i, (p, _) in enumerate(log) if p.endswith((".vtu", ".pvd"))]
     return [int(rng.choice(ckpt)), int(rng.choice(frames)), int(rng.integers(1, len(log) + 1))]
 
 
