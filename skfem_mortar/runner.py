@@ -14,6 +14,11 @@ from .stepping import Controller, Restart, Result, StepRecord, solve, stateful_i
 
 __all__ = ["build_scene", "run_scene"]
 
+#: largest checkpoint step file a resume accepts, in states of the model (plus
+#: 1 MiB): a step holds one state and the contact state (a few arrays over the
+#: contact nodes), far below it; a larger file is refused unread
+MAX_STEP_STATES = 16
+
 
 def build_scene(name: str, params: dict[str, Any] | None = None,
                 method: str | None = None) -> tuple[Setup, dict[str, Any], str | None]:
@@ -163,7 +168,7 @@ class _Recorder:
 
         model = self.setup.model
         ck = read_checkpoint(self.checkpoint, self.meta, n=model.n,
-                             max_bytes=(1 << 20) + 16 * 8 * model.n)
+                             max_bytes=(1 << 20) + MAX_STEP_STATES * 8 * model.n)
         if ck is None:
             if self.legacy.exists():
                 raise ValueError(f"resume: {self.legacy} was written by an older version "
