@@ -3,15 +3,21 @@ from __future__ import annotations
 
 import math
 import time
+import uuid
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
 from .scenes import Setup, get_scene
-from .stepping import Result, solve
+from .stepping import Controller, Restart, Result, StepRecord, solve, stateful_items
 
 __all__ = ["build_scene", "run_scene"]
+
+#: largest checkpoint step file a resume accepts, in states of the model (plus
+#: 1 MiB): a step holds one state and the contact state (a few arrays over the
+#: contact nodes), far below it; a larger file is refused unread
+MAX_STEP_STATES = 16
 
 
 def build_scene(name: str, params: dict[str, Any] | None = None,
@@ -54,10 +60,13 @@ def run_scene(name: str, params: dict[str, Any] | None = None, method: str | Non
         Number of load steps (default: the scene's).
     out : path, optional
         Directory for the result series, ``summary.json``, ``contact.csv`` and
-        ``checkpoint.npz`` (rewritten after every converged step).
+        the ``checkpoint/`` directory (one file added per converged step).
     resume : bool
-        Continue from ``out/checkpoint.npz`` if it belongs to the same scene,
-        method, parameters and steps (ValueError if it belongs to another run).
+        Continue from ``out/checkpoint/`` if it belongs to the same scene,
+        method, parameters and steps (ValueError if it belongs to another run
+        or does not pass validation). The resumed run makes the same solves as
+        an uninterrupted one from the last checkpointed step on; a finished
+        run redoes its last step, so its outputs and metrics come out as they were.
     return_result : bool
         Also return the :class:`Result` and the :class:`Setup`.
     """
@@ -75,20 +84,14 @@ def run_scene(name: str, params: dict[str, Any] | None = None, method: str | Non
     meta = _clean({"scene": name, "method": method, "parameters": values, "steps": n_steps})
     recorder = _Recorder(Path(out), setup, meta) if out is not None else None
     earlier: list[np.ndarray] = []
-    if recorder is not None and resume:
-        restart = recorder.restart()
-        if restart is not None:
-            earlier, history = restart
-            kwargs.update(z0=earlier[-1], start=history[-1].load_factor, history=history,
-                          increment=history[-1].increment or None)
     if recorder is not None:
+        restart = recorder.restart() if resume else None
+        if restart is not None:
+            earlier = list(recorder.earlier)
+            kwargs["restart"] = restart
         recorder.begin(earlier)
         kwargs["callback"] = recorder.step
-    if kwargs.get("start", 0.0) >= 1.0 - 1e-14:  # the checkpoint is already final
-        result = Result(model, steps=kwargs["history"], states=[kwargs["z0"]],
-                        converged=True)
-    else:
-        result = solve(model, n_steps, progress=progress, **kwargs)
+    result = solve(model, n_steps, progress=progress, **kwargs)
     if earlier:
         result.states = earlier[:-1] + result.states
     metrics = setup.metrics(result)
@@ -124,48 +127,95 @@ def run_scene(name: str, params: dict[str, Any] | None = None, method: str | Non
 
 
 class _Recorder:
-    """Writes one frame per output item and a checkpoint after every converged step."""
+    """Writes one frame per output item and a checkpoint step after every converged step.
+
+    See :mod:`skfem_mortar.io` for the checkpoint layout: a step's file is
+    written before the index that lists it, so a kill leaves a valid checkpoint.
+    """
 
     def __init__(self, out: Path, setup: Setup, meta: dict):
         self.out = out
         self.setup = setup
         self.meta = meta
-        self.states: list[np.ndarray] = []
-        self.history: list[dict] = []
+        self.items = stateful_items(setup.model)
+        self.run = ""
+        self.earlier: list[np.ndarray] = []
+        self.lfs: list[float] = [0.0]
         self.writers: list = []
         self.time = 0.0
+        self.bytes_written: list[int] = []  # per checkpoint write
+        self._pruned = False
 
     @property
     def checkpoint(self) -> Path:
+        return self.out / "checkpoint"
+
+    @property
+    def legacy(self) -> Path:
         return self.out / "checkpoint.npz"
 
-    def restart(self):
-        from .io import read_checkpoint
-        from .stepping import StepRecord
+    def restart(self) -> Restart | None:
+        """The :class:`Restart` of a validated checkpoint of this run (None: none there,
+        or nothing to resume). A finished run restarts before its last step.
 
-        if not self.checkpoint.exists():
+        Raises
+        ------
+        ValueError
+            For a checkpoint of another run or one that fails validation,
+            naming the file and what is wrong.
+        """
+        from .io import read_checkpoint
+
+        model = self.setup.model
+        ck = read_checkpoint(self.checkpoint, self.meta, n=model.n,
+                             max_bytes=(1 << 20) + MAX_STEP_STATES * 8 * model.n)
+        if ck is None:
+            if self.legacy.exists():
+                raise ValueError(f"resume: {self.legacy} was written by an older version "
+                                 "(no step-size controller, no item states); run without "
+                                 "--resume")
             return None
-        meta, states, history = read_checkpoint(self.checkpoint)
-        if meta != self.meta:
-            raise ValueError(f"resume: {self.checkpoint} belongs to another run "
-                             f"({meta}); use another --out or drop --resume")
-        if not history:
+        k = len(ck.history)
+        r = k - 1 if k and ck.history[-1]["load_factor"] >= 1.0 else k
+        if r == 0:
             return None
-        self.history = history
-        return list(states), [StepRecord.from_dict(h) for h in history]
+        history = [StepRecord.from_dict(h) for h in ck.history[:r]]
+        source = str(ck.step_path(r))
+        try:
+            ctl = Controller.from_dict(ck.controllers[r])
+        except ValueError as exc:
+            raise ValueError(f"checkpoint {source}: {exc}") from None
+        lfs = ck.load_factors
+        if ctl.lf_prev != lfs[r - 1] or ctl.increment != history[-1].increment:
+            raise ValueError(f"checkpoint {source}: controller {ck.controllers[r]} does not "
+                             f"fit the step records (load factor before {lfs[r - 1]!r}, "
+                             f"increment {history[-1].increment!r})")
+        self.run = ck.run
+        self.earlier, self.lfs = list(ck.states[:r + 1]), list(lfs[:r + 1])
+        return Restart(ck.states[r].copy(), float(lfs[r]), history, ctl,
+                       previous=ck.states[r - 1].copy(), items=ck.items[r],
+                       source=f"checkpoint {source}")
 
     def begin(self, earlier: list[np.ndarray]) -> None:
-        from .io import SeriesWriter
+        """Start the outputs: a fresh checkpoint and series, or (resumed) keep the
+        frames already written for ``earlier`` and write those that are missing."""
+        from .io import SeriesWriter, clear_checkpoint
 
         t0 = time.perf_counter()
         self.out.mkdir(parents=True, exist_ok=True)
         model = self.setup.model
         self.writers = [SeriesWriter(self.out, item.name, item.output_mesh())
                         for item in self.setup.outputs]
-        self.states = list(earlier) or [self._initial_state(model)]
-        lfs = [0.0] + [h["load_factor"] for h in self.history]
-        for lf, z in zip(lfs, self.states):  # (re)write the frames done so far
-            self._frame(lf, z)
+        if not earlier:
+            clear_checkpoint(self.checkpoint)
+            self.legacy.unlink(missing_ok=True)
+            self.run = uuid.uuid4().hex
+            earlier, self.lfs = [self._initial_state(model)], [0.0]
+            self._write(0, earlier[0])
+        for item, writer in zip(self.setup.outputs, self.writers):
+            kept = writer.adopt(self.lfs) if len(earlier) > 1 else 0
+            for lf, z in zip(self.lfs[kept:], earlier[kept:]):  # frames missing
+                writer.write(lf, *item.output_data(z))
         self.time += time.perf_counter() - t0
 
     @staticmethod
@@ -180,14 +230,26 @@ class _Recorder:
             pdata, cdata = item.output_data(z)
             writer.write(lf, pdata, cdata)
 
-    def step(self, record, z: np.ndarray) -> None:
-        from .io import write_checkpoint
+    def _write(self, k: int, z: np.ndarray, record=None) -> None:
+        """Step ``k`` into the checkpoint (the first write of a resumed run also
+        drops the step files the index does not list)."""
+        from .io import prune_checkpoint, write_checkpoint
 
+        items = {name: it.state_dict() for name, it in self.items.items()} if k else None
+        ctl = record.controller.as_dict() if record is not None else None
+        self.bytes_written.append(write_checkpoint(
+            self.checkpoint, self.meta, self.run, k, z,
+            record.as_dict() if record is not None else None, ctl, items))
+        if not self._pruned:
+            prune_checkpoint(self.checkpoint, k)
+            self._pruned = True
+
+    def step(self, record: StepRecord, z: np.ndarray) -> None:
+        """After a converged step: its frames, then its checkpoint step."""
         t0 = time.perf_counter()
         self._frame(record.load_factor, z)
-        self.states.append(z.copy())
-        self.history.append(record.as_dict())
-        write_checkpoint(self.checkpoint, self.meta, np.array(self.states), self.history)
+        self._write(len(self.lfs), z, record)
+        self.lfs.append(record.load_factor)
         self.time += time.perf_counter() - t0
 
     def finish(self, result: Result) -> None:

@@ -7,6 +7,11 @@ state with half the increment; after ``easy_steps`` consecutive steps that
 converged in at most ``easy_iterations`` iterations the increment grows again
 by ``growth`` (never beyond the nominal ``1 / n_steps``). When the increment
 falls below ``min_step`` a :class:`ConvergenceError` is raised.
+
+The increment in force and its counters are a :class:`Controller`; a
+:class:`Restart` (the last converged state, the steps so far, the controller and
+every item's :meth:`~skfem_mortar.model.Item.state_dict`) continues a run
+exactly where a checkpoint left it.
 """
 from __future__ import annotations
 
@@ -14,7 +19,7 @@ import logging
 import os
 import time
 from pathlib import Path
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Callable
 
 import numpy as np
@@ -24,14 +29,132 @@ from .model import Model
 from .newton import NewtonOptions, NewtonReport
 from .newton import newton as newton_step
 
-__all__ = ["StepRecord", "Result", "solve"]
+__all__ = ["Controller", "Restart", "StepRecord", "Result", "solve"]
 
 log = logging.getLogger(__name__)
 
 
 @dataclass
+class Controller:
+    """The step-size controller between two load steps: all it needs to go on.
+
+    Attributes
+    ----------
+    increment : float
+        Load increment of the next step, in (0, 1].
+    n_easy : int
+        Consecutive easy steps since the increment last changed.
+    cuts : int
+        Failed attempts since the last converged step.
+    lf_prev : float
+        Load factor of the converged step before the last one (the base of
+        the ``extrapolate`` predictor), in [0, 1).
+    """
+
+    increment: float
+    n_easy: int = 0
+    cuts: int = 0
+    lf_prev: float = 0.0
+
+    def as_dict(self) -> dict:
+        return {"increment": float(self.increment), "n_easy": int(self.n_easy),
+                "cuts": int(self.cuts), "lf_prev": float(self.lf_prev)}
+
+    @classmethod
+    def from_dict(cls, d: dict) -> "Controller":
+        """The controller of :meth:`as_dict` (ValueError naming a missing or bad entry)."""
+        if not isinstance(d, dict) or set(d) != {"increment", "n_easy", "cuts", "lf_prev"}:
+            raise ValueError(f"controller must have the entries increment, n_easy, cuts, "
+                             f"lf_prev, got {d!r}")
+        for k in ("n_easy", "cuts"):
+            if not (isinstance(d[k], int) and not isinstance(d[k], bool) and d[k] >= 0):
+                raise ValueError(f"controller {k} must be an integer >= 0, got {d[k]!r}")
+        for k in ("increment", "lf_prev"):
+            if not (isinstance(d[k], (int, float)) and np.isfinite(d[k])):
+                raise ValueError(f"controller {k} must be a finite number, got {d[k]!r}")
+        if not 0.0 < d["increment"] <= 1.0:
+            raise ValueError(f"controller increment must lie in (0, 1], got {d['increment']!r}")
+        if not 0.0 <= d["lf_prev"] < 1.0:
+            raise ValueError(f"controller lf_prev must lie in [0, 1), got {d['lf_prev']!r}")
+        return cls(float(d["increment"]), d["n_easy"], d["cuts"], float(d["lf_prev"]))
+
+
+@dataclass
+class Restart:
+    """Where a resumed solve starts: a checkpoint's last converged step.
+
+    Attributes
+    ----------
+    z : ndarray
+        The converged unknowns.
+    load_factor : float
+        Their load factor, in (0, 1).
+    history : list of StepRecord
+        The steps done up to ``z`` (kept in the result).
+    controller : Controller
+        The step-size controller after the last step.
+    previous : ndarray or None
+        The converged unknowns before ``z`` (the ``extrapolate`` predictor).
+    items : dict
+        ``{item name: item.state_dict()}`` after the last step, for every
+        item whose state is not empty.
+    source : str
+        Where it was read from (named in error messages).
+    """
+
+    z: np.ndarray
+    load_factor: float
+    history: list["StepRecord"]
+    controller: Controller
+    previous: np.ndarray | None = None
+    items: dict[str, dict[str, np.ndarray]] = field(default_factory=dict)
+    source: str = "restart"
+
+
+def stateful_items(model: Model) -> dict[str, object]:
+    """The items of ``model`` that keep a state (a non-empty ``state_dict``), by name.
+
+    Raises
+    ------
+    ValueError
+        When two of them share a name (their states could not be told apart).
+    """
+    out: dict[str, object] = {}
+    for item in model.items:
+        if item.state_dict():
+            if item.name in out:
+                raise ValueError(f"two items with a state share the name {item.name!r}")
+            out[item.name] = item
+    return out
+
+
+def restore_items(model: Model, states: dict[str, dict[str, np.ndarray]],
+                  source: str = "restart") -> None:
+    """``load_state_dict`` of every stateful item of ``model`` from ``states``.
+
+    Raises
+    ------
+    ValueError
+        Naming ``source`` and what does not fit: an unknown item, a missing
+        one, or the item's own refusal.
+    """
+    items = stateful_items(model)
+    unknown = sorted(set(states) - set(items))
+    if unknown:
+        raise ValueError(f"{source}: states of unknown items {unknown}")
+    for name, item in items.items():
+        if name not in states:
+            raise ValueError(f"{source}: no state of item {name!r}")
+        try:
+            item.load_state_dict(states[name])
+        except ValueError as exc:
+            raise ValueError(f"{source}: {exc}") from None
+
+
+@dataclass
 class StepRecord:
-    """One converged load step."""
+    """One converged load step (``controller``: the step-size controller after
+    it, not part of :meth:`as_dict`)."""
 
     load_factor: float
     newton_iterations: int
@@ -41,6 +164,7 @@ class StepRecord:
     cuts: int = 0
     increment: float = 0.0
     info: dict = field(default_factory=dict)
+    controller: Controller | None = None
 
     @classmethod
     def from_dict(cls, d: dict) -> "StepRecord":
@@ -154,7 +278,8 @@ def solve(model: Model, n_steps: int = 1, *, newton_options: NewtonOptions | Non
           z0: np.ndarray | None = None, start: float = 0.0, progress: bool = False,
           callback: Callable[[StepRecord, np.ndarray], None] | None = None,
           history: list[StepRecord] | None = None,
-          increment: float | None = None, extrapolate: bool = False) -> Result:
+          increment: float | None = None, extrapolate: bool = False,
+          restart: Restart | None = None) -> Result:
     """Solve the model from load factor ``start`` to 1.
 
     Parameters
@@ -169,26 +294,39 @@ def solve(model: Model, n_steps: int = 1, *, newton_options: NewtonOptions | Non
     growth : float
         Factor by which the increment grows back after easy steps.
     z0 : ndarray, optional
-        Initial unknowns (default zeros), e.g. a checkpoint to resume from.
+        Initial unknowns (default zeros).
     start : float
         Load factor of ``z0``.
     history : list of StepRecord, optional
-        Steps already done before ``z0`` (a resumed run keeps them in the result).
+        Steps already done before ``z0`` (kept in the result).
     increment : float, optional
-        First load increment (a resumed run continues with the one in force).
+        First load increment (default ``1 / n_steps``).
     extrapolate : bool
         Start each step from the linear extrapolation of the last two converged
         states instead of the last one.
+    restart : Restart, optional
+        Continue a checkpointed run exactly: its state, steps, step-size
+        controller and item states (instead of ``z0``, ``start``, ``history``
+        and ``increment``). The steps that follow are the same solves as those
+        of the uninterrupted run.
     progress : bool
         Show a tqdm progress bar on stderr.
     callback : callable(StepRecord, z)
-        Called after each converged step (output, checkpoints).
+        Called after each converged step (output, checkpoints); the record's
+        ``controller`` holds the step-size controller after the step.
 
     Raises
     ------
     ConvergenceError
         When a step cannot converge even at ``min_step``.
+    ValueError
+        Bad arguments, or a ``restart`` that does not fit the model (naming
+        its ``source``).
     """
+    if restart is not None:
+        if z0 is not None or start or history or increment:
+            raise ValueError("give either restart or z0, start, history, increment")
+        z0, start, history = restart.z, restart.load_factor, restart.history
     _validate(n_steps, min_step, start)
     opts = newton_options or newton or NewtonOptions()
     t_start = time.perf_counter()
@@ -198,25 +336,29 @@ def solve(model: Model, n_steps: int = 1, *, newton_options: NewtonOptions | Non
     fixed, values = model.prescribed(start)
     z[fixed] = values
     model.preflight(z, start, fixed)  # refuse what cannot work before the first step
-    result = Result(model, steps=list(history or []), states=[z.copy()])
     nominal = 1.0 / n_steps
-    lf, dlf = start, (increment or nominal)
-    lf_prev = start
-    n_easy, cuts, step_no = 0, 0, len(result.steps) + 1
+    if restart is None:
+        ctl, z_prev = Controller(increment or nominal, lf_prev=start), None
+    else:
+        restore_items(model, restart.items, restart.source)
+        ctl, z_prev = replace(restart.controller), restart.previous
+    result = Result(model, steps=list(history or []), states=[z.copy()])
+    lf = start
+    step_no = len(result.steps) + 1
     bar = _progress_bar(progress)
     try:
         while lf < 1.0 - 1e-14:
-            target = min(lf + dlf, 1.0)
+            target = min(lf + ctl.increment, 1.0)
             if 1.0 - target < 1e-12:
                 target = 1.0
             fixed, values = model.prescribed(target)
             free = np.setdiff1d(np.arange(model.n), fixed, assume_unique=True)
             trial = z.copy()
-            if extrapolate and len(result.states) >= 2 and lf > lf_prev:
+            if extrapolate and z_prev is not None and lf > ctl.lf_prev:
                 # linear predictor along the last increment (free unknowns only;
                 # the prescribed ones follow the consistent predictor of newton)
-                scale = (target - lf) / (lf - lf_prev)
-                step_dir = z - result.states[-2]
+                scale = (target - lf) / (lf - ctl.lf_prev)
+                step_dir = z - z_prev
                 trial[free] += scale * step_dir[free]
             dz_fixed = values - trial[fixed]
             for item in model.items:
@@ -227,52 +369,70 @@ def solve(model: Model, n_steps: int = 1, *, newton_options: NewtonOptions | Non
                                             start=(z, lf))
             result.solve_time += rep.solve_time
             if rep.converged:
-                z = trial
-                for item in model.items:
-                    item.end_step(z, target)
-                info: dict = {}
-                for item in model.items:
-                    for k, v in item.step_info().items():
-                        info[k] = info.get(k, 0) + v
-                rec = StepRecord(target, rep.iterations, rep.residual_norms,
-                                 int(info.get("n_active", 0)),
-                                 int(info.get("active_set_changes", 0)), cuts, 0.0, info)
+                z_prev, z = z, trial
+                rec = _converged(model, z, target, rep, ctl)
+                ctl.lf_prev, lf = lf, target
+                _grow(ctl, rep.iterations, nominal, growth, easy_iterations, easy_steps)
+                rec.increment, rec.controller = ctl.increment, replace(ctl)
                 result.steps.append(rec)
                 result.states.append(z.copy())
-                lf_prev, lf = lf, target
                 step_no += 1
-                cuts = 0
-                n_easy = n_easy + 1 if rep.iterations <= easy_iterations else 0
-                if n_easy >= easy_steps and dlf < nominal:
-                    dlf = min(nominal, dlf * growth)
-                    n_easy = 0
-                rec.increment = dlf
-                if bar is not None:
-                    bar.update(1)
-                    bar.set_postfix_str(f"lf={lf:.3g} it={rep.iterations} "
-                                        f"active={rec.n_active} "
-                                        f"r={rep.residual_norms[-1]:.1e}")
+                _show(bar, lf, rep, rec)
                 if callback is not None:
                     callback(rec, z)
                 continue
             # failed attempt: cut the increment and retry from the last converged state
             log.info("step %d to load factor %.6g failed (%s); cutting the step",
                      step_no, target, rep.reason)
-            dlf *= 0.5
-            cuts += 1
-            n_easy = 0
-            if dlf < min_step * (1.0 - 1e-12):
-                hints = [h for h in (getattr(it, "failure_hint", lambda: "")()
-                                     for it in model.items) if h]
-                reason = "; ".join([rep.reason] + hints)
-                raise ConvergenceError(step_no, target, rep.iterations,
-                                       rep.residual_norms, reason)
+            ctl.increment *= 0.5
+            ctl.cuts += 1
+            ctl.n_easy = 0
+            if ctl.increment < min_step * (1.0 - 1e-12):
+                _give_up(model, step_no, target, rep)
     finally:
         if bar is not None:
             bar.close()
     result.converged = True
     result.wall_time = time.perf_counter() - t_start
     return result
+
+
+def _converged(model: Model, z: np.ndarray, target: float, rep: NewtonReport,
+               ctl: Controller) -> StepRecord:
+    """Close a converged step: the items' ``end_step`` and the step's record."""
+    for item in model.items:
+        item.end_step(z, target)
+    info: dict = {}
+    for item in model.items:
+        for k, v in item.step_info().items():
+            info[k] = info.get(k, 0) + v
+    rec = StepRecord(target, rep.iterations, rep.residual_norms,
+                     int(info.get("n_active", 0)),
+                     int(info.get("active_set_changes", 0)), ctl.cuts, 0.0, info)
+    ctl.cuts = 0
+    return rec
+
+
+def _grow(ctl: Controller, iterations: int, nominal: float, growth: float,
+          easy_iterations: int, easy_steps: int) -> None:
+    """Count an easy step; after ``easy_steps`` of them grow the increment."""
+    ctl.n_easy = ctl.n_easy + 1 if iterations <= easy_iterations else 0
+    if ctl.n_easy >= easy_steps and ctl.increment < nominal:
+        ctl.increment = min(nominal, ctl.increment * growth)
+        ctl.n_easy = 0
+
+
+def _show(bar, lf: float, rep: NewtonReport, rec: StepRecord) -> None:
+    if bar is not None:
+        bar.update(1)
+        bar.set_postfix_str(f"lf={lf:.3g} it={rep.iterations} active={rec.n_active} "
+                            f"r={rep.residual_norms[-1]:.1e}")
+
+
+def _give_up(model: Model, step_no: int, target: float, rep: NewtonReport) -> None:
+    hints = [h for h in (getattr(it, "failure_hint", lambda: "")() for it in model.items) if h]
+    reason = "; ".join([rep.reason] + hints)
+    raise ConvergenceError(step_no, target, rep.iterations, rep.residual_norms, reason)
 
 
 def _progress_bar(enabled: bool):

@@ -1,0 +1,58 @@
+"""Killed at any moment, resumed: the same frames and metrics as an uninterrupted
+run, for every scene and method (issue #13, item 5).
+
+Each case runs once uninterrupted, counting the atomic renames through which
+every output file is written; then three times killed at a seeded random
+rename (one inside the checkpoint write: a step file or the index; one inside
+the frame output; one anywhere, summary.json included) and resumed.  A kill
+between two renames leaves the same files as one at the next rename, so these
+moments cover every state the output directory can be left in.  The kill is
+simulated in the process (:class:`resume_tools.Killed`, leaving a truncated
+temporary file as a real kill does); ``test_resume`` kills real processes.
+"""
+import zlib
+
+import numpy as np
+import pytest
+from resume_tools import Killed, assert_same_frames, assert_same_summary, renames
+
+from skfem_mortar.runner import run_scene
+
+#: every scene and method at a small size, steps enough for step cutting and
+#: growth (ironing mortar-dual, seed nts cut steps) and a changing contact zone
+CASES = [("block", None, {"refine": 1}, 4),
+         ("ring", None, {"n_elements": 8}, 4),
+         ("cable_arc", None, {"n_elements": 8}, 4)]
+for _m in ("nts", "mortar", "mortar-dual"):
+    CASES += [("cable_flat", _m, {"n_elements": 20}, 6),
+              ("hertz", _m, {"refine": -3}, 3),
+              ("ironing", _m, {"n_block": 6, "n_die": 8, "slide": 1.0}, 8),
+              ("patch", _m, {"n_top": 2, "n_bottom": 2}, 3),
+              ("seed", _m, {"n_cable": 8, "refine_cushion": 0}, 6)]
+
+
+def _run(case, out, resume=False):
+    scene, method, params, steps = case
+    return run_scene(scene, params, method, steps=steps, out=out, resume=resume)
+
+
+def _moments(log: list[tuple[str, int]], seed: int) -> list[int]:
+    """Three rename numbers (1-based): in the checkpoint write, in the frames, anywhere."""
+    rng = np.random.default_rng(seed)
+    ckpt = [i + 1 for i, (p, _) in enumerate(log) if "/checkpoint/" in p]
+    frames = [i + 1 for i, (p, _) in enumerate(log) if p.endswith((".vtu", ".pvd"))]
+    return [int(rng.choice(ckpt)), int(rng.choice(frames)), int(rng.integers(1, len(log) + 1))]
+
+
+@pytest.mark.parametrize("case", CASES, ids=[f"{c[0]}-{c[1] or 'bulk'}" for c in CASES])
+def test_killed_anywhere_resumes_to_the_same_frames_and_metrics(case, tmp_path):
+    with renames() as log:
+        ref = _run(case, tmp_path / "ref")
+    seed = zlib.crc32(f"{case[0]}-{case[1]}".encode())
+    for n in _moments(log, seed):
+        out = tmp_path / f"killed_at_{n}"
+        with pytest.raises(Killed), renames(kill_at=n):
+            _run(case, out)
+        got = _run(case, out, resume=True)
+        assert_same_frames(tmp_path / "ref", out)
+        assert_same_summary(ref, got)
