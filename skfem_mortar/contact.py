@@ -357,19 +357,30 @@ class ContactPair(Item):
     def settled(self) -> bool:
         return not self.state.changed
 
+    def initial_active(self, z: np.ndarray, load_factor: float) -> np.ndarray:
+        """The active set the first load step starts from (bool per slave node);
+        after the first step, the last converged set.
+
+        Nodes with a master partner where ``lam - c g >= 0``, or whose gap (as a
+        length) is within the touch tolerance, or that the master touches
+        within it (:func:`~skfem_mortar.active_set.touching_nodes`).
+        """
+        if self._started:
+            return self.state.converged.copy()
+        ev = self.evaluate(z, tangent=False, with_lam=False)
+        c = self._c(z, load_factor, ev)
+        lam = np.asarray(z)[self.dofs]
+        touch = touching_nodes(self.slave.x(z), self.slave.segments, self.master.x(z),
+                               self.master.segments, self._touch)
+        return ev.mask & ((lam - c * ev.g >= 0) | touch | (self._gap_length(ev) <= self._touch))
+
     def begin_step(self, z: np.ndarray, load_factor: float) -> None:
         """Start (or retry) a step from the last converged active set; the first
         iteration uses it as it is (less the nodes out of mask).  Before the first
         step: the initial active set."""
         if not self._started:
+            self.state.converged = self.initial_active(z, load_factor)
             self._started = True
-            ev = self.evaluate(z, tangent=False, with_lam=False)
-            c = self._c(z, load_factor, ev)
-            lam = np.asarray(z)[self.dofs]
-            touch = touching_nodes(self.slave.x(z), self.slave.segments, self.master.x(z),
-                                   self.master.segments, self._touch)
-            self.state.converged = ev.mask & ((lam - c * ev.g >= 0) | touch
-                                              | (self._gap_length(ev) <= self._touch))
             self._prefer_converged = None
         if self._x0 is None:  # later: kept from the last converged state (end_step)
             self._x0 = (self.slave.x(z), self.master.x(z))

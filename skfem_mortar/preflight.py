@@ -319,23 +319,18 @@ class _Touch:
     h: float               # mean slave segment length
 
 
-def _touching_rows(pair: Any, z: np.ndarray, n: int) -> _Touch:
+def _touching_rows(pair: Any, z: np.ndarray, load_factor: float, n: int) -> _Touch:
     """Unit normal rows of the pair's touching slave nodes (global columns).
 
-    Touching: the nodes of the pair's initial active set (those with a master
-    partner whose gap, as a length, is at most the pair's touch tolerance; on
-    a resumed run its converged active set).  Row of node ``k`` projecting on
+    Touching: the nodes of the pair's initial active set
+    (:meth:`ContactPair.initial_active`; on a resumed run its converged set).  Row of node ``k`` projecting on
     master segment ``(1, 2)`` at ``xi``: ``n_m . (du_k - (1 - xi) du_1 - xi du_2)``
     (the NTS gap's derivative: what the frictionless normal holds), divided
     by its norm.
     """
     ev = pair.evaluate(z, tangent=False, with_lam=False)
     glen = pair._gap_length(ev)
-    if getattr(pair, "_started", False):
-        touch = pair.state.converged & ev.mask
-    else:
-        lam = np.asarray(z)[pair.dofs]
-        touch = ev.mask & ((glen <= pair._touch) | (lam > 0))
+    touch = pair.initial_active(z, load_factor) & ev.mask
     xs, xm = pair.slave.x(z), pair.master.x(z)
     nv = nts.evaluate(xs, pair.slave.segments, xm, pair.master.segments, tangent=True)
     on = touch & nv.mask
@@ -442,7 +437,7 @@ def check_rigid_modes(model: Any, z: np.ndarray, load_factor: float, fixed: np.n
     touching: dict[str, tuple[Any, _Touch]] = {}
     for it in model.items:
         if isinstance(it, ContactPair):
-            tc = _touching_rows(it, z, n)
+            tc = _touching_rows(it, z, load_factor, n)
             touching[it.name] = (it, tc)
             blocks.append(_chunks(_times_modes(tc.rows, bodies), HOLD))
         elif it.dof_kind == "lam":

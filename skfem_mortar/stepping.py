@@ -335,13 +335,15 @@ def solve(model: Model, n_steps: int = 1, *, newton_options: NewtonOptions | Non
         raise ValueError(f"z0 must have shape ({model.n},), got {z.shape}")
     fixed, values = model.prescribed(start)
     z[fixed] = values
-    model.preflight(z, start, fixed)  # refuse what cannot work before the first step
     nominal = 1.0 / n_steps
     if restart is None:
         ctl, z_prev = Controller(increment or nominal, lf_prev=start), None
     else:
         restore_items(model, restart.items, restart.source)
         ctl, z_prev = replace(restart.controller), restart.previous
+    # refuse what cannot work before the first step (a resumed run: with its
+    # items' states restored, e.g. the converged active set)
+    model.preflight(z, start, fixed)
     result = Result(model, steps=list(history or []), states=[z.copy()])
     lf = start
     step_no = len(result.steps) + 1

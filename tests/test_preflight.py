@@ -195,15 +195,22 @@ def test_disk_on_a_block_without_axis_support_is_refused(method):
     _preflight(_disk_on_block(method, support=True))
 
 
-def test_contact_that_touches_nowhere_names_the_touch_tolerance():
-    """Standard mortar: the disk's weighted gap at its lowest node is positive (0.0064)
-    and above the default touch tolerance, so the contact starts open and the
-    disk's vertical motion is held by nothing (the run failed in its first step).
-    The message names the tolerance to use; with it the model passes."""
+def test_contact_that_touches_nowhere_is_refused_with_the_fix():
+    """A disk resting on the block touches it: every method passes (standard
+    mortar too, whose weighted gap at the lowest node, 0.0064, is above the
+    touch tolerance: the initial set also holds the nodes the master touches).
+    Lifted 0.05 above the block and pushed by a load, nothing holds the disk's
+    vertical motion until it lands: refused, naming the gap and the fix."""
+    for method in ("nts", "mortar", "mortar-dual"):
+        _preflight(_disk_on_block(method, support=True))
+    disk, block = _disk(y0=0.05, nref=3), _block()
+    pair = ContactPair(ContactSurface.from_solid(disk, "rim"),
+                       ContactSurface.from_solid(block, "top"), method="mortar")
+    model = Model([disk, block, pair, Traction(disk, "top", (0.0, -0.5)), _axis(disk),
+                   Dirichlet(block, block.dofs_on("bottom"), name="clamp")])
     with pytest.raises(ValueError, match=r"translation in y is held by nothing.*touches at "
-                                         r"no node.*touch_tolerance=0\.05"):
-        _preflight(_disk_on_block("mortar", support=True))
-    _preflight(_disk_on_block("mortar", support=True, touch_tolerance=0.05))
+                                         r"no node.*close the gap"):
+        _preflight(model)
 
 
 class GroundSpring(Item):
