@@ -250,6 +250,24 @@ class Model:
         self._varying = np.zeros(len(self.items), dtype=bool)
         self._pattern: _Pattern | None = None
 
+    # -- checkpoint ---------------------------------------------------------
+    def state_dict(self) -> dict[str, np.ndarray]:
+        """Which items' tangent index arrays have varied (their triplets are summed
+        apart from the fixed pattern): with it a resumed run sums every tangent
+        in the same order as an uninterrupted one, so it repeats its solves to
+        the last bit."""
+        return {"varying": self._varying.copy()}
+
+    def load_state_dict(self, state: dict[str, np.ndarray]) -> None:
+        """Restore :meth:`state_dict` (ValueError if it does not fit this model)."""
+        v = np.asarray(state.get("varying", np.zeros(0)))
+        if set(state) != {"varying"} or v.shape != self._varying.shape or v.dtype != bool:
+            raise ValueError(f"model state must be {{'varying': bool ({len(self.items)},)}}, "
+                             f"got {sorted(state)} with shape {v.shape}")
+        self._varying = v.copy()
+        self._last_idx = [None] * len(self.items)
+        self._pattern = None
+
     # -- queries -----------------------------------------------------------
     def item(self, name: str) -> Item:
         for it in self.items:
@@ -324,7 +342,8 @@ class Model:
         """Sum the tangent triplets of all items into one CSR matrix.
 
         Items whose index arrays have equalled those of their previous call at
-        every call so far (bodies, loads: a fixed mesh) are *stable*: their
+        every call so far (bodies, loads: a fixed mesh; every item at its first
+        call) are *stable*: their
         values are summed with one ``bincount`` into a CSR pattern built once
         (no sorting of COO triplets per iteration).  An item whose indices
         changed once (a contact pair: active sets and segments change) is
@@ -338,9 +357,10 @@ class Model:
                 continue
             last = self._last_idx[i]
             self._last_idx[i] = (c.k_rows, c.k_cols)
-            if last is None:
-                continue
-            if _same(last[0], c.k_rows) and _same(last[1], c.k_cols):
+            # an item is taken as stable from its first call on, so the order in
+            # which entries are summed depends only on which items have varied
+            # (the state a checkpoint keeps), not on how many calls came before
+            if last is None or (_same(last[0], c.k_rows) and _same(last[1], c.k_cols)):
                 stable.append(i)
             else:
                 self._varying[i] = True

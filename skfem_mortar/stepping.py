@@ -111,15 +111,20 @@ class Restart:
     source: str = "restart"
 
 
+#: the key of the model's own state among the item states of a checkpoint
+MODEL_STATE = "__model__"
+
+
 def stateful_items(model: Model) -> dict[str, object]:
-    """The items of ``model`` that keep a state (a non-empty ``state_dict``), by name.
+    """The items of ``model`` that keep a state (a non-empty ``state_dict``), by
+    name, and the model itself under ``MODEL_STATE``.
 
     Raises
     ------
     ValueError
         When two of them share a name (their states could not be told apart).
     """
-    out: dict[str, object] = {}
+    out: dict[str, object] = {MODEL_STATE: model}  # the model's own (tangent pattern)
     for item in model.items:
         if item.state_dict():
             if item.name in out:

@@ -2,13 +2,12 @@
 comparison of two runs' outputs (frames, contact.csv, summary) to 1e-10 relative.
 
 Tolerance: a resumed run repeats the uninterrupted run's solves from the same
-checkpointed state, controller and item states; what is left is the summation
-order of the tangent assembly (the model's tangent pattern cache starts cold
-after a restart), a round-off of about 1e-16 in the tangent that the solves
-and the contact output (mortar gaps divided by small tributary lengths) amplify
-to at most about 5e-11 (measured over all scenes and methods).  1e-10 keeps that
-margin and still fails on any state, step or item state that was not restored
-(those move results by far more than 1e-8).
+checkpointed state, controller, item states and the model's tangent state
+(which items' triplets vary, so every tangent is summed in the same order):
+measured, every scene and method resumes identical to the last bit (these tests
+pass with RTOL = 0).  1e-10 is the bound the issue sets; it still fails on any
+state, step or item state that was not restored (those move results by far
+more than 1e-8).
 """
 from __future__ import annotations
 
