@@ -57,11 +57,61 @@ log = logging.getLogger(__name__)
 K_GAP = 1e-6
 K_LAM = 1e-6
 
+#: the discretization options a user may pass to ContactPair (``**options``), per
+#: module: name -> (check, allowed range as said in the refusal)
+USER_OPTIONS: dict[str, dict[str, tuple[Any, str]]] = {
+    "nts": {"margin": (lambda v: v is None or (np.isfinite(v) and v > 0), "a finite number > 0"),
+            "end_tolerance": (lambda v: np.isfinite(v) and 0 <= v < 0.5, "a number in [0, 0.5)"),
+            "stick": (lambda v: np.isfinite(v) and 0 <= v <= 0.5, "a number in [0, 0.5]")},
+    "mortar": {"margin": (lambda v: v is None or (np.isfinite(v) and v > 0),
+                          "a finite number > 0"),
+               "n_gauss": (lambda v: isinstance(v, (int, np.integer)) and 1 <= v <= 10,
+                           "an integer in [1, 10]")},
+}
+
 METHODS: dict[str, tuple[str, dict, str]] = {
     "nts": ("nts", {}, "force"),
     "mortar": ("mortar", {"dual": False}, "traction"),
     "mortar-dual": ("mortar", {"dual": True}, "traction"),
 }
+
+
+#: point-segment pairs per chunk of :func:`distance_to_polyline` (bounds its memory)
+_DIST_CHUNK = 1 << 20
+
+
+def distance_to_polyline(p: np.ndarray, x: np.ndarray, seg: np.ndarray) -> np.ndarray:
+    """Euclidean distance of each point ``p (2, n)`` to the segments ``seg`` of
+    the nodes ``x (2, m)``: ``min_e |p - (x_1 + t (x_2 - x_1))|``, ``t`` clipped
+    to [0, 1]; vectorized in chunks of points (output only: the nodes that
+    face no master segment)."""
+    a, b = x[:, seg[:, 0]], x[:, seg[:, 1]]
+    d = b - a
+    dd = np.maximum(np.sum(d * d, axis=0), np.finfo(float).tiny)
+    out = np.empty(p.shape[1])
+    step = max(1, _DIST_CHUNK // max(seg.shape[0], 1))
+    for k in range(0, p.shape[1], step):
+        q = p[:, k:k + step, None]                     # (2, c, 1)
+        t = np.clip(np.sum((q - a[:, None]) * d[:, None], axis=0) / dd, 0.0, 1.0)
+        r = q - (a[:, None] + t[None] * d[:, None])    # (2, c, n_seg)
+        out[k:k + step] = np.sqrt(np.min(np.sum(r * r, axis=0), axis=1))
+    return out
+
+
+def _check_options(method: str, module: str, options: dict) -> None:
+    """Refuse an unknown or out-of-range discretization option (ValueError naming it)."""
+    allowed = USER_OPTIONS[module]
+    for k, v in options.items():
+        if k not in allowed:
+            raise ValueError(f"unknown option {k!r} for method {method!r}; its options are "
+                             f"{sorted(allowed)}")
+        check, what = allowed[k]
+        try:
+            ok = bool(check(v))
+        except TypeError:
+            ok = False
+        if not ok:
+            raise ValueError(f"{k} must be {what}, got {v!r}")
 
 
 class ContactPair(Item):
@@ -122,6 +172,10 @@ class ContactPair(Item):
             raise ValueError(f"c must be a finite number > 0, got {c}")
         self.slave, self.master, self.method, self.name = slave, master, method, name
         mod, extra, self.multiplier_kind = METHODS[method]
+        _check_options(method, mod, options)
+        for flag, v in (("cycle_guard", cycle_guard), ("accelerate", accelerate)):
+            if not isinstance(v, (bool, np.bool_)):
+                raise ValueError(f"{flag} must be True or False, got {v!r}")
         self._module_name = mod
         self._module = None
         self.options = {**extra, **options}
@@ -157,6 +211,10 @@ class ContactPair(Item):
         self._prefer_converged: np.ndarray | None = None
 
     # -- helpers -------------------------------------------------------------
+    def referenced_bodies(self) -> list:
+        """The bodies of the slave and (unless rigid) the master surface."""
+        return [b for b in (self.slave.body, self.master.body) if b is not None]
+
     @property
     def module(self):
         if self._module is None:
@@ -522,7 +580,12 @@ class ContactPair(Item):
         """Per slave node: ``x, y`` (current), ``gap`` (length) and ``pressure`` (traction).
 
         NTS: ``pressure = lam / tributary length``; mortar: ``pressure = lam`` and
-        ``gap = weighted gap / tributary length``.  Inactive multipliers of a
+        ``gap = weighted gap / tributary length``.  ``has_master`` marks the
+        nodes that face a master segment; elsewhere ``gap`` is NaN (undefined)
+        and ``distance`` holds the node's distance to the master surface, a
+        finite length that the output files write as the gap there (beside the
+        ``has_master`` mask), so no file carries a NaN or a 0 that reads as
+        touching; where ``has_master``, ``distance`` equals ``gap``.  Inactive multipliers of a
         converged state are exact zeros; a round-off tension within the KKT
         tolerance (:meth:`violation`) is written as 0.
         """
@@ -533,7 +596,12 @@ class ContactPair(Item):
         p[p == 0] = 0.0  # no -0.0
         x = self.slave.x(z)
         g = np.where(ev.mask, g, np.nan)
-        return {"x": x[0].copy(), "y": x[1].copy(), "gap": g, "pressure": p}
+        dist = np.where(ev.mask, g, 0.0)
+        if not ev.mask.all():
+            far = ~ev.mask
+            dist[far] = distance_to_polyline(x[:, far], self.master.x(z), self.master.segments)
+        return {"x": x[0].copy(), "y": x[1].copy(), "gap": g, "pressure": p,
+                "has_master": ev.mask.copy(), "distance": dist}
 
     def forces(self, z: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Contact forces ``(2, n)`` on the slave and on the master nodes: ``G^T lam``

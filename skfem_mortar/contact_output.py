@@ -3,7 +3,13 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["ContactOutput"]
+__all__ = ["ContactOutput", "output_gap"]
+
+
+def output_gap(data: dict) -> np.ndarray:
+    """The gap column of the output files: the gap where the node faces a master
+    (``has_master``), else its distance to the master surface (finite)."""
+    return np.where(data["has_master"], data["gap"], data["distance"]).astype(float)
 
 
 class ContactOutput:
@@ -12,10 +18,11 @@ class ContactOutput:
 
     - ``displacement`` of the slave nodes,
     - ``pressure``: the multiplier as a traction (> 0 compression),
-    - ``gap``: the normal gap as a length (> 0 open), 0 where the node faces no
-      master segment, and
-    - ``has_master``: 1 where the node faces a master segment, else 0 (so the
-      files never carry a NaN for an undefined gap).
+    - ``gap``: the normal gap as a length (> 0 open); where the node faces no
+      master segment, its distance to the master surface (a length, as in
+      contact.csv: never a NaN, never a 0 that reads as touching unless the
+      node sits on the master's end), and
+    - ``has_master``: 1 where the node faces a master segment, else 0.
     """
 
     def __init__(self, pair, name: str | None = None):
@@ -29,8 +36,7 @@ class ContactOutput:
     def output_data(self, z: np.ndarray):
         s = self.pair.slave
         data = self.pair.contact_data(z)
-        gap = np.asarray(data["gap"], dtype=float)
-        has = np.isfinite(gap)
         return ({"displacement": (s.x(z) - s.X).T.copy(),
                  "pressure": np.asarray(data["pressure"], dtype=float),
-                 "gap": np.where(has, gap, 0.0), "has_master": has.astype(float)}, {})
+                 "gap": output_gap(data),
+                 "has_master": np.asarray(data["has_master"], dtype=float)}, {})

@@ -17,7 +17,7 @@ from __future__ import annotations
 import time
 from collections import defaultdict
 from dataclasses import dataclass, field
-from typing import Iterable, Sequence
+from typing import Any, Iterable, Sequence
 
 import numpy as np
 import scipy.sparse as sp
@@ -156,10 +156,47 @@ class Item:
         if state:
             raise ValueError(f"{self.name}: this item keeps no state, got {sorted(state)}")
 
+    def referenced_bodies(self) -> list["Item"]:
+        """The bodies this item acts on (its ``body``), which must be in the same
+        :class:`Model`."""
+        body = getattr(self, "body", None)
+        return [body] if isinstance(body, Item) else []
+
     @property
     def dofs(self) -> slice:
         """Global slice of the unknowns this item owns."""
         return slice(self.offset, self.offset + self.n_dofs)
+
+
+def dof_indices(dofs: Any, n: int, what: str) -> np.ndarray:
+    """Integer dof indices in ``[0, n)`` from ``dofs`` (ValueError otherwise).
+
+    A boolean mask of length ``n`` is taken as the mask it is (its True
+    entries); any other boolean array, non-integer numbers, or indices
+    outside ``[0, n)`` are refused.
+    """
+    a = np.asarray(dofs)
+    if a.dtype == bool:
+        if a.shape != (n,):
+            raise ValueError(f"{what}: a boolean mask must have shape ({n},), got {a.shape}")
+        return np.flatnonzero(a)
+    a = a.ravel()
+    if a.size and not np.issubdtype(a.dtype, np.integer):
+        raise ValueError(f"{what} must be integers in [0, {n}), got {a.dtype} values")
+    a = a.astype(np.int64)
+    if a.size and (a.min() < 0 or a.max() >= n):
+        raise ValueError(f"{what} must lie in [0, {n}), got values in [{a.min()}, {a.max()}]")
+    return a
+
+
+def _check_repeats(value: np.ndarray, inverse: np.ndarray, first: np.ndarray,
+                   dofs: np.ndarray) -> None:
+    """A dof listed twice must be given the same value both times."""
+    clash = value != value[first][inverse.ravel()]
+    if np.any(clash):
+        k = int(np.flatnonzero(clash)[0])
+        raise ValueError(f"dof {dofs[k]} is listed twice with different values "
+                         f"({value[first][inverse.ravel()][k]} and {value[k]})")
 
 
 class Dirichlet(Item):
@@ -184,19 +221,24 @@ class Dirichlet(Item):
 
     def __init__(self, body: Item, dofs: np.ndarray, value: float | np.ndarray = 0.0,
                  ramp: bool = True, name: str = ""):
+        if not isinstance(body, Item) or body.dof_kind != "u":
+            raise ValueError(f"body must be a body of the model (a Solid, Cable, ...), "
+                             f"got {type(body).__name__}")
         self.body = body
-        self.local_dofs = np.unique(np.asarray(dofs, dtype=np.int64).ravel())
-        if self.local_dofs.size and (self.local_dofs.min() < 0
-                                     or self.local_dofs.max() >= body.n_dofs):
-            raise ValueError(f"dofs must lie in [0, {body.n_dofs}) for body {body.name!r}")
-        self._order = np.unique(np.asarray(dofs).ravel(), return_index=True)[1]
+        dofs = dof_indices(dofs, body.n_dofs, f"dofs of body {body.name!r}")
+        self.local_dofs, self._order, inverse = np.unique(dofs, return_index=True,
+                                                          return_inverse=True)
         self.path = value if callable(value) else None
         if self.path is not None:
             value = np.asarray(self.path(0.0), dtype=float)
         value = np.asarray(value, dtype=float)
-        if value.ndim and value.shape != np.asarray(dofs).ravel().shape:
-            raise ValueError("value must be a scalar or one value per dof")
+        if value.ndim and value.shape != dofs.shape:
+            raise ValueError(f"value must be a scalar or one value per dof ({dofs.size}), "
+                             f"got shape {value.shape}")
+        if not np.all(np.isfinite(value)):
+            raise ValueError(f"value must be finite (dirichlet on body {body.name!r})")
         if value.ndim:  # keep values aligned with the sorted unique dofs
+            _check_repeats(value, inverse, self._order, dofs)
             value = value[self._order]
         if not np.all(np.isfinite(value)):
             raise ValueError("value must be finite")
@@ -218,6 +260,26 @@ class Dirichlet(Item):
         return self.body.offset + self.local_dofs, vals
 
 
+def _check_items(items: list[Item]) -> None:
+    """Every entry an Item, none listed twice (its load or stiffness would count
+    twice), every body an item refers to in the list."""
+    for k, it in enumerate(items):
+        if not isinstance(it, Item):
+            raise ValueError(f"items[{k}] is not a model item (a body, load, boundary "
+                             f"condition or contact pair), got {type(it).__name__}")
+    seen: dict[int, int] = {}
+    for k, it in enumerate(items):
+        if id(it) in seen:
+            raise ValueError(f"items[{seen[id(it)]}] and items[{k}] are the same item "
+                             f"{it.name!r}: list each item once (twice would count it twice)")
+        seen[id(it)] = k
+    for it in items:
+        for body in it.referenced_bodies():
+            if id(body) not in seen:
+                raise ValueError(f"item {it.name!r} acts on body {body.name!r}, which is not "
+                                 f"in the model: add the body to the items")
+
+
 class Model:
     """A list of items with a global unknown layout.
 
@@ -227,6 +289,7 @@ class Model:
 
     def __init__(self, items: Sequence[Item]):
         self.items: list[Item] = list(items)
+        _check_items(self.items)
         # bodies and contact pairs name output files and blocks: their names are unique
         names = [it.name for it in self.items if it.dof_kind is not None]
         dup = {n for n in names if names.count(n) > 1}

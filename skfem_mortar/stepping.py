@@ -20,7 +20,7 @@ import os
 import time
 from pathlib import Path
 from dataclasses import dataclass, field, replace
-from typing import Callable
+from typing import Any, Callable
 
 import numpy as np
 
@@ -268,13 +268,33 @@ class Result:
         return R
 
 
-def _validate(n_steps: int, min_step: float, start: float) -> None:
-    if not (isinstance(n_steps, (int, np.integer)) and n_steps >= 1):
-        raise ValueError(f"n_steps must be an integer >= 1, got {n_steps!r}")
-    if not (0.0 < min_step <= 1.0):
+#: the largest number of nominal load steps a solve accepts (a 1e6-step run of
+#: the smallest scene would take days; more is a typo)
+MAX_STEPS = 1_000_000
+
+
+def _number(v: Any) -> bool:
+    return isinstance(v, (int, float, np.integer, np.floating)) and not isinstance(v, bool)
+
+
+def _validate(n_steps: int, min_step: float, start: float, growth: float = 2.0,
+              easy_iterations: int = 4, easy_steps: int = 2,
+              increment: float | None = None) -> None:
+    """Refuse stepping arguments out of range (ValueError naming the argument)."""
+    if not (isinstance(n_steps, (int, np.integer)) and not isinstance(n_steps, bool)
+            and 1 <= n_steps <= MAX_STEPS):
+        raise ValueError(f"n_steps must be an integer in [1, {MAX_STEPS}], got {n_steps!r}")
+    if not (_number(min_step) and 0.0 < min_step <= 1.0):
         raise ValueError(f"min_step must lie in (0, 1], got {min_step!r}")
-    if not (0.0 <= start < 1.0):
+    if not (_number(start) and 0.0 <= start < 1.0):
         raise ValueError(f"start must lie in [0, 1), got {start!r}")
+    if not (_number(growth) and 1.0 <= growth <= 1e3):
+        raise ValueError(f"growth must be a number in [1, 1000], got {growth!r}")
+    for name, v, lo in (("easy_iterations", easy_iterations, 0), ("easy_steps", easy_steps, 1)):
+        if not (isinstance(v, (int, np.integer)) and not isinstance(v, bool) and v >= lo):
+            raise ValueError(f"{name} must be an integer >= {lo}, got {v!r}")
+    if increment is not None and not (_number(increment) and 0.0 < increment <= 1.0):
+        raise ValueError(f"increment must lie in (0, 1], got {increment!r}")
 
 
 def solve(model: Model, n_steps: int = 1, *, newton_options: NewtonOptions | None = None,
@@ -332,7 +352,7 @@ def solve(model: Model, n_steps: int = 1, *, newton_options: NewtonOptions | Non
         if z0 is not None or start or history or increment:
             raise ValueError("give either restart or z0, start, history, increment")
         z0, start, history = restart.z, restart.load_factor, restart.history
-    _validate(n_steps, min_step, start)
+    _validate(n_steps, min_step, start, growth, easy_iterations, easy_steps, increment)
     opts = newton_options or newton or NewtonOptions()
     t_start = time.perf_counter()
     z = model.zeros() if z0 is None else np.array(z0, dtype=float)

@@ -148,6 +148,8 @@ class ContactSurface:
             self._X = np.asarray(X, dtype=float)
             if self._X.ndim != 2 or self._X.shape[0] != 2:
                 raise ValueError(f"X must have shape (2, n), got {self._X.shape}")
+            if not np.all(np.isfinite(self._X)):
+                raise ValueError("X (the rigid surface's coordinates) must be finite")
             n = self._X.shape[1]
             self.nodes = None
         else:
@@ -259,6 +261,17 @@ class ContactSurface:
         return cls(cable, nodes, local.reshape(-1, 2), name=name or f"{cable.name}_{side}")
 
 
+def _vector2(v: Any, name: str) -> np.ndarray:
+    """A finite 2-vector (ValueError naming ``name`` otherwise)."""
+    try:
+        a = np.asarray(v, dtype=float).reshape(2)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} must be a 2-vector (x, y), got {v!r}") from None
+    if not np.all(np.isfinite(a)):
+        raise ValueError(f"{name} must be finite, got {v!r}")
+    return a
+
+
 class RigidPlane(ContactSurface):
     """A rigid straight line through ``point`` with outward unit normal ``normal``.
 
@@ -274,8 +287,7 @@ class RigidPlane(ContactSurface):
 
     def __init__(self, point: tuple[float, float], normal: tuple[float, float],
                  length: float = 1e3, name: str = "plane", n_segments: int = 1):
-        point = np.asarray(point, dtype=float).reshape(2)
-        normal = np.asarray(normal, dtype=float).reshape(2)
+        point, normal = _vector2(point, "point"), _vector2(normal, "normal")
         nn = np.linalg.norm(normal)
         if not np.isfinite(nn) or nn == 0:
             raise ValueError("normal must be a finite non-zero vector")
@@ -318,7 +330,7 @@ class RigidCircle(ContactSurface):
         if int(n_segments) != n_segments or n_segments < 3:
             raise ValueError(f"n_segments must be an integer >= 3, got {n_segments}")
         n_segments = int(n_segments)
-        center = np.asarray(center, dtype=float).reshape(2)
+        center = _vector2(center, "center")
         if arc is None:
             th = np.linspace(0.0, 2 * np.pi, n_segments, endpoint=False)
             seg = np.column_stack([np.arange(n_segments), np.roll(np.arange(n_segments), -1)])

@@ -154,7 +154,7 @@ def test_nan_or_negative_cable_parameters(kw, match):
     (lambda s: FollowerPressure(s, np.nan, facets="top"), "pressure must be finite"),
     (lambda s: Dirichlet(s, s.dofs_on("bottom"), np.nan), "value must be finite"),
     (lambda s: RigidPlane((0, 0), (0, 1), length=-1.0), "length must be a finite number > 0"),
-    (lambda s: RigidPlane((0, 0), (np.nan, 1)), "normal must be a finite non-zero vector"),
+    (lambda s: RigidPlane((0, 0), (np.nan, 1)), "normal must be finite"),
     (lambda s: RigidCircle((0, 0), -1.0), "radius must be a finite number > 0"),
     (lambda s: NewtonOptions(rtol=np.nan), r"rtol must lie in \(0, 1\)"),
     (lambda s: NewtonOptions(max_iter=0), "max_iter must be an integer >= 1"),
@@ -175,7 +175,7 @@ def test_nan_or_negative_contact_and_solver_parameters():
     with pytest.raises(ValueError, match="method must be one of nts, mortar, mortar-dual"):
         ContactPair(slave, plane, method="penalty")
     from skfem_mortar import Model
-    with pytest.raises(ValueError, match="n_steps must be an integer >= 1"):
+    with pytest.raises(ValueError, match=r"n_steps must be an integer in \[1, 1000000\]"):
         solve(Model([s]), 0)
     with pytest.raises(ValueError, match=r"min_step must lie in \(0, 1\]"):
         solve(Model([s]), 1, min_step=np.nan)
