@@ -331,7 +331,7 @@ class ActiveSet:
         self.cycles += 1
         if not self.single_flip:
             self.single_flip = True
-            log.warning("%s: active set cycling (a set of %d sets repeats); from now on "
+            log.info("%s: active set cycling (a set of %d sets repeats); from now on "
                         "in this step change one node at a time (least-index rule)",
                         self.name, len(self.history) - seen[0])
             diff = np.flatnonzero(new != self.active)
@@ -341,7 +341,7 @@ class ActiveSet:
             return new
         cycle = self.history[seen[0]:] + [new]
         frozen = np.logical_or.reduce(cycle)
-        log.warning("%s: active set still cycling; freezing it to the union of "
+        log.info("%s: active set still cycling; freezing it to the union of "
                     "the %d sets of the cycle (%d nodes) for the rest of the step",
                     self.name, len(cycle) - 1, int(frozen.sum()))
         self.frozen = frozen
