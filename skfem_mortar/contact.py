@@ -197,8 +197,6 @@ class ContactPair(Item):
         self._row_scale: float | None = None
         self._pinned: np.ndarray | None = None
         self._hint = failure_hints(slave, master, name) if mod == "nts" else ""
-        if self._hint:
-            log.info("%s", self._hint)
         self.state = ActiveSet(self.n_dofs, chain_order(slave.segments, slave.closed,
                                                         slave.n_nodes),
                                name, cycle_guard=cycle_guard, accelerate=accelerate)
