@@ -17,7 +17,7 @@ from typing import Sequence
 
 import numpy as np
 
-__all__ = ["SIZES", "run_bench", "fit_slopes"]
+__all__ = ["SIZES", "run_bench", "fit_slopes", "check_inputs"]
 
 #: scene -> list of parameter sets of growing size: hertz 2e3 to 1.7e5 dofs,
 #: seed 4e2 to 3e5 dofs (each cushion refinement is 4x)
@@ -89,21 +89,55 @@ def fit_slopes(rows: Sequence[dict], size: str = "n_dofs") -> dict[str, float]:
     return out
 
 
+def check_inputs(scenes: Sequence[str], method: str, max_dofs: int | None,
+                 steps: int | None, table: dict[str, list[dict]]) -> None:
+    """Refuse bench inputs before any run: ValueError naming the input and its range.
+
+    Every size of every scene is resolved as its run would be (ranges, the dof
+    estimate, the derived quantities), so a bad size fails here, not in a child.
+    """
+    from .scenes import MAX_STEPS, METHODS, get_scene
+
+    if isinstance(scenes, str) or not list(scenes):
+        raise ValueError(f"scenes must be a non-empty list of {sorted(table)}, got {scenes!r}")
+    if method not in METHODS:
+        raise ValueError(f"method must be one of {', '.join(METHODS)}, got {method!r}")
+    for name, value, high in (("max_dofs", max_dofs, None), ("steps", steps, MAX_STEPS)):
+        if value is None:
+            continue
+        if isinstance(value, bool) or not isinstance(value, int) or value < 1 or (
+                high is not None and value > high):
+            top = "inf)" if high is None else f"{high}]"
+            raise ValueError(f"{name} must be an integer in [1, {top}, got {value!r}")
+    for scene in scenes:
+        sc = get_scene(scene)  # a clear error for an unknown scene
+        if scene not in table:
+            raise ValueError(f"scene must be one of {sorted(table)} for bench, got {scene!r}")
+        sc.check_method(method)
+        for params in table[scene]:
+            sc.resolve(params)
+
+
 def run_bench(out: str | Path, scenes: Sequence[str] = ("hertz", "seed"),
               method: str = "mortar", quick: bool = False, max_dofs: int | None = None,
               steps: int | None = None, progress: bool = False) -> dict:
-    """Run the sizes of each scene; write ``bench.json`` and ``bench.png`` into ``out``."""
-    from .io import write_json
-    from .scenes import get_scene
+    """Run the sizes of each scene; write ``bench.json`` and ``bench.png`` into ``out``.
 
+    Raises
+    ------
+    ValueError
+        Before any run, for an unknown scene or method, ``max_dofs`` or ``steps``
+        not an integer >= 1 (``steps`` at most ``MAX_STEPS``), or a size the
+        scene refuses.
+    """
+    from .io import write_json
+
+    table = QUICK if quick else SIZES
+    check_inputs(scenes, method, max_dofs, steps, table)
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
-    table = QUICK if quick else SIZES
     report: dict = {"method": method, "scenes": {}}
     for scene in scenes:
-        get_scene(scene)  # a clear error for an unknown scene
-        if scene not in table:
-            raise ValueError(f"scene must be one of {sorted(table)} for bench, got {scene!r}")
         rows = []
         for params in table[scene]:
             row = _one(scene, params, method, steps)

@@ -9,7 +9,10 @@ mortar reference computed once and cached in the output directory.
 Rows are appended (atomically rewriting the CSV) as they finish, so an
 interrupted study resumes without redoing finished rows. A run that fails is a
 row with its reason. ``workers`` runs the grid on a Dask LocalCluster,
-``scheduler`` on an existing Dask cluster; serial needs no Dask. Each run is
+``scheduler`` on an existing Dask cluster; serial needs no Dask. A grid point
+whose run kills its worker process (a crash, ``os._exit``, the out-of-memory
+killer) is retried on a fresh worker ``KILL_RETRIES`` times at most, then it is
+a failed row (``failed: worker died ...``) and the other points go on. Each run is
 deterministic and independent of where it runs, so the rows are the same.
 """
 from __future__ import annotations
@@ -24,7 +27,11 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Callable, Iterable, Sequence
 
-__all__ = ["StudyPlan", "plan_study", "run_study", "GRIDS"]
+__all__ = ["StudyPlan", "plan_study", "run_study", "parse_steps", "GRIDS", "KILL_RETRIES"]
+
+#: how many times a grid point that killed its worker is tried again on another
+#: worker before it becomes a failed row (dask's ``allowed-failures``)
+KILL_RETRIES = 1
 
 #: per scene: the error metric, the full grid, the quick grid, and (for scenes
 #: without an analytic answer) the metric compared with a fine reference run.
@@ -75,6 +82,27 @@ def _parse_values(text: str) -> list[str]:
     return [v.strip() for v in text.split(",") if v.strip()]
 
 
+def parse_steps(steps: str | int | Sequence[int | str] | None) -> list[int] | None:
+    """Load step counts from ``"5,10,20"``, an int or a sequence (None: the scenes').
+
+    Raises
+    ------
+    ValueError
+        Naming ``steps`` and the allowed range, for a value that is not an
+        integer in ``[1, MAX_STEPS]`` or an empty list.
+    """
+    from .scenes import MAX_STEPS, Param
+
+    if steps is None:
+        return None
+    items = _parse_values(steps) if isinstance(steps, str) else (
+        [steps] if isinstance(steps, int) else list(steps))
+    if not items:
+        raise ValueError(f"steps must list integers in [1, {MAX_STEPS}], got {steps!r}")
+    param = Param("steps", 1, kind=int, low=1, high=MAX_STEPS)
+    return [param.parse(v) for v in items]
+
+
 def plan_study(scenes: Sequence[str], *, methods: Sequence[str] | None = None,
                sets: dict[str, str] | None = None, steps: Sequence[int] | None = None,
                quick: bool = False) -> StudyPlan:
@@ -92,6 +120,7 @@ def plan_study(scenes: Sequence[str], *, methods: Sequence[str] | None = None,
     from .scenes import get_scene
 
     plan = StudyPlan()
+    steps = parse_steps(steps)
     sets = dict(sets or {})
     used = set()
     for name in scenes:
@@ -123,6 +152,7 @@ def plan_study(scenes: Sequence[str], *, methods: Sequence[str] | None = None,
                       **{k: scene.param(k).parse(v) for k, v in zip(keys, combo)}}
             params = {k: v for k, v in params.items()
                       if not (method == "nts" and k in MORTAR_ONLY)}
+            _check_point(scene, params)
             run = {"scene": name, "method": method, "steps": step, "params": params}
             if run not in plan.runs:  # NTS ignores the mortar axes: run it once
                 plan.runs.append(run)
@@ -135,6 +165,16 @@ def plan_study(scenes: Sequence[str], *, methods: Sequence[str] | None = None,
     return plan
 
 
+def _check_point(scene, params: dict) -> None:
+    """Validate one grid point as a run would (sizes, derived quantities), naming
+    the grid point in the message."""
+    try:
+        scene.resolve(params)
+    except ValueError as exc:
+        point = ", ".join(f"{k}={v}" for k, v in params.items())
+        raise ValueError(f"{exc} [scene {scene.name}, grid point {point}]") from None
+
+
 def run_key(run: dict) -> str:
     """A stable identity of a run (to resume without redoing rows)."""
     return json.dumps({"scene": run["scene"], "method": run["method"], "steps": run["steps"],
@@ -145,15 +185,12 @@ def execute(run: dict) -> dict:
     """Run one grid point; never raises (a failure is a row with its reason)."""
     from .runner import run_scene
 
-    row: dict[str, Any] = {"key": run_key(run), "scene": run["scene"],
-                           "method": run["method"] or "", "steps": run["steps"] or "",
-                           **{f"param.{k}": v for k, v in run["params"].items()}}
+    row = _base_row(run)
     try:
         summary = run_scene(run["scene"], run["params"], method=run["method"],
                             steps=run["steps"])
     except Exception as exc:  # noqa: BLE001 - the study reports, it does not crash
-        row.update(status=f"failed: {type(exc).__name__}: {exc}".replace("\n", " "))
-        return row
+        return failed_row(run, f"{type(exc).__name__}: {exc}")
     iters = [s["newton_iterations"] for s in summary["steps"]]
     row.update(status="ok", n_dofs=summary["n_dofs"], n_multipliers=summary["n_multipliers"],
                wall_time_s=summary["wall_time_s"], n_steps=len(iters),
@@ -161,6 +198,18 @@ def execute(run: dict) -> dict:
                **{f"time.{k}": v for k, v in summary["phase_times_s"].items()},
                metrics=json.dumps(summary["metrics"]))
     return row
+
+
+def _base_row(run: dict) -> dict[str, Any]:
+    """The settings columns of a run's row."""
+    return {"key": run_key(run), "scene": run["scene"], "method": run["method"] or "",
+            "steps": run["steps"] or "",
+            **{f"param.{k}": v for k, v in run["params"].items()}}
+
+
+def failed_row(run: dict, reason: str) -> dict[str, Any]:
+    """The row of a run that failed, with its reason on one line."""
+    return {**_base_row(run), "status": f"failed: {reason}".replace("\n", " ")}
 
 
 def _error(row: dict, refs: dict[str, dict]) -> float | None:
@@ -212,23 +261,42 @@ def _map(runs: list[dict], workers: int, scheduler: str | None) -> Iterable[dict
     except ImportError as exc:  # pragma: no cover - depends on the extra
         raise ValueError("workers/scheduler need the 'distributed' extra: "
                          "pip install 'skfem-mortar[distributed]'") from exc
+    import dask
+
     cluster = None
     if scheduler:
         client = Client(scheduler)
     else:
         import logging
 
-        cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
-                               dashboard_address=None, silence_logs=logging.WARNING)
+        # the scheduler runs in this process: a point that kills its worker is
+        # given up (KilledWorker) after KILL_RETRIES retries on fresh workers
+        with dask.config.set({"distributed.scheduler.allowed-failures": KILL_RETRIES}):
+            cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
+                                   dashboard_address=None, silence_logs=logging.CRITICAL)
         client = Client(cluster)
     try:
-        futures = [client.submit(execute, run, pure=False) for run in runs]
-        for fut in as_completed(futures):
-            yield fut.result()
+        futures = {client.submit(execute, run, pure=False): run for run in runs}
+        for fut in as_completed(list(futures)):
+            yield _result_row(fut, futures[fut])
     finally:
         client.close()
         if cluster is not None:
             cluster.close()
+
+
+def _result_row(fut, run: dict) -> dict:
+    """The row a finished future holds, or a failed row when its worker died (each
+    of its tries killed the worker process that ran it) or the cluster lost it."""
+    from dask.distributed import KilledWorker
+
+    try:
+        return fut.result()
+    except KilledWorker:
+        return failed_row(run, f"worker died running this point ({KILL_RETRIES + 1} "
+                               "tries: a crash, os._exit or the out-of-memory killer)")
+    except Exception as exc:  # noqa: BLE001 - a lost task is a row, not a crash
+        return failed_row(run, f"{type(exc).__name__}: {exc}")
 
 
 def run_study(scenes: Sequence[str], out: str | Path, *, methods: Sequence[str] | None = None,

@@ -216,7 +216,7 @@ def test_cable_between_coincident_supports():
     (["run", "patch", "--set", "nu=0.7"], r"parameter 'nu' must be a float in \[0, 0.5\)"),
     (["run", "patch", "--set", "nu=nan"], r"parameter 'nu' must be a float in \[0, 0.5\)"),
     (["run", "patch", "--set", "pressure=-1"], r"parameter 'pressure' must be a float in \(0"),
-    (["run", "patch", "--set", "n_top=2.5"], r"parameter 'n_top' must be a int in \[1"),
+    (["run", "patch", "--set", "n_top=2.5"], r"parameter 'n_top' must be an int in \[1"),
     (["run", "patch", "--set", "element=tri2"], "parameter 'element' must be one of tri1, quad1"),
     (["run", "patch", "--set", "bogus=1"], "unknown parameter 'bogus' for scene 'patch'"),
     (["run", "ironing", "--set", "press=3"], r"parameter 'press' must be a float in \(0, 2.5\]"),

@@ -101,3 +101,16 @@ def test_hertz_and_patch_quick_study(tmp_path):
     best = min(ok, key=lambda r: r["wall_time_s"])
     section = report.split("## hertz")[1].split("## ")[0]
     assert f"**{best['method']}**, refine={best['param.refine']}" in section
+
+
+def test_steps_list_and_grid_points_are_validated():
+    """``steps`` as the CLI's text "5,10,20" or a list; bad counts and a grid point
+    whose value the scene refuses fail before any run, naming the parameter."""
+    plan = plan_study(["ring"], quick=True, steps="5,10,20")
+    assert sorted({r["steps"] for r in plan.runs}) == [5, 10, 20]
+    assert study.parse_steps([4, "8"]) == [4, 8]
+    for bad in ("0", "5,x", "1e9", ""):
+        with pytest.raises(ValueError, match="'steps' must be an int in|steps must list"):
+            plan_study(["ring"], quick=True, steps=bad)
+    with pytest.raises(ValueError, match=r"parameter 'EA' .* grid point EA=1000000000000.0"):
+        plan_study(["ring"], quick=True, sets={"EA": "10,1e12"})

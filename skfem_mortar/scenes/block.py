@@ -27,7 +27,7 @@ from skfem import MeshQuad, MeshTri
 from ..materials import Material, NeoHooke, SaintVenantKirchhoff, lame_from_young
 from ..model import Dirichlet, Model
 from ..solid import ELEMENTS, Solid
-from . import Param, Scene, Setup
+from . import Param, Scene, Setup, grid_dofs, lame_quantities
 
 __all__ = ["SCENE", "build", "exact_uniaxial", "svk_stretch_range", "block_mesh"]
 
@@ -183,6 +183,17 @@ def build(params: dict, method: str | None = None) -> Setup:
     return Setup(model=model, metrics=metrics, outputs=[solid])
 
 
+def estimate_dofs(params: dict) -> int:
+    """Dofs of the refined unit square (no mesh built)."""
+    n = 2 ** int(params["refine"])
+    return grid_dofs(n, n, order=2 if params["element"].endswith("2") else 1)
+
+
+def derived(params: dict) -> list:
+    """The Lame parameters of ``E`` and ``nu`` (in the scale window)."""
+    return lame_quantities(float(params["E"]), float(params["nu"]))
+
+
 SCENE = Scene(
     name="block",
     summary="Plane-strain block in uniaxial stretch on frictionless supports: "
@@ -192,14 +203,17 @@ SCENE = Scene(
         Param("nu", 0.3, "Poisson's ratio", float, low=-1.0, high=0.5,
               low_inclusive=False, high_inclusive=False),
         Param("stretch", 2.0, "prescribed stretch lx of the block (< 1 compresses)", float,
-              low=0.0, low_inclusive=False),
+              low=0.1, high=10.0),
         Param("material", "neo-hooke", "hyperelastic law", str, choices=tuple(MATERIALS)),
         Param("element", "tri1", "displacement element", str, choices=tuple(ELEMENTS)),
-        Param("refine", 3, "uniform refinements of the unit square", int, low=0),
+        Param("refine", 3, "uniform refinements of the unit square", int, low=0, high=12),
         Param("distort", 0.2, "random interior vertex shift, as a fraction of h", float,
               low=0.0, high=0.3, high_inclusive=False),
     ),
     build=build,
     methods=(None,),
     default_steps=5,
+    estimate_dofs=estimate_dofs,
+    sizes=("refine",),
+    derived=derived,
 )

@@ -39,7 +39,7 @@ from ..cable import LAWS, Cable, get_law, newton_rtol
 from ..loads import FollowerPressure
 from ..model import Dirichlet, Model
 from ..newton import NewtonOptions
-from . import Param, Scene, Setup
+from . import Param, Scene, Setup, cable_dofs, cable_quantities, positive, ratio
 
 __all__ = ["SCENE", "build", "arc_exact", "arc_discrete"]
 
@@ -133,6 +133,15 @@ def build(params: dict, method: str | None = None) -> Setup:
                  solve_options={"newton": NewtonOptions(rtol=newton_rtol(EA, p * a))})
 
 
+def derived(params: dict) -> list:
+    """Span, length, stiffness and tension scales; ``length0 / (2 half_span)`` in
+    ``[0.5, 10]`` (from halved and pre-stretched to a nearly closed arc)."""
+    a, L0 = float(params["half_span"]), float(params["length0"])
+    return [positive("half_span", a, "half_span"), positive("length0", L0, "length0"),
+            ratio("length0 / (2 half_span)", L0 / (2.0 * a), ("length0", "half_span"), 0.5, 10.0),
+            *cable_quantities(float(params["EA"]), float(params["pressure"]), a, "half_span")]
+
+
 SCENE = Scene(
     name="cable_arc",
     summary="Cable pinned at (-a, 0), (a, 0) inflated by a follower pressure into a "
@@ -146,7 +155,7 @@ SCENE = Scene(
         Param("pressure", 1.0, "pressure p pushing to +y (force per current length)",
               float, low=0.0, low_inclusive=False),
         Param("law", "linear", "axial law N(lambda)", str, choices=tuple(LAWS)),
-        Param("n_elements", 32, "number of elements", int, low=2),
+        Param("n_elements", 32, "number of elements", int, low=2, high=1_000_000),
         Param("tension_only", False, "slack elements carry nothing", bool),
         Param("start_sag", 0.05, "height/span of the start arc when length0 equals the "
               "span (regularization of the straight start; does not change the answer)",
@@ -158,4 +167,7 @@ SCENE = Scene(
     build=build,
     methods=(None,),
     default_steps=4,
+    estimate_dofs=lambda params: cable_dofs(params["n_elements"]),
+    sizes=("n_elements",),
+    derived=derived,
 )

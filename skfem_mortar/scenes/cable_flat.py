@@ -35,7 +35,7 @@ from ..contact_output import ContactOutput
 from ..loads import FollowerPressure
 from ..model import Dirichlet, Model
 from ..surfaces import ContactSurface, RigidPlane
-from . import METHODS, Param, Scene, Setup
+from . import METHODS, Param, Scene, Setup, cable_dofs, cable_quantities, positive, ratio
 
 __all__ = ["SCENE", "build", "flat_exact"]
 
@@ -122,6 +122,18 @@ def build(params: dict, method: str | None = None) -> Setup:
     return Setup(model=model, metrics=metrics, outputs=[cable, ContactOutput(pair)], contact=pair.contact_data)
 
 
+def derived(params: dict) -> list:
+    """Span, length, gap, stiffness and tension scales; ``length0 / (2 half_span)`` in
+    ``[1, 10]`` (a stress-free arc start) and ``plane_gap / half_span`` at most 100
+    (a cable of at most 10 spans cannot reach farther)."""
+    a, L0, d = (float(params[k]) for k in ("half_span", "length0", "plane_gap"))
+    return [positive("half_span", a, "half_span"), positive("length0", L0, "length0"),
+            positive("plane_gap", d, "plane_gap"),
+            ratio("length0 / (2 half_span)", L0 / (2.0 * a), ("length0", "half_span"), 1.0, 10.0),
+            ratio("plane_gap / half_span", d / a, ("plane_gap", "half_span"), 0.0, 100.0),
+            *cable_quantities(float(params["EA"]), float(params["pressure"]), a, "half_span")]
+
+
 SCENE = Scene(
     name="cable_flat",
     summary="Cable pinned at (-a, 0), (a, 0) pressed by a follower pressure against the "
@@ -137,7 +149,7 @@ SCENE = Scene(
         Param("plane_gap", 0.5, "height d of the rigid plane y = d", float,
               low=0.0, low_inclusive=False),
         Param("law", "linear", "axial law N(lambda)", str, choices=tuple(LAWS)),
-        Param("n_elements", 100, "number of cable elements", int, low=2),
+        Param("n_elements", 100, "number of cable elements", int, low=2, high=1_000_000),
         Param("segmentation", "iteration", "mortar only: rebuild the mortar segments every "
               "Newton iteration, or once per load step (frozen during the step)", str,
               choices=("iteration", "step")),
@@ -145,4 +157,7 @@ SCENE = Scene(
     build=build,
     methods=METHODS,
     default_steps=8,
+    estimate_dofs=lambda params: cable_dofs(params["n_elements"]),
+    sizes=("n_elements",),
+    derived=derived,
 )

@@ -60,7 +60,7 @@ from ..model import Dirichlet, Model
 from ..solid import Solid
 from ..surfaces import ContactSurface
 from ..traction import Traction
-from . import METHODS, Param, Scene, Setup
+from . import METHODS, Param, Scene, Setup, lame_quantities, positive, ratio
 
 __all__ = ["SCENE", "build", "hertz_exact", "graded_quarter_disk", "graded_block"]
 
@@ -262,6 +262,32 @@ def build(params: dict, method: str | None = None) -> Setup:
                  contact=pair.contact_data)
 
 
+#: the range of the contact half-width over the radius: Hertz theory needs
+#: a << R (above 0.2 it does not hold); below 1e-3 the graded mesh spans more
+#: than 1e3 contact widths and the indentation a^2 / R is lost in round-off
+#: against the coordinates of the cylinder
+A_OVER_R = (1e-3, 0.2)
+
+
+def derived(params: dict) -> list:
+    """Radius, load, both bodies' Lame parameters, ``E*`` and the half-width ratio ``a / R``."""
+    R, P = float(params["radius"]), float(params["load"])
+    E, nu = float(params["E"]), float(params["nu"])
+    Eb, nub = float(params["E_base"]), float(params["nu_base"])
+    rigid = params["base"] == "rigid"
+    out = [positive("radius", R, "radius"), positive("load", P, "load"),
+           *lame_quantities(E, nu, "E", "nu", "the cylinder"),
+           *lame_quantities(Eb, nub, "E_base", "nu_base", "the base")]
+    if not all(d.ok() for d in out):
+        return out
+    ex = hertz_exact(R, P, E, nu, None if rigid else Eb, nub)
+    moduli = ("E", "nu") if rigid else ("E", "nu", "E_base", "nu_base")
+    out += [positive("E*", ex["E_star"], *moduli),
+            ratio("the contact half-width over the radius a / R", ex["half_width"] / R,
+                  ("load", "radius") + moduli, *A_OVER_R)]
+    return out
+
+
 SCENE = Scene(
     name="hertz",
     summary="Hertz line contact: a half cylinder pressed by a line load on an elastic "
@@ -292,4 +318,5 @@ SCENE = Scene(
     build=build,
     methods=METHODS,
     default_steps=4,
+    derived=derived,
 )

@@ -53,7 +53,7 @@ from ..materials import NeoHooke
 from ..model import Dirichlet, Model
 from ..solid import Solid
 from ..surfaces import ContactSurface
-from . import METHODS, Param, Scene, Setup
+from . import MAX_STEPS, METHODS, Param, Scene, Setup, grid_dofs, lame_quantities, ratio
 
 __all__ = ["SCENE", "build", "die_mesh", "block_mesh", "plot_history"]
 
@@ -193,6 +193,24 @@ def plot_history(metrics: dict, path: str | Path, title: str = "") -> Path:
     return path
 
 
+def estimate_dofs(params: dict) -> int:
+    """Dofs of the block (``n x n // 3``) and the die (``n_die x 1``)."""
+    n = int(params["n_block"])
+    return grid_dofs(n, max(1, n // 3)) + grid_dofs(int(params["n_die"]), 1)
+
+
+def derived(params: dict) -> list:
+    """Both bodies' Lame parameters, their stiffness ratio in ``[1e-12, 1e12]`` (the
+    tangent's condition number grows with it) and at least one load step of pressing."""
+    nu = float(params["nu"])
+    Eb, Ed = float(params["E_block"]), float(params["E_die"])
+    return [*lame_quantities(Eb, nu, "E_block", "nu", "the block"),
+            *lame_quantities(Ed, nu, "E_die", "nu", "the die"),
+            ratio("E_die / E_block", Ed / Eb, ("E_die", "E_block"), 1e-12, 1e12),
+            ratio("the pressing steps t_press n_steps", float(params["t_press"])
+                  * int(params["n_steps"]), ("t_press", "n_steps"), 1.0, float(MAX_STEPS))]
+
+
 SCENE = Scene(
     name="ironing",
     summary="Ironing: a stiff half-ring die pressed 1.4 into a soft neo-Hookean block, "
@@ -213,13 +231,18 @@ SCENE = Scene(
         Param("nu", 0.3, "Poisson's ratio of both bodies", float, low=0.0, high=0.5,
               high_inclusive=False),
         Param("n_block", 45, "elements along the block's width (n/3 through its height)",
-              int, low=3),
-        Param("n_die", 48, "elements along the die's half-ring arc", int, low=4),
+              int, low=3, high=100_000),
+        Param("n_die", 48, "elements along the die's half-ring arc", int, low=4,
+              high=1_000_000),
         Param("slave", "block", "which surface carries the multipliers", str,
               choices=("die", "block")),
-        Param("n_steps", 40, "load steps (press and slide together)", int, low=2),
+        Param("n_steps", 40, "load steps (press and slide together)", int, low=2,
+              high=MAX_STEPS),
     ),
     build=build,
     methods=METHODS,
     default_steps=40,
+    estimate_dofs=estimate_dofs,
+    sizes=("n_block", "n_die"),
+    derived=derived,
 )

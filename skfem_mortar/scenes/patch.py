@@ -55,7 +55,7 @@ from ..model import Dirichlet, Model
 from ..solid import Solid
 from ..surfaces import ContactSurface
 from ..traction import PointLoad
-from . import METHODS, Param, Scene, Setup
+from . import METHODS, Param, Scene, Setup, grid_dofs, lame_quantities, positive, ratio
 
 __all__ = ["SCENE", "build"]
 
@@ -160,6 +160,25 @@ def build(params: dict, method: str | None = None) -> Setup:
                  contact=pair.contact_data)
 
 
+def estimate_dofs(params: dict) -> int:
+    """Dofs of both blocks' tensor meshes (``n x max(1, (n + 1) // 2)`` elements each)."""
+    return sum(grid_dofs(n, max(1, (n + 1) // 2))
+               for n in (int(params["n_top"]), int(params["n_bottom"])))
+
+
+def derived(params: dict) -> list:
+    """Both blocks' Lame parameters, the pressure, and the strain scale ``pressure / E``
+    of each block at most 10 (beyond, the block is crushed flat)."""
+    q, nu = float(params["pressure"]), float(params["nu"])
+    out = [positive("pressure", q, "pressure")]
+    for name in ("E_top", "E_bottom"):
+        E = float(params[name])
+        out += lame_quantities(E, nu, name, "nu", name[2:] + " block")
+        out.append(ratio(f"the strain scale pressure / {name}", q / E, ("pressure", name),
+                         0.0, 10.0))
+    return out
+
+
 SCENE = Scene(
     name="patch",
     summary="Contact patch test: two stacked blocks under a uniform pressure, exact "
@@ -173,9 +192,10 @@ SCENE = Scene(
               low=0.0, low_inclusive=False),
         Param("nu", 0.0, "Poisson's ratio of both blocks (0: the test is exact)", float,
               low=0.0, high=0.5, high_inclusive=False),
-        Param("n_top", 5, "elements along the width of the upper (slave) block", int, low=1),
+        Param("n_top", 5, "elements along the width of the upper (slave) block", int, low=1,
+              high=100_000),
         Param("n_bottom", 4, "elements along the width of the lower (master) block", int,
-              low=1),
+              low=1, high=100_000),
         Param("element", "quad1", "linear element (straight contact segments)", str,
               choices=("tri1", "quad1")),
         Param("offset", 0.0, "x of the upper block's left edge (the lower block spans "
@@ -191,4 +211,7 @@ SCENE = Scene(
     build=build,
     methods=METHODS,
     default_steps=1,
+    estimate_dofs=estimate_dofs,
+    sizes=("n_top", "n_bottom"),
+    derived=derived,
 )

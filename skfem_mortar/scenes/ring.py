@@ -33,7 +33,7 @@ from ..cable import LAWS, Cable, get_law, newton_rtol
 from ..loads import FollowerPressure
 from ..model import Dirichlet, Model
 from ..newton import NewtonOptions
-from . import Param, Scene, Setup
+from . import Param, Scene, Setup, cable_dofs, cable_quantities, positive
 
 __all__ = ["SCENE", "build", "ring_radius"]
 
@@ -112,6 +112,13 @@ def build(params: dict, method: str | None = None) -> Setup:
                  solve_options={"newton": NewtonOptions(rtol=newton_rtol(EA, p * R0))})
 
 
+def derived(params: dict) -> list:
+    """The ring's radius, axial stiffness, tension scale ``p R0`` and their ratio."""
+    R0 = float(params["radius0"])
+    return [positive("radius0", R0, "radius0"),
+            *cable_quantities(float(params["EA"]), float(params["pressure"]), R0, "radius0")]
+
+
 SCENE = Scene(
     name="ring",
     summary="Closed cable ring inflated by a follower pressure: discrete radius exact "
@@ -123,7 +130,8 @@ SCENE = Scene(
         Param("pressure", 1.0, "internal pressure p (force per current length)", float,
               low=0.0, low_inclusive=False),
         Param("law", "svk", "axial law N(lambda)", str, choices=tuple(LAWS)),
-        Param("n_elements", 64, "number of elements (even)", int, low=4),
+        Param("n_elements", 64, "number of elements (even)", int, low=4,
+              high=1_000_000),
         Param("tension_only", False, "slack elements carry nothing", bool),
         Param("tension_floor", 0.1, "tangent-only floor of the geometric stiffness, in units "
               "of p radius0 (below the tension p R > p radius0 of the solution; 0: exact "
@@ -132,4 +140,7 @@ SCENE = Scene(
     build=build,
     methods=(None,),
     default_steps=4,
+    estimate_dofs=lambda params: cable_dofs(params["n_elements"]),
+    sizes=("n_elements",),
+    derived=derived,
 )

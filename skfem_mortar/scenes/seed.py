@@ -29,7 +29,8 @@ from ..materials import NeoHooke
 from ..model import Dirichlet, Model
 from ..solid import Solid
 from ..surfaces import ContactSurface
-from . import METHODS, Param, Scene, Setup
+from . import (METHODS, Param, Scene, Setup, cable_dofs, cable_quantities, grid_dofs,
+               lame_quantities, positive, ratio)
 
 __all__ = ["SCENE", "build"]
 
@@ -129,6 +130,32 @@ def _split_xy(body, local_dofs) -> tuple[np.ndarray, np.ndarray]:
     return body.offset + local[is_x], body.offset + local[~is_x]
 
 
+def estimate_dofs(params: dict) -> int:
+    """Dofs of the cable and of the refined ``12 x 3`` cushion mesh."""
+    k = 2 ** int(params["refine_cushion"])
+    return cable_dofs(params["n_cable"]) + grid_dofs(12 * k, 3 * k)
+
+
+def derived(params: dict) -> list:
+    """The cable's scales, ``length0 / (2 half_span)`` in ``(1, 10]``, the cushion's
+    Lame parameters and its sizes relative to the span in ``[1e-3, 1e3]`` (gap at
+    most 100 spans: farther, the cable cannot reach it; the mesh check refuses
+    thinner cushions as slivers)."""
+    a, L0 = float(params["half_span"]), float(params["length0"])
+    out = [positive("half_span", a, "half_span"), positive("length0", L0, "length0"),
+           ratio("length0 / (2 half_span)", L0 / (2.0 * a), ("length0", "half_span"), 1.0,
+                 10.0),
+           *cable_quantities(float(params["EA"]), float(params["pressure"]), a, "half_span"),
+           *lame_quantities(float(params["E_cushion"]), float(params["nu_cushion"]),
+                            "E_cushion", "nu_cushion", "the cushion")]
+    for name in ("cushion_width", "cushion_height"):
+        out.append(ratio(f"{name} / half_span", float(params[name]) / a, (name, "half_span"),
+                         1e-3, 1e3))
+    out.append(ratio("gap / half_span", float(params["gap"]) / a, ("gap", "half_span"),
+                     1e-12, 100.0))
+    return out
+
+
 SCENE = Scene(
     name="seed",
     summary="The paper's example: a nonlinear elastic cable inflated by a follower pressure "
@@ -151,7 +178,7 @@ SCENE = Scene(
               low_inclusive=False),
         Param("nu_cushion", 0.3, "Poisson's ratio of the cushion", float, low=-1.0, high=0.5,
               low_inclusive=False, high_inclusive=False),
-        Param("n_cable", 48, "number of cable elements", int, low=4),
+        Param("n_cable", 48, "number of cable elements", int, low=4, high=1_000_000),
         Param("refine_cushion", 2, "uniform refinements of the 12 x 3 cushion mesh", int,
               low=0, high=6),
         Param("segmentation", "iteration", "when mortar segments are rebuilt", str,
@@ -161,4 +188,7 @@ SCENE = Scene(
     build=build,
     methods=("mortar", "mortar-dual", "nts"),
     default_steps=10,
+    estimate_dofs=estimate_dofs,
+    sizes=("n_cable", "refine_cushion"),
+    derived=derived,
 )

@@ -1,0 +1,33 @@
+"""A Dask study survives a grid point that kills its worker again and again."""
+import csv
+import os
+import time
+
+import pytest
+
+from skfem_mortar import study
+from skfem_mortar.study import run_study
+
+pytest.importorskip("distributed", reason="dask.distributed is not installed")
+
+
+def test_a_point_that_kills_its_worker_is_a_failed_row(tmp_path, monkeypatch):
+    import killer
+
+    here = os.path.dirname(killer.__file__)
+    monkeypatch.setenv("PYTHONPATH", os.pathsep.join(
+        [here] + [p for p in os.environ.get("PYTHONPATH", "").split(os.pathsep) if p]))
+    monkeypatch.setattr(study, "execute", killer.execute)
+    t0 = time.perf_counter()
+    rows = run_study(["ring"], tmp_path, quick=True, sets={"n_elements": "8,10,16"},
+                     workers=2)
+    assert time.perf_counter() - t0 < 60
+    by_n = {int(r["param.n_elements"]): r for r in rows}
+    assert sorted(by_n) == [8, 10, 16]
+    assert by_n[10]["status"].startswith("failed: worker died")
+    assert by_n[8]["status"] == by_n[16]["status"] == "ok"
+    with open(tmp_path / "results.csv", newline="") as f:
+        written = list(csv.DictReader(f))
+    assert [w["status"] for w in written] == [r["status"] for r in rows]
+    report = (tmp_path / "report.md").read_text()
+    assert "failed: worker died" in report
