@@ -291,10 +291,16 @@ def main(argv: Sequence[str] | None = None) -> int:
     try:
         return _dispatch(args)
     except KeyboardInterrupt:
-        again = " (continue with --resume)" if args.command == "run" and args.out else ""
-        print(f"skfem-mortar: interrupted; the outputs written so far are kept{again}",
-              file=sys.stderr)
+        print(f"skfem-mortar: interrupted{_kept(args)}", file=sys.stderr)
         return EXIT_INTERRUPTED
+
+
+def _kept(args: argparse.Namespace) -> str:
+    """What an interrupted command leaves: the outputs so far (a run: resumable)."""
+    if getattr(args, "out", None) is None:
+        return ""
+    again = ", continue with --resume" if args.command in ("run", "study") else ""
+    return f"; the outputs written so far to {args.out} are kept{again}"
 
 
 def _dispatch(args: argparse.Namespace) -> int:

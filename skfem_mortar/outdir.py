@@ -397,8 +397,8 @@ def claim(directory: str | os.PathLike, identity: dict, files: Iterable[str], *,
     if foreign:
         shown = ", ".join(foreign[:3]) + (f" and {len(foreign) - 3} more" if len(foreign) > 3
                                           else "")
-        raise OutputDirError(f"--out {directory} holds files that no skfem-mortar run wrote "
-                             f"({shown}); use an empty or new directory")
+        raise OutputDirError(f"--out {directory} holds files that no run there lists as its "
+                             f"own ({shown}); use an empty or new --out, or remove them")
     if man is not None and _present(directory, old):
         if not (replace or (own and man.get("identity") == identity)):
             raise OutputDirError(f"--out {directory} holds the files of another run "
