@@ -279,13 +279,14 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    """Run the command line; return the exit code (module docstring)."""
+    """Run the command line; return the exit code (module docstring).
+
+    A refusal of the arguments themselves (argparse's, and ``--resume`` without
+    ``--out``, a repeated ``--set``) raises ``SystemExit(2)`` as argparse does.
+    """
     parser = build_parser()
-    try:
-        args = parser.parse_args(argv)
-        _check_args(args.parser, args)
-    except SystemExit as exc:  # a refusal (2) or --help (0), as a return value
-        return exc.code if isinstance(exc.code, int) else EXIT_BAD_INPUT
+    args = parser.parse_args(argv)  # a refusal here is SystemExit(2), --help SystemExit(0)
+    _check_args(args.parser, args)
     logging.basicConfig(level=logging.INFO if args.verbose else logging.WARNING,
                         stream=sys.stderr, format="%(levelname)s %(name)s: %(message)s")
     try:

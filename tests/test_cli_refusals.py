@@ -83,5 +83,7 @@ def test_a_write_error_is_exit_3_not_1(monkeypatch, capsys):
 
 
 def test_help_is_exit_0(capsys):
-    assert main(["run", "--help"]) == 0
+    with pytest.raises(SystemExit) as exc:
+        main(["run", "--help"])
+    assert exc.value.code == 0
     assert "--replace" in capsys.readouterr().out
