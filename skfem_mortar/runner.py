@@ -91,6 +91,9 @@ def run_scene(name: str, params: dict[str, Any] | None = None, method: str | Non
                           return_result, solve_kwargs)
     from .outdir import output_lock
 
+    scene = get_scene(name)  # bad input is refused before --out is made or locked
+    scene.resolve(params)
+    scene.check_method(method)
     with output_lock(out, "run") as out:
         return _run_scene(name, params, method, steps, out, progress, resume, replace,
                           return_result, solve_kwargs)
