@@ -9,6 +9,7 @@ from typing import Any
 
 import numpy as np
 
+from .errors import ConvergenceError
 from .scenes import Setup, get_scene
 from .stepping import Controller, Restart, Result, StepRecord, solve, stateful_items
 
@@ -45,8 +46,8 @@ def _clean(obj: Any) -> Any:
 
 def run_scene(name: str, params: dict[str, Any] | None = None, method: str | None = None,
               steps: int | None = None, out: str | Path | None = None,
-              progress: bool = False, resume: bool = False, return_result: bool = False,
-              **solve_kwargs) -> dict | tuple[dict, Result, Setup]:
+              progress: bool = False, resume: bool = False, replace: bool = False,
+              return_result: bool = False, **solve_kwargs) -> dict | tuple[dict, Result, Setup]:
     """Build and solve a scene; return the summary object of the CLI contract.
 
     Parameters
@@ -60,16 +61,49 @@ def run_scene(name: str, params: dict[str, Any] | None = None, method: str | Non
         Number of load steps (default: the scene's).
     out : path, optional
         Directory for the result series, ``summary.json``, ``contact.csv`` and
-        the ``checkpoint/`` directory (one file added per converged step).
+        the ``checkpoint/`` directory (one file added per converged step). It
+        holds one run (:mod:`skfem_mortar.outdir`): it is locked while the run
+        goes on, and a directory that holds another run's files is refused
+        (:class:`~skfem_mortar.outdir.OutputDirError`, a ValueError) unless
+        ``replace``. ``summary.json`` is written only when the run ends:
+        ``converged`` true when it finished, false (with the converged steps and
+        the ``error``) when a load step did not converge; a run killed or
+        interrupted leaves none.
     resume : bool
         Continue from ``out/checkpoint/`` if it belongs to the same scene,
         method, parameters and steps (ValueError if it belongs to another run
         or does not pass validation). The resumed run makes the same solves as
         an uninterrupted one from the last checkpointed step on; a finished
         run redoes its last step, so its outputs and metrics come out as they were.
+    replace : bool
+        Remove the files of the run ``out`` holds before starting (never a file
+        that run did not write).
     return_result : bool
         Also return the :class:`Result` and the :class:`Setup`.
     """
+    if resume and replace:
+        raise ValueError("--resume and --replace exclude each other: resume continues the "
+                         "run in --out, replace removes it")
+    if out is None:
+        if resume or replace:
+            raise ValueError("--resume and --replace need --out (the run's directory)")
+        return _run_scene(name, params, method, steps, None, progress, False, False,
+                          return_result, solve_kwargs)
+    from .outdir import output_lock
+
+    scene = get_scene(name)  # bad input is refused before --out is made or locked
+    scene.resolve(params)
+    scene.check_method(method)
+    with output_lock(out, "run") as out:
+        return _run_scene(name, params, method, steps, out, progress, resume, replace,
+                          return_result, solve_kwargs)
+
+
+def _run_scene(name: str, params: dict[str, Any] | None, method: str | None,
+               steps: int | None, out: Path | None, progress: bool, resume: bool,
+               replace: bool, return_result: bool, solve_kwargs: dict
+               ) -> dict | tuple[dict, Result, Setup]:
+    """:func:`run_scene` once ``out`` (if any) is locked."""
     t0 = time.perf_counter()
     scene = get_scene(name)
     setup, values, method = build_scene(name, params, method)
@@ -78,29 +112,52 @@ def run_scene(name: str, params: dict[str, Any] | None = None, method: str | Non
         raise ValueError(f"steps must be an integer >= 1, got {n_steps!r}")
     model = setup.model
     model.timers.clear()
-    from .timing import TIMERS, reset
+    from .timing import reset
     reset()
     kwargs = {**setup.solve_options, **solve_kwargs}
     meta = _clean({"scene": name, "method": method, "parameters": values, "steps": n_steps})
-    recorder = _Recorder(Path(out), setup, meta) if out is not None else None
+    recorder = _Recorder(out, setup, meta) if out is not None else None
     earlier: list[np.ndarray] = []
     if recorder is not None:
         restart = recorder.restart() if resume else None
         if restart is not None:
             earlier = list(recorder.earlier)
             kwargs["restart"] = restart
+        recorder.claim(resumed=restart is not None, replace=replace, own=resume)
         recorder.begin(earlier)
         kwargs["callback"] = recorder.step
-    result = solve(model, n_steps, progress=progress, **kwargs)
+    try:
+        result = solve(model, n_steps, progress=progress, **kwargs)
+    except ConvergenceError as exc:
+        if recorder is not None:
+            recorder.fail(_summary(name, method, values, setup, t0, recorder.records, {},
+                                   None, recorder.time, error=str(exc)))
+        raise
     if earlier:
         result.states = earlier[:-1] + result.states
     metrics = setup.metrics(result)
     t_out = time.perf_counter()
     if recorder is not None:
-        recorder.finish(result)
-        if setup.plots is not None:
-            setup.plots(metrics, Path(out))
+        recorder.finish(result, metrics)
     t_out = time.perf_counter() - t_out + (recorder.time if recorder else 0.0)
+    summary = _summary(name, method, values, setup, t0, result.steps, metrics,
+                       result.solve_time, t_out, converged=bool(result.converged))
+    if recorder is not None:
+        from .io import write_json
+        write_json(out / "summary.json", summary)
+    if return_result:
+        return summary, result, setup
+    return summary
+
+
+def _summary(name: str, method: str | None, values: dict, setup: Setup, t0: float,
+             steps: list[StepRecord], metrics: dict, solve_time: float | None,
+             t_out: float, converged: bool = False, error: str | None = None) -> dict:
+    """The summary object: ``converged`` true only for a run that finished; a
+    failed one adds its ``error`` (its ``steps`` are the converged ones)."""
+    from .timing import TIMERS
+
+    model = setup.model
     timers = dict(model.timers)
     summary = {
         "scene": name,
@@ -108,22 +165,18 @@ def run_scene(name: str, params: dict[str, Any] | None = None, method: str | Non
         "parameters": values,
         "n_dofs": int(model.n_u),
         "n_multipliers": int(model.n_lam),
-        "converged": bool(result.converged),
+        "converged": converged,
         "wall_time_s": time.perf_counter() - t0,
         "phase_times_s": {"bulk": timers.get("bulk", 0.0) + timers.get("loads", 0.0),
                           "contact": timers.get("contact", 0.0),
                           "search": TIMERS.get("search", 0.0),
-                          "solve": result.solve_time, "output": t_out},
-        "steps": [s.as_dict() for s in result.steps],
+                          "solve": solve_time, "output": t_out},
+        "steps": [s.as_dict() for s in steps],
         "metrics": metrics,
     }
-    summary = _clean(summary)
-    if out is not None:
-        from .io import write_json
-        write_json(Path(out) / "summary.json", summary)
-    if return_result:
-        return summary, result, setup
-    return summary
+    if error is not None:
+        summary["error"] = error
+    return _clean(summary)
 
 
 class _Recorder:
@@ -144,7 +197,25 @@ class _Recorder:
         self.writers: list = []
         self.time = 0.0
         self.bytes_written: list[int] = []  # per checkpoint write
+        self.records: list[StepRecord] = []  # the converged steps, resumed ones included
         self._pruned = False
+
+    @property
+    def files(self) -> list[str]:
+        """The top-level entries this run writes (its manifest lists them)."""
+        series = [f for item in self.setup.outputs for f in (f"{item.name}.pvd", item.name)]
+        return ["checkpoint", "summary.json", "contact.csv", *series]
+
+    def claim(self, resumed: bool, replace: bool, own: bool) -> None:
+        """Make ``out`` this run's: adopt it (resumed from its checkpoint) or claim
+        it for a fresh start (``replace``: the old run's files go first; ``own``: a
+        resume with nothing to resume from may remove its own run's files)."""
+        from .outdir import adopt, claim
+
+        if resumed:
+            adopt(self.out, self.meta, self.files)
+        else:
+            claim(self.out, self.meta, self.files, replace=replace, own=own)
 
     @property
     def checkpoint(self) -> Path:
@@ -191,6 +262,7 @@ class _Recorder:
                              f"fit the step records (load factor before {lfs[r - 1]!r}, "
                              f"increment {history[-1].increment!r})")
         self.run = ck.run
+        self.records = list(history)
         self.earlier, self.lfs = list(ck.states[:r + 1]), list(lfs[:r + 1])
         return Restart(ck.states[r].copy(), float(lfs[r]), history, ctl,
                        previous=ck.states[r - 1].copy(), items=ck.items[r],
@@ -250,10 +322,27 @@ class _Recorder:
         self._frame(record.load_factor, z)
         self._write(len(self.lfs), z, record)
         self.lfs.append(record.load_factor)
+        self.records.append(record)
         self.time += time.perf_counter() - t0
 
-    def finish(self, result: Result) -> None:
+    def finish(self, result: Result, metrics: dict) -> None:
+        """After the last step: ``contact.csv`` and the scene's pictures (listed in
+        the manifest once written; ``summary.json`` comes last, from the caller)."""
         from .io import write_contact_csv
+        from .outdir import add_to_manifest, entries
 
         if self.setup.contact is not None:
             write_contact_csv(self.out / "contact.csv", self.setup.contact(result.z))
+        if self.setup.plots is not None:
+            before = entries(self.out)
+            try:
+                self.setup.plots(metrics, self.out)
+            finally:
+                add_to_manifest(self.out, sorted(entries(self.out) - before))
+
+    def fail(self, summary: dict) -> None:
+        """A load step did not converge: the summary says so (``converged`` false,
+        the converged steps, the error); the frames and checkpoint stay."""
+        from .io import write_json
+
+        write_json(self.out / "summary.json", summary)

@@ -22,12 +22,17 @@ def test_unknown_scene_exit_2():
 
 
 def test_set_without_equals_exit_2(capsys):
-    assert main(["run", "block", "--set", "E"]) == 2
+    with pytest.raises(SystemExit) as exc:  # argument refusals exit as argparse's do
+        main(["run", "block", "--set", "E"])
+    assert exc.value.code == 2
     assert "NAME=VALUE" in capsys.readouterr().err
 
 
 def test_steps_must_be_positive(capsys):
-    assert main(["run", "block", "--steps", "0"]) == 2
+    with pytest.raises(SystemExit) as exc:
+        main(["run", "block", "--steps", "0"])
+    assert exc.value.code == 2
+    assert "--steps: must be an integer >= 1" in capsys.readouterr().err
 
 
 def test_scenes_json_lists_parameters(capsys):

@@ -1,0 +1,229 @@
+"""An output directory holds one run (issue #14): a busy --out is refused, a stale
+lock is taken over with a note, another run's files are refused unless --replace
+(which removes exactly them), summary.json is never an older run's, a write
+error leaves no mix of two runs, and Ctrl-C ends with exit 130, outputs intact."""
+import errno
+import json
+import os
+import shutil
+import signal
+import socket
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import skfem_mortar.runner as runner
+from skfem_mortar.cli import main
+from skfem_mortar.errors import ConvergenceError
+from skfem_mortar.io import read_checkpoint, read_series
+from skfem_mortar.outdir import LOCK_NAME, MANIFEST_NAME, read_manifest
+
+ROOT = Path(__file__).resolve().parents[1]
+#: a run of a few seconds (about 40 steps of 0.1 s): long enough to act on it
+#: while it runs, short enough to let it finish
+LONG = ["block", "--set", "refine=5", "--set", "stretch=1.8", "--steps", "40", "--no-progress"]
+SHORT = ["block", "--set", "refine=1", "--steps", "2", "--no-progress"]
+#: how long to wait for a subprocess to reach a state: its start (interpreter,
+#: imports, model build) takes about 1 s alone and more on a loaded 2-core
+#: machine; a run that reaches none in 60 s is broken, not slow
+WAIT_S = 60.0
+
+
+def _cli(*args: str) -> subprocess.Popen:
+    return subprocess.Popen([sys.executable, "-m", "skfem_mortar.cli", "run", *args],
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                            env={**os.environ, "PYTHONPATH": str(ROOT)})
+
+
+def _wait(what: str, done) -> None:
+    deadline = time.monotonic() + WAIT_S
+    while not done():
+        assert time.monotonic() < deadline, f"waited {WAIT_S} s for {what}"
+        time.sleep(0.02)  # 20 ms: a step takes about 100 ms
+
+
+def _steps_done(out: Path) -> int:
+    try:
+        ck = read_checkpoint(out / "checkpoint")
+    except (OSError, ValueError):  # a step replaced while reading
+        return 0
+    return 0 if ck is None else len(ck.history)
+
+
+def _assert_frames_whole(out: Path, at_least: int) -> None:
+    frames = read_series(out / "block.pvd")  # every frame the index lists reads
+    assert len(frames) >= at_least
+    assert all(np.all(np.isfinite(m.point_data["displacement"])) for _, m in frames)
+
+
+def _one_line(err: str) -> str:
+    lines = err.strip().splitlines()
+    assert len(lines) == 1 and "Traceback" not in err, err
+    return lines[0]
+
+
+def test_a_busy_out_is_refused_and_ctrl_c_ends_with_130(tmp_path, capsys):
+    out = tmp_path / "run"
+    proc = _cli(*LONG, "--out", str(out))
+    _wait("the lock", lambda: (out / LOCK_NAME).exists())
+    held = json.loads((out / LOCK_NAME).read_text())
+    assert held["pid"] == proc.pid and held["host"] == socket.gethostname()
+    for argv in (["run", *SHORT, "--out", str(out)],
+                 ["run", *SHORT, "--out", str(out), "--replace"],
+                 ["study", "--scene", "block", "--quick", "--out", str(out)],
+                 ["bench", "--quick", "--out", str(out)]):
+        assert main(argv) == 2
+        line = _one_line(capsys.readouterr().err)
+        assert "in use" in line and str(proc.pid) in line
+    assert proc.poll() is None, "the first run ended before the second was refused"
+
+    _wait("two steps", lambda: _steps_done(out) >= 2)
+    proc.send_signal(signal.SIGINT)
+    _, err = proc.communicate(timeout=WAIT_S)
+    assert proc.returncode == 130
+    assert "interrupted" in _one_line(err)
+    assert not (out / LOCK_NAME).exists()
+    assert not (out / "summary.json").exists()  # not finished: no summary
+    _assert_frames_whole(out, _steps_done(out) + 1)
+    assert not [p for p in out.rglob(".*") if p.name != MANIFEST_NAME]  # no temporaries
+
+
+def _killed_run(out: Path) -> int:
+    """The long run killed (SIGKILL) after two steps; the steps done."""
+    proc = _cli(*LONG, "--out", str(out))
+    _wait("two steps", lambda: _steps_done(out) >= 2)
+    proc.send_signal(signal.SIGKILL)
+    proc.wait(timeout=WAIT_S)
+    assert proc.returncode == -signal.SIGKILL, "the run finished before it was killed"
+    return _steps_done(out)
+
+
+def test_after_a_kill_a_new_run_needs_replace_and_resume_continues(tmp_path, capsys, caplog):
+    out = tmp_path / "killed"
+    done = _killed_run(out)
+    assert 2 <= done < 40 and (out / LOCK_NAME).exists()  # the stale lock stays
+    other = shutil.copytree(out, tmp_path / "other")
+    # a new run into it: refused without --replace (the stale lock is taken over first)
+    assert main(["run", *SHORT, "--out", str(other)]) == 2
+    assert "holds the files of another run" in _one_line(capsys.readouterr().err)
+    assert "took over the stale lock" in caplog.text
+    assert (other / "block" / "block_0002.vtu").exists()  # nothing removed
+    # with --replace the old set goes: 3 frames of the new run, nothing of the old
+    assert main(["run", *SHORT, "--out", str(other), "--replace"]) == 0
+    capsys.readouterr()
+    assert sorted(p.name for p in (other / "block").iterdir()) == [
+        f"block_{k:04d}.vtu" for k in range(3)]
+    assert len(read_checkpoint(other / "checkpoint").history) == 2
+    assert json.loads((other / "summary.json").read_text())["parameters"]["refine"] == 1
+    assert not (other / LOCK_NAME).exists()
+
+    # --resume of the killed run continues it; the temporary files a kill left go
+    leftovers = [out / ".block.pvd.x1.tmp", out / "block" / ".block_0039.vtu.x2.vtu"]
+    for p in leftovers:
+        p.write_bytes(b"half")
+    assert main(["run", *LONG, "--out", str(out), "--resume", "--json"]) == 0
+    summary = json.loads(capsys.readouterr().out)
+    assert summary["converged"] and len(summary["steps"]) == 40
+    assert not any(p.exists() for p in leftovers)
+    _assert_frames_whole(out, 41)
+
+
+def test_a_stale_lock_is_taken_over_with_a_note(tmp_path):
+    gone = subprocess.Popen([sys.executable, "-c", "pass"])
+    gone.wait()  # reaped: its pid is no process now
+    out = tmp_path / "run"
+    out.mkdir()
+    (out / LOCK_NAME).write_text(json.dumps({"host": socket.gethostname(), "pid": gone.pid,
+                                             "started": "earlier", "command": "run"}))
+    proc = _cli(*SHORT, "--out", str(out))
+    _, err = proc.communicate(timeout=WAIT_S)
+    assert proc.returncode == 0, err
+    line = _one_line(err)
+    assert "took over the stale lock" in line and str(gone.pid) in line
+    assert not (out / LOCK_NAME).exists()
+
+
+@pytest.mark.parametrize("host, pid, why", [("elsewhere.example", 1, "elsewhere.example"),
+                                            (None, os.getpid(), "in use")])
+def test_a_lock_of_a_live_run_or_another_host_is_refused(tmp_path, capsys, host, pid, why):
+    out = tmp_path / "run"
+    out.mkdir()
+    lock = {"host": host or socket.gethostname(), "pid": pid, "started": "now"}
+    (out / LOCK_NAME).write_text(json.dumps(lock))
+    assert main(["run", *SHORT, "--out", str(out)]) == 2
+    assert why in _one_line(capsys.readouterr().err)
+    assert json.loads((out / LOCK_NAME).read_text()) == lock  # left as it was
+    assert sorted(p.name for p in out.iterdir()) == [LOCK_NAME]
+
+
+def test_a_full_disk_during_replace_leaves_only_the_new_run(tmp_path, monkeypatch, capsys):
+    """--replace removes the old set first: after a write error (ENOSPC) no file
+    of the old run remains beside the new run's, no summary, and the new run
+    resumes once there is room."""
+    out = tmp_path / "run"
+    assert main(["run", "block", "--set", "refine=1", "--steps", "6", "--no-progress",
+                 "--out", str(out)]) == 0
+    new = ["run", "block", "--set", "refine=1", "--set", "stretch=1.5", "--steps", "3",
+           "--no-progress", "--out", str(out)]
+    real, count = os.replace, [0]
+
+    def replace(src, dst):
+        count[0] += 1
+        if count[0] == 8:  # manifest, step 0 (file, index), frame 0 (vtu, pvd), frame 1 ...
+            raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC), str(dst))
+        return real(src, dst)
+
+    monkeypatch.setattr(os, "replace", replace)
+    assert main([*new, "--replace"]) == 3
+    assert "No space left on device" in _one_line(capsys.readouterr().err)
+    monkeypatch.setattr(os, "replace", real)
+    assert not (out / "summary.json").exists()
+    assert read_manifest(out)["identity"]["parameters"]["stretch"] == 1.5
+    assert read_checkpoint(out / "checkpoint").meta["steps"] == 3
+    assert sorted(p.name for p in (out / "block").iterdir()) == ["block_0000.vtu",
+                                                                 "block_0001.vtu"]
+    assert [t for t, _ in read_series(out / "block.pvd")] == pytest.approx([0, 1 / 3])
+    assert sorted(p.name for p in out.iterdir()) == [MANIFEST_NAME, "block", "block.pvd",
+                                                     "checkpoint"]
+    assert main([*new, "--resume"]) == 0  # room again: the new run goes on
+    assert [t for t, _ in read_series(out / "block.pvd")] == pytest.approx([0, 1 / 3, 2 / 3, 1])
+
+
+def test_a_failed_run_leaves_its_own_summary_not_an_older_one(tmp_path, monkeypatch, capsys):
+    out = tmp_path / "run"
+    assert main(["run", *SHORT, "--out", str(out)]) == 0
+    real = runner.solve
+
+    def failing(model, n_steps, **kw):  # converges two steps, then fails the third
+        callback, seen = kw["callback"], []
+
+        def cb(record, z):
+            callback(record, z)
+            seen.append(record)
+            if len(seen) == 2:
+                raise ConvergenceError(3, 0.75, 4, [1.0, 0.5], "made to fail")
+        return real(model, n_steps, **{**kw, "callback": cb})
+
+    monkeypatch.setattr(runner, "solve", failing)
+    argv = ["run", "block", "--set", "refine=1", "--steps", "4", "--no-progress",
+            "--out", str(out), "--replace"]
+    assert main(argv) == 1  # exit 1: only "did not converge"
+    assert "made to fail" in _one_line(capsys.readouterr().err)
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["converged"] is False and "made to fail" in summary["error"]
+    assert len(summary["steps"]) == 2 and summary["metrics"] == {}
+    assert not (out / LOCK_NAME).exists()
+
+
+def test_unrelated_files_are_never_removed(tmp_path, capsys):
+    out = tmp_path / "mine"
+    out.mkdir()
+    (out / "notes.txt").write_text("keep me")
+    for extra in ([], ["--replace"]):
+        assert main(["run", *SHORT, "--out", str(out), *extra]) == 2
+        assert "notes.txt" in _one_line(capsys.readouterr().err)
+    assert sorted(p.name for p in out.iterdir()) == ["notes.txt"]
