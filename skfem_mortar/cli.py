@@ -22,6 +22,7 @@ import logging
 import math
 import sys
 import traceback
+import warnings
 from typing import Callable, NoReturn, Sequence
 
 __all__ = ["main"]
@@ -278,12 +279,19 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
+def _one_line_warning(message, category, filename, lineno, line=None) -> str:
+    """A warning as one line on the command line (a model's warning, e.g. the
+    preflight's, names its cause and fix; the source line would only be runpy's)."""
+    return f"skfem-mortar: warning: {message}\n"
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     """Run the command line; return the exit code (module docstring).
 
     A refusal of the arguments themselves (argparse's, and ``--resume`` without
     ``--out``, a repeated ``--set``) raises ``SystemExit(2)`` as argparse does.
     """
+    warnings.formatwarning = _one_line_warning
     parser = build_parser()
     args = parser.parse_args(argv)  # a refusal here is SystemExit(2), --help SystemExit(0)
     _check_args(args.parser, args)

@@ -62,21 +62,25 @@ def write_json(path: str | os.PathLike, data: dict) -> None:
 
 
 def write_contact_csv(path: str | os.PathLike, data: dict[str, np.ndarray]) -> None:
-    """Write ``x,y,gap,pressure`` (one row per slave node) atomically.
+    """Write ``x,y,gap,pressure,has_master`` (one row per slave node) atomically.
 
-    A slave node that faces no master segment has no gap: its ``gap`` cell is
-    left empty (``data["gap"]`` is NaN there). Any other non-finite value is an
-    error: nothing non-finite is written.
+    ``has_master`` is 1 where the node faces a master segment. Elsewhere the
+    gap is undefined and the ``gap`` column holds the node's distance to the
+    master surface (``data["distance"]``, as in the VTU series): no NaN and no
+    0 that reads as touching. Without ``has_master`` the nodes with a finite
+    gap count as facing a master. Any non-finite value written is an error.
     """
-    cols = ["x", "y", "gap", "pressure"]
-    arr = np.column_stack([np.asarray(data[c], dtype=float) for c in cols])
-    bad = ~np.isfinite(arr)
-    bad[:, 2] &= ~np.isnan(arr[:, 2])
-    if bad.any():
-        raise ValueError("non-finite contact data: refusing to write contact.csv")
-    lines = [",".join(cols)]
-    for row in arr:
-        lines.append(",".join("" if np.isnan(v) else f"{v:.12g}" for v in row))
+    gap = np.asarray(data["gap"], dtype=float)
+    has = np.asarray(data.get("has_master", np.isfinite(gap)), dtype=bool)
+    if "distance" in data:
+        gap = np.where(has, gap, np.asarray(data["distance"], dtype=float))
+    arr = np.column_stack([np.asarray(data["x"], dtype=float), np.asarray(data["y"], dtype=float),
+                           gap, np.asarray(data["pressure"], dtype=float), has.astype(float)])
+    if not np.all(np.isfinite(arr)):
+        raise ValueError("non-finite contact data (a gap where a node faces no master needs "
+                         "data['distance']): refusing to write contact.csv")
+    lines = ["x,y,gap,pressure,has_master"]
+    lines += [",".join(f"{v:.12g}" for v in row[:4]) + f",{int(row[4])}" for row in arr]
     with atomic_path(path) as tmp:
         tmp.write_text("\n".join(lines) + "\n")
 

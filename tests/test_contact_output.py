@@ -53,3 +53,6 @@ def test_a_node_facing_no_master_is_written_with_its_distance_and_a_mask(tmp_pat
     frame = read_series(tmp_path / f"{pair.name}.pvd")[-1][1]
     assert np.all(np.isfinite(frame.point_data["gap"]))
     assert np.all(frame.point_data["gap"][off & (d["x"] > 1.0 + 1e-9)] > 0.0)
+    csv = np.genfromtxt(tmp_path / "contact.csv", delimiter=",", names=True)
+    np.testing.assert_allclose(csv["gap"], point["gap"], rtol=1e-11, atol=1e-15)  # %.12g
+    np.testing.assert_array_equal(csv["has_master"], point["has_master"])

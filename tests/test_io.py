@@ -59,9 +59,16 @@ def test_run_json_and_out(tmp_path, capsys):
     assert "von_mises" in frames[-1][1].cell_data
 
 
-def test_contact_csv_leaves_an_undefined_gap_empty(tmp_path):
-    write_contact_csv(tmp_path / "contact.csv", {"x": [0.0, 1.0], "y": [2.0, 3.0],
-                                                 "gap": [np.nan, -0.5], "pressure": [0.0, 4.0]})
+
+
+def test_contact_csv_writes_the_distance_and_a_mask_where_no_master(tmp_path):
+    """A node facing no master: its distance to the master as the gap and
+    has_master 0 (no NaN, no empty cell, no 0 that reads as touching)."""
+    write_contact_csv(tmp_path / "contact.csv", {
+        "x": [0.0, 1.0], "y": [2.0, 3.0], "gap": [np.nan, -0.5], "pressure": [0.0, 4.0],
+        "has_master": [False, True], "distance": [0.25, -0.5]})
     lines = (tmp_path / "contact.csv").read_text().splitlines()
-    assert lines == ["x,y,gap,pressure", "0,2,,0", "1,3,-0.5,4"]
-    assert "nan" not in (tmp_path / "contact.csv").read_text().lower()
+    assert lines == ["x,y,gap,pressure,has_master", "0,2,0.25,0,0", "1,3,-0.5,4,1"]
+    with pytest.raises(ValueError, match="non-finite contact data"):
+        write_contact_csv(tmp_path / "bad.csv", {"x": [0.0], "y": [0.0], "gap": [np.nan],
+                                                 "pressure": [0.0]})

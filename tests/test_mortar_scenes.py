@@ -64,7 +64,7 @@ def test_patch_contact_csv_is_the_multiplier_as_a_traction(method, tmp_path):
                               method=method, out=tmp_path, return_result=True)
     with open(tmp_path / "contact.csv") as fh:
         rows = list(csv.DictReader(fh))
-    assert list(rows[0]) == ["x", "y", "gap", "pressure"]
+    assert list(rows[0]) == ["x", "y", "gap", "pressure", "has_master"]
     p = np.array([float(r["pressure"]) for r in rows])
     pair = setup.model.item("contact")
     lam = res.z[pair.dofs]
