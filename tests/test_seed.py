@@ -75,7 +75,7 @@ def test_demo_writes_everything(tmp_path, capsys):
     p = contact.point_data["pressure"]
     assert (p > 1e-12 * p.max()).sum() == summary["steps"][-1]["n_active"]
     rows = (out / "contact.csv").read_text().splitlines()
-    assert rows[0] == "x,y,gap,pressure" and len(rows) == summary["parameters"]["n_cable"] + 2
+    assert rows[0] == "x,y,gap,pressure,has_master" and len(rows) == summary["parameters"]["n_cable"] + 2
     pressure = np.array([float(r.split(",")[3]) for r in rows[1:]])
     assert (pressure > 1e-12 * pressure.max()).sum() == summary["steps"][-1]["n_active"]
 
