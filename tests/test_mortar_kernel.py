@@ -11,6 +11,7 @@ import numpy as np
 import pytest
 
 from skfem_mortar.jets import Jet
+from test_mortar import curved_pair
 from skfem_mortar.mortar import (Quadrature, dual_coefficients, evaluate, gauss_rule, integrals,
                                  mortar_integrals, multiplier_coefficients,
                                  multiplier_shape_functions, segment_quadrature, weighted_gap)
@@ -304,15 +305,6 @@ def test_weighted_gap_identity_by_hand():
     np.testing.assert_allclose(weighted_gap(nAB, nAB, xB, xC), [[d * L / 2, d * L / 2]], rtol=1e-14)
 
 
-def curved_pair(shift=0.05, seed=0):
-    rng = np.random.default_rng(seed)
-    xsx = np.linspace(0.0, 1.0, 7)[::-1]
-    xs = np.vstack([xsx, -0.3 * (xsx - 0.5) ** 2]) + 0.01 * rng.standard_normal((2, 7))
-    xmx = np.linspace(0.35, 1.5, 6) + shift
-    xm = np.vstack([xmx, 0.01 + 0.2 * (xmx - 0.6) ** 2]) + 0.01 * rng.standard_normal((2, 6))
-    return xs, chain(7), xm, chain(6)
-
-
 @pytest.mark.parametrize("dual", [False, True])
 @pytest.mark.parametrize("n_gauss", [2, 4])
 def test_weighted_gap_identity_equals_direct_integral(dual, n_gauss):
@@ -320,7 +312,7 @@ def test_weighted_gap_identity_equals_direct_integral(dual, n_gauss):
     sparse, and per segment in integrals().g) equals evaluate's direct integral
     int Phi_A (x_m - x_s) . n dGamma.  They differ by the round-off of the identity's
     cancellation, eps times |x| (~1) times the supports (~0.2): atol 1e-15."""
-    xs, ss, xm, sm = curved_pair()
+    xs, ss, xm, sm = curved_pair(0.05)
     r = integrals(xs, ss, xm, sm, dual=dual, n_gauss=n_gauss)
     direct = evaluate(xs, ss, xm, sm, dual=dual, n_gauss=n_gauss, tangent=False)
     assert np.abs(direct.g).max() > 1e-3
