@@ -76,7 +76,7 @@ import scipy.sparse as sp
 
 from .contact_eval import ContactEval
 from .jets import Jet, at_gauss, constant_like, sqrt, value, where
-from .mortar_segmentation import (MasterProjection, Segmentation, nodal_normals,
+from .mortar_segmentation import (Segmentation, nodal_normals,
                                   normal_length, project_on_master, project_on_slave,
                                   segment, segment_end_points, slave_element)
 
