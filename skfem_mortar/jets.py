@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["Jet", "cross", "normalize"]
+__all__ = ["Jet", "cross", "normalize", "value", "at_gauss", "constant_like", "inv", "sqrt", "where"]
 
 
 def _outer(a: np.ndarray, b: np.ndarray) -> np.ndarray:
@@ -155,6 +155,10 @@ class Jet:
         s = np.sqrt(self.v)
         return self._chain(s, 0.5 / s, -0.25 / (s * self.v))
 
+    def first(self) -> "Jet":
+        """The same jet without its Hessian (first derivatives only)."""
+        return Jet(self.v, self.g, None)
+
     def hessian(self) -> np.ndarray:
         """The symmetric Hessian ``(h + h^T) / 2``, shape ``(nv, nv) + S``."""
         return 0.5 * (self.h + np.swapaxes(self.h, 0, 1))
@@ -184,8 +188,12 @@ class Jet:
         return Jet(v, g, h)
 
 
-def _val(x):
+def value(x):
+    """The value of a jet, or ``x`` itself."""
     return x.v if isinstance(x, Jet) else x
+
+
+_val = value
 
 
 def cross(ax, ay, bx, by):
@@ -197,3 +205,31 @@ def normalize(x, y):
     """``(x, y) / |(x, y)|`` for jets."""
     r = (x * x + y * y).sqrt().inv()
     return x * r, y * r
+
+
+# -- helpers that take jets or plain arrays alike (the kernel's steps run on both)
+def at_gauss(c):
+    """A per-segment quantity ``(n,)`` with a Gauss-point axis: ``(n, 1)``."""
+    return c.expand() if isinstance(c, Jet) else np.asarray(c)[:, None]
+
+
+def constant_like(v, like):
+    """``v`` as a constant of the same kind as ``like`` (a jet of its variables, or an array)."""
+    if isinstance(like, Jet):
+        return Jet.constant(v, like.g.shape[0], like.h is not None)
+    return np.asarray(v, dtype=float)
+
+
+def where(cond, a, b):
+    """Elementwise ``cond ? a : b`` for jets or arrays."""
+    return Jet.where(cond, a, b) if isinstance(a, Jet) else np.where(cond, a, b)
+
+
+def inv(x):
+    """``1 / x`` for a jet or an array."""
+    return x.inv() if isinstance(x, Jet) else 1.0 / x
+
+
+def sqrt(x):
+    """``sqrt(x)`` for a jet or an array."""
+    return x.sqrt() if isinstance(x, Jet) else np.sqrt(x)

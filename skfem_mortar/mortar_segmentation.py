@@ -1,10 +1,13 @@
-"""Mortar segmentation in 2D: slave normal field, projections, mortar segments.
+"""Mortar geometry in 2D: slave normal field, projections, mortar segments.
 
-This module holds the geometry of the mortar method (formulation.md, section 3)
-and its linearization with the forward-mode jets of :mod:`skfem_mortar.jets`.
+Steps 1 to 3 of the mortar kernel (:mod:`skfem_mortar.mortar` holds steps 4
+to 8).  Every function is vectorized over elements (or mortar segments) and
+works on plain arrays and on the forward-mode jets of :mod:`skfem_mortar.jets`,
+so the same code gives the values and their exact first and second
+derivatives.  Points and vectors are pairs ``(x, y)``.
 
-Slave normal field
-------------------
+Step 1, slave normal field (:func:`nodal_normals`, :func:`slave_element`)
+-------------------------------------------------------------------------
 A slave segment ``e = (a, b)`` with tangent ``t = x_b - x_a`` has the outward
 unit normal ``nu_e = (t_y, -t_x) / |t|``.  The nodal normal of a slave node is
 the normalized average of the unit normals of its (one or two, degenerate ones
@@ -12,24 +15,26 @@ left out) slave segments,
 ``n_A = (nu_prev + nu_next) / |nu_prev + nu_next|``, and it is interpolated
 linearly (not normalized) along the slave segment,
 
-    n(xi) = N_1(xi) n_a + N_2(xi) n_b,   N_1 = (1 - xi)/2,  N_2 = (1 + xi)/2,
-    xi in [-1, 1].
+    x_s(xi) = N_1(xi) x_a + N_2(xi) x_b,   n~(xi) = N_1(xi) n_a + N_2(xi) n_b,
+    N_1 = (1 - xi)/2,  N_2 = (1 + xi)/2,   xi in [-1, 1].
 
-Projections (all along this field)
------------------------------------
-* A master node ``x_C`` projects onto the slave element at the ``xi`` solving
-  ``(x_s(xi) - x_C) x n(xi) = 0`` (``x`` the 2D cross product), a quadratic in
-  ``xi``, solved by Newton's method from the flat-surface (linear) estimate.
-* A slave point ``x_s(xi)`` projects onto the master element line
-  ``x_m(xi2) = N_1(xi2) x_m1 + N_2(xi2) x_m2`` along ``n(xi)``:
-  ``(x_m(xi2) - x_s) x n = 0`` is linear in ``xi2``.
+Step 2, projections along this field
+------------------------------------
+* :func:`project_point_on_slave` (a master node onto a slave element): the
+  ``xi`` solving ``(x_s(xi) - x_C) x n~(xi) = 0`` (``x`` the 2D cross
+  product), a quadratic in ``xi``, solved by Newton's method from the
+  flat-surface (linear) estimate.
+* :func:`project_on_master` (a slave point onto a master element): the line
+  ``x_m(s) = x_m1 + s (x_m2 - x_m1)`` (``s = N_2(xi2)`` in [0, 1]) meets
+  ``x_s(xi) + alpha n~(xi)`` where ``(x_m(s) - x_s) x n~ = 0``, linear in ``s``.
 
-Mortar segments
----------------
+Step 3, mortar segments (:func:`segment`, :func:`segment_end_points`)
+--------------------------------------------------------------------
 For a candidate pair (slave element e, master element m) whose unit normals
 face each other (``nu_e . nu_m < 0``), the two master nodes project to
 ``p_1, p_2`` on e; the mortar segment is ``[xi_a, xi_b] = [max(-1, min p),
-min(1, max p)]`` in the slave parameter.  Only roots in [-1, 1] are used as
+min(1, max p)]`` in the slave parameter, and ``eta in [-1, 1]`` runs over it
+(step 4).  Only roots in [-1, 1] are used as
 values: a master node beyond an end of e (its master parameter past that of the
 slave end point projected onto the master line along its normal) counts as
 ``p = +-inf``, clipped to that end; this decides far master nodes, whose
@@ -57,11 +62,16 @@ second-order implicit-function term ``-c2 d^2 / f'`` (exact Hessian).
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 
-__all__ = ["Jet", "Segmentation", "segment", "slave_topology", "nodal_normals",
-           "project_point_on_slave", "XI_TOL", "LEN_TOL"]
+from .jets import Jet, _outer, _val, at_gauss, constant_like, cross, inv, normalize, sqrt, where
+
+__all__ = ["Jet", "Segmentation", "segment", "nodal_normals", "SlaveElement",
+           "slave_element", "project_point_on_slave", "project_on_slave",
+           "MasterProjection", "project_on_master", "normal_length", "segment_end_points",
+           "XI_TOL", "LEN_TOL"]
 
 XI_TOL = 1e-10
 """Mortar segments shorter than this in the slave parameter (of length 2) are dropped."""
@@ -69,37 +79,17 @@ LEN_TOL = 1e-10
 """Elements shorter than this times the mean element length are degenerate and dropped."""
 
 
-from .jets import Jet, _outer, _val, cross, normalize
-
-
-# ---------------------------------------------------------------- slave topology
-def slave_topology(seg: np.ndarray, n_nodes: int) -> tuple[np.ndarray, np.ndarray]:
-    """Neighbouring segments along the slave chain.
-
-    Returns
-    -------
-    prev, next : int ndarray (n_seg,)
-        ``prev[e]``: the segment whose second node is the first node of ``e``
-        (-1 at the start of a chain); ``next[e]`` likewise at the other end.
-    """
-    seg = np.asarray(seg, dtype=np.int64).reshape(-1, 2)
-    ends = np.full(n_nodes, -1, dtype=np.int64)
-    starts = np.full(n_nodes, -1, dtype=np.int64)
-    ar = np.arange(seg.shape[0])
-    ends[seg[:, 1]] = ar
-    starts[seg[:, 0]] = ar
-    return ends[seg[:, 0]], starts[seg[:, 1]]
-
-
+# ------------------------------------------------------ step 1: slave normal field
 def _unit_normal(x1, y1, x2, y2):
     """Right-hand unit normal of the segment 1 -> 2 (jets)."""
     return normalize(y2 - y1, x1 - x2)
 
 
 def nodal_normals(xs: np.ndarray, seg: np.ndarray, second: bool = True, nv: int = 6):
-    """Averaged unit normals of all slave nodes, as jets in the node's 6 local variables.
+    """Step 1: averaged unit normals of all slave nodes, as jets in the node's 6 local variables.
 
-    ``n_k = normalize(w_p nu(p, k) + w_n nu(k, n))`` with ``p``, ``n`` the
+    ``n_k = normalize(w_p nu(p, k) + w_n nu(k, n))`` with ``nu(i, j)`` the
+    right-hand unit normal of the segment ``i -> j``, ``p``, ``n`` the
     previous and next node along the chain and ``w = 0`` where that neighbour is
     missing (chain ends) or its segment is degenerate (shorter than ``LEN_TOL``
     times the mean length); a dummy position is used there.  Local variables:
@@ -137,27 +127,45 @@ def nodal_normals(xs: np.ndarray, seg: np.ndarray, second: bool = True, nv: int 
     return (nx, ny), pnode, nnode
 
 
-def project_point_on_slave(xa, xb, na, nb, xc, n_newton: int = 8):
-    """Slave parameter ``xi`` of the projection of point ``xc`` along the normal field.
+class SlaveElement(NamedTuple):
+    """Step 1: position and normal field of slave elements, both linear in ``xi``.
 
-    Solves ``f(xi) = (x_s(xi) - x_c) x n(xi) = c0 + c1 xi + c2 xi^2 = 0`` with
-    ``x_s = N_1 x_a + N_2 x_b`` and ``n = N_1 n_a + N_2 n_b``.  Newton on values
-    from the linear estimate ``-c0 / c1``; with jet inputs then one Newton step
-    in jet arithmetic from the converged value plus the second-order implicit
-    function term, for exact first and second derivatives.  Each argument is a
-    pair ``(x, y)`` of arrays (values only) or of jets.
+    ``x_s(xi) = x0 + xi dx`` and ``n~(xi) = n0 + xi dn`` on ``xi in [-1, 1]``,
+    with ``x0 = (x_a + x_b)/2``, ``dx = (x_b - x_a)/2``, ``n0 = (n_a + n_b)/2``,
+    ``dn = (n_b - n_a)/2`` (each a pair of arrays or jets, one entry per element).
+    """
+
+    x0: tuple
+    dx: tuple
+    n0: tuple
+    dn: tuple
+
+
+def slave_element(xa, xb, na, nb) -> SlaveElement:
+    """Step 1: the fields of :class:`SlaveElement` from the end nodes and their nodal normals."""
+    return SlaveElement(x0=((xa[0] + xb[0]) * 0.5, (xa[1] + xb[1]) * 0.5),
+                        dx=((xb[0] - xa[0]) * 0.5, (xb[1] - xa[1]) * 0.5),
+                        n0=((na[0] + nb[0]) * 0.5, (na[1] + nb[1]) * 0.5),
+                        dn=((nb[0] - na[0]) * 0.5, (nb[1] - na[1]) * 0.5))
+
+
+# ------------------------------------------------------------ step 2: projections
+def project_on_slave(el: SlaveElement, xc, n_newton: int = 8):
+    """Step 2: slave parameter ``xi`` of the projection of the point ``xc`` along ``n~``.
+
+    Solves ``f(xi) = (x_s(xi) - x_c) x n~(xi) = c0 + c1 xi + c2 xi^2 = 0``:
+    Newton on values from the linear estimate ``-c0 / c1``; with jet inputs then
+    one Newton step in jet arithmetic from the converged value plus the
+    second-order implicit function term, for exact first and second derivatives.
 
     Returns
     -------
     xi : ndarray or Jet
     ok : bool ndarray, whether the value iteration converged to a finite root.
     """
-    d0x = (xa[0] + xb[0]) * 0.5 - xc[0]
-    d0y = (xa[1] + xb[1]) * 0.5 - xc[1]
-    d1x = (xb[0] - xa[0]) * 0.5
-    d1y = (xb[1] - xa[1]) * 0.5
-    n0x, n0y = (na[0] + nb[0]) * 0.5, (na[1] + nb[1]) * 0.5
-    n1x, n1y = (nb[0] - na[0]) * 0.5, (nb[1] - na[1]) * 0.5
+    d0x = el.x0[0] - xc[0]
+    d0y = el.x0[1] - xc[1]
+    (d1x, d1y), (n0x, n0y), (n1x, n1y) = el.dx, el.n0, el.dn
     c0 = cross(d0x, d0y, n0x, n0y)
     c1 = cross(d0x, d0y, n1x, n1y) + cross(d1x, d1y, n0x, n0y)
     c2 = cross(d1x, d1y, n1x, n1y)
@@ -186,7 +194,97 @@ def project_point_on_slave(xa, xb, na, nb, xc, n_newton: int = 8):
     return xj, ok
 
 
-# ------------------------------------------------------------------ segmentation
+def project_point_on_slave(xa, xb, na, nb, xc, n_newton: int = 8):
+    """Step 2: :func:`project_on_slave` on the element ``x_a, x_b`` with nodal normals ``n_a, n_b``.
+
+    Each argument is a pair ``(x, y)`` of arrays (values only) or of jets.
+    """
+    return project_on_slave(slave_element(xa, xb, na, nb), xc, n_newton)
+
+
+class MasterProjection(NamedTuple):
+    """Step 2: the slave points ``x_s(xi)`` projected along ``n~(xi)`` onto the master line.
+
+    ``x_s(xi) + alpha(xi) n~(xi) = x_m1 + s(xi) dm`` with ``dm = x_m2 - x_m1``;
+    crossing with ``dm`` and with ``n~``:
+
+        alpha(xi) = cross(x_m1 - x_s, dm) / cross(n~, dm) = (P0 + P1 xi) / (Q0 + Q1 xi),
+        s(xi)     = cross(x_m1 - x_s, n~) / cross(n~, dm),
+
+    ``x_m1 - x_s(xi) = r0 - xi dx`` with ``r0 = x_m1 - x0``; ``P0 = cross(r0, dm)``,
+    ``P1 = -cross(dx, dm)``, ``Q0 = cross(n0, dm)``, ``Q1 = cross(dn, dm)``.
+    The master shape functions at the projected point are ``N_m1 = 1 - s``,
+    ``N_m2 = s`` (``xi2 = 2 s - 1``).  Exact wherever ``s`` is not linear in
+    ``xi`` (a curved slave normal field): no interpolation of ``xi2`` in eta.
+    """
+
+    el: SlaveElement
+    r0: tuple
+    P0: object
+    P1: object
+    Q0: object
+    Q1: object
+
+    def alpha(self, xi):
+        """``alpha(xi)`` at Gauss points ``xi`` (n, n_gauss): the distance along ``n~``."""
+        E = at_gauss
+        return (E(self.P0) + E(self.P1) * xi) * inv(E(self.Q0) + E(self.Q1) * xi)
+
+    def s(self, xi):
+        """``s(xi)`` at Gauss points (values): the master parameter, 0 at x_m1 and 1 at x_m2."""
+        V = lambda j: _val(j)[:, None]  # noqa: E731
+        (d1x, d1y), (n0x, n0y), (n1x, n1y) = self.el.dx, self.el.n0, self.el.dn
+        nxv, nyv = V(n0x) + V(n1x) * xi, V(n0y) + V(n1y) * xi
+        return ((V(self.r0[0]) - V(d1x) * xi) * nyv - (V(self.r0[1]) - V(d1y) * xi) * nxv) / (
+            V(self.Q0) + V(self.Q1) * xi)
+
+
+def project_on_master(el: SlaveElement, xm1, xm2) -> MasterProjection:
+    """Step 2: the coefficients of :class:`MasterProjection` for master elements ``(x_m1, x_m2)``."""
+    d1x, d1y = el.dx
+    r0x, r0y = xm1[0] - el.x0[0], xm1[1] - el.x0[1]
+    dmx, dmy = xm2[0] - xm1[0], xm2[1] - xm1[1]
+    return MasterProjection(el=el, r0=(r0x, r0y),
+                            P0=cross(r0x, r0y, dmx, dmy), P1=-cross(d1x, d1y, dmx, dmy),
+                            Q0=cross(el.n0[0], el.n0[1], dmx, dmy),
+                            Q1=cross(el.dn[0], el.dn[1], dmx, dmy))
+
+
+def normal_length(el: SlaveElement, xi):
+    """``|n~(xi)| = sqrt(R0 + R1 xi + R2 xi^2)`` at Gauss points ``xi`` (n, n_gauss)."""
+    (n0x, n0y), (n1x, n1y) = el.n0, el.dn
+    E = at_gauss
+    R0 = n0x * n0x + n0y * n0y
+    R1 = (n0x * n1x + n0y * n1y) * 2.0
+    R2 = n1x * n1x + n1y * n1y
+    return sqrt(E(R0) + (E(R1) + E(R2) * xi) * xi)
+
+
+# ------------------------------------------------------- step 3: mortar segments
+def segment_end_points(el: SlaveElement, xm1, xm2, src: np.ndarray):
+    """Step 3: end points ``xi_a, xi_b`` of mortar segments on their slave elements.
+
+    ``xi_a = -1`` where ``src[:, 0] == -1`` (the segment starts at the slave
+    node a), else ``p_1`` or ``p_2`` (``src`` 0 or 1), the projection
+    (:func:`project_on_slave`) of the master node ``x_m1`` or ``x_m2``; likewise
+    ``xi_b`` with ``+1`` and ``src[:, 1]``.  ``src`` comes from
+    :func:`segment`; with jets the end points carry the exact derivatives of
+    the projections.  The mortar segment is mapped onto ``eta in [-1, 1]`` by
+    ``xi1(eta) = (1 - eta)/2 xi_a + (1 + eta)/2 xi_b`` (step 4).
+
+    Returns
+    -------
+    xi_a, xi_b : ndarray or Jet (n,)
+    """
+    p1, _ = project_on_slave(el, xm1)
+    p2, _ = project_on_slave(el, xm2)
+    n = src.shape[0]
+    minus, plus = constant_like(-np.ones(n), p1), constant_like(np.ones(n), p1)
+    lo = where(src[:, 0] == -1, minus, where(src[:, 0] == 0, p1, p2))
+    hi = where(src[:, 1] == -1, plus, where(src[:, 1] == 0, p1, p2))
+    return lo, hi
+
+
 @dataclass
 class Segmentation:
     """Mortar segments of a slave/master surface pair (values, no derivatives).
@@ -251,7 +349,7 @@ def _side(p, ok, dsa, dsb, dab):
 def segment(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarray,
             pairs: tuple[np.ndarray, np.ndarray] | None = None, margin: float | None = None,
             frozen: bool = True, reach: float = 0.0) -> Segmentation:
-    """Build the mortar segments for the current coordinates (vectorized over pairs).
+    """Step 3: the mortar segments of the current coordinates (values, vectorized over pairs).
 
     Parameters
     ----------

@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 from skfem_mortar.mortar_segmentation import (Jet, XI_TOL, nodal_normals, project_point_on_slave,
-                                              segment, slave_topology)
+                                              segment)
 
 
 def chain(n: int) -> np.ndarray:
@@ -48,15 +48,7 @@ def test_jet_broadcast_over_gauss_axis():
     np.testing.assert_allclose(b.sum(1).g[0], (2 * a.v[:, None] * eta + 1).sum(1))
 
 
-# ------------------------------------------------------------------- topology
-def test_slave_topology_open_and_closed_chain():
-    prev, nxt = slave_topology(chain(4), 4)
-    assert list(prev) == [-1, 0, 1] and list(nxt) == [1, 2, -1]
-    ring = np.c_[np.arange(5), (np.arange(5) + 1) % 5]
-    prev, nxt = slave_topology(ring, 5)
-    assert list(prev) == [4, 0, 1, 2, 3] and list(nxt) == [1, 2, 3, 4, 0]
-
-
+# -------------------------------------------------------------- nodal normals
 def test_nodal_normals_polygon_on_circle_are_radial():
     """Uniform polygon on a circle, run counterclockwise so the right-hand normal is
     outward: the averaged normal of an interior node is radial (symmetry); the
