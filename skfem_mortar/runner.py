@@ -30,6 +30,15 @@ def build_scene(name: str, params: dict[str, Any] | None = None,
     return scene.build(values, method), values, method
 
 
+def _check_steps(n_steps: Any) -> None:
+    """The number of load steps: an integer in [1, MAX_STEPS] (ValueError naming ``steps``)."""
+    from .scenes import MAX_STEPS
+
+    if not (isinstance(n_steps, (int, np.integer)) and not isinstance(n_steps, bool)
+            and 1 <= n_steps <= MAX_STEPS):
+        raise ValueError(f"steps must be an integer in [1, {MAX_STEPS}], got {n_steps!r}")
+
+
 def _clean(obj: Any) -> Any:
     """JSON-ready copy: numpy scalars to Python, non-finite floats to None."""
     if isinstance(obj, dict):
@@ -106,10 +115,11 @@ def _run_scene(name: str, params: dict[str, Any] | None, method: str | None,
     """:func:`run_scene` once ``out`` (if any) is locked."""
     t0 = time.perf_counter()
     scene = get_scene(name)
+    if steps is not None:
+        _check_steps(steps)  # before the scene is built
     setup, values, method = build_scene(name, params, method)
     n_steps = steps if steps is not None else (setup.n_steps or scene.default_steps)
-    if not (isinstance(n_steps, int) and n_steps >= 1):
-        raise ValueError(f"steps must be an integer >= 1, got {n_steps!r}")
+    _check_steps(n_steps)
     model = setup.model
     model.timers.clear()
     from .timing import reset
