@@ -31,8 +31,8 @@ candidates the one at the smallest distance from its clipped projection
 segments, both clipped to it) go to the segment whose unclipped ``xi`` is
 nearest to ``[0, 1]``.  The gap is then the distance to that segment's line
 with the unclipped ``xi`` (a smooth function for a fixed segment; the switch of
-segment at a vertex makes g_N non-smooth there -- the known NTS defect; the
-pair item passes the previous iteration's segments as ``prefer`` so that a
+segment at a vertex makes g_N non-smooth there -- the known NTS defect;
+:class:`NTS` passes the previous iteration's segments as ``prefer`` so that a
 node keeps its segment within a small hysteresis ``stick``).  A node
 whose projection falls off the free end of an open master chain
 (``xi < -end_tolerance`` on the first segment or ``xi > 1 + end_tolerance`` on
@@ -106,8 +106,7 @@ def project(xs: np.ndarray, xm: np.ndarray, seg_m: np.ndarray, margin: float | N
         Nodes that keep their ``prefer`` segment while their ``xi`` stays in
         ``[-LOCK_STICK, 1 + LOCK_STICK]`` (the closest-point projection then
         continues onto the segment's extension line).  Used by
-        :class:`~skfem_mortar.contact.ContactPair` for a node caught at a
-        reflex vertex of the master (see docs/robustness.md).
+        :class:`NTS` for a node caught at a reflex vertex of the master (see docs/robustness.md).
 
     Returns
     -------
