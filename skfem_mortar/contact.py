@@ -28,25 +28,28 @@ first iteration uses as it is.
 
 The active set through the iterations of a step (extrapolated release of a
 too-wide zone, cycling guard) is :class:`~skfem_mortar.active_set.ActiveSet`'s.
+
+The gaps and their derivatives, and whatever state the method keeps for them,
+are the contact discretization's (:class:`~skfem_mortar.discretization.ContactDiscretization`,
+looked up by ``method`` in the registry of :mod:`skfem_mortar.discretization`);
+the pair is method-neutral.
 """
 from __future__ import annotations
 
-import importlib
 import logging
 from typing import Any
 
 import numpy as np
 
-from .active_set import ActiveSet, chain_order, normal_nodal_force, touching_nodes
+from .active_set import ActiveSet, chain_order, touching_nodes
 from .contact_eval import ContactEval
+from .discretization import METHODS, check_entries, make_method  # METHODS: the registry's names
 from .model import Contribution, Item
-from .nts import failure_hints, vertex_trap
 
 __all__ = ["ContactPair", "METHODS"]
 
 log = logging.getLogger(__name__)
 
-#: method -> (module, extra options, multiplier kind)
 #: KKT tolerances of a converged state (:meth:`ContactPair.violation`): gaps to
 #: ``K_GAP`` times the median slave segment length, pressures to ``K_LAM`` times
 #: the step's pressure scale (force scale / contact length).  Newton meets the
@@ -57,24 +60,9 @@ log = logging.getLogger(__name__)
 K_GAP = 1e-6
 K_LAM = 1e-6
 
-#: the discretization options a user may pass to ContactPair (``**options``), per
-#: module: name -> (check, allowed range as said in the refusal)
-USER_OPTIONS: dict[str, dict[str, tuple[Any, str]]] = {
-    "nts": {"margin": (lambda v: v is None or (np.isfinite(v) and v > 0), "a finite number > 0"),
-            "end_tolerance": (lambda v: np.isfinite(v) and 0 <= v < 0.5, "a number in [0, 0.5)"),
-            "stick": (lambda v: np.isfinite(v) and 0 <= v <= 0.5, "a number in [0, 0.5]")},
-    "mortar": {"margin": (lambda v: v is None or (np.isfinite(v) and v > 0),
-                          "a finite number > 0"),
-               "n_gauss": (lambda v: isinstance(v, (int, np.integer)) and 1 <= v <= 10,
-                           "an integer in [1, 10]")},
-}
-
-METHODS: dict[str, tuple[str, dict, str]] = {
-    "nts": ("nts", {}, "force"),
-    "mortar": ("mortar", {"dual": False}, "traction"),
-    "mortar-dual": ("mortar", {"dual": True}, "traction"),
-}
-
+#: the pair's own checkpoint entries (:meth:`ContactPair.state_dict`; the
+#: discretization's are beside them)
+_PAIR_STATE = ("started", "active", "c", "row_scale", "x0_slave", "x0_master", "tol_p")
 
 #: point-segment pairs per chunk of :func:`distance_to_polyline` (bounds its memory)
 _DIST_CHUNK = 1 << 20
@@ -98,22 +86,6 @@ def distance_to_polyline(p: np.ndarray, x: np.ndarray, seg: np.ndarray) -> np.nd
     return out
 
 
-def _check_options(method: str, module: str, options: dict) -> None:
-    """Refuse an unknown or out-of-range discretization option (ValueError naming it)."""
-    allowed = USER_OPTIONS[module]
-    for k, v in options.items():
-        if k not in allowed:
-            raise ValueError(f"unknown option {k!r} for method {method!r}; its options are "
-                             f"{sorted(allowed)}")
-        check, what = allowed[k]
-        try:
-            ok = bool(check(v))
-        except TypeError:
-            ok = False
-        if not ok:
-            raise ValueError(f"{k} must be {what}, got {v!r}")
-
-
 class ContactPair(Item):
     """Frictionless contact between a slave and a master surface with Lagrange multipliers.
 
@@ -123,7 +95,8 @@ class ContactPair(Item):
         Deformable surface whose nodes carry the multipliers.
     master : ContactSurface
         Deformable or rigid surface.
-    method : {"nts", "mortar", "mortar-dual"}
+    method : {"nts", "mortar", "mortar-dual"} or a registered name
+        The contact discretization (:func:`~skfem_mortar.discretization.make_method`).
     name : str
     c : float, optional
         Complementarity parameter (> 0); default from the bodies' stiffness.
@@ -139,7 +112,8 @@ class ContactPair(Item):
         there, a master vertex between two slave nodes positive gaps at both);
         a body held only by contact needs them active.
     segmentation : {"iteration", "step"}
-        Mortar only: rebuild the mortar segments at every Newton iteration
+        Mortar only (``"step"`` is passed to the discretization as its option
+        ``segmentation``): rebuild the mortar segments at every Newton iteration
         (default, exact), or build them once per load step from the last
         converged state and freeze them during the step (cheaper, see
         :func:`skfem_mortar.mortar.evaluate`).
@@ -150,7 +124,12 @@ class ContactPair(Item):
         :class:`~skfem_mortar.active_set.ActiveSet`).  Steers only the path of
         the iteration.
     **options
-        Passed to the discretization's ``evaluate`` (e.g. ``margin``).
+        The discretization's options (e.g. ``margin``), checked when it is built.
+
+    Attributes
+    ----------
+    discretization : ContactDiscretization
+        The method's gaps, derivatives and state.
     """
 
     dof_kind = "lam"
@@ -171,42 +150,33 @@ class ContactPair(Item):
         if c is not None and not (np.isfinite(c) and c > 0):
             raise ValueError(f"c must be a finite number > 0, got {c}")
         self.slave, self.master, self.method, self.name = slave, master, method, name
-        mod, extra, self.multiplier_kind = METHODS[method]
-        _check_options(method, mod, options)
         for flag, v in (("cycle_guard", cycle_guard), ("accelerate", accelerate)):
             if not isinstance(v, (bool, np.bool_)):
                 raise ValueError(f"{flag} must be True or False, got {v!r}")
-        self._module_name = mod
-        self._module = None
-        self.options = {**extra, **options}
-        self.n_dofs = slave.n_nodes
-        self.c = c
         if segmentation not in ("iteration", "step"):
             raise ValueError(f"segmentation must be 'iteration' or 'step', got {segmentation!r}")
-        if segmentation == "step" and mod != "mortar":
-            raise ValueError("segmentation='step' is for the mortar methods only")
         self.segmentation = segmentation
-        self._sg = None
-        self._x0: tuple[np.ndarray, np.ndarray] | None = None  # contact nodes at the step start
         if not (np.isfinite(touch_tolerance) and touch_tolerance >= 0):
             raise ValueError(f"touch_tolerance must be a finite number >= 0, got {touch_tolerance}")
+        if segmentation != "iteration":
+            options = {**options, "segmentation": segmentation}
+        self.discretization = make_method(method, slave, master, pair_name=name, **options)
+        self.n_dofs = slave.n_nodes
+        self.c = c
         lengths = np.hypot(*np.diff(slave.X[:, slave.segments], axis=2)[:, :, 0])
         self._touch = float(touch_tolerance) * float(np.mean(lengths))
         self._h = float(np.median(lengths))  # the gap tolerance's length
         self._tol_p = 0.0  # pressure tolerance of the last converged check
         self._row_scale: float | None = None
-        self._pinned: np.ndarray | None = None
-        self._hint = failure_hints(slave, master, name) if mod == "nts" else ""
+        self._reference: tuple[np.ndarray, np.ndarray] | None = None  # converged_positions
+        clash = set(self.discretization.state_dict()) & set(_PAIR_STATE)
+        if clash:
+            raise ValueError(f"method {method!r} names its state {sorted(clash)}, which the "
+                             f"pair's state uses; rename them")
         self.state = ActiveSet(self.n_dofs, chain_order(slave.segments, slave.closed,
                                                         slave.n_nodes),
                                name, cycle_guard=cycle_guard, accelerate=accelerate)
         self._started = False
-        self._prefer: np.ndarray | None = None
-        self._lock: np.ndarray | None = None
-        self._lock_converged: np.ndarray | None = None
-        self._seg_hist: list[np.ndarray] = []
-        self._locks = 0
-        self._prefer_converged: np.ndarray | None = None
 
     # -- helpers -------------------------------------------------------------
     def referenced_bodies(self) -> list:
@@ -214,10 +184,33 @@ class ContactPair(Item):
         return [b for b in (self.slave.body, self.master.body) if b is not None]
 
     @property
-    def module(self):
-        if self._module is None:
-            self._module = importlib.import_module(f"skfem_mortar.{self._module_name}")
-        return self._module
+    def multiplier_kind(self) -> str:
+        """"force" (NTS) or "traction" (mortar): the discretization's."""
+        return self.discretization.multiplier_kind
+
+    @property
+    def options(self) -> dict:
+        """The discretization's options."""
+        return self.discretization.options
+
+    @property
+    def touch_distance(self) -> float:
+        """``touch_tolerance`` times the mean slave segment length (a length)."""
+        return self._touch
+
+    @property
+    def converged_positions(self) -> tuple[np.ndarray, np.ndarray] | None:
+        """Slave and master node positions at the last converged state (the step
+        start before the first one converged; None before a step began), told
+        to the discretization (:meth:`ContactDiscretization.set_reference`)."""
+        return self._reference
+
+    @converged_positions.setter
+    def converged_positions(self, x0: tuple[np.ndarray, np.ndarray] | None) -> None:
+        self._reference = x0
+        self.discretization.set_reference(*((None, None) if x0 is None else x0))
+
+    _x0 = converged_positions  # the name tests/test_search.py sets
 
     def global_dofs(self) -> np.ndarray:
         """Global index of every local dof of the pair (``-1`` for a rigid master)."""
@@ -229,36 +222,7 @@ class ContactPair(Item):
     def evaluate(self, z: np.ndarray, tangent: bool = True, with_lam: bool = True) -> ContactEval:
         """The discretization's :class:`ContactEval` at ``z``."""
         lam = np.asarray(z)[self.dofs] if with_lam else None
-        xs, xm = self.slave.x(z), self.master.x(z)
-        extra: dict = {}
-        if self.method == "nts" and self._prefer is not None:
-            extra["prefer"] = self._prefer
-            if self._lock is not None and self._lock.any():
-                extra["lock"] = self._lock
-        if self._sg is not None:
-            extra["segmentation"] = self._sg
-        elif (self._module_name == "mortar" and "margin" not in self.options
-              and self._x0 is not None):
-            extra["reach"] = self._reach(xs, xm)
-        if (self._module_name == "mortar" and self._pinned is not None
-                and self._pinned.any()):
-            # mortar: the pinned node's multiplier is merged into its neighbour's
-            # (crosspoint), so the multipliers still sum to one on its elements
-            extra["crosspoints"] = np.flatnonzero(self._pinned)
-        ev = self.module.evaluate(xs, self.slave.segments, xm, self.master.segments,
-                                  lam=lam, tangent=tangent, **extra, **self.options)
-        if self._pinned is not None and self._pinned.any():
-            ev.mask = ev.mask & ~self._pinned
-        return ev
-
-    def _reach(self, xs: np.ndarray, xm: np.ndarray) -> float:
-        """Largest motion of a slave node plus that of a master node since the last
-        converged state: a node open there can penetrate at most this deep,
-        so the mortar search adds it to its local margin (the element lengths)."""
-        xs0, xm0 = self._x0
-        ds = np.abs(xs - xs0).max(initial=0.0)
-        dm = np.abs(xm - xm0).max(initial=0.0)
-        return float(np.sqrt(2.0) * (ds + dm))
+        return self.discretization.evaluate(self.slave.x(z), self.master.x(z), lam, tangent)
 
     def set_fixed(self, fixed: np.ndarray) -> None:
         """Told the prescribed global dofs (by :func:`~skfem_mortar.stepping.solve`).
@@ -270,10 +234,11 @@ class ContactPair(Item):
         contact (``mask`` False; for mortar they are crosspoints whose multiplier
         is merged into the neighbour's); their support carries the load.
         """
-        self._pinned = None
+        pinned = None
         if self.master.body is None:
             ds = self.slave.dofs()  # (2, n)
-            self._pinned = np.all(np.isin(ds, np.asarray(fixed)), axis=0)
+            pinned = np.all(np.isin(ds, np.asarray(fixed)), axis=0)
+        self.discretization.set_pinned(pinned)
 
     def _bodies(self):
         out = [self.slave.body]
@@ -325,9 +290,8 @@ class ContactPair(Item):
         ev = self.evaluate(z, tangent=True, with_lam=tangent)
         c = self._c(z, load_factor, ev)
         active = self._active_set(lam, ev, c, track=tangent)
-        if tangent and "segment" in ev.info:  # NTS: segment hysteresis between iterations
-            self._prefer = np.asarray(ev.info["segment"])
-            self._watch_segments(self._prefer)
+        if tangent:  # e.g. NTS: segment hysteresis between iterations, vertex trap
+            self.discretization.after_iteration(ev)
         gd = self.global_dofs()
         # body rows: -G^T lam
         G = ev.G.tocoo()
@@ -376,39 +340,21 @@ class ContactPair(Item):
         return self.state.update(plain, ev.mask, track, lambda: self._tail_signal(lam, ev))
 
     def _tail_signal(self, lam: np.ndarray, ev: ContactEval) -> tuple[np.ndarray | None, bool]:
-        """What the extrapolated release reads: the multipliers, or for standard
-        mortar (whose multipliers alternate in sign at a too-wide edge) the
-        normal nodal forces, from whose sign the tail is taken."""
-        if self._module_name == "mortar" and not self.options.get("dual"):
-            if ev.G is None:
-                return None, True
-            return normal_nodal_force(ev.G, lam, self.slave.n_nodes), True
-        return lam, False
+        """What the extrapolated release reads (the discretization's ``tail_signal``)."""
+        return self.discretization.tail_signal(lam, ev)
 
-    def _watch_segments(self, seg: np.ndarray) -> None:
-        """NTS vertex trap: lock a node whose master segment alternates a, b, a
-        (:func:`skfem_mortar.nts.vertex_trap`)."""
-        self._seg_hist = (self._seg_hist + [np.asarray(seg).copy()])[-3:]
-        new = vertex_trap(self._seg_hist, self._lock)
-        if new is None:
-            return
-        if self._lock is None:
-            self._lock = np.zeros(new.shape, dtype=bool)
-        if new.any():
-            self._locks += int(new.sum())
-            log.info("%s: %d slave node(s) alternate between two master segments; "
-                     "locked onto one for the rest of the step", self.name, int(new.sum()))
-            self._lock |= new
-
-    def _gap_length(self, ev: ContactEval) -> np.ndarray:
-        """Gaps as lengths: NTS gaps, or mortar weighted gaps over the tributary lengths."""
+    def gap_length(self, ev: ContactEval) -> np.ndarray:
+        """Gaps as lengths: the gaps of force multipliers (NTS), or the weighted
+        gaps of traction multipliers (mortar) over the tributary lengths."""
         if self.multiplier_kind == "force":
             return ev.g
         return ev.g / np.where(ev.area > 0, ev.area, 1.0)
 
+    _gap_length = gap_length
+
     def failure_hint(self) -> str:
         """A likely cause to add to a :class:`ConvergenceError` ("" if none known)."""
-        return self._hint
+        return self.discretization.failure_hint()
 
     def settled(self) -> bool:
         return not self.state.changed
@@ -428,29 +374,21 @@ class ContactPair(Item):
         lam = np.asarray(z)[self.dofs]
         touch = touching_nodes(self.slave.x(z), self.slave.segments, self.master.x(z),
                                self.master.segments, self._touch)
-        return ev.mask & ((lam - c * ev.g >= 0) | touch | (self._gap_length(ev) <= self._touch))
+        return ev.mask & ((lam - c * ev.g >= 0) | touch | (self.gap_length(ev) <= self._touch))
 
     def begin_step(self, z: np.ndarray, load_factor: float) -> None:
         """Start (or retry) a step from the last converged active set; the first
         iteration uses it as it is (less the nodes out of mask).  Before the first
         step: the initial active set."""
-        if not self._started:
+        first = not self._started
+        if first:
             self.state.converged = self.initial_active(z, load_factor)
             self._started = True
-            self._prefer_converged = None
-        if self._x0 is None:  # later: kept from the last converged state (end_step)
-            self._x0 = (self.slave.x(z), self.master.x(z))
+        xs, xm = self.slave.x(z), self.master.x(z)
+        if self.converged_positions is None:  # later: kept from the last converged state (end_step)
+            self.converged_positions = (xs, xm)
         self.state.begin()
-        self._prefer = self._prefer_converged
-        self._lock = None if self._lock_converged is None else self._lock_converged.copy()
-        self._seg_hist = []
-        if self.segmentation == "step":
-            from .mortar_segmentation import segment
-            self._sg = None
-            self._sg = segment(self.slave.x(z), self.slave.segments, self.master.x(z),
-                               self.master.segments, margin=self.options.get("margin"),
-                               frozen=True)
-        self._locks = 0
+        self.discretization.begin_step(xs, xm, first)
 
     def pressure_and_gap(self, z: np.ndarray, ev: ContactEval | None = None
                          ) -> tuple[np.ndarray, np.ndarray, ContactEval]:
@@ -462,7 +400,7 @@ class ContactPair(Item):
             ev = self.evaluate(z, tangent=False, with_lam=False)
         area = np.where(ev.area > 0, ev.area, 1.0)
         p = lam / area if self.multiplier_kind == "force" else lam.copy()
-        return p, self._gap_length(ev), ev
+        return p, self.gap_length(ev), ev
 
     def violation(self, z: np.ndarray, scale: float) -> str:
         """The KKT conditions at a state whose residual passed ("" if they hold).
@@ -499,11 +437,8 @@ class ContactPair(Item):
         lam = z[self.dofs]  # a view: inactive multipliers are exactly zero from here
         lam[~self.active] = 0.0
         self.state.end()
-        self._x0 = (self.slave.x(z), self.master.x(z))
-        self._prefer_converged = self._prefer
-        if self._lock is not None and self._prefer is not None:
-            # a lock lasts while the node stays on its segment (nts.LOCK_STICK)
-            self._lock_converged = self._lock & (self._prefer >= 0)
+        self.converged_positions = (self.slave.x(z), self.master.x(z))
+        self.discretization.end_step(*self.converged_positions)
         if self.state.cycles:
             log.info("%s: step converged after the cycling guard acted %d time(s); the "
                      "KKT conditions were checked", self.name, self.state.cycles)
@@ -512,66 +447,58 @@ class ContactPair(Item):
     def state_dict(self) -> dict[str, np.ndarray]:
         """What shapes the next load step: the converged active set, the
         complementarity parameter ``c`` and the row scale, the contact node
-        positions at the last converged state (the search reach), the NTS
-        segment preferences and locks.  Missing entries are ``[]`` (not set yet)."""
+        positions at the last converged state (the search reach), and the
+        discretization's state (NTS: the segment preferences and locks
+        ``prefer``, ``lock``).  Missing entries are ``[]`` (not set yet)."""
         def arr(a, dtype=float):
             return np.zeros(0, dtype=dtype) if a is None else np.asarray(a, dtype=dtype).copy()
+        x0 = self.converged_positions
         return {"started": np.array(self._started),
                 "active": self.state.converged.copy(),
                 "c": arr(None if self.c is None else [self.c]),
                 "row_scale": arr(None if self._row_scale is None else [self._row_scale]),
-                "x0_slave": arr(None if self._x0 is None else self._x0[0]),
-                "x0_master": arr(None if self._x0 is None else self._x0[1]),
-                "prefer": arr(self._prefer_converged, np.int64),
-                "lock": arr(self._lock_converged, bool),
-                "tol_p": np.array(self._tol_p)}
+                "x0_slave": arr(None if x0 is None else x0[0]),
+                "x0_master": arr(None if x0 is None else x0[1]),
+                "tol_p": np.array(self._tol_p),
+                **self.discretization.state_dict()}
 
     def load_state_dict(self, state: dict[str, np.ndarray]) -> None:
-        """Restore :meth:`state_dict` (ValueError naming the entry that does not fit)."""
+        """Restore :meth:`state_dict` (ValueError naming the entry that does not
+        fit; nothing is restored then)."""
         need = set(self.state_dict())
         if set(state) != need:
             raise ValueError(f"{self.name}: checkpoint state has entries {sorted(state)}, "
                              f"expected {sorted(need)}")
         ns, nm = self.slave.n_nodes, self.master.n_nodes
-        shapes = {"active": [(ns,)], "c": [(0,), (1,)], "row_scale": [(0,), (1,)],
-                  "x0_slave": [(0,), (2, ns)], "x0_master": [(0,), (2, nm)],
-                  "prefer": [(0,), (ns,)], "lock": [(0,), (ns,)], "started": [()],
-                  "tol_p": [()]}
-        for k, ok in shapes.items():
-            a = np.asarray(state[k])
-            if a.shape not in ok:
-                raise ValueError(f"{self.name}: checkpoint entry {k!r} has shape {a.shape}, "
-                                 f"expected one of {ok}")
-            if a.dtype.kind == "f" and not np.all(np.isfinite(a)):
-                raise ValueError(f"{self.name}: checkpoint entry {k!r} is not finite")
+        check_entries(self.name, state, {
+            "active": [(ns,)], "c": [(0,), (1,)], "row_scale": [(0,), (1,)],
+            "x0_slave": [(0,), (2, ns)], "x0_master": [(0,), (2, nm)], "started": [()],
+            "tol_p": [()]})
         for k in ("c", "row_scale"):
             if state[k].size and not state[k][0] > 0:
                 raise ValueError(f"{self.name}: checkpoint entry {k!r} must be > 0, "
                                  f"got {state[k][0]}")
-        if state["prefer"].size and (state["prefer"].min() < -1
-                                     or state["prefer"].max() >= len(self.master.segments)):
-            raise ValueError(f"{self.name}: checkpoint entry 'prefer' indexes no master segment")
         if not float(state["tol_p"]) >= 0:
             raise ValueError(f"{self.name}: checkpoint entry 'tol_p' must be >= 0")
+        # the discretization checks its entries before it takes any
+        self.discretization.load_state_dict({k: state[k] for k in need - set(_PAIR_STATE)})
         self._started = bool(state["started"])
         self._tol_p = float(state["tol_p"])
         self.state.converged = np.asarray(state["active"], dtype=bool).copy()
         self.c = float(state["c"][0]) if state["c"].size else None
         self._row_scale = float(state["row_scale"][0]) if state["row_scale"].size else None
-        self._x0 = ((np.array(state["x0_slave"], dtype=float),
+        self.converged_positions = ((np.array(state["x0_slave"], dtype=float),
                      np.array(state["x0_master"], dtype=float))
                     if state["x0_slave"].size else None)
-        self._prefer_converged = (np.array(state["prefer"], dtype=np.int64)
-                                  if state["prefer"].size else None)
-        self._lock_converged = (np.array(state["lock"], dtype=bool)
-                                if state["lock"].size else None)
 
     def step_info(self) -> dict:
         """``n_active`` nodes, ``active_set_changes`` (node status flips summed over the
-        step's iterations), ``active_set_cycles`` (times the cycling guard acted)
-        and ``segment_locks`` (NTS nodes locked by the vertex-trap guard)."""
+        step's iterations), ``active_set_cycles`` (times the cycling guard acted),
+        ``segment_locks`` (NTS nodes locked by the vertex-trap guard; 0 for a
+        method without) and what else the discretization counts."""
         return {"n_active": int(self.active.sum()), "active_set_changes": self.state.changes,
-                "active_set_cycles": self.state.cycles, "segment_locks": self._locks}
+                "active_set_cycles": self.state.cycles, "segment_locks": 0,
+                **self.discretization.step_info()}
 
     # -- results -----------------------------------------------------------------
     def contact_data(self, z: np.ndarray) -> dict[str, np.ndarray]:

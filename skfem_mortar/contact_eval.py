@@ -1,11 +1,12 @@
 """The result of a contact discretization: gaps and their derivatives.
 
-A contact discretization (NTS, mortar) is a pure function of the current
-coordinates of a slave and a master surface,
+The kernel of a contact discretization (NTS, mortar) is a pure function of
+the current coordinates of a slave and a master surface,
 
     evaluate(xs, seg_s, xm, seg_m, lam=None, tangent=True, **options) -> ContactEval,
 
-and :class:`ContactEval` is what it returns.  Local dof order of the surface
+and :class:`ContactEval` is what it returns (also what a
+:class:`~skfem_mortar.discretization.ContactDiscretization` returns to the pair).  Local dof order of the surface
 pair: slave node k -> 2k (x), 2k + 1 (y); master node j -> 2 n_s + 2j,
 2 n_s + 2j + 1.
 """

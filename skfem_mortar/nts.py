@@ -31,8 +31,8 @@ candidates the one at the smallest distance from its clipped projection
 segments, both clipped to it) go to the segment whose unclipped ``xi`` is
 nearest to ``[0, 1]``.  The gap is then the distance to that segment's line
 with the unclipped ``xi`` (a smooth function for a fixed segment; the switch of
-segment at a vertex makes g_N non-smooth there -- the known NTS defect; the
-pair item passes the previous iteration's segments as ``prefer`` so that a
+segment at a vertex makes g_N non-smooth there -- the known NTS defect;
+:class:`NTS` passes the previous iteration's segments as ``prefer`` so that a
 node keeps its segment within a small hysteresis ``stick``).  A node
 whose projection falls off the free end of an open master chain
 (``xi < -end_tolerance`` on the first segment or ``xi > 1 + end_tolerance`` on
@@ -46,16 +46,22 @@ patch test.  Single pass with the finer surface as slave is the usual remedy.
 """
 from __future__ import annotations
 
+import logging
+from typing import Any
+
 import numpy as np
 import scipy.sparse as sp
 from scipy.spatial import cKDTree
 
 from .contact_eval import ContactEval
+from .discretization import ContactDiscretization, OptionTable, check_entries, check_options
 from .search import node_segment_pairs
 from .surfaces import segment_normals, tributary_lengths
 
-__all__ = ["evaluate", "project", "LOCK_STICK", "COARSE_RATIO", "failure_hints",
+__all__ = ["NTS", "evaluate", "project", "LOCK_STICK", "COARSE_RATIO", "failure_hints",
            "nearest_nodes", "vertex_trap"]
+
+log = logging.getLogger("skfem_mortar.contact")  # the pair's log, as before the split
 
 LOCK_STICK = 0.5
 """Hysteresis width (fraction of the segment length) of a node locked at a reflex vertex."""
@@ -100,8 +106,7 @@ def project(xs: np.ndarray, xm: np.ndarray, seg_m: np.ndarray, margin: float | N
         Nodes that keep their ``prefer`` segment while their ``xi`` stays in
         ``[-LOCK_STICK, 1 + LOCK_STICK]`` (the closest-point projection then
         continues onto the segment's extension line).  Used by
-        :class:`~skfem_mortar.contact.ContactPair` for a node caught at a
-        reflex vertex of the master (see docs/robustness.md).
+        :class:`NTS` for a node caught at a reflex vertex of the master (see docs/robustness.md).
 
     Returns
     -------
@@ -341,3 +346,118 @@ def vertex_trap(history: list[np.ndarray], lock: np.ndarray | None) -> np.ndarra
     s2, s1, s0 = history[-3:]
     trap = (s0 == s2) & (s0 != s1) & (s0 >= 0) & (s1 >= 0)
     return trap if lock is None else trap & ~lock
+
+
+class NTS(ContactDiscretization):
+    """Node-to-segment contact (:func:`evaluate`) as a
+    :class:`~skfem_mortar.discretization.ContactDiscretization`.
+
+    Owns the state between Newton iterations and load steps: the master
+    segment of every slave node at the last iteration (``prefer``, the
+    hysteresis of :func:`project`) and at the last converged step, the nodes
+    locked at a reflex vertex (:func:`vertex_trap`, ``lock``) and the segment
+    history that finds them, the number of locks in the step, the failure hints
+    (:func:`failure_hints`, from the reference geometry) and the pinned nodes
+    (out of ``mask``).
+
+    Options (checked here): ``margin``, ``end_tolerance``, ``stick`` of :func:`project`.
+    """
+
+    method = "nts"
+    multiplier_kind = "force"
+    multipliers_per_node = 1
+    symmetric = True
+    has_history = True  # segment preferences and locks carry over to the next step
+
+    OPTIONS: OptionTable = {
+        "margin": (lambda v: v is None or (np.isfinite(v) and v > 0), "a finite number > 0"),
+        "end_tolerance": (lambda v: np.isfinite(v) and 0 <= v < 0.5, "a number in [0, 0.5)"),
+        "stick": (lambda v: np.isfinite(v) and 0 <= v <= 0.5, "a number in [0, 0.5]")}
+
+    def __init__(self, slave: Any, master: Any, pair_name: str = "contact", **options: Any):
+        check_options(self.method, options, self.OPTIONS)
+        self.slave, self.master, self.pair_name = slave, master, pair_name
+        self.options = dict(options)
+        self._hint = failure_hints(slave, master, pair_name)
+        self._pinned: np.ndarray | None = None
+        self._prefer: np.ndarray | None = None
+        self._prefer_converged: np.ndarray | None = None
+        self._lock: np.ndarray | None = None
+        self._lock_converged: np.ndarray | None = None
+        self._seg_hist: list[np.ndarray] = []
+        self._locks = 0
+
+    def set_pinned(self, pinned: np.ndarray | None) -> None:
+        self._pinned = pinned
+
+    def begin_step(self, xs: np.ndarray, xm: np.ndarray, first: bool) -> None:
+        """Restore the segment choices and locks of the last converged step."""
+        if first:
+            self._prefer_converged = None
+        self._prefer = self._prefer_converged
+        self._lock = None if self._lock_converged is None else self._lock_converged.copy()
+        self._seg_hist = []
+        self._locks = 0
+
+    def evaluate(self, xs: np.ndarray, xm: np.ndarray, lam: np.ndarray | None,
+                 tangent: bool) -> ContactEval:
+        extra: dict = {}
+        if self._prefer is not None:
+            extra["prefer"] = self._prefer
+            if self._lock is not None and self._lock.any():
+                extra["lock"] = self._lock
+        ev = evaluate(xs, self.slave.segments, xm, self.master.segments, lam=lam,
+                      tangent=tangent, **extra, **self.options)
+        if self._pinned is not None and self._pinned.any():
+            ev.mask = ev.mask & ~self._pinned
+        return ev
+
+    def after_iteration(self, ev: ContactEval) -> None:
+        """Segment hysteresis: the next iteration prefers these segments; vertex
+        trap: lock a node whose master segment alternates a, b, a
+        (:func:`vertex_trap`)."""
+        self._prefer = np.asarray(ev.info["segment"])
+        self._seg_hist = (self._seg_hist + [self._prefer.copy()])[-3:]
+        new = vertex_trap(self._seg_hist, self._lock)
+        if new is None:
+            return
+        if self._lock is None:
+            self._lock = np.zeros(new.shape, dtype=bool)
+        if new.any():
+            self._locks += int(new.sum())
+            log.info("%s: %d slave node(s) alternate between two master segments; "
+                     "locked onto one for the rest of the step", self.pair_name, int(new.sum()))
+            self._lock |= new
+
+    def end_step(self, xs: np.ndarray, xm: np.ndarray) -> None:
+        self._prefer_converged = self._prefer
+        if self._lock is not None and self._prefer is not None:
+            # a lock lasts while the node stays on its segment (LOCK_STICK)
+            self._lock_converged = self._lock & (self._prefer >= 0)
+
+    def step_info(self) -> dict:
+        """``segment_locks``: nodes locked by the vertex-trap guard in the step."""
+        return {"segment_locks": self._locks}
+
+    def failure_hint(self) -> str:
+        """:func:`failure_hints` of the reference geometry."""
+        return self._hint
+
+    def state_dict(self) -> dict[str, np.ndarray]:
+        """The converged segment preferences and locks (``[]``: not set yet)."""
+        def arr(a, dtype):
+            return np.zeros(0, dtype=dtype) if a is None else np.asarray(a, dtype=dtype).copy()
+        return {"prefer": arr(self._prefer_converged, np.int64),
+                "lock": arr(self._lock_converged, bool)}
+
+    def load_state_dict(self, state: dict[str, np.ndarray]) -> None:
+        ns = self.slave.n_nodes
+        check_entries(self.pair_name, state, {"prefer": [(0,), (ns,)], "lock": [(0,), (ns,)]})
+        if state["prefer"].size and (state["prefer"].min() < -1
+                                     or state["prefer"].max() >= len(self.master.segments)):
+            raise ValueError(f"{self.pair_name}: checkpoint entry 'prefer' indexes no master "
+                             "segment")
+        self._prefer_converged = (np.array(state["prefer"], dtype=np.int64)
+                                  if state["prefer"].size else None)
+        self._lock_converged = (np.array(state["lock"], dtype=bool)
+                                if state["lock"].size else None)

@@ -329,7 +329,7 @@ def _touching_rows(pair: Any, z: np.ndarray, load_factor: float, n: int) -> _Tou
     by its norm.
     """
     ev = pair.evaluate(z, tangent=False, with_lam=False)
-    glen = pair._gap_length(ev)
+    glen = pair.gap_length(ev)
     touch = pair.initial_active(z, load_factor) & ev.mask
     xs, xm = pair.slave.x(z), pair.master.x(z)
     nv = nts.evaluate(xs, pair.slave.segments, xm, pair.master.segments, tangent=True)
@@ -342,7 +342,7 @@ def _touching_rows(pair: Any, z: np.ndarray, load_factor: float, n: int) -> _Tou
     C = sp.diags(1.0 / np.where(norm > 0, norm, 1.0)) @ C
     _, ls = segment_normals(xs, pair.slave.segments)
     return _Touch(C.tocsr(), nv.info["normal"][:, on],
-                  float(np.min(glen[ev.mask], initial=np.inf)), float(pair._touch),
+                  float(np.min(glen[ev.mask], initial=np.inf)), float(pair.touch_distance),
                   float(np.mean(ls)))
 
 
