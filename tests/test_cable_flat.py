@@ -8,17 +8,7 @@ from skfem_mortar.runner import run_scene
 from skfem_mortar.scenes.cable_flat import flat_exact
 
 
-def _has_mortar():
-    try:
-        import skfem_mortar.mortar  # noqa: F401
-        return True
-    except ImportError:
-        return False
-
-
-METHODS = [m if m == "nts" or _has_mortar() else
-           pytest.param(m, marks=pytest.mark.skip("mortar.py not available"))
-           for m in ("nts", "mortar", "mortar-dual")]
+METHODS = ["nts", "mortar", "mortar-dual"]
 
 
 def test_exact_solution_matches_benchmark_example():
