@@ -68,7 +68,9 @@ import scipy.sparse as sp
 from skfem import Basis, ElementTriMini, ElementTriP1, ElementVector, MeshTri
 
 from .checks import check_mesh
-from .materials import NeoHooke, _checked_det, _inv
+from skfem.helpers import inv
+
+from .materials import NeoHooke, checked_det
 from .model import Contribution
 from .solid import Solid
 
@@ -86,8 +88,8 @@ def mixed_stress_and_tangent(F: np.ndarray, p: np.ndarray, mu: float, lmbda: flo
     ``InversionError`` where ``det F <= 0`` (as in NeoHooke).
     """
     F = np.asarray(F, dtype=float)
-    J = _checked_det(F)
-    Fi = _inv(F, J)                       # Fi[J, i] = F^-1_Ji
+    J = checked_det(F)
+    Fi = inv(F)                           # Fi[J, i] = F^-1_Ji
     FiT = np.swapaxes(Fi, 0, 1)
     lnJ = np.log(J)
     tail = F.shape[2:]
@@ -304,7 +306,7 @@ class MixedSolid(Solid):
         ``P_zz = mu (1 - 1) + p``), equal to NeoHooke's when ``p = lambda ln J``."""
         F = self.deformation_gradient(z)
         sig, _ = self._state(z, False)
-        J = _checked_det(F)
+        J = checked_det(F)
         P = sig[:4].reshape(F.shape)
         sigma = np.einsum("iJ...,kJ...->ik...", P, F) / J
         return sigma, self.pressure_at_points(z) / J

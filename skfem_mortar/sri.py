@@ -26,9 +26,9 @@ from __future__ import annotations
 
 import numpy as np
 from skfem import Basis, ElementQuad1, ElementVector, MeshQuad, MeshTri
-from skfem.helpers import grad
+from skfem.helpers import grad, inv
 
-from .materials import NeoHooke
+from .materials import NeoHooke, checked_det
 from .model import Contribution
 from .solid import Solid, internal_force, material_stiffness
 
@@ -41,11 +41,9 @@ ONE_POINT = (np.array([[0.5], [0.5]]), np.array([1.0]))
 def _volumetric(F: np.ndarray, lmbda: float, tangent: bool = True):
     """``P`` and ``A = dP/dF`` of ``W = lambda/2 (ln J)^2`` on quadrature arrays
     ``F (2, 2, ...)``; ``InversionError`` where ``det F <= 0`` (as in NeoHooke)."""
-    from .materials import _checked_det, _inv
-
     F = np.asarray(F, dtype=float)
-    J = _checked_det(F)
-    Fi = _inv(F, J)
+    J = checked_det(F)
+    Fi = inv(F)
     FiT = np.swapaxes(Fi, 0, 1)
     lnJ = np.log(J)
     P = lmbda * lnJ * FiT
