@@ -23,7 +23,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .cable import _side_sign
+from .cable import side_sign
 from .model import Contribution, Item
 
 __all__ = ["FollowerPressure", "facet_load_matrix"]
@@ -93,7 +93,7 @@ class FollowerPressure(Item):
         if hasattr(body, "elements") and hasattr(body, "closed"):
             if facets is not None:
                 raise ValueError("facets is only for solids; a cable is loaded along its chain")
-            self.sign = _side_sign("left" if side is None else side)
+            self.sign = side_sign("left" if side is None else side)
             el = body.elements
             # (n_f, n_loc, 2) local dofs and reference coordinates
             self._dofs = np.stack([body.node_dofs[:, el[:, 0]].T,
