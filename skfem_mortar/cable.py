@@ -23,6 +23,7 @@ from scipy.optimize import brentq
 from .cable_laws import LAWS, CableLaw, get_law, newton_rtol  # noqa: F401 (public here too)
 from .errors import InversionError
 from .model import Contribution, Item
+from .surfaces import segment_lengths
 
 __all__ = ["CableLaw", "LAWS", "get_law", "Cable", "newton_rtol", "side_sign"]
 
@@ -136,16 +137,15 @@ class Cable(Item):
         self.EA = np.broadcast_to(np.asarray(EA, dtype=float), (n_el,)).copy()
         if not np.all(np.isfinite(self.EA)) or np.any(self.EA <= 0.0):
             raise ValueError("EA must be finite and > 0")
-        d = X[:, elements[:, 1]] - X[:, elements[:, 0]]
-        chord = np.hypot(d[0], d[1])
+        chord = segment_lengths(X, elements)
         if np.any(chord <= 1e-12 * max(float(np.max(chord)), np.finfo(float).tiny)):
             k = int(np.argmin(chord))
             ends = tuple(int(i) for i in elements[k])
             raise ValueError(f"X: element {k} joins coincident nodes {ends}; "
                              f"every element must have a length > 0")
-        self._dX = d
+        self._dX = X[:, elements[:, 1]] - X[:, elements[:, 0]]
         if rest_length is None:
-            rest_length = np.hypot(d[0], d[1])
+            rest_length = chord
         self.rest_length = np.broadcast_to(np.asarray(rest_length, dtype=float),
                                            (n_el,)).copy()
         if not np.all(np.isfinite(self.rest_length)) or np.any(self.rest_length <= 0.0):
@@ -272,6 +272,7 @@ class Cable(Item):
     def _geometry(self, z: np.ndarray):
         # chord = reference chord + displacement difference: no round-off of
         # the absolute positions X + u enters the (short) chords of a fine cable
+        # (hence not segment_lengths(self.x(z), ...))
         u = self.u(z)
         i, j = self.elements[:, 0], self.elements[:, 1]
         d = self._dX + (u[:, j] - u[:, i])

@@ -139,16 +139,13 @@ def _solid_facet_chain(body, facets):
     """Local dofs (n_f, n_loc, 2) and reference coordinates of boundary facets,
     each oriented so that the body lies on its left (outward normal on the right).
     """
+    from .solid import boundary_facets   # here: a cable's load needs no skfem
+
     mesh, basis = body.mesh, body.basis
     if facets is None:
         raise ValueError("facets (a boundary name or facet indices) is required for a solid")
-    if isinstance(facets, str):
-        bnd = getattr(mesh, "boundaries", None) or {}
-        if facets not in bnd:
-            raise ValueError(f"facets must be one of the mesh boundaries {sorted(bnd)}, "
-                             f"got {facets!r}")
-        facets = bnd[facets]
-    facets = np.asarray(facets, dtype=np.int64).ravel()
+    facets = boundary_facets(mesh, facets,
+                             "facets must be one of the mesh boundaries {known}, got {tag!r}")
     if facets.size == 0 or facets.min() < 0 or facets.max() >= mesh.facets.shape[1]:
         raise ValueError(f"facets must be non-empty indices in [0, {mesh.facets.shape[1]})")
     if np.any(mesh.f2t[1, facets] >= 0):
