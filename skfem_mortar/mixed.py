@@ -68,6 +68,7 @@ import scipy.sparse as sp
 from skfem import Basis, ElementTriMini, ElementTriP1, ElementVector, MeshTri
 
 from .checks import check_mesh
+from .coo import element_coo
 from skfem.helpers import inv
 
 from .materials import NeoHooke, checked_det
@@ -193,11 +194,7 @@ class MixedSolid(Solid):
     def _mixed_index(self) -> tuple[np.ndarray, np.ndarray]:
         """Global COO rows and columns of the element tangents ``(n_el, n_loc, n_loc)``."""
         if self._mixed_idx is None or self._mixed_idx[0] != self.offset:
-            d = self.offset + self._alldofs.T                            # (n_el, n_loc)
-            n = d.shape[1]
-            rows = np.broadcast_to(d[:, :, None], (d.shape[0], n, n)).ravel()
-            cols = np.broadcast_to(d[:, None, :], (d.shape[0], n, n)).ravel()
-            self._mixed_idx = (self.offset, rows, cols)
+            self._mixed_idx = (self.offset, *element_coo(self.offset + self._alldofs.T))
         return self._mixed_idx[1], self._mixed_idx[2]
 
     # -- fields at quadrature points ------------------------------------------
