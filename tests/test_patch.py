@@ -2,9 +2,8 @@
 import numpy as np
 import pytest
 
+from skfem_mortar.contact import METHODS  # the method names: nts, mortar, mortar-dual
 from skfem_mortar.runner import build_scene, run_scene
-
-METHODS = ["nts", "mortar", "mortar-dual"]
 
 
 @pytest.mark.parametrize("method", METHODS)
