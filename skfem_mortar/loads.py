@@ -160,7 +160,8 @@ def _solid_facet_chain(body, facets):
         cols.append(fd[:, facets].T)
     dofs = np.stack(cols, axis=1)                            # (n_f, n_loc, 2)
     X = basis.doflocs[:, dofs[:, :, 0]].transpose(1, 2, 0)   # (n_f, n_loc, 2)
-    # orientation: the element's centroid must be on the left of (v0 -> v1)
+    # orientation: the element's centroid must be on the left of (v0 -> v1) (own test,
+    # as in ContactSurface.from_solid: skfem's facets carry no vertex order along a chain)
     t = mesh.f2t[0, facets]
     centroid = mesh.p[:, mesh.t[:, t]].mean(axis=1).T        # (n_f, 2)
     d = X[:, 1] - X[:, 0]

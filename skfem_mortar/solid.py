@@ -78,6 +78,7 @@ def boundary_facets(mesh: Mesh, boundary: str | np.ndarray,
     An unknown tag raises ValueError with ``unknown`` formatted with the ``tag`` and
     the sorted ``known`` tags (each caller keeps the wording of its parameter).
     """
+    # not Mesh.normalize_facets: it sorts index lists (np.unique) and words its own error
     if isinstance(boundary, str):
         known = sorted(mesh.boundaries or {})
         if boundary not in known:
@@ -303,6 +304,8 @@ class Solid(Item):
     # -- output ------------------------------------------------------------
     def output_mesh(self) -> tuple[np.ndarray, list[tuple[str, np.ndarray]]]:
         """Vertices ``(N, 2)`` and linear cells (corner nodes only)."""
+        # not skfem.io.meshio.to_meshio: identical on linear meshes, but on quadratic
+        # ones it gives triangle6/quad9 cells on all nodes; the fields are per vertex
         nv = 3 if self._cell_type == "triangle" else 4
         return self.X.T.copy(), [(self._cell_type, self.mesh.t[:nv].T.copy())]
 

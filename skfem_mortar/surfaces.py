@@ -244,6 +244,8 @@ class ContactSurface:
             raise ValueError("boundary must contain at least one facet")
         if facets.min() < 0 or facets.max() >= mesh.facets.shape[1]:
             raise ValueError(f"facet indices must lie in [0, {mesh.facets.shape[1]})")
+        # own orientation test: skfem's facets list their vertices sorted and its
+        # oriented boundaries pick an element side, not a vertex order along the chain
         ends = mesh.facets[:, facets].T.copy()  # (n_f, 2)
         elem = mesh.f2t[0, facets]
         nv = mesh.t.shape[0] if mesh.t.shape[0] in (3, 4) else (3 if "Tri" in type(mesh).__name__ else 4)
