@@ -23,6 +23,7 @@ _EXPORTS = {
     "Cable": "cable",
     "FollowerPressure": "loads",
     "ContactPair": "contact",
+    "ContactSurface": "surfaces", "RigidPlane": "surfaces", "RigidCircle": "surfaces",
     "run_scene": "runner", "build_scene": "runner",
 }
 

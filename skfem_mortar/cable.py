@@ -23,11 +23,12 @@ from scipy.optimize import brentq
 from .cable_laws import LAWS, CableLaw, get_law, newton_rtol  # noqa: F401 (public here too)
 from .errors import InversionError
 from .model import Contribution, Item
+from .surfaces import segment_lengths
 
-__all__ = ["CableLaw", "LAWS", "get_law", "Cable", "newton_rtol"]
+__all__ = ["CableLaw", "LAWS", "get_law", "Cable", "newton_rtol", "side_sign"]
 
 
-def _side_sign(side: str | int) -> int:
+def side_sign(side: str | int) -> int:
     """+1 for "left" (normal = tangent turned by +90 degrees), -1 for "right"."""
     if side in ("left", 1, +1):
         return 1
@@ -136,16 +137,15 @@ class Cable(Item):
         self.EA = np.broadcast_to(np.asarray(EA, dtype=float), (n_el,)).copy()
         if not np.all(np.isfinite(self.EA)) or np.any(self.EA <= 0.0):
             raise ValueError("EA must be finite and > 0")
-        d = X[:, elements[:, 1]] - X[:, elements[:, 0]]
-        chord = np.hypot(d[0], d[1])
+        chord = segment_lengths(X, elements)
         if np.any(chord <= 1e-12 * max(float(np.max(chord)), np.finfo(float).tiny)):
             k = int(np.argmin(chord))
             ends = tuple(int(i) for i in elements[k])
             raise ValueError(f"X: element {k} joins coincident nodes {ends}; "
                              f"every element must have a length > 0")
-        self._dX = d
+        self._dX = X[:, elements[:, 1]] - X[:, elements[:, 0]]
         if rest_length is None:
-            rest_length = np.hypot(d[0], d[1])
+            rest_length = chord
         self.rest_length = np.broadcast_to(np.asarray(rest_length, dtype=float),
                                            (n_el,)).copy()
         if not np.all(np.isfinite(self.rest_length)) or np.any(self.rest_length <= 0.0):
@@ -229,7 +229,7 @@ class Cable(Item):
             raise ValueError(f"n_elements must be >= 1, got {n_elements}")
         if not 0.0 < start_sag <= 0.5:
             raise ValueError(f"start_sag must lie in (0, 0.5], got {start_sag}")
-        sign = _side_sign(bulge)
+        sign = side_sign(bulge)
         rest = length0 / n
         X = None
         if length0 > span * (1.0 + span_rtol):
@@ -272,6 +272,7 @@ class Cable(Item):
     def _geometry(self, z: np.ndarray):
         # chord = reference chord + displacement difference: no round-off of
         # the absolute positions X + u enters the (short) chords of a fine cable
+        # (hence not segment_lengths(self.x(z), ...))
         u = self.u(z)
         i, j = self.elements[:, 0], self.elements[:, 1]
         d = self._dX + (u[:, j] - u[:, i])
@@ -282,13 +283,13 @@ class Cable(Item):
             raise InversionError(f"{self.name}: an element collapsed to zero length")
         return d, length
 
-    def _force(self, lam: np.ndarray):
+    def _force(self, stretch: np.ndarray):
         """Axial force, its derivative, and the tangent's derivative (regularized)."""
-        N = self.law.force(lam, self.EA)
-        dN = self.law.stiffness(lam, self.EA)
+        N = self.law.force(stretch, self.EA)
+        dN = self.law.stiffness(stretch, self.EA)
         dN_tangent = dN
         if self.tension_only:
-            slack = lam < 1.0
+            slack = stretch < 1.0
             N = np.where(slack, 0.0, N)
             dN = np.where(slack, 0.0, dN)
             dN_tangent = np.where(slack, self.slack_stiffness * self.EA, dN)
@@ -308,8 +309,7 @@ class Cable(Item):
         """Internal forces ``f_j = -f_i = N t`` and tangent (see module docstring;
         regularizations of slack elements and of unstressed states in the class Notes)."""
         d, length = self._geometry(z)
-        lam = length / self.rest_length
-        N, _, dN_t = self._force(lam)
+        N, _, dN_t = self._force(length / self.rest_length)
         if not np.all(np.isfinite(N)):
             raise InversionError(f"{self.name}: non-finite axial force")
         t = d / length                                   # (2, n_el)
@@ -338,9 +338,9 @@ class Cable(Item):
 
     def output_data(self, z: np.ndarray):
         """Point data ``displacement``; cell data ``tension`` and ``stretch``."""
-        lam = self.stretch(z)
+        stretch = self.stretch(z)
         return ({"displacement": self.u(z).T.copy()},
-                {"tension": [self._force(lam)[0]], "stretch": [lam]})
+                {"tension": [self._force(stretch)[0]], "stretch": [stretch]})
 
 
 # -- start geometries ---------------------------------------------------------

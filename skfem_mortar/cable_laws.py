@@ -21,9 +21,9 @@ class CableLaw:
     name : str
         Name used in scenes and on the command line.
     force : callable
-        ``force(lam, EA) -> N``.
+        ``force(stretch, EA) -> N``.
     stiffness : callable
-        ``stiffness(lam, EA) -> dN/dlambda``.
+        ``stiffness(stretch, EA) -> dN/dlambda``.
 
     All three laws have ``N(1) = 0`` and ``N'(1) = EA``.
     """
@@ -33,21 +33,21 @@ class CableLaw:
     stiffness: Callable[[np.ndarray, np.ndarray], np.ndarray]
 
 
-def _log_positive(lam: np.ndarray) -> np.ndarray:
-    if np.any(lam <= 0.0):
+def _log_positive(stretch: np.ndarray) -> np.ndarray:
+    if np.any(stretch <= 0.0):
         raise InversionError("hencky law: stretch must be positive")
-    return np.log(lam)
+    return np.log(stretch)
 
 
 #: The laws by name: ``linear`` N = EA (lambda - 1), ``svk``
 #: N = EA lambda (lambda^2 - 1) / 2 (Green strain) and ``hencky`` N = EA ln(lambda).
 LAWS: dict[str, CableLaw] = {
-    "linear": CableLaw("linear", lambda lam, EA: EA * (lam - 1.0),
-                       lambda lam, EA: EA * np.ones_like(lam)),
-    "svk": CableLaw("svk", lambda lam, EA: 0.5 * EA * lam * (lam * lam - 1.0),
-                    lambda lam, EA: 0.5 * EA * (3.0 * lam * lam - 1.0)),
-    "hencky": CableLaw("hencky", lambda lam, EA: EA * _log_positive(lam),
-                       lambda lam, EA: EA / lam),
+    "linear": CableLaw("linear", lambda stretch, EA: EA * (stretch - 1.0),
+                       lambda stretch, EA: EA * np.ones_like(stretch)),
+    "svk": CableLaw("svk", lambda stretch, EA: 0.5 * EA * stretch * (stretch * stretch - 1.0),
+                    lambda stretch, EA: 0.5 * EA * (3.0 * stretch * stretch - 1.0)),
+    "hencky": CableLaw("hencky", lambda stretch, EA: EA * _log_positive(stretch),
+                       lambda stretch, EA: EA / stretch),
 }
 
 

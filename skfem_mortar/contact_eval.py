@@ -17,7 +17,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import scipy.sparse as sp
 
-__all__ = ["ContactEval", "local_dofs_slave", "local_dofs_master"]
+__all__ = ["ContactEval"]
 
 
 @dataclass
@@ -49,14 +49,3 @@ class ContactEval:
     mask: np.ndarray
     info: dict = field(default_factory=dict)
 
-
-def local_dofs_slave(k: np.ndarray) -> np.ndarray:
-    """Local dofs ``(..., 2)`` of slave nodes ``k``: ``[2k, 2k + 1]``."""
-    k = np.asarray(k, dtype=np.int64)
-    return np.stack([2 * k, 2 * k + 1], axis=-1)
-
-
-def local_dofs_master(j: np.ndarray, n_s: int) -> np.ndarray:
-    """Local dofs ``(..., 2)`` of master nodes ``j``: ``[2 n_s + 2j, 2 n_s + 2j + 1]``."""
-    j = np.asarray(j, dtype=np.int64)
-    return np.stack([2 * n_s + 2 * j, 2 * n_s + 2 * j + 1], axis=-1)

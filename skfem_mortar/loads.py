@@ -23,7 +23,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .cable import _side_sign
+from .cable import side_sign
 from .model import Contribution, Item
 
 __all__ = ["FollowerPressure", "facet_load_matrix"]
@@ -93,7 +93,7 @@ class FollowerPressure(Item):
         if hasattr(body, "elements") and hasattr(body, "closed"):
             if facets is not None:
                 raise ValueError("facets is only for solids; a cable is loaded along its chain")
-            self.sign = _side_sign("left" if side is None else side)
+            self.sign = side_sign("left" if side is None else side)
             el = body.elements
             # (n_f, n_loc, 2) local dofs and reference coordinates
             self._dofs = np.stack([body.node_dofs[:, el[:, 0]].T,
@@ -139,16 +139,13 @@ def _solid_facet_chain(body, facets):
     """Local dofs (n_f, n_loc, 2) and reference coordinates of boundary facets,
     each oriented so that the body lies on its left (outward normal on the right).
     """
+    from .solid import boundary_facets   # here: a cable's load needs no skfem
+
     mesh, basis = body.mesh, body.basis
     if facets is None:
         raise ValueError("facets (a boundary name or facet indices) is required for a solid")
-    if isinstance(facets, str):
-        bnd = getattr(mesh, "boundaries", None) or {}
-        if facets not in bnd:
-            raise ValueError(f"facets must be one of the mesh boundaries {sorted(bnd)}, "
-                             f"got {facets!r}")
-        facets = bnd[facets]
-    facets = np.asarray(facets, dtype=np.int64).ravel()
+    facets = boundary_facets(mesh, facets,
+                             "facets must be one of the mesh boundaries {known}, got {tag!r}")
     if facets.size == 0 or facets.min() < 0 or facets.max() >= mesh.facets.shape[1]:
         raise ValueError(f"facets must be non-empty indices in [0, {mesh.facets.shape[1]})")
     if np.any(mesh.f2t[1, facets] >= 0):
@@ -163,7 +160,8 @@ def _solid_facet_chain(body, facets):
         cols.append(fd[:, facets].T)
     dofs = np.stack(cols, axis=1)                            # (n_f, n_loc, 2)
     X = basis.doflocs[:, dofs[:, :, 0]].transpose(1, 2, 0)   # (n_f, n_loc, 2)
-    # orientation: the element's centroid must be on the left of (v0 -> v1)
+    # orientation: the element's centroid must be on the left of (v0 -> v1) (own test,
+    # as in ContactSurface.from_solid: skfem's facets carry no vertex order along a chain)
     t = mesh.f2t[0, facets]
     centroid = mesh.p[:, mesh.t[:, t]].mean(axis=1).T        # (n_f, 2)
     d = X[:, 1] - X[:, 0]

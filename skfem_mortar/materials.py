@@ -17,15 +17,31 @@ Plane strain throughout: the third direction has ``F_zz = 1``, ``F_iz = 0``.
 """
 from __future__ import annotations
 
+from typing import NamedTuple
+
 import numpy as np
+from skfem.helpers import det, inv
 
 from .errors import InversionError
 
-__all__ = ["Material", "NeoHooke", "SaintVenantKirchhoff", "lame_from_young"]
+__all__ = ["Material", "NeoHooke", "SaintVenantKirchhoff", "Lame", "lame_from_young",
+           "checked_det"]
 
 
-def lame_from_young(E: float, nu: float) -> tuple[float, float]:
+class Lame(NamedTuple):
+    """The Lame constants by name: ``mu`` (shear modulus) FIRST, then ``lmbda``."""
+
+    mu: float
+    lmbda: float
+
+
+def lame_from_young(E: float, nu: float) -> Lame:
     """Lame constants ``mu = E / (2 (1 + nu))``, ``lambda = E nu / ((1 + nu)(1 - 2 nu))``.
+
+    Returns ``Lame(mu, lmbda)``: ORDER (mu, lambda), the REVERSE of scikit-fem's
+    ``skfem.models.elasticity.lame_parameters(E, nu) -> (lambda, mu)``.  Read
+    the fields by name (``lame_from_young(E, nu).mu``) to need no order at all;
+    unpacking ``mu, lmbda = lame_from_young(E, nu)`` stays valid.
 
     Raises
     ------
@@ -38,19 +54,15 @@ def lame_from_young(E: float, nu: float) -> tuple[float, float]:
         raise ValueError(f"E must be > 0 (got {E})")
     if not np.isfinite(nu) or not -1.0 < nu < 0.5:
         raise ValueError(f"nu must lie in the open interval (-1, 0.5) (got {nu})")
-    return E / (2.0 * (1.0 + nu)), E * nu / ((1.0 + nu) * (1.0 - 2.0 * nu))
+    return Lame(E / (2.0 * (1.0 + nu)), E * nu / ((1.0 + nu) * (1.0 - 2.0 * nu)))
 
 
-def _det(F: np.ndarray) -> np.ndarray:
-    return F[0, 0] * F[1, 1] - F[0, 1] * F[1, 0]
-
-
-def _checked_det(F: np.ndarray) -> np.ndarray:
+def checked_det(F: np.ndarray) -> np.ndarray:
     """``J = det F``; raise :class:`InversionError` if any ``J <= 0`` or non-finite."""
     F = np.asarray(F, dtype=float)
     if F.shape[:2] != (2, 2):
         raise ValueError(f"F must have shape (2, 2, ...), got {F.shape}")
-    J = _det(F)
+    J = det(F)   # skfem.helpers: the same products as our own 2 x 2 formula, bit for bit
     if not np.all(np.isfinite(J)):
         raise InversionError("non-finite deformation gradient")
     if np.any(J <= 0.0):
@@ -58,11 +70,6 @@ def _checked_det(F: np.ndarray) -> np.ndarray:
         raise InversionError(f"inverted material point(s): det F <= 0 at {n} point(s), "
                              f"min det F = {J.min():.3e}")
     return J
-
-
-def _inv(F: np.ndarray, J: np.ndarray) -> np.ndarray:
-    """Inverse of a (2, 2, ...) array given its determinant."""
-    return np.array([[F[1, 1], -F[0, 1]], [-F[1, 0], F[0, 0]]]) / J
 
 
 class Material:
@@ -139,7 +146,7 @@ class Material:
     # -- post-processing ---------------------------------------------------
     def cauchy(self, F: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Cauchy stress ``sigma = P F^T / J`` (2, 2, ...) and ``sigma_zz`` (...)."""
-        J = _checked_det(F)
+        J = checked_det(F)
         P = self.stress(F)
         sigma = np.einsum("iJ...,kJ...->ik...", P, F) / J
         return sigma, self.stress_zz(F)
@@ -171,8 +178,8 @@ class NeoHooke(Material):
     def stress_and_tangent(self, F: np.ndarray, tangent: bool = True
                            ) -> tuple[np.ndarray, np.ndarray | None]:
         F = np.asarray(F, dtype=float)
-        J = _checked_det(F)
-        Fi = _inv(F, J)                       # Fi[J, i] = F^-1_Ji
+        J = checked_det(F)
+        Fi = inv(F)                           # Fi[J, i] = F^-1_Ji
         FiT = np.swapaxes(Fi, 0, 1)           # F^-T
         lnJ = np.log(J)
         P = self.mu * (F - FiT) + self.lmbda * lnJ * FiT
@@ -189,12 +196,12 @@ class NeoHooke(Material):
     def energy(self, F: np.ndarray) -> np.ndarray:
         """``W = mu/2 (tr C - 2 - 2 ln J) + lambda/2 (ln J)^2``."""
         F = np.asarray(F, dtype=float)
-        lnJ = np.log(_checked_det(F))
+        lnJ = np.log(checked_det(F))
         trC = np.einsum("iJ...,iJ...->...", F, F)
         return 0.5 * self.mu * (trC - 2.0 - 2.0 * lnJ) + 0.5 * self.lmbda * lnJ ** 2
 
     def stress_zz(self, F: np.ndarray) -> np.ndarray:
-        J = _checked_det(F)
+        J = checked_det(F)
         return self.lmbda * np.log(J) / J
 
 
@@ -228,7 +235,7 @@ class SaintVenantKirchhoff(Material):
     def stress_and_tangent(self, F: np.ndarray, tangent: bool = True
                            ) -> tuple[np.ndarray, np.ndarray | None]:
         F = np.asarray(F, dtype=float)
-        _checked_det(F)
+        checked_det(F)
         S, _ = self._pk2(F)
         P = np.einsum("iM...,MJ...->iJ...", F, S)
         if not tangent:
@@ -246,13 +253,13 @@ class SaintVenantKirchhoff(Material):
     def energy(self, F: np.ndarray) -> np.ndarray:
         """``W = lambda/2 (tr E)^2 + mu E : E``."""
         F = np.asarray(F, dtype=float)
-        _checked_det(F)
+        checked_det(F)
         C = np.einsum("kI...,kJ...->IJ...", F, F)
         E = 0.5 * (C - np.eye(2)[(...,) + (np.newaxis,) * (F.ndim - 2)])
         trE = E[0, 0] + E[1, 1]
         return 0.5 * self.lmbda * trE ** 2 + self.mu * np.einsum("IJ...,IJ...->...", E, E)
 
     def stress_zz(self, F: np.ndarray) -> np.ndarray:
-        J = _checked_det(F)
+        J = checked_det(F)
         _, trE = self._pk2(np.asarray(F, dtype=float))
         return self.lmbda * trE / J

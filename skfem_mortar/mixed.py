@@ -68,7 +68,10 @@ import scipy.sparse as sp
 from skfem import Basis, ElementTriMini, ElementTriP1, ElementVector, MeshTri
 
 from .checks import check_mesh
-from .materials import NeoHooke, _checked_det, _inv
+from .coo import element_coo
+from skfem.helpers import inv
+
+from .materials import NeoHooke, checked_det
 from .model import Contribution
 from .solid import Solid
 
@@ -86,8 +89,8 @@ def mixed_stress_and_tangent(F: np.ndarray, p: np.ndarray, mu: float, lmbda: flo
     ``InversionError`` where ``det F <= 0`` (as in NeoHooke).
     """
     F = np.asarray(F, dtype=float)
-    J = _checked_det(F)
-    Fi = _inv(F, J)                       # Fi[J, i] = F^-1_Ji
+    J = checked_det(F)
+    Fi = inv(F)                           # Fi[J, i] = F^-1_Ji
     FiT = np.swapaxes(Fi, 0, 1)
     lnJ = np.log(J)
     tail = F.shape[2:]
@@ -191,11 +194,7 @@ class MixedSolid(Solid):
     def _mixed_index(self) -> tuple[np.ndarray, np.ndarray]:
         """Global COO rows and columns of the element tangents ``(n_el, n_loc, n_loc)``."""
         if self._mixed_idx is None or self._mixed_idx[0] != self.offset:
-            d = self.offset + self._alldofs.T                            # (n_el, n_loc)
-            n = d.shape[1]
-            rows = np.broadcast_to(d[:, :, None], (d.shape[0], n, n)).ravel()
-            cols = np.broadcast_to(d[:, None, :], (d.shape[0], n, n)).ravel()
-            self._mixed_idx = (self.offset, rows, cols)
+            self._mixed_idx = (self.offset, *element_coo(self.offset + self._alldofs.T))
         return self._mixed_idx[1], self._mixed_idx[2]
 
     # -- fields at quadrature points ------------------------------------------
@@ -304,7 +303,7 @@ class MixedSolid(Solid):
         ``P_zz = mu (1 - 1) + p``), equal to NeoHooke's when ``p = lambda ln J``."""
         F = self.deformation_gradient(z)
         sig, _ = self._state(z, False)
-        J = _checked_det(F)
+        J = checked_det(F)
         P = sig[:4].reshape(F.shape)
         sigma = np.einsum("iJ...,kJ...->ik...", P, F) / J
         return sigma, self.pressure_at_points(z) / J

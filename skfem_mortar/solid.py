@@ -38,10 +38,11 @@ from skfem import (Basis, BilinearForm, ElementQuad1, ElementQuad2, ElementTriP1
 from skfem.helpers import ddot, grad
 
 from .checks import check_mesh
+from .coo import element_coo
 from .materials import Material
 from .model import Contribution, Item
 
-__all__ = ["Solid", "ELEMENTS"]
+__all__ = ["Solid", "ELEMENTS", "boundary_facets"]
 
 #: element name -> (skfem scalar element class, reference domain name, meshio cell type)
 ELEMENTS: dict[str, tuple[type, str, str]] = {
@@ -66,6 +67,24 @@ def material_stiffness(du, v, w):
     of ``du``), leaving the ``(i, J)`` pair that is contracted with ``Grad v``.
     """
     return ddot(ddot(w.At, grad(du)), grad(v))
+
+
+def boundary_facets(mesh: Mesh, boundary: str | np.ndarray,
+                    unknown: str = "unknown boundary {tag!r}; known tags: {known}"
+                    ) -> np.ndarray:
+    """Facet indices (int64) of ``boundary``: a tag of ``mesh.boundaries`` or facet
+    indices as given (flattened, not range-checked).
+
+    An unknown tag raises ValueError with ``unknown`` formatted with the ``tag`` and
+    the sorted ``known`` tags (each caller keeps the wording of its parameter).
+    """
+    # not Mesh.normalize_facets: it sorts index lists (np.unique) and words its own error
+    if isinstance(boundary, str):
+        known = sorted(mesh.boundaries or {})
+        if boundary not in known:
+            raise ValueError(unknown.format(tag=boundary, known=known))
+        return np.asarray(mesh.boundaries[boundary], dtype=np.int64)
+    return np.asarray(boundary, dtype=np.int64).ravel()
 
 
 def _component_rows(component: int | str | None) -> list[str] | None:
@@ -148,11 +167,8 @@ class Solid(Item):
         """Global COO rows and columns of the element tangents ``(n_loc, n_loc, n_el)``,
         built once per offset (the same arrays every call)."""
         if self._kidx is None or self._kidx[0] != self.offset:
-            d = self.offset + self._edofs
-            n = d.shape[0]
-            rows = np.broadcast_to(d[:, None, :], (n, n, d.shape[1])).ravel()
-            cols = np.broadcast_to(d[None, :, :], (n, n, d.shape[1])).ravel()
-            self._kidx = (self.offset, rows, cols)
+            self._kidx = (self.offset,
+                          *element_coo(self.offset + self._edofs, elements_last=True))
         return self._kidx[1], self._kidx[2]
 
     def _grad_u(self, u: np.ndarray) -> np.ndarray:
@@ -213,9 +229,7 @@ class Solid(Item):
             Both components (None) or only one.
         """
         if isinstance(boundary, str):
-            known = sorted(self.mesh.boundaries or {})
-            if boundary not in known:
-                raise ValueError(f"unknown boundary {boundary!r}; known tags: {known}")
+            boundary_facets(self.mesh, boundary)        # an unknown tag raises
         view = self.basis.get_dofs(boundary)
         rows = _component_rows(component)
         out = view.all() if rows is None else view.all(rows)
@@ -290,6 +304,8 @@ class Solid(Item):
     # -- output ------------------------------------------------------------
     def output_mesh(self) -> tuple[np.ndarray, list[tuple[str, np.ndarray]]]:
         """Vertices ``(N, 2)`` and linear cells (corner nodes only)."""
+        # not skfem.io.meshio.to_meshio: identical on linear meshes, but on quadratic
+        # ones it gives triangle6/quad9 cells on all nodes; the fields are per vertex
         nv = 3 if self._cell_type == "triangle" else 4
         return self.X.T.copy(), [(self._cell_type, self.mesh.t[:nv].T.copy())]
 

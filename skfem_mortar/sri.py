@@ -26,30 +26,24 @@ from __future__ import annotations
 
 import numpy as np
 from skfem import Basis, ElementQuad1, ElementVector, MeshQuad, MeshTri
-from skfem.helpers import grad
+from skfem.helpers import grad, inv
 
-from .materials import NeoHooke
+from .materials import NeoHooke, checked_det
 from .model import Contribution
 from .solid import Solid, internal_force, material_stiffness
 
-__all__ = ["SRISolid", "split_to_quads", "volumetric_stress_and_tangent", "ONE_POINT"]
+__all__ = ["SRISolid", "split_to_quads", "ONE_POINT"]
 
 #: the one-point Gauss rule of the reference square [0, 1]^2: (points, weights)
 ONE_POINT = (np.array([[0.5], [0.5]]), np.array([1.0]))
 
 
-def volumetric_stress_and_tangent(F: np.ndarray, lmbda: float, tangent: bool = True):
+def _volumetric(F: np.ndarray, lmbda: float, tangent: bool = True):
     """``P`` and ``A = dP/dF`` of ``W = lambda/2 (ln J)^2`` on quadrature arrays
     ``F (2, 2, ...)``; ``InversionError`` where ``det F <= 0`` (as in NeoHooke)."""
-    return _vol(F, lmbda, tangent)
-
-
-def _vol(F, lmbda, tangent):
-    from .materials import _checked_det, _inv
-
     F = np.asarray(F, dtype=float)
-    J = _checked_det(F)
-    Fi = _inv(F, J)
+    J = checked_det(F)
+    Fi = inv(F)
     FiT = np.swapaxes(Fi, 0, 1)
     lnJ = np.log(J)
     P = lmbda * lnJ * FiT
@@ -97,7 +91,7 @@ class SRISolid(Solid):
         F = G.copy()
         F[0, 0] += 1.0
         F[1, 1] += 1.0
-        P, A = _vol(F, self.lmbda, tangent)
+        P, A = _volumetric(F, self.lmbda, tangent)
         r = internal_force.assemble(self.vbasis, P=P)
         K = None
         if tangent:

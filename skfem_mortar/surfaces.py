@@ -24,11 +24,33 @@ import scipy.sparse as sp
 from scipy.sparse.csgraph import connected_components
 
 __all__ = ["ContactSurface", "RigidPlane", "RigidCircle", "chain_segments",
-           "segment_normals", "tributary_lengths", "LINEAR_TRACE"]
+           "segment_lengths", "segment_normals", "tributary_lengths", "segments_at_nodes",
+           "LINEAR_TRACE"]
 
 #: solid elements whose boundary trace is linear between facet vertices: tri1,
 #: quad1 and the mixed "mini" triangle (P1 + bubble, the bubble vanishes on facets)
 LINEAR_TRACE = ("tri1", "quad1", "mini")
+
+
+def segment_lengths(x: np.ndarray, seg: np.ndarray) -> np.ndarray:
+    """Lengths ``l = |x[:, seg[:, 1]] - x[:, seg[:, 0]]|`` (n_seg,) of segments of nodes ``x`` (2, n)."""
+    return np.hypot(*(x[:, seg[:, 1]] - x[:, seg[:, 0]]))
+
+
+def segments_at_nodes(seg: np.ndarray, n_nodes: int) -> tuple[np.ndarray, np.ndarray]:
+    """The neighbours along a chain: for every node the segment that ends there and
+    the one that starts there, (n_nodes,) each, -1 where there is none.
+
+    ``ending[seg[:, 0]]`` is then the previous segment of each segment and
+    ``starting[seg[:, 1]]`` its next one.
+    """
+    seg = np.asarray(seg, dtype=np.int64).reshape(-1, 2)
+    ending = np.full(n_nodes, -1, dtype=np.int64)
+    starting = np.full(n_nodes, -1, dtype=np.int64)
+    ar = np.arange(seg.shape[0])
+    ending[seg[:, 1]] = ar
+    starting[seg[:, 0]] = ar
+    return ending, starting
 
 
 def segment_normals(x: np.ndarray, seg: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -49,7 +71,7 @@ def segment_normals(x: np.ndarray, seg: np.ndarray) -> tuple[np.ndarray, np.ndar
 def tributary_lengths(x: np.ndarray, seg: np.ndarray) -> np.ndarray:
     """Tributary length of each node: half the lengths of the segments it belongs to,
     ``a_k = sum_{e ∋ k} l_e / 2``."""
-    _, l = segment_normals(x, seg)
+    l = segment_lengths(x, seg)
     return np.bincount(seg.ravel(), weights=np.repeat(0.5 * l, 2), minlength=x.shape[1])
 
 
@@ -97,8 +119,7 @@ def chain_segments(seg: np.ndarray, n_nodes: int | None = None) -> tuple[np.ndar
     starts = np.flatnonzero(used & (in_deg == 0))
     closed = starts.size == 0
     # successor of each segment: the segment starting where it ends
-    seg_of_start = np.full(n, -1, dtype=np.int64)
-    seg_of_start[seg[:, 0]] = np.arange(len(seg))
+    _, seg_of_start = segments_at_nodes(seg, n)
     nxt = seg_of_start[seg[:, 1]]
     first = 0 if closed else int(seg_of_start[starts[0]])
     # rank along the chain by pointer doubling (vectorized, O(n log n))
@@ -162,8 +183,7 @@ class ContactSurface:
             raise ValueError(f"segments must index surface nodes in [0, {n})")
         order, self.closed = chain_segments(segments, n)
         self.segments = segments[order]
-        _, l = segment_normals(self._X, self.segments)
-        if np.any(l <= 0):
+        if np.any(segment_lengths(self._X, self.segments) <= 0):
             raise ValueError("surface has a segment of zero length")
 
     # -- geometry ----------------------------------------------------------
@@ -216,17 +236,16 @@ class ContactSurface:
             raise ValueError(f"contact surfaces need elements whose boundary trace is linear "
                              f"{LINEAR_TRACE}: the segments join facet vertices only, got "
                              f"element {element!r}")
-        if isinstance(boundary, str):
-            known = sorted(mesh.boundaries or {})
-            if boundary not in known:
-                raise ValueError(f"boundary must be one of the mesh tags {known}, got {boundary!r}")
-            facets = np.asarray(mesh.boundaries[boundary], dtype=np.int64)
-        else:
-            facets = np.asarray(boundary, dtype=np.int64).ravel()
+        from .solid import boundary_facets
+
+        facets = boundary_facets(mesh, boundary,
+                                 "boundary must be one of the mesh tags {known}, got {tag!r}")
         if facets.size == 0:
             raise ValueError("boundary must contain at least one facet")
         if facets.min() < 0 or facets.max() >= mesh.facets.shape[1]:
             raise ValueError(f"facet indices must lie in [0, {mesh.facets.shape[1]})")
+        # own orientation test: skfem's facets list their vertices sorted and its
+        # oriented boundaries pick an element side, not a vertex order along the chain
         ends = mesh.facets[:, facets].T.copy()  # (n_f, 2)
         elem = mesh.f2t[0, facets]
         nv = mesh.t.shape[0] if mesh.t.shape[0] in (3, 4) else (3 if "Tri" in type(mesh).__name__ else 4)

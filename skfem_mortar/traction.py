@@ -13,6 +13,7 @@ from skfem import FacetBasis, LinearForm
 from skfem.helpers import dot
 
 from .model import Contribution, Item
+from .solid import boundary_facets
 
 __all__ = ["Traction", "PointLoad"]
 
@@ -46,15 +47,9 @@ class Traction(Item):
     def __init__(self, body, boundary: str | np.ndarray,
                  traction: Sequence[float] | Callable[[np.ndarray], np.ndarray],
                  name: str = ""):
-        if isinstance(boundary, str):
-            known = sorted(body.mesh.boundaries or {})
-            if boundary not in known:
-                raise ValueError(f"unknown boundary {boundary!r}; known tags: {known}")
-            facets = body.mesh.boundaries[boundary]
-        else:
-            facets = np.asarray(boundary, dtype=np.int64).ravel()
-            if facets.size and (facets.min() < 0 or facets.max() >= body.mesh.nfacets):
-                raise ValueError(f"boundary facets must lie in [0, {body.mesh.nfacets})")
+        facets = boundary_facets(body.mesh, boundary)
+        if facets.size and (facets.min() < 0 or facets.max() >= body.mesh.nfacets):
+            raise ValueError(f"boundary facets must lie in [0, {body.mesh.nfacets})")
         fb = FacetBasis(body.mesh, body.basis.elem, facets=facets)
         if callable(traction):
             t = np.asarray(traction(fb.global_coordinates()), dtype=float)

@@ -4,21 +4,9 @@ import math
 import numpy as np
 import pytest
 
+from skfem_mortar.contact import METHODS  # the method names: nts, mortar, mortar-dual
 from skfem_mortar.runner import run_scene
 from skfem_mortar.scenes.cable_flat import flat_exact
-
-
-def _has_mortar():
-    try:
-        import skfem_mortar.mortar  # noqa: F401
-        return True
-    except ImportError:
-        return False
-
-
-METHODS = [m if m == "nts" or _has_mortar() else
-           pytest.param(m, marks=pytest.mark.skip("mortar.py not available"))
-           for m in ("nts", "mortar", "mortar-dual")]
 
 
 def test_exact_solution_matches_benchmark_example():

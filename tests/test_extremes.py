@@ -20,6 +20,7 @@ from skfem import MeshQuad
 
 from skfem_mortar import (Cable, ContactPair, Dirichlet, FollowerPressure, Model, NeoHooke,
                           Solid, solve)
+from skfem_mortar.contact import METHODS  # the method names: nts, mortar, mortar-dual
 from skfem_mortar.errors import ConvergenceError
 from skfem_mortar.preflight import PreflightWarning
 from skfem_mortar.runner import run_scene
@@ -29,7 +30,6 @@ from skfem_mortar.surfaces import ContactSurface, RigidPlane
 
 pytestmark = pytest.mark.extremes
 
-METHODS = ["nts", "mortar", "mortar-dual"]
 EPS = np.finfo(float).eps
 
 

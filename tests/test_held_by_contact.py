@@ -22,9 +22,9 @@ import skfem
 
 from skfem_mortar import ContactPair, Dirichlet, Model, NeoHooke, Solid, Traction, solve
 from skfem_mortar.active_set import touching_nodes
+from skfem_mortar.contact import METHODS  # the method names: nts, mortar, mortar-dual
 from skfem_mortar.surfaces import ContactSurface, RigidPlane
 
-METHODS = ["nts", "mortar", "mortar-dual"]
 R, LOAD = 1.0, 0.5
 
 

@@ -9,14 +9,6 @@ from skfem_mortar.scenes.hertz import graded_block, graded_quarter_disk, hertz_e
 from skfem_mortar.stepping import solve
 
 
-def _has_mortar():
-    try:
-        import skfem_mortar.mortar  # noqa: F401
-        return True
-    except ImportError:
-        return False
-
-
 def test_exact_matches_benchmark_example():
     # benchmarks.md section 6: R = 8, E = 200, nu = 0.3, rigid, P = 3.2032
     ex = hertz_exact(8.0, 3.2032, 200.0, 0.3, None, 0.3)
@@ -78,7 +70,6 @@ def test_rigid_base_refinement_improves_peak():
     assert e[1] < e[0] < 0.06
 
 
-@pytest.mark.skipif(not _has_mortar(), reason="mortar.py not available")
 def test_elastic_base_mortar_dual():
     # coarse mesh (a/7.5) on an elastic base: 1.0 % measured in the peak nodal
     # pressure (4.6 % before the corner triangle at the origin was split), bound 6 %; the half-width within one element (h/a = 1/7.5);

@@ -10,12 +10,11 @@ import json
 import numpy as np
 import pytest
 
+from skfem_mortar.contact import METHODS  # the method names: nts, mortar, mortar-dual
 from skfem_mortar.runner import run_scene
 from skfem_mortar.scenes.ironing import plot_history
 
 pytestmark = [pytest.mark.extremes, pytest.mark.slow]
-
-METHODS = ["nts", "mortar", "mortar-dual"]
 
 
 class _Runs(dict):

@@ -150,3 +150,17 @@ def test_lame_constants_round_trip():
     assert lam == pytest.approx(210.0 * 0.3 / (1.3 * 0.4), rel=1e-15)
     m = NeoHooke(mu=mu, lmbda=lam)
     assert m.E == pytest.approx(210.0, rel=1e-14) and m.nu == pytest.approx(0.3, rel=1e-14)
+
+
+def test_lame_from_young_names_its_order_mu_first():
+    """``lame_from_young`` returns (mu, lmbda) with named fields; scikit-fem's
+    ``lame_parameters`` returns the same two numbers the other way round."""
+    from skfem.models.elasticity import lame_parameters
+
+    from skfem_mortar.materials import Lame
+
+    lame = lame_from_young(200.0, 0.3)
+    assert isinstance(lame, Lame)
+    mu, lmbda = lame
+    assert (lame.mu, lame.lmbda) == (mu, lmbda)
+    assert lame_parameters(200.0, 0.3) == pytest.approx((lmbda, mu), rel=1e-15)

@@ -8,11 +8,10 @@ from skfem import MeshQuad, MeshTri
 
 from skfem_mortar import Dirichlet, Model, NeoHooke, SaintVenantKirchhoff, Solid
 from skfem_mortar.checks import signed_areas
+from skfem_mortar.contact import METHODS  # the method names: nts, mortar, mortar-dual
 from skfem_mortar.mixed import MixedSolid
 from skfem_mortar.stepping import solve
 from skfem_mortar.traction import Traction
-
-METHODS = ["nts", "mortar", "mortar-dual"]
 
 
 def _distorted_square(n=4, seed=0):

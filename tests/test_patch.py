@@ -2,25 +2,11 @@
 import numpy as np
 import pytest
 
+from skfem_mortar.contact import METHODS  # the method names: nts, mortar, mortar-dual
 from skfem_mortar.runner import build_scene, run_scene
 
-METHODS = ["nts", "mortar", "mortar-dual"]
 
-
-def _has_mortar():
-    try:
-        import skfem_mortar.mortar  # noqa: F401
-        return True
-    except ImportError:
-        return False
-
-
-def _methods():
-    return [m if m == "nts" or _has_mortar() else
-            pytest.param(m, marks=pytest.mark.skip("mortar.py not available")) for m in METHODS]
-
-
-@pytest.mark.parametrize("method", _methods())
+@pytest.mark.parametrize("method", METHODS)
 @pytest.mark.parametrize("element", ["quad1", "tri1"])
 @pytest.mark.parametrize("n", [1, 4, 7])
 def test_matching_meshes_pass_to_round_off(method, element, n):
@@ -36,7 +22,7 @@ def test_matching_meshes_pass_to_round_off(method, element, n):
     assert m["max_abs_gap"] < 1e-12  # gap zero to round-off of coordinates O(1)
 
 
-@pytest.mark.parametrize("method", [m for m in _methods() if m != "nts"])
+@pytest.mark.parametrize("method", [m for m in METHODS if m != "nts"])
 def test_non_matching_mortar_passes(method):
     r = run_scene("patch", params={"n_top": 5, "n_bottom": 4}, method=method)
     assert r["metrics"]["pressure_error"] < 1e-9  # as above: round-off

@@ -1,0 +1,38 @@
+"""The public names of ``skfem_mortar``: every one resolves lazily to its module's object."""
+import importlib
+import subprocess
+import sys
+
+import pytest
+
+import skfem_mortar
+
+
+@pytest.mark.parametrize("name", sorted(skfem_mortar._EXPORTS))
+def test_every_export_resolves_to_its_module_object(name):
+    module = importlib.import_module(f"skfem_mortar.{skfem_mortar._EXPORTS[name]}")
+    assert getattr(skfem_mortar, name) is getattr(module, name)
+    assert name in skfem_mortar.__all__
+
+
+def test_surfaces_are_exported_at_the_top_level():
+    from skfem_mortar import ContactSurface, RigidCircle, RigidPlane
+    from skfem_mortar import surfaces
+
+    assert (ContactSurface, RigidPlane, RigidCircle) == (
+        surfaces.ContactSurface, surfaces.RigidPlane, surfaces.RigidCircle)
+    assert issubclass(RigidPlane, ContactSurface) and issubclass(RigidCircle, ContactSurface)
+
+
+def test_exports_are_lazy():
+    """``import skfem_mortar`` loads none of the exported modules (the CLI starts fast)."""
+    code = ("import sys, skfem_mortar; "
+            "print(sorted(m for m in sys.modules if m.startswith('skfem_mortar.')))")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         check=True).stdout
+    assert out.strip() == "[]"
+
+
+def test_unknown_name_raises_attribute_error():
+    with pytest.raises(AttributeError, match="no attribute 'Nope'"):
+        skfem_mortar.Nope  # noqa: B018
