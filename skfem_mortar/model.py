@@ -139,9 +139,15 @@ class Item:
 
     @property
     def has_history(self) -> bool:
-        # a class declares it with ``has_history = True/False``; the default
-        # reads what the class does: a state to checkpoint is a history
-        return type(self).state_dict is not Item.state_dict
+        # a class declares it with ``has_history = True/False`` (an instance may
+        # set it too); the default reads what the class does: a state to
+        # checkpoint is a history
+        declared = self.__dict__.get("_has_history")
+        return type(self).state_dict is not Item.state_dict if declared is None else declared
+
+    @has_history.setter
+    def has_history(self, value: bool) -> None:
+        self.__dict__["_has_history"] = bool(value)
 
     # -- assembly ---------------------------------------------------------
     def assemble(self, z: np.ndarray, load_factor: float,

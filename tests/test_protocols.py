@@ -168,3 +168,9 @@ def test_newton_options_warns_and_still_works():
         new = solve(model(), 2, newton=opts)
     assert [s.residual_norms for s in old.steps] == [s.residual_norms for s in new.steps]
     assert np.array_equal(old.z, new.z)
+
+
+def test_an_instance_may_declare_history():
+    it = OnlyAssemble()
+    it.has_history = True
+    assert it.has_history and not OnlyAssemble().has_history
