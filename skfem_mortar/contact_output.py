@@ -12,7 +12,7 @@ def output_gap(data: dict) -> np.ndarray:
     return np.where(data["has_master"], data["gap"], data["distance"]).astype(float)
 
 
-class ContactOutput:
+class ContactOutput:  # an Output (skfem_mortar.model) for the output layer
     """Adapter that lets a :class:`~skfem_mortar.contact.ContactPair` be written
     like a body: a polyline of the slave surface with point data
 

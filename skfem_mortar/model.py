@@ -17,12 +17,13 @@ from __future__ import annotations
 import time
 from collections import defaultdict
 from dataclasses import dataclass, field
-from typing import Any, Iterable, Sequence
+from typing import Any, Iterable, Protocol, Sequence, runtime_checkable
 
 import numpy as np
 import scipy.sparse as sp
 
-__all__ = ["Contribution", "Item", "Model", "Dirichlet"]
+__all__ = ["Contribution", "Item", "ItemProtocol", "Output", "ContactTable", "Model",
+           "Dirichlet"]
 
 
 @dataclass
@@ -83,7 +84,29 @@ class Contribution:
 
 
 class Item:
-    """Base class of everything a model is made of.
+    """Base class of everything a model is made of: the declared item protocol.
+
+    The solver (:class:`Model`, :mod:`~skfem_mortar.newton`,
+    :mod:`~skfem_mortar.stepping`) calls only the hooks declared here, never
+    a method it has to look for; every hook has a default, so an item
+    overrides only what it needs (a load: :meth:`assemble`; a boundary
+    condition: :meth:`prescribed`; a contact pair: most of them).
+    :class:`ItemProtocol` states the same contract as a ``typing.Protocol``.
+
+    The order of the calls in one solve::
+
+        Model(items)                  referenced_bodies, dof_kind, n_dofs -> offset
+        solve: prescribed(start)      the fixed dofs of the start state
+               preflight              reads the items (skfem_mortar.preflight)
+               per attempt of a step:
+                   set_fixed(fixed)   the dofs prescribed in this step
+                   begin_step(z, lf)
+                   assemble(z, lf, tangent)   every Newton iteration, line search
+                   settled()          until the discrete state stops changing
+                   violation(z, scale)        once the residual has converged
+               per converged step: end_step(z, lf), step_info()
+               per checkpoint:     state_dict() / load_state_dict(state)
+               step given up:      failure_hint()
 
     Attributes
     ----------
@@ -97,6 +120,14 @@ class Item:
         Global index of the item's first unknown (set by :class:`Model`).
     phase : str
         Timing bucket of its assembly: "bulk", "contact" or "loads".
+    symmetric : bool
+        Declaration: the tangent the item assembles is symmetric (a
+        hyperelastic body: yes; a follower load or a contact pair with its
+        complementarity rows: no).  Default True.
+    has_history : bool
+        Declaration: the item carries state from one load step to the next
+        (an active set), i.e. it keeps a :meth:`state_dict`.  Default: whether
+        the class overrides :meth:`state_dict`.
     """
 
     name: str = ""
@@ -104,6 +135,19 @@ class Item:
     n_dofs: int = 0
     offset: int = 0
     phase: str = "bulk"
+    symmetric: bool = True
+
+    @property
+    def has_history(self) -> bool:
+        # a class declares it with ``has_history = True/False`` (an instance may
+        # set it too); the default reads what the class does: a state to
+        # checkpoint is a history
+        declared = self.__dict__.get("_has_history")
+        return type(self).state_dict is not Item.state_dict if declared is None else declared
+
+    @has_history.setter
+    def has_history(self, value: bool) -> None:
+        self.__dict__["_has_history"] = bool(value)
 
     # -- assembly ---------------------------------------------------------
     def assemble(self, z: np.ndarray, load_factor: float,
@@ -119,7 +163,19 @@ class Item:
         """Global dofs fixed by this item and their values at ``load_factor``."""
         return None
 
+    def referenced_bodies(self) -> list["Item"]:
+        """The bodies this item acts on (its ``body``), which must be in the same
+        :class:`Model`.  The preflight (:mod:`skfem_mortar.preflight`) also reads
+        them, with :attr:`dof_kind`, :meth:`prescribed` and the contact pairs'
+        surfaces, to refuse a model that cannot work before the first step."""
+        body = getattr(self, "body", None)
+        return [body] if isinstance(body, Item) else []
+
     # -- hooks of the load stepping --------------------------------------
+    def set_fixed(self, fixed: np.ndarray) -> None:
+        """The global dofs prescribed in the coming step, before each attempt
+        (a contact pair drops its slave nodes that are pinned)."""
+
     def begin_step(self, z: np.ndarray, load_factor: float) -> None:
         """Called before each attempt of a load step (``z`` is the last converged state)."""
 
@@ -132,7 +188,8 @@ class Item:
         return True
 
     def step_info(self) -> dict:
-        """Numbers to keep per converged step (e.g. ``n_active``)."""
+        """Numbers to keep per converged step (e.g. ``n_active``); summed over
+        the items into the step's record."""
         return {}
 
     def violation(self, z: np.ndarray, scale: float) -> str:
@@ -142,6 +199,11 @@ class Item:
         answer makes the attempt fail (the step is cut), never a converged
         step.  ``scale`` is the step's force scale (newton module docstring).
         """
+        return ""
+
+    def failure_hint(self) -> str:
+        """What to try when a step cannot converge even at the smallest
+        increment ("" for nothing to say); added to the ConvergenceError."""
         return ""
 
     # -- checkpoint ---------------------------------------------------------
@@ -156,16 +218,86 @@ class Item:
         if state:
             raise ValueError(f"{self.name}: this item keeps no state, got {sorted(state)}")
 
-    def referenced_bodies(self) -> list["Item"]:
-        """The bodies this item acts on (its ``body``), which must be in the same
-        :class:`Model`."""
-        body = getattr(self, "body", None)
-        return [body] if isinstance(body, Item) else []
+    # -- output (read by the output layer only) ----------------------------
+    def outputs(self) -> list["Output"]:
+        """What the output layer writes and draws for this item, as
+        :class:`Output` objects (one series each).
+
+        Default: the item itself if it is an :class:`Output` (a body), the
+        slave surface (:class:`~skfem_mortar.contact_output.ContactOutput`) if
+        it is a :class:`ContactTable` (a contact pair), else nothing.
+        """
+        if isinstance(self, Output):
+            return [self]
+        if isinstance(self, ContactTable):
+            from .contact_output import ContactOutput  # numpy only; output layer
+
+            return [ContactOutput(self)]
+        return []
 
     @property
     def dofs(self) -> slice:
         """Global slice of the unknowns this item owns."""
         return slice(self.offset, self.offset + self.n_dofs)
+
+
+class ItemProtocol(Protocol):
+    """The hooks the solver calls on every item, as a structural type (the
+    contract :class:`Item` implements with defaults; see its docstring).
+    A model still takes only :class:`Item` subclasses."""
+
+    name: str
+    dof_kind: str | None
+    n_dofs: int
+    offset: int
+    phase: str
+    symmetric: bool
+    has_history: bool
+
+    def assemble(self, z: np.ndarray, load_factor: float,
+                 tangent: bool = True) -> Contribution: ...
+    def prescribed(self, load_factor: float) -> tuple[np.ndarray, np.ndarray] | None: ...
+    def referenced_bodies(self) -> list: ...
+    def set_fixed(self, fixed: np.ndarray) -> None: ...
+    def begin_step(self, z: np.ndarray, load_factor: float) -> None: ...
+    def end_step(self, z: np.ndarray, load_factor: float) -> None: ...
+    def settled(self) -> bool: ...
+    def step_info(self) -> dict: ...
+    def violation(self, z: np.ndarray, scale: float) -> str: ...
+    def failure_hint(self) -> str: ...
+    def state_dict(self) -> dict[str, np.ndarray]: ...
+    def load_state_dict(self, state: dict[str, np.ndarray]) -> None: ...
+    def outputs(self) -> list: ...
+
+
+@runtime_checkable
+class Output(Protocol):
+    """The output protocol: something written as one PVD/VTU series and drawn
+    (a body, a contact pair's slave surface).  Used only by the output layer
+    (:mod:`skfem_mortar.observers`, :mod:`skfem_mortar.plot`)."""
+
+    name: str
+
+    def output_mesh(self) -> tuple[np.ndarray, list[tuple[str, np.ndarray]]]:
+        """Reference points (N, 2) and meshio cell blocks ``[(type, cells)]``."""
+        ...
+
+    def output_data(self, z: np.ndarray) -> tuple[dict, dict]:
+        """``(point_data, cell_data)`` at the unknowns ``z``; point data may hold
+        ``displacement`` (N, 2), which pictures add to the points."""
+        ...
+
+
+@runtime_checkable
+class ContactTable(Protocol):
+    """An item that reports contact per slave node (``contact.csv``, the
+    pressure in pictures): a contact pair.  Used only by the output layer."""
+
+    name: str
+
+    def contact_data(self, z: np.ndarray) -> dict[str, np.ndarray]:
+        """Arrays ``x, y, gap, pressure, ...`` per slave node at ``z``."""
+        ...
 
 
 def dof_indices(dofs: Any, n: int, what: str) -> np.ndarray:
@@ -341,6 +473,19 @@ class Model:
     @property
     def bodies(self) -> list[Item]:
         return [it for it in self.items if it.dof_kind == "u"]
+
+    @property
+    def symmetric(self) -> bool:
+        """Whether every item declares a symmetric tangent (:attr:`Item.symmetric`)."""
+        return all(it.symmetric for it in self.items)
+
+    def outputs(self) -> list[Output]:
+        """Every item's :meth:`Item.outputs`, in the order of the items."""
+        return [o for it in self.items for o in it.outputs()]
+
+    def contact_tables(self) -> list[ContactTable]:
+        """The items that report contact per slave node (the contact pairs)."""
+        return [it for it in self.items if isinstance(it, ContactTable)]
 
     def zeros(self) -> np.ndarray:
         return np.zeros(self.n)

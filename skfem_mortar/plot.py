@@ -10,7 +10,7 @@ from typing import Sequence
 
 import numpy as np
 
-__all__ = ["figure", "plot_pressure", "plot_newton"]
+__all__ = ["figure", "draw", "plot_pressure", "plot_newton"]
 
 #: meshio cell type -> VTK cell type id
 _VTK = {"line": 3, "triangle": 5, "quad": 9, "triangle6": 22, "quad8": 23, "quad9": 28}
@@ -45,11 +45,32 @@ def _prepare_offscreen() -> None:
 
 def figure(setup, result, path: str | os.PathLike, title: str = "",
            window_size: tuple[int, int] = (1600, 700)) -> Path:
-    """Initial configuration (left) and deformed model (right), written as PNG.
+    """The picture of a scene's run: :func:`draw` of the bodies among
+    ``setup.outputs`` (the contact outputs are shown by ``setup.contact``)
+    at ``result``'s first and last state.  Reads only ``setup.outputs`` and
+    ``setup.contact`` of the :class:`~skfem_mortar.scenes.Setup`.
+    """
+    from .model import Item
 
-    Solids are coloured by von Mises stress, cables by tension; for contact
-    scenes the slave nodes are drawn as points coloured by the contact pressure
-    (``setup.contact``).
+    return draw([o for o in setup.outputs if isinstance(o, Item)], result.states[0],
+                result.z, path, title=title, window_size=window_size,
+                contact=setup.contact)
+
+
+def draw(bodies: Sequence, z0: np.ndarray, z1: np.ndarray, path: str | os.PathLike, *,
+         contact=None, title: str = "",
+         window_size: tuple[int, int] = (1600, 700)) -> Path:
+    """Initial configuration (left, at ``z0``) and deformed model (right, at
+    ``z1``), written as PNG.
+
+    Parameters
+    ----------
+    bodies : sequence of Output
+        Drawn as meshes (:class:`~skfem_mortar.model.Output`): solids coloured
+        by von Mises stress, cables by tension.
+    contact : callable(z) -> dict, optional
+        A contact pair's ``contact_data``: its slave nodes in contact are drawn
+        as points coloured by the contact pressure.
     """
     _prepare_offscreen()
     import pyvista as pv
@@ -57,17 +78,13 @@ def figure(setup, result, path: str | os.PathLike, title: str = "",
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     plotter = pv.Plotter(shape=(1, 2), off_screen=True, window_size=list(window_size))
-    z0, z1 = result.states[0], result.z
-    bounds = np.array([_grid(item, z).bounds for item in setup.outputs for z in (z0, z1)
-                       if hasattr(item, "n_dofs")])
+    bounds = np.array([_grid(item, z).bounds for item in bodies for z in (z0, z1)])
     union = [bounds[:, 0].min(), bounds[:, 1].max(), bounds[:, 2].min(),
              bounds[:, 3].max(), 0.0, 0.0]
     for col, (z, label) in enumerate(((z0, "initial configuration"), (z1, "deformed"))):
         plotter.subplot(0, col)
         plotter.add_text(f"{title}  {label}".strip(), font_size=11)
-        for item in setup.outputs:
-            if not hasattr(item, "n_dofs"):  # contact output: drawn as points below
-                continue
+        for item in bodies:
             grid = _grid(item, z)
             field = next((f for f in _COLOUR_BY if f in grid.cell_data), None)
             is_line = "line" in [t for t, _ in item.output_mesh()[1]]
@@ -91,8 +108,8 @@ def figure(setup, result, path: str | os.PathLike, title: str = "",
                                  **kw)
             else:
                 plotter.add_mesh(grid, color="tan" if is_line else "lightsteelblue", **kw)
-        if col == 1 and setup.contact is not None:
-            c = setup.contact(z1)
+        if col == 1 and contact is not None:
+            c = contact(z1)
             on = np.asarray(c["pressure"], dtype=float) > 0  # the nodes in contact
             if on.any():
                 pts = np.column_stack([c["x"][on], c["y"][on], np.full(on.sum(), 0.01)])

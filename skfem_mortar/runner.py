@@ -3,13 +3,13 @@ from __future__ import annotations
 
 import math
 import time
-import uuid
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
 from .errors import ConvergenceError
+from .observers import CheckpointObserver, ContactCsv, Observer, SeriesObserver
 from .scenes import Setup, get_scene
 from .stepping import Controller, Restart, Result, StepRecord, solve, stateful_items
 
@@ -189,26 +189,39 @@ def _summary(name: str, method: str | None, values: dict, setup: Setup, t0: floa
     return _clean(summary)
 
 
-class _Recorder:
-    """Writes one frame per output item and a checkpoint step after every converged step.
+class _Recorder(Observer):
+    """The observer of a run in ``--out``: one frame per output
+    (:class:`~skfem_mortar.observers.SeriesObserver`) and a checkpoint step
+    (:class:`~skfem_mortar.observers.CheckpointObserver`) after every converged
+    step, plus the bookkeeping of the output directory (claim, resume, the
+    summary of a failed run).
 
     See :mod:`skfem_mortar.io` for the checkpoint layout: a step's file is
     written before the index that lists it, so a kill leaves a valid checkpoint.
+    It is started by :meth:`begin` before the solve (a resumed run's frames are
+    checked and completed there), so its :meth:`on_start` has nothing to do.
     """
 
     def __init__(self, out: Path, setup: Setup, meta: dict):
         self.out = out
         self.setup = setup
         self.meta = meta
-        self.items = stateful_items(setup.model)
-        self.run = ""
+        self.series = SeriesObserver(out, setup.outputs)
+        self.checkpoints = CheckpointObserver(out / "checkpoint", meta,
+                                              stateful_items(setup.model))
         self.earlier: list[np.ndarray] = []
         self.lfs: list[float] = [0.0]
-        self.writers: list = []
         self.time = 0.0
-        self.bytes_written: list[int] = []  # per checkpoint write
         self.records: list[StepRecord] = []  # the converged steps, resumed ones included
-        self._pruned = False
+
+    @property
+    def run(self) -> str:
+        return self.checkpoints.run
+
+    @property
+    def bytes_written(self) -> list[int]:
+        """Bytes per checkpoint write."""
+        return self.checkpoints.bytes_written
 
     @property
     def files(self) -> list[str]:
@@ -229,11 +242,11 @@ class _Recorder:
 
     @property
     def checkpoint(self) -> Path:
-        return self.out / "checkpoint"
+        return self.checkpoints.directory
 
     @property
     def legacy(self) -> Path:
-        return self.out / "checkpoint.npz"
+        return self.checkpoints.legacy
 
     def restart(self) -> Restart | None:
         """The :class:`Restart` of a validated checkpoint of this run (None: none there,
@@ -271,7 +284,7 @@ class _Recorder:
             raise ValueError(f"checkpoint {source}: controller {ck.controllers[r]} does not "
                              f"fit the step records (load factor before {lfs[r - 1]!r}, "
                              f"increment {history[-1].increment!r})")
-        self.run = ck.run
+        self.checkpoints.run, self.checkpoints.k = ck.run, r + 1
         self.records = list(history)
         self.earlier, self.lfs = list(ck.states[:r + 1]), list(lfs[:r + 1])
         return Restart(ck.states[r].copy(), float(lfs[r]), history, ctl,
@@ -281,23 +294,12 @@ class _Recorder:
     def begin(self, earlier: list[np.ndarray]) -> None:
         """Start the outputs: a fresh checkpoint and series, or (resumed) keep the
         frames already written for ``earlier`` and write those that are missing."""
-        from .io import SeriesWriter, clear_checkpoint
-
         t0 = time.perf_counter()
-        self.out.mkdir(parents=True, exist_ok=True)
-        model = self.setup.model
-        self.writers = [SeriesWriter(self.out, item.name, item.output_mesh())
-                        for item in self.setup.outputs]
+        self.series.open()
         if not earlier:
-            clear_checkpoint(self.checkpoint)
-            self.legacy.unlink(missing_ok=True)
-            self.run = uuid.uuid4().hex
-            earlier, self.lfs = [self._initial_state(model)], [0.0]
-            self._write(0, earlier[0])
-        for item, writer in zip(self.setup.outputs, self.writers):
-            kept = writer.adopt(self.lfs) if len(earlier) > 1 else 0
-            for lf, z in zip(self.lfs[kept:], earlier[kept:]):  # frames missing
-                writer.write(lf, *item.output_data(z))
+            earlier, self.lfs = [self._initial_state(self.setup.model)], [0.0]
+            self.checkpoints.start(earlier[0])
+        self.series.resume(self.lfs, earlier)
         self.time += time.perf_counter() - t0
 
     @staticmethod
@@ -307,42 +309,25 @@ class _Recorder:
         z[fixed] = values
         return z
 
-    def _frame(self, lf: float, z: np.ndarray) -> None:
-        for item, writer in zip(self.setup.outputs, self.writers):
-            pdata, cdata = item.output_data(z)
-            writer.write(lf, pdata, cdata)
-
-    def _write(self, k: int, z: np.ndarray, record=None) -> None:
-        """Step ``k`` into the checkpoint (the first write of a resumed run also
-        drops the step files the index does not list)."""
-        from .io import prune_checkpoint, write_checkpoint
-
-        items = {name: it.state_dict() for name, it in self.items.items()} if k else None
-        ctl = record.controller.as_dict() if record is not None else None
-        self.bytes_written.append(write_checkpoint(
-            self.checkpoint, self.meta, self.run, k, z,
-            record.as_dict() if record is not None else None, ctl, items))
-        if not self._pruned:
-            prune_checkpoint(self.checkpoint, k)
-            self._pruned = True
-
-    def step(self, record: StepRecord, z: np.ndarray) -> None:
+    def on_step(self, record: StepRecord, z: np.ndarray) -> None:
         """After a converged step: its frames, then its checkpoint step."""
         t0 = time.perf_counter()
-        self._frame(record.load_factor, z)
-        self._write(len(self.lfs), z, record)
+        self.series.on_step(record, z)
+        self.checkpoints.on_step(record, z)
         self.lfs.append(record.load_factor)
         self.records.append(record)
         self.time += time.perf_counter() - t0
 
+    #: the name ``solve(callback=...)`` is given (the runner's one observer)
+    step = on_step
+
     def finish(self, result: Result, metrics: dict) -> None:
         """After the last step: ``contact.csv`` and the scene's pictures (listed in
         the manifest once written; ``summary.json`` comes last, from the caller)."""
-        from .io import write_contact_csv
         from .outdir import add_to_manifest, entries
 
         if self.setup.contact is not None:
-            write_contact_csv(self.out / "contact.csv", self.setup.contact(result.z))
+            ContactCsv(self.out / "contact.csv", self.setup.contact).on_end(result)
         if self.setup.plots is not None:
             before = entries(self.out)
             try:

@@ -18,16 +18,18 @@ from __future__ import annotations
 import logging
 import os
 import time
+import warnings
 from pathlib import Path
 from dataclasses import dataclass, field, replace
-from typing import Any, Callable
+from typing import Any, Callable, Sequence
 
 import numpy as np
 
 from .errors import ConvergenceError
-from .model import Model
+from .model import Item, Model, Output
 from .newton import NewtonOptions, NewtonReport
 from .newton import newton as newton_step
+from .observers import Callback, ContactCsv, Observer, ProgressBar, SeriesObserver, replay
 
 __all__ = ["Controller", "Restart", "StepRecord", "Result", "solve"]
 
@@ -189,7 +191,11 @@ class StepRecord:
 
 @dataclass
 class Result:
-    """Everything a solve produced.
+    """Everything a solve produced: data only (the states and the step records).
+
+    Writing and drawing go through the output layer: :meth:`save` replays the
+    result to the observers of :mod:`skfem_mortar.observers`, :meth:`plot`
+    calls :func:`skfem_mortar.plot.draw`; both import it when called.
 
     Attributes
     ----------
@@ -220,14 +226,12 @@ class Result:
     def load_factors(self) -> np.ndarray:
         return np.array([0.0] + [s.load_factor for s in self.steps])
 
-    def outputs(self) -> list:
-        """What can be written or drawn: the bodies, and the slave surface of each
-        contact pair (pressure and gap)."""
-        from .contact_output import ContactOutput
-
-        outs = [it for it in self.model.items if hasattr(it, "output_mesh")]
-        outs += [ContactOutput(it) for it in self.model.items if hasattr(it, "contact_data")]
-        return outs
+    def outputs(self) -> list[Output]:
+        """What can be written or drawn: the bodies, then the slave surface of each
+        contact pair (pressure and gap), by the items' :meth:`~skfem_mortar.model.Item.outputs`."""
+        outs = self.model.outputs()
+        return ([o for o in outs if isinstance(o, Item)]
+                + [o for o in outs if not isinstance(o, Item)])
 
     def fields(self, k: int = -1) -> dict[str, tuple[dict, dict]]:
         """Per output (by name): ``(point_data, cell_data)`` at state ``k``."""
@@ -236,30 +240,23 @@ class Result:
     def save(self, out: str | os.PathLike) -> Path:
         """Write one PVD/VTU series per output, one frame per state, into ``out``;
         for a contact model also ``contact.csv`` (final state) of the first pair."""
-        from .io import SeriesWriter, write_contact_csv
-
         out = Path(out)
-        for o in self.outputs():
-            writer = SeriesWriter(out, o.name, o.output_mesh())
-            for lf, z in zip(self.load_factors, self.states):
-                writer.write(lf, *o.output_data(z))
-        pairs = [it for it in self.model.items if hasattr(it, "contact_data")]
-        if pairs:
-            write_contact_csv(out / "contact.csv", pairs[0].contact_data(self.z))
+        tables = self.model.contact_tables()
+        observers: list[Observer] = [SeriesObserver(out, self.outputs())]
+        if tables:
+            observers.append(ContactCsv(out / "contact.csv", tables[0]))
+        replay(self, observers)
         return out
 
     def plot(self, path: str | os.PathLike, title: str = "") -> Path:
         """The initial and the final configuration side by side, as a PNG
         (see :func:`skfem_mortar.plot.figure`)."""
-        from types import SimpleNamespace
+        from .plot import draw
 
-        from .plot import figure
-
-        pairs = [it for it in self.model.items if hasattr(it, "contact_data")]
-        view = SimpleNamespace(outputs=[it for it in self.model.items
-                                        if hasattr(it, "output_mesh")],
-                               contact=pairs[0].contact_data if pairs else None)
-        return figure(view, self, path, title=title)
+        tables = self.model.contact_tables()
+        return draw([it for it in self.model.items if isinstance(it, Output)],
+                    self.states[0], self.z, path, title=title,
+                    contact=tables[0].contact_data if tables else None)
 
     def residual(self, k: int = -1) -> np.ndarray:
         """Global residual at state ``k`` (reactions at prescribed dofs)."""
@@ -304,7 +301,8 @@ def solve(model: Model, n_steps: int = 1, *, newton_options: NewtonOptions | Non
           callback: Callable[[StepRecord, np.ndarray], None] | None = None,
           history: list[StepRecord] | None = None,
           increment: float | None = None, extrapolate: bool = False,
-          restart: Restart | None = None) -> Result:
+          restart: Restart | None = None,
+          observers: Sequence[Observer] = ()) -> Result:
     """Solve the model from load factor ``start`` to 1.
 
     Parameters
@@ -312,33 +310,52 @@ def solve(model: Model, n_steps: int = 1, *, newton_options: NewtonOptions | Non
     model : Model
     n_steps : int
         Nominal number of equal load increments (>= 1).
-    newton_options, newton : NewtonOptions
-        Newton settings (either name works).
+    newton : NewtonOptions
+        Newton settings.
+    newton_options : NewtonOptions
+        Deprecated name of ``newton`` (a DeprecationWarning; it still works).
+
+    The step-size controller:
+
     min_step : float
         Smallest load increment allowed by step cutting, in (0, 1].
     growth : float
         Factor by which the increment grows back after easy steps.
+    easy_iterations, easy_steps : int
+        A step converged in at most ``easy_iterations`` iterations is easy;
+        after ``easy_steps`` easy steps in a row the increment grows.
+    increment : float, optional
+        First load increment (default ``1 / n_steps``).
+    extrapolate : bool
+        Start each step from the linear extrapolation of the last two converged
+        states instead of the last one.
+
+    Where the solve starts (either ``restart`` or ``z0``, ``start``, ``history``,
+    ``increment``):
+
     z0 : ndarray, optional
         Initial unknowns (default zeros).
     start : float
         Load factor of ``z0``.
     history : list of StepRecord, optional
         Steps already done before ``z0`` (kept in the result).
-    increment : float, optional
-        First load increment (default ``1 / n_steps``).
-    extrapolate : bool
-        Start each step from the linear extrapolation of the last two converged
-        states instead of the last one.
     restart : Restart, optional
         Continue a checkpointed run exactly: its state, steps, step-size
         controller and item states (instead of ``z0``, ``start``, ``history``
         and ``increment``). The steps that follow are the same solves as those
         of the uninterrupted run.
+    What is done with the states as they come (:mod:`skfem_mortar.observers`):
+
+    observers : sequence of Observer
+        Told ``on_start(model, z, load_factor)`` once the preflight has passed,
+        ``on_step(record, z)`` after each converged step and ``on_end(result)``
+        when the solve returns or raises, in the order given (after the
+        progress bar and before the callback).
     progress : bool
-        Show a tqdm progress bar on stderr.
+        Show a tqdm progress bar on stderr (a :class:`~skfem_mortar.observers.ProgressBar`).
     callback : callable(StepRecord, z)
-        Called after each converged step (output, checkpoints); the record's
-        ``controller`` holds the step-size controller after the step.
+        Called after each converged step (a :class:`~skfem_mortar.observers.Callback`);
+        the record's ``controller`` holds the step-size controller after the step.
 
     Raises
     ------
@@ -353,7 +370,11 @@ def solve(model: Model, n_steps: int = 1, *, newton_options: NewtonOptions | Non
             raise ValueError("give either restart or z0, start, history, increment")
         z0, start, history = restart.z, restart.load_factor, restart.history
     _validate(n_steps, min_step, start, growth, easy_iterations, easy_steps, increment)
+    if newton_options is not None:
+        warnings.warn("solve(newton_options=...) is deprecated, use solve(newton=...)",
+                      DeprecationWarning, stacklevel=2)
     opts = newton_options or newton or NewtonOptions()
+    watchers = _observers(observers, progress, callback)
     t_start = time.perf_counter()
     z = model.zeros() if z0 is None else np.array(z0, dtype=float)
     if z.shape != (model.n,):
@@ -372,8 +393,11 @@ def solve(model: Model, n_steps: int = 1, *, newton_options: NewtonOptions | Non
     result = Result(model, steps=list(history or []), states=[z.copy()])
     lf = start
     step_no = len(result.steps) + 1
-    bar = _progress_bar(progress)
+    started: list[Observer] = []
     try:
+        for o in watchers:
+            started.append(o)
+            o.on_start(model, z, start)
         while lf < 1.0 - 1e-14:
             target = min(lf + ctl.increment, 1.0)
             if 1.0 - target < 1e-12:
@@ -389,8 +413,7 @@ def solve(model: Model, n_steps: int = 1, *, newton_options: NewtonOptions | Non
                 trial[free] += scale * step_dir[free]
             dz_fixed = values - trial[fixed]
             for item in model.items:
-                if hasattr(item, "set_fixed"):  # e.g. contact pairs drop pinned slave nodes
-                    item.set_fixed(fixed)
+                item.set_fixed(fixed)  # e.g. contact pairs drop pinned slave nodes
                 item.begin_step(trial, target)
             rep: NewtonReport = newton_step(model, trial, target, free, fixed, dz_fixed, opts,
                                             start=(z, lf))
@@ -404,9 +427,8 @@ def solve(model: Model, n_steps: int = 1, *, newton_options: NewtonOptions | Non
                 result.steps.append(rec)
                 result.states.append(z.copy())
                 step_no += 1
-                _show(bar, lf, rep, rec)
-                if callback is not None:
-                    callback(rec, z)
+                for o in watchers:
+                    o.on_step(rec, z)
                 continue
             # failed attempt: cut the increment and retry from the last converged state
             log.info("step %d to load factor %.6g failed (%s); cutting the step",
@@ -416,12 +438,24 @@ def solve(model: Model, n_steps: int = 1, *, newton_options: NewtonOptions | Non
             ctl.n_easy = 0
             if ctl.increment < min_step * (1.0 - 1e-12):
                 _give_up(model, step_no, target, rep)
+        result.converged = True
+        result.wall_time = time.perf_counter() - t_start
     finally:
-        if bar is not None:
-            bar.close()
-    result.converged = True
-    result.wall_time = time.perf_counter() - t_start
+        for o in started:
+            o.on_end(result)
     return result
+
+
+def _observers(observers: Sequence[Observer], progress: bool,
+               callback: Callable[[StepRecord, np.ndarray], None] | None) -> list[Observer]:
+    """The observers of a solve: the progress bar, the given ones, the callback."""
+    observers = list(observers)
+    for k, o in enumerate(observers):
+        if not isinstance(o, Observer):
+            raise ValueError(f"observers[{k}] must be an Observer (skfem_mortar.observers), "
+                             f"got {type(o).__name__}")
+    return (([ProgressBar()] if progress else []) + observers
+            + ([Callback(callback)] if callback is not None else []))
 
 
 def _converged(model: Model, z: np.ndarray, target: float, rep: NewtonReport,
@@ -449,22 +483,8 @@ def _grow(ctl: Controller, iterations: int, nominal: float, growth: float,
         ctl.n_easy = 0
 
 
-def _show(bar, lf: float, rep: NewtonReport, rec: StepRecord) -> None:
-    if bar is not None:
-        bar.update(1)
-        bar.set_postfix_str(f"lf={lf:.3g} it={rep.iterations} active={rec.n_active} "
-                            f"r={rep.residual_norms[-1]:.1e}")
-
-
 def _give_up(model: Model, step_no: int, target: float, rep: NewtonReport) -> None:
-    hints = [h for h in (getattr(it, "failure_hint", lambda: "")() for it in model.items) if h]
+    hints = [h for h in (it.failure_hint() for it in model.items) if h]
     reason = "; ".join([rep.reason] + hints)
     raise ConvergenceError(step_no, target, rep.iterations, rep.residual_norms, reason)
 
-
-def _progress_bar(enabled: bool):
-    if not enabled:
-        return None
-    from tqdm.auto import tqdm  # imported lazily: the command line starts fast
-
-    return tqdm(desc="load steps", unit="step", leave=False)
