@@ -133,6 +133,8 @@ class ContactPair(Item):
     """
 
     dof_kind = "lam"
+    #: K_lamu = c G on active rows against K_ulam = -G^T (and H): not symmetric
+    symmetric = False
     phase = "contact"
 
     def __init__(self, slave: Any, master: Any, method: str = "nts", name: str = "contact",

@@ -77,6 +77,8 @@ class FollowerPressure(Item):
 
     dof_kind = None
     phase = "loads"
+    #: the load follows the surface: its tangent is not symmetric
+    symmetric = False
 
     def __init__(self, body: Item, pressure: float, *, side: str | None = None,
                  facets: str | np.ndarray | None = None, ramp: bool = True,

@@ -31,7 +31,6 @@ DECLARED = {"Solid": (True, False), "MixedSolid": (True, False), "SRISolid": (Tr
             "Dirichlet": (True, False), "ContactPair": (False, True)}
 #: declarations that live in modules of the cleanup branch, not yet made there
 #: (the default of Item says True until then)
-PENDING = {("FollowerPressure", "symmetric"), ("ContactPair", "symmetric")}
 
 
 def _solved(scene, method=None):
@@ -79,10 +78,7 @@ def test_built_in_items_satisfy_the_item_protocol(solved_models):
 
 @pytest.mark.parametrize("cls", sorted(DECLARED))
 @pytest.mark.parametrize("what", ["symmetric", "has_history"])
-def test_declarations(solved_models, cls, what, request):
-    if (cls, what) in PENDING:
-        request.applymarker(pytest.mark.xfail(
-            reason=f"{cls}.{what} is declared in its own module (cleanup branch)", strict=False))
+def test_declarations(solved_models, cls, what):
     k = ("symmetric", "has_history").index(what)
     found = [it for it, _, _ in _items(solved_models) if type(it).__name__ == cls]
     assert found and all(getattr(it, what) is DECLARED[cls][k] for it in found)
