@@ -1,0 +1,545 @@
+"""A contact pair: one Lagrange multiplier per slave node, active set by semi-smooth Newton.
+
+The pair adds to the potential energy the term ``-lam . g(x)`` (``g`` the gaps
+of the slave nodes from a contact discretization, ``lam >= 0`` compression), so
+
+    R_u   += -G^T lam               (G = dg/dx)
+    K_uu  += -H                     (H = sum_A lam_A d^2 g_A/dx^2)
+    K_ulam = -G^T
+
+and closes the Karush-Kuhn-Tucker conditions ``g >= 0, lam >= 0, lam g = 0``
+with the semi-smooth complementarity function (primal-dual active set)
+
+    C(lam, g) = lam - max(0, lam - c g)  =  c g   (active:   lam - c g >= 0)
+                                         =  lam   (inactive: lam - c g <  0)
+
+as the multiplier rows of the same linear system, so inactive multipliers are
+set to zero by the Newton step itself.  ``c`` is a stiffness taken from the
+bodies' tangent diagonals at the contact dofs (their harmonic mean over the
+two bodies: the series stiffness, set by the softer body) (divided by the squared mean
+tributary length when the multipliers are tractions, as in mortar), so the
+choice is unit-free; it steers only the path of the iteration, not the
+solution.  At ``lam = 0`` a node with ``g <= 0`` is active (``>=`` above):
+a zero initial gap starts active.  Slave nodes without a master partner
+(``mask`` False) are inactive.  The initial active set (first load step)
+also holds nodes that touch within ``touch_tolerance``.  Every step (and every
+retry of a cut step) starts from the last converged active set, which its
+first iteration uses as it is.
+
+The active set through the iterations of a step (extrapolated release of a
+too-wide zone, cycling guard) is :class:`~skfem_mortar.contact.active_set.ActiveSet`'s.
+
+The gaps and their derivatives, and whatever state the method keeps for them,
+are the contact discretization's (:class:`~skfem_mortar.contact.discretization.ContactDiscretization`,
+looked up by ``method`` in the registry of :mod:`skfem_mortar.contact.discretization`);
+the pair is method-neutral.
+"""
+from __future__ import annotations
+
+import logging
+from typing import Any
+
+import numpy as np
+
+from .active_set import ActiveSet, chain_order, touching_nodes
+from .contact_eval import ContactEval
+from .discretization import METHODS, check_entries, make_method  # METHODS: the registry's names
+from ..core.model import Contribution, Item
+
+__all__ = ["ContactPair", "METHODS"]
+
+log = logging.getLogger(__name__)
+
+#: KKT tolerances of a converged state (:meth:`ContactPair.violation`): gaps to
+#: ``K_GAP`` times the median slave segment length, pressures to ``K_LAM`` times
+#: the step's pressure scale (force scale / contact length).  Newton meets the
+#: gap rows to ``rtol`` (1e-10) of the force scale and the pressures to about
+#: ``rtol * S / h``, so 1e-6 leaves four decades above what a converged state
+#: carries, and is far below any penetration or tension that matters (the
+#: discretization error of a gap is O(h^2 / R), 1e-4 h at h = R / 100).
+K_GAP = 1e-6
+K_LAM = 1e-6
+
+#: the pair's own checkpoint entries (:meth:`ContactPair.state_dict`; the
+#: discretization's are beside them)
+_PAIR_STATE = ("started", "active", "c", "row_scale", "x0_slave", "x0_master", "tol_p")
+
+#: point-segment pairs per chunk of :func:`distance_to_polyline` (bounds its memory)
+_DIST_CHUNK = 1 << 20
+
+
+def distance_to_polyline(p: np.ndarray, x: np.ndarray, seg: np.ndarray) -> np.ndarray:
+    """Euclidean distance of each point ``p (2, n)`` to the segments ``seg`` of
+    the nodes ``x (2, m)``: ``min_e |p - (x_1 + t (x_2 - x_1))|``, ``t`` clipped
+    to [0, 1]; vectorized in chunks of points (output only: the nodes that
+    face no master segment)."""
+    a, b = x[:, seg[:, 0]], x[:, seg[:, 1]]
+    d = b - a
+    dd = np.maximum(np.sum(d * d, axis=0), np.finfo(float).tiny)
+    out = np.empty(p.shape[1])
+    step = max(1, _DIST_CHUNK // max(seg.shape[0], 1))
+    for k in range(0, p.shape[1], step):
+        q = p[:, k:k + step, None]                     # (2, c, 1)
+        t = np.clip(np.sum((q - a[:, None]) * d[:, None], axis=0) / dd, 0.0, 1.0)
+        r = q - (a[:, None] + t[None] * d[:, None])    # (2, c, n_seg)
+        out[k:k + step] = np.sqrt(np.min(np.sum(r * r, axis=0), axis=1))
+    return out
+
+
+class ContactPair(Item):
+    """Frictionless contact between a slave and a master surface with Lagrange multipliers.
+
+    Parameters
+    ----------
+    slave : ContactSurface
+        Deformable surface whose nodes carry the multipliers.
+    master : ContactSurface
+        Deformable or rigid surface.
+    method : {"nts", "mortar", "mortar-dual"} or a registered name
+        The contact discretization (:func:`~skfem_mortar.contact.discretization.make_method`).
+    name : str
+    c : float, optional
+        Complementarity parameter (> 0); default from the bodies' stiffness.
+    cycle_guard : bool
+        Detect a repeating active set and act on it (default True).
+    touch_tolerance : float
+        The initial active set also holds the nodes whose gap (as a length; for
+        mortar the weighted gap over the tributary length) is at most this
+        fraction of the mean slave segment length (>= 0, default 1e-2), and
+        the nodes that the master touches within that distance
+        (:func:`~skfem_mortar.contact.active_set.touching_nodes`, the closest approach:
+        a polygon resting on one vertex has the mortar gap ``h^2 / (6 R)``
+        there, a master vertex between two slave nodes positive gaps at both);
+        a body held only by contact needs them active.
+    segmentation : {"iteration", "step"}
+        Mortar only (``"step"`` is passed to the discretization as its option
+        ``segmentation``): rebuild the mortar segments at every Newton iteration
+        (default, exact), or build them once per load step from the last
+        converged state and freeze them during the step (cheaper, see
+        :func:`skfem_mortar.contact.mortar.evaluate`).
+    accelerate : bool
+        When the tensile tail of a too-wide contact zone is released, release
+        as many nodes again beyond the tail as the sign change of the
+        multipliers extrapolates (default True; see
+        :class:`~skfem_mortar.contact.active_set.ActiveSet`).  Steers only the path of
+        the iteration.
+    **options
+        The discretization's options (e.g. ``margin``), checked when it is built.
+
+    Attributes
+    ----------
+    discretization : ContactDiscretization
+        The method's gaps, derivatives and state.
+    """
+
+    dof_kind = "lam"
+    #: K_lamu = c G on active rows against K_ulam = -G^T (and H): not symmetric
+    symmetric = False
+    phase = "contact"
+
+    def __init__(self, slave: Any, master: Any, method: str = "nts", name: str = "contact",
+                 c: float | None = None, cycle_guard: bool = True,
+                 touch_tolerance: float = 1e-2, segmentation: str = "iteration",
+                 accelerate: bool = True, **options: Any):
+        if method not in METHODS:
+            raise ValueError(f"method must be one of {', '.join(METHODS)}, got {method!r}")
+        if slave.dofs() is None:
+            raise ValueError("slave must be a deformable surface (a rigid surface is a master)")
+        if slave is master or (slave.body is not None and slave.body is master.body
+                               and np.array_equal(np.sort(slave.nodes), np.sort(master.nodes))):
+            raise ValueError(f"slave and master must be two different surfaces, got the same "
+                             f"surface {slave.name!r} twice")
+        if c is not None and not (np.isfinite(c) and c > 0):
+            raise ValueError(f"c must be a finite number > 0, got {c}")
+        self.slave, self.master, self.method, self.name = slave, master, method, name
+        for flag, v in (("cycle_guard", cycle_guard), ("accelerate", accelerate)):
+            if not isinstance(v, (bool, np.bool_)):
+                raise ValueError(f"{flag} must be True or False, got {v!r}")
+        if segmentation not in ("iteration", "step"):
+            raise ValueError(f"segmentation must be 'iteration' or 'step', got {segmentation!r}")
+        self.segmentation = segmentation
+        if not (np.isfinite(touch_tolerance) and touch_tolerance >= 0):
+            raise ValueError(f"touch_tolerance must be a finite number >= 0, got {touch_tolerance}")
+        if segmentation != "iteration":
+            options = {**options, "segmentation": segmentation}
+        self.discretization = make_method(method, slave, master, pair_name=name, **options)
+        self.n_dofs = slave.n_nodes
+        self.c = c
+        lengths = np.hypot(*np.diff(slave.X[:, slave.segments], axis=2)[:, :, 0])
+        self._touch = float(touch_tolerance) * float(np.mean(lengths))
+        self._h = float(np.median(lengths))  # the gap tolerance's length
+        self._tol_p = 0.0  # pressure tolerance of the last converged check
+        self._row_scale: float | None = None
+        self._reference: tuple[np.ndarray, np.ndarray] | None = None  # converged_positions
+        clash = set(self.discretization.state_dict()) & set(_PAIR_STATE)
+        if clash:
+            raise ValueError(f"method {method!r} names its state {sorted(clash)}, which the "
+                             f"pair's state uses; rename them")
+        self.state = ActiveSet(self.n_dofs, chain_order(slave.segments, slave.closed,
+                                                        slave.n_nodes),
+                               name, cycle_guard=cycle_guard, accelerate=accelerate)
+        self._started = False
+
+    # -- helpers -------------------------------------------------------------
+    def referenced_bodies(self) -> list:
+        """The bodies of the slave and (unless rigid) the master surface."""
+        return [b for b in (self.slave.body, self.master.body) if b is not None]
+
+    @property
+    def multiplier_kind(self) -> str:
+        """"force" (NTS) or "traction" (mortar): the discretization's."""
+        return self.discretization.multiplier_kind
+
+    @property
+    def options(self) -> dict:
+        """The discretization's options."""
+        return self.discretization.options
+
+    @property
+    def touch_distance(self) -> float:
+        """``touch_tolerance`` times the mean slave segment length (a length)."""
+        return self._touch
+
+    @property
+    def converged_positions(self) -> tuple[np.ndarray, np.ndarray] | None:
+        """Slave and master node positions at the last converged state (the step
+        start before the first one converged; None before a step began), told
+        to the discretization (:meth:`ContactDiscretization.set_reference`)."""
+        return self._reference
+
+    @converged_positions.setter
+    def converged_positions(self, x0: tuple[np.ndarray, np.ndarray] | None) -> None:
+        self._reference = x0
+        self.discretization.set_reference(*((None, None) if x0 is None else x0))
+
+    _x0 = converged_positions  # the name tests/test_search.py sets
+
+    def global_dofs(self) -> np.ndarray:
+        """Global index of every local dof of the pair (``-1`` for a rigid master)."""
+        ds = self.slave.dofs().T.ravel()
+        dm = self.master.dofs()
+        dm = np.full(2 * self.master.n_nodes, -1, dtype=np.int64) if dm is None else dm.T.ravel()
+        return np.concatenate([ds, dm]).astype(np.int64)
+
+    def evaluate(self, z: np.ndarray, tangent: bool = True, with_lam: bool = True) -> ContactEval:
+        """The discretization's :class:`ContactEval` at ``z``."""
+        lam = np.asarray(z)[self.dofs] if with_lam else None
+        return self.discretization.evaluate(self.slave.x(z), self.master.x(z), lam, tangent)
+
+    def set_fixed(self, fixed: np.ndarray) -> None:
+        """Told the prescribed global dofs (by :func:`~skfem_mortar.solver.stepping.solve`).
+
+        Pinned-node safeguard: a slave node whose two dofs are prescribed, against a
+        rigid master, has a gap that no unknown can change; its multiplier row would
+        be zero and the system singular (a cable pinned on the plane it is pressed
+        onto: the contact zone reaching the supports).  Such nodes are kept out of
+        contact (``mask`` False; for mortar they are crosspoints whose multiplier
+        is merged into the neighbour's); their support carries the load.
+        """
+        pinned = None
+        if self.master.body is None:
+            ds = self.slave.dofs()  # (2, n)
+            pinned = np.all(np.isin(ds, np.asarray(fixed)), axis=0)
+        self.discretization.set_pinned(pinned)
+
+    def _bodies(self):
+        out = [self.slave.body]
+        if self.master.body is not None and self.master.body is not self.slave.body:
+            out.append(self.master.body)
+        return out
+
+    def _stiffness(self, z: np.ndarray, load_factor: float) -> float:
+        """Harmonic mean over the bodies of the mean |diagonal| of each body's tangent
+        at the contact dofs (force / length)."""
+        vals = []
+        gd = self.global_dofs()
+        gd = gd[gd >= 0]
+        for body in self._bodies():
+            cb = body.assemble(z, load_factor, tangent=True)
+            on = (cb.k_rows == cb.k_cols) & np.isin(cb.k_rows, gd)
+            d = np.bincount(cb.k_rows[on], weights=cb.k_vals[on], minlength=len(z))[gd]
+            d = np.abs(d[d != 0])
+            if d.size:
+                vals.append(d.mean())
+        # series stiffness of the bodies (harmonic mean): the softer body sets the
+        # interface compliance; the arithmetic mean let a 1000x stiffer die make c
+        # so large that gaps of round-off size flipped nodes (ironing, die as slave)
+        k = float(len(vals) / np.sum(1.0 / np.asarray(vals))) if vals else 0.0
+        if not (np.isfinite(k) and k > 0):
+            log.warning("%s: no stiffness found at the contact dofs, using c = 1", self.name)
+            k = 1.0
+        return k
+
+    def _c(self, z: np.ndarray, load_factor: float, ev: ContactEval) -> float:
+        if self._row_scale is None:
+            # traction rows times a length are forces, like the body rows: the
+            # residual norm (and Newton's test) is then unit-free
+            self._row_scale = 1.0
+            if self.multiplier_kind == "traction" and np.any(ev.area > 0):
+                self._row_scale = float(np.mean(ev.area[ev.area > 0]))
+        if self.c is None:
+            k = self._stiffness(z, load_factor)
+            if self.multiplier_kind == "traction":
+                h = float(np.mean(ev.area[ev.area > 0])) if np.any(ev.area > 0) else 1.0
+                k /= h * h
+            self.c = k
+            log.debug("%s: complementarity parameter c = %.6g", self.name, k)
+        return self.c
+
+    # -- assembly --------------------------------------------------------------
+    def assemble(self, z: np.ndarray, load_factor: float, tangent: bool = True) -> Contribution:
+        lam = np.asarray(z)[self.dofs]
+        ev = self.evaluate(z, tangent=True, with_lam=tangent)
+        c = self._c(z, load_factor, ev)
+        active = self._active_set(lam, ev, c, track=tangent)
+        if tangent:  # e.g. NTS: segment hysteresis between iterations, vertex trap
+            self.discretization.after_iteration(ev)
+        gd = self.global_dofs()
+        # body rows: -G^T lam
+        G = ev.G.tocoo()
+        keep = gd[G.col] >= 0
+        rows_u, cols_l, vals = gd[G.col[keep]], self.offset + G.row[keep], G.data[keep]
+        # multiplier rows: C(lam, g)
+        rs = self._row_scale
+        Cval = np.where(active, c * ev.g, lam) * rs
+        out = Contribution(np.concatenate([rows_u, self.offset + np.arange(self.n_dofs)]),
+                           np.concatenate([-vals * lam[G.row[keep]], Cval]))
+        if not tangent:
+            return out
+        kr, kc, kv = [rows_u], [cols_l], [-vals]  # K_ulam = -G^T
+        act_g = active[G.row[keep]]  # K_lamu = c G on active rows
+        kr.append(cols_l[act_g])
+        kc.append(rows_u[act_g])
+        kv.append(c * rs * vals[act_g])
+        inact = np.flatnonzero(~active)  # K_lamlam = I on inactive rows
+        kr.append(self.offset + inact)
+        kc.append(self.offset + inact)
+        kv.append(np.full(inact.size, rs))
+        if ev.H is not None:  # K_uu = -H
+            H = ev.H.tocoo()
+            ok = (gd[H.row] >= 0) & (gd[H.col] >= 0)
+            kr.append(gd[H.row[ok]])
+            kc.append(gd[H.col[ok]])
+            kv.append(-H.data[ok])
+        out.k_rows = np.concatenate(kr).astype(np.int64)
+        out.k_cols = np.concatenate(kc).astype(np.int64)
+        out.k_vals = np.concatenate(kv)
+        return out
+
+    # -- active set --------------------------------------------------------------
+    @property
+    def active(self) -> np.ndarray:
+        """The current active set (bool per slave node), see :class:`ActiveSet`."""
+        return self.state.active
+
+    @active.setter
+    def active(self, value: np.ndarray) -> None:
+        self.state.active = np.asarray(value, dtype=bool)
+
+    def _active_set(self, lam: np.ndarray, ev: ContactEval, c: float, track: bool) -> np.ndarray:
+        """``lam - c g >= 0`` on the masked nodes, then :meth:`ActiveSet.update`."""
+        plain = ev.mask & (lam - c * ev.g >= 0)
+        return self.state.update(plain, ev.mask, track, lambda: self._tail_signal(lam, ev))
+
+    def _tail_signal(self, lam: np.ndarray, ev: ContactEval) -> tuple[np.ndarray | None, bool]:
+        """What the extrapolated release reads (the discretization's ``tail_signal``)."""
+        return self.discretization.tail_signal(lam, ev)
+
+    def gap_length(self, ev: ContactEval) -> np.ndarray:
+        """Gaps as lengths: the gaps of force multipliers (NTS), or the weighted
+        gaps of traction multipliers (mortar) over the tributary lengths."""
+        if self.multiplier_kind == "force":
+            return ev.g
+        return ev.g / np.where(ev.area > 0, ev.area, 1.0)
+
+    _gap_length = gap_length
+
+    def failure_hint(self) -> str:
+        """A likely cause to add to a :class:`ConvergenceError` ("" if none known)."""
+        return self.discretization.failure_hint()
+
+    def settled(self) -> bool:
+        return not self.state.changed
+
+    def initial_active(self, z: np.ndarray, load_factor: float) -> np.ndarray:
+        """The active set the first load step starts from (bool per slave node);
+        after the first step, the last converged set.
+
+        Nodes with a master partner where ``lam - c g >= 0``, or whose gap (as a
+        length) is within the touch tolerance, or that the master touches
+        within it (:func:`~skfem_mortar.contact.active_set.touching_nodes`).
+        """
+        if self._started:
+            return self.state.converged.copy()
+        ev = self.evaluate(z, tangent=False, with_lam=False)
+        c = self._c(z, load_factor, ev)
+        lam = np.asarray(z)[self.dofs]
+        touch = touching_nodes(self.slave.x(z), self.slave.segments, self.master.x(z),
+                               self.master.segments, self._touch)
+        return ev.mask & ((lam - c * ev.g >= 0) | touch | (self.gap_length(ev) <= self._touch))
+
+    def begin_step(self, z: np.ndarray, load_factor: float) -> None:
+        """Start (or retry) a step from the last converged active set; the first
+        iteration uses it as it is (less the nodes out of mask).  Before the first
+        step: the initial active set."""
+        first = not self._started
+        if first:
+            self.state.converged = self.initial_active(z, load_factor)
+            self._started = True
+        xs, xm = self.slave.x(z), self.master.x(z)
+        if self.converged_positions is None:  # later: kept from the last converged state (end_step)
+            self.converged_positions = (xs, xm)
+        self.state.begin()
+        self.discretization.begin_step(xs, xm, first)
+
+    def pressure_and_gap(self, z: np.ndarray, ev: ContactEval | None = None
+                         ) -> tuple[np.ndarray, np.ndarray, ContactEval]:
+        """Per slave node the pressure (traction) and the gap (length) in the
+        method's own discrete form: NTS ``lam / a_A`` and the nodal gap; mortar
+        ``lam`` and the weighted gap over ``D_AA`` (the tributary length)."""
+        lam = np.asarray(z)[self.dofs]
+        if ev is None:
+            ev = self.evaluate(z, tangent=False, with_lam=False)
+        area = np.where(ev.area > 0, ev.area, 1.0)
+        p = lam / area if self.multiplier_kind == "force" else lam.copy()
+        return p, self.gap_length(ev), ev
+
+    def violation(self, z: np.ndarray, scale: float) -> str:
+        """The KKT conditions at a state whose residual passed ("" if they hold).
+
+        With ``tol_g = K_GAP * h`` (``h`` the median slave segment length) and
+        ``tol_p = K_LAM * scale / L_c`` (``L_c`` the tributary length of the
+        active nodes, at least ``h``): every node facing a master has
+        ``g >= -tol_g``; every node has ``p >= -tol_p``; ``|g| <= tol_g``
+        wherever ``p > tol_p``; a node facing no master carries no pressure.
+        """
+        p, g, ev = self.pressure_and_gap(z)
+        m = ev.mask
+        g = np.where(m, g, 0.0)
+        act = self.active
+        length = max(float(np.sum(np.where(act, ev.area, 0.0))), self._h)
+        tol_g, tol_p = K_GAP * self._h, K_LAM * scale / length
+        self._tol_p = tol_p
+        bad = {"penetration": m & (g < -tol_g), "tension": p < -tol_p,
+               "pressure on an open gap": m & (p > tol_p) & (np.abs(g) > tol_g),
+               "pressure without a master": ~m & (np.abs(p) > tol_p)}
+        msgs = []
+        for what, nodes in bad.items():
+            if nodes.any():
+                k = np.flatnonzero(nodes)
+                worst = (-g if what == "penetration" else np.abs(g) if "gap" in what
+                         else np.abs(p))[k].max()
+                msgs.append(f"{what} at {k.size} node(s) (worst {worst:.3g}, e.g. node {k[0]})")
+        if not msgs:
+            return ""
+        return (f"{self.name}: KKT violated ({'; '.join(msgs)}; tolerances: gap "
+                f"{tol_g:.3g}, pressure {tol_p:.3g})")
+
+    def end_step(self, z: np.ndarray, load_factor: float) -> None:
+        lam = z[self.dofs]  # a view: inactive multipliers are exactly zero from here
+        lam[~self.active] = 0.0
+        self.state.end()
+        self.converged_positions = (self.slave.x(z), self.master.x(z))
+        self.discretization.end_step(*self.converged_positions)
+        if self.state.cycles:
+            log.info("%s: step converged after the cycling guard acted %d time(s); the "
+                     "KKT conditions were checked", self.name, self.state.cycles)
+
+    # -- checkpoint --------------------------------------------------------------
+    def state_dict(self) -> dict[str, np.ndarray]:
+        """What shapes the next load step: the converged active set, the
+        complementarity parameter ``c`` and the row scale, the contact node
+        positions at the last converged state (the search reach), and the
+        discretization's state (NTS: the segment preferences and locks
+        ``prefer``, ``lock``).  Missing entries are ``[]`` (not set yet)."""
+        def arr(a, dtype=float):
+            return np.zeros(0, dtype=dtype) if a is None else np.asarray(a, dtype=dtype).copy()
+        x0 = self.converged_positions
+        return {"started": np.array(self._started),
+                "active": self.state.converged.copy(),
+                "c": arr(None if self.c is None else [self.c]),
+                "row_scale": arr(None if self._row_scale is None else [self._row_scale]),
+                "x0_slave": arr(None if x0 is None else x0[0]),
+                "x0_master": arr(None if x0 is None else x0[1]),
+                "tol_p": np.array(self._tol_p),
+                **self.discretization.state_dict()}
+
+    def load_state_dict(self, state: dict[str, np.ndarray]) -> None:
+        """Restore :meth:`state_dict` (ValueError naming the entry that does not
+        fit; nothing is restored then)."""
+        need = set(self.state_dict())
+        if set(state) != need:
+            raise ValueError(f"{self.name}: checkpoint state has entries {sorted(state)}, "
+                             f"expected {sorted(need)}")
+        ns, nm = self.slave.n_nodes, self.master.n_nodes
+        check_entries(self.name, state, {
+            "active": [(ns,)], "c": [(0,), (1,)], "row_scale": [(0,), (1,)],
+            "x0_slave": [(0,), (2, ns)], "x0_master": [(0,), (2, nm)], "started": [()],
+            "tol_p": [()]})
+        for k in ("c", "row_scale"):
+            if state[k].size and not state[k][0] > 0:
+                raise ValueError(f"{self.name}: checkpoint entry {k!r} must be > 0, "
+                                 f"got {state[k][0]}")
+        if not float(state["tol_p"]) >= 0:
+            raise ValueError(f"{self.name}: checkpoint entry 'tol_p' must be >= 0")
+        # the discretization checks its entries before it takes any
+        self.discretization.load_state_dict({k: state[k] for k in need - set(_PAIR_STATE)})
+        self._started = bool(state["started"])
+        self._tol_p = float(state["tol_p"])
+        self.state.converged = np.asarray(state["active"], dtype=bool).copy()
+        self.c = float(state["c"][0]) if state["c"].size else None
+        self._row_scale = float(state["row_scale"][0]) if state["row_scale"].size else None
+        self.converged_positions = ((np.array(state["x0_slave"], dtype=float),
+                     np.array(state["x0_master"], dtype=float))
+                    if state["x0_slave"].size else None)
+
+    def step_info(self) -> dict:
+        """``n_active`` nodes, ``active_set_changes`` (node status flips summed over the
+        step's iterations), ``active_set_cycles`` (times the cycling guard acted),
+        ``segment_locks`` (NTS nodes locked by the vertex-trap guard; 0 for a
+        method without) and what else the discretization counts."""
+        return {"n_active": int(self.active.sum()), "active_set_changes": self.state.changes,
+                "active_set_cycles": self.state.cycles, "segment_locks": 0,
+                **self.discretization.step_info()}
+
+    # -- results -----------------------------------------------------------------
+    def contact_data(self, z: np.ndarray) -> dict[str, np.ndarray]:
+        """Per slave node: ``x, y`` (current), ``gap`` (length) and ``pressure`` (traction).
+
+        NTS: ``pressure = lam / tributary length``; mortar: ``pressure = lam`` and
+        ``gap = weighted gap / tributary length``.  ``has_master`` marks the
+        nodes that face a master segment; elsewhere ``gap`` is NaN (undefined)
+        and ``distance`` holds the node's distance to the master surface, a
+        finite length that the output files write as the gap there (beside the
+        ``has_master`` mask), so no file carries a NaN or a 0 that reads as
+        touching; where ``has_master``, ``distance`` equals ``gap``.  Inactive multipliers of a
+        converged state are exact zeros; a round-off tension within the KKT
+        tolerance (:meth:`violation`) is written as 0.
+        """
+        p, g, ev = self.pressure_and_gap(z)
+        # round-off tension of a converged state (within the KKT tolerance) is
+        # written as 0: outputs never show a negative pressure that is not there
+        p = np.where((p < 0) & (p >= -self._tol_p), 0.0, p)
+        p[p == 0] = 0.0  # no -0.0
+        x = self.slave.x(z)
+        g = np.where(ev.mask, g, np.nan)
+        dist = np.where(ev.mask, g, 0.0)
+        if not ev.mask.all():
+            far = ~ev.mask
+            dist[far] = distance_to_polyline(x[:, far], self.master.x(z), self.master.segments)
+        return {"x": x[0].copy(), "y": x[1].copy(), "gap": g, "pressure": p,
+                "has_master": ev.mask.copy(), "distance": dist}
+
+    def forces(self, z: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Contact forces ``(2, n)`` on the slave and on the master nodes: ``G^T lam``
+        split into the two surfaces (the force the other body exerts; the residual
+        term is its negative)."""
+        lam = np.asarray(z)[self.dofs]
+        ev = self.evaluate(z, tangent=True, with_lam=False)
+        f = ev.G.T @ lam
+        n_s = self.slave.n_nodes
+        return f[:2 * n_s].reshape(-1, 2).T, f[2 * n_s:].reshape(-1, 2).T
+
+    def total_force(self, z: np.ndarray) -> np.ndarray:
+        """Resultant (2,) of the contact force on the slave surface."""
+        return self.forces(z)[0].sum(axis=1)

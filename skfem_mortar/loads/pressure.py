@@ -1,0 +1,174 @@
+"""Follower pressure on cables and on the boundary of solids.
+
+A pressure ``p`` acting normal to the *deformed* curve, per unit current
+length, on a facet (segment) parametrized by ``xi in [0, 1]`` with shape
+functions ``N_a`` and current node positions ``x_a``:
+
+    f_a = s p lf  int_0^1 N_a(xi) Q x_{,xi} dxi  =  s p lf  sum_b G_ab Q x_b ,
+    G_ab = int_0^1 N_a N_b' dxi ,      Q = [[0, -1], [1, 0]]  (turn by +90 deg)
+
+because ``Q x_{,xi} dxi`` is the current normal times the current length
+element.  ``s = +1`` pushes to the *left* of the facet direction, ``-1`` to
+its right, ``lf`` is the load factor.  For 2-node facets ``G`` gives the
+consistent nodal load ``p l / 2`` along the facet normal at each end node.
+The load is linear in ``x``, so its (non-symmetric) load stiffness is the
+constant matrix
+
+    K_ab = d(-f_a)/dx_b = -s p lf G_ab Q
+
+(the residual is ``R = f_int - f_ext``; loads enter with a minus sign).
+Linear (2-node) and quadratic (3-node: ends, then midside) facets are supported.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from ..bodies.cable import side_sign
+from ..core.model import Contribution, Item
+
+__all__ = ["FollowerPressure", "facet_load_matrix"]
+
+_Q = np.array([[0.0, -1.0], [1.0, 0.0]])
+
+
+def facet_load_matrix(n_loc: int) -> np.ndarray:
+    """``G_ab = int_0^1 N_a(xi) N_b'(xi) dxi`` for 2-node or 3-node facets.
+
+    Node order: the two ends, then (3-node) the midside node.  Integrated by
+    3-point Gauss, exact for these cubic integrands.
+    """
+    xi, w = np.polynomial.legendre.leggauss(3)
+    xi, w = 0.5 * (xi + 1.0), 0.5 * w
+    if n_loc == 2:
+        N = np.array([1.0 - xi, xi])
+        dN = np.array([-np.ones_like(xi), np.ones_like(xi)])
+    elif n_loc == 3:
+        N = np.array([(1 - xi) * (1 - 2 * xi), xi * (2 * xi - 1), 4 * xi * (1 - xi)])
+        dN = np.array([4 * xi - 3, 4 * xi - 1, 4 - 8 * xi])
+    else:
+        raise ValueError(f"facets must have 2 or 3 nodes, got {n_loc}")
+    return np.einsum("aq,bq,q->ab", N, dN, w)
+
+
+class FollowerPressure(Item):
+    """Pressure normal to the deformed cable or solid boundary, ramped with the load factor.
+
+    Parameters
+    ----------
+    body : Cable or Solid
+        A cable (the chain of its elements is loaded), or a body with an skfem
+        ``mesh`` and vector ``basis`` (then ``facets`` selects the boundary).
+    pressure : float
+        Final pressure ``p`` (force per current length), finite.  The applied
+        value is ``load_factor * p`` (or ``p`` when ``ramp`` is False).
+    side : {"left", "right"} for a cable; {"inward", "outward"} for a solid
+        Where the load pushes: left or right of the chain direction of the
+        cable (a counter-clockwise ring has its outside on the right); into
+        the solid (an ordinary pressure, default) or out of it (suction).
+    facets : str or int array, solid only
+        A boundary name of ``body.mesh.boundaries`` or facet indices.
+    ramp : bool
+        Scale the pressure with the load factor.
+    load_stiffness : bool
+        Include the load stiffness in the tangent (True).  False exists only
+        to show, in a test, that Newton then loses its quadratic convergence.
+    name : str
+    """
+
+    dof_kind = None
+    phase = "loads"
+    #: the load follows the surface: its tangent is not symmetric
+    symmetric = False
+
+    def __init__(self, body: Item, pressure: float, *, side: str | None = None,
+                 facets: str | np.ndarray | None = None, ramp: bool = True,
+                 load_stiffness: bool = True,
+                 name: str | None = None):
+        pressure = float(pressure)
+        if not np.isfinite(pressure):
+            raise ValueError(f"pressure must be finite, got {pressure}")
+        self.body = body
+        self.pressure = pressure
+        self.ramp = bool(ramp)
+        self.load_stiffness = bool(load_stiffness)
+        self.name = name or f"pressure_{getattr(body, 'name', 'body')}"
+        if hasattr(body, "elements") and hasattr(body, "closed"):
+            if facets is not None:
+                raise ValueError("facets is only for solids; a cable is loaded along its chain")
+            self.sign = side_sign("left" if side is None else side)
+            el = body.elements
+            # (n_f, n_loc, 2) local dofs and reference coordinates
+            self._dofs = np.stack([body.node_dofs[:, el[:, 0]].T,
+                                   body.node_dofs[:, el[:, 1]].T], axis=1)
+            self._X = np.stack([body.X[:, el[:, 0]].T, body.X[:, el[:, 1]].T], axis=1)
+        elif hasattr(body, "basis") and hasattr(body, "mesh"):
+            if side not in (None, "inward", "outward"):
+                raise ValueError(f"side must be 'inward' or 'outward' for a solid, got {side!r}")
+            self.sign = -1 if side == "outward" else 1
+            self._dofs, self._X = _solid_facet_chain(body, facets)
+        else:
+            raise ValueError("body must be a Cable or a body with an skfem mesh and basis")
+        self._G = facet_load_matrix(self._dofs.shape[1])
+        self._B = np.kron(self._G, _Q)       # (2 n_loc, 2 n_loc): f_e = s p B x_e
+        self._flat = self._dofs.reshape(len(self._dofs), -1)
+
+    def current_pressure(self, load_factor: float) -> float:
+        """The applied pressure ``lf p`` (or ``p`` when not ramped)."""
+        return self.pressure * (load_factor if self.ramp else 1.0)
+
+    def assemble(self, z: np.ndarray, load_factor: float,
+                 tangent: bool = True) -> Contribution:
+        """Residual ``-f_a`` and load stiffness ``-s p lf G_ab Q`` (module docstring)."""
+        c = self.sign * self.current_pressure(load_factor)
+        dofs = self.body.offset + self._flat
+        x = self._X.reshape(len(dofs), -1) + np.asarray(z)[dofs]   # (n_f, 2 n_loc)
+        r = -c * (x @ self._B.T)
+        if not (tangent and self.load_stiffness):
+            return Contribution.from_dofs(dofs, r)
+        k = np.broadcast_to(-c * self._B, (len(dofs),) + self._B.shape)
+        return Contribution.from_dofs(dofs, r, k)
+
+    def resultant(self, z: np.ndarray, load_factor: float = 1.0) -> np.ndarray:
+        """Total applied force (2,) = sum of the nodal loads ``f_a``."""
+        c = self.sign * self.current_pressure(load_factor)
+        dofs = self.body.offset + self._flat
+        x = self._X.reshape(len(dofs), -1) + np.asarray(z)[dofs]
+        f = c * (x @ self._B.T)
+        return f.reshape(len(dofs), -1, 2).sum(axis=(0, 1))
+
+
+def _solid_facet_chain(body, facets):
+    """Local dofs (n_f, n_loc, 2) and reference coordinates of boundary facets,
+    each oriented so that the body lies on its left (outward normal on the right).
+    """
+    from ..bodies.solid import boundary_facets   # here: a cable's load needs no skfem
+
+    mesh, basis = body.mesh, body.basis
+    if facets is None:
+        raise ValueError("facets (a boundary name or facet indices) is required for a solid")
+    facets = boundary_facets(mesh, facets,
+                             "facets must be one of the mesh boundaries {known}, got {tag!r}")
+    if facets.size == 0 or facets.min() < 0 or facets.max() >= mesh.facets.shape[1]:
+        raise ValueError(f"facets must be non-empty indices in [0, {mesh.facets.shape[1]})")
+    if np.any(mesh.f2t[1, facets] >= 0):
+        raise ValueError("facets must lie on the boundary (one adjacent element)")
+    v = mesh.facets[:, facets].T.copy()                      # (n_f, 2) vertices
+    nd = basis.nodal_dofs
+    cols = [nd[:, v[:, 0]].T, nd[:, v[:, 1]].T]
+    if basis.facet_dofs.shape[1] > 0:
+        fd = basis.facet_dofs
+        if fd.shape[0] != 2:
+            raise ValueError("only linear or quadratic facets are supported")
+        cols.append(fd[:, facets].T)
+    dofs = np.stack(cols, axis=1)                            # (n_f, n_loc, 2)
+    X = basis.doflocs[:, dofs[:, :, 0]].transpose(1, 2, 0)   # (n_f, n_loc, 2)
+    # orientation: the element's centroid must be on the left of (v0 -> v1) (own test,
+    # as in ContactSurface.from_solid: skfem's facets carry no vertex order along a chain)
+    t = mesh.f2t[0, facets]
+    centroid = mesh.p[:, mesh.t[:, t]].mean(axis=1).T        # (n_f, 2)
+    d = X[:, 1] - X[:, 0]
+    left = np.column_stack([-d[:, 1], d[:, 0]])
+    flip = np.einsum("fi,fi->f", left, centroid - 0.5 * (X[:, 0] + X[:, 1])) < 0
+    dofs[flip, 0], dofs[flip, 1] = dofs[flip, 1].copy(), dofs[flip, 0].copy()
+    X[flip, 0], X[flip, 1] = X[flip, 1].copy(), X[flip, 0].copy()
+    return dofs, X
