@@ -26,9 +26,9 @@ import numpy as np
 import scipy.sparse.linalg as spla
 from skfem import MeshTri
 
-from skfem_mortar.materials import NeoHooke
-from skfem_mortar.model import Dirichlet, Model
-from skfem_mortar.solid import Solid, internal_force, material_stiffness
+from skfem_mortar.bodies.materials import NeoHooke
+from skfem_mortar.core.model import Dirichlet, Model
+from skfem_mortar.bodies.solid import Solid, internal_force, material_stiffness
 
 
 CLOCK = time.perf_counter

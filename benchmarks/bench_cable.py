@@ -22,12 +22,12 @@ import time
 
 import numpy as np
 
-from skfem_mortar.cable import Cable
-from skfem_mortar.linsolve import solve_linear
-from skfem_mortar.loads import FollowerPressure
-from skfem_mortar.model import Dirichlet, Model
-from skfem_mortar.newton import NewtonOptions
-from skfem_mortar.stepping import solve
+from skfem_mortar.bodies.cable import Cable
+from skfem_mortar.solver.linsolve import solve_linear
+from skfem_mortar.loads.pressure import FollowerPressure
+from skfem_mortar.core.model import Dirichlet, Model
+from skfem_mortar.solver.newton import NewtonOptions
+from skfem_mortar.solver.stepping import solve
 
 
 #: Newton tolerance of the full solve (reachable at 1e5 elements since the

@@ -10,7 +10,7 @@ Usage::
     # 3. one table
     python benchmarks/bench_compare.py table /tmp/bench_before /tmp/bench_after
 
-``run`` uses the sizes of :data:`skfem_mortar.bench.SIZES` (``--scene``,
+``run`` uses the sizes of :data:`skfem_mortar.app.bench.SIZES` (``--scene``,
 ``--max-dofs``, ``--steps`` as for ``skfem-mortar bench``) and writes one JSON
 line per size to ``rows.jsonl`` as soon as that size is done (a long run can be
 stopped and its finished sizes kept).  ``--src`` runs another version of the
@@ -24,7 +24,7 @@ import os
 import sys
 from pathlib import Path
 
-from skfem_mortar.bench import PHASES, SIZES, _one, fit_slopes
+from skfem_mortar.app.bench import PHASES, SIZES, _one, fit_slopes
 
 
 def run(args) -> None:

@@ -18,7 +18,7 @@ import json
 import sys
 import warnings
 
-from skfem_mortar.runner import run_scene
+from skfem_mortar.app.runner import run_scene
 from skfem_mortar.scenes import list_scenes
 
 #: the step fields that must be identical

@@ -11,7 +11,7 @@ import skfem
 
 from skfem_mortar import (Cable, ContactPair, Dirichlet, FollowerPressure, Model,
                           NeoHooke, Solid, solve)
-from skfem_mortar.surfaces import ContactSurface
+from skfem_mortar.contact.surfaces import ContactSurface
 
 # %% the cushion: a scikit-fem mesh with named boundaries
 mesh = (skfem.MeshTri.init_tensor(np.linspace(-1.5, 1.5, 49), np.linspace(0.65, 1.4, 13))

@@ -11,7 +11,7 @@ import numpy as np
 
 from skfem_mortar import Cable, ContactPair, Dirichlet, FollowerPressure, Model, solve
 from skfem_mortar.scenes.cable_flat import flat_exact
-from skfem_mortar.surfaces import ContactSurface, RigidPlane
+from skfem_mortar.contact.surfaces import ContactSurface, RigidPlane
 
 a, L0, EA, p, d = 1.0, 2.0, 100.0, 20.0, 0.5
 exact = flat_exact(a, L0, EA, p, d, "linear")

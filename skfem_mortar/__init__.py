@@ -14,17 +14,17 @@ __version__ = "0.1.0"
 # public name -> module; resolved lazily so that `import skfem_mortar` and the
 # command line start fast and a module that has not landed yet breaks nothing else
 _EXPORTS = {
-    "Model": "model", "Item": "model", "Dirichlet": "model", "Contribution": "model",
-    "solve": "stepping", "Result": "stepping", "StepRecord": "stepping",
-    "NewtonOptions": "newton",
-    "ConvergenceError": "errors", "InversionError": "errors",
-    "NeoHooke": "materials", "SaintVenantKirchhoff": "materials",
-    "Solid": "solid", "MixedSolid": "mixed", "Traction": "traction", "PointLoad": "traction",
-    "Cable": "cable",
-    "FollowerPressure": "loads",
-    "ContactPair": "contact",
-    "ContactSurface": "surfaces", "RigidPlane": "surfaces", "RigidCircle": "surfaces",
-    "run_scene": "runner", "build_scene": "runner",
+    "Model": "core.model", "Item": "core.model", "Dirichlet": "core.model", "Contribution": "core.model",
+    "solve": "solver.stepping", "Result": "solver.stepping", "StepRecord": "solver.stepping",
+    "NewtonOptions": "solver.newton",
+    "ConvergenceError": "core.errors", "InversionError": "core.errors",
+    "NeoHooke": "bodies.materials", "SaintVenantKirchhoff": "bodies.materials",
+    "Solid": "bodies.solid", "MixedSolid": "bodies.mixed", "Traction": "loads.traction", "PointLoad": "loads.traction",
+    "Cable": "bodies.cable",
+    "FollowerPressure": "loads.pressure",
+    "ContactPair": "contact.pair",
+    "ContactSurface": "contact.surfaces", "RigidPlane": "contact.surfaces", "RigidCircle": "contact.surfaces",
+    "run_scene": "app.runner", "build_scene": "app.runner",
 }
 
 __all__ = sorted(_EXPORTS) + ["__version__"]

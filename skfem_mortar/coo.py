@@ -1,24 +1,9 @@
-"""COO indices of element matrices: the one copy of "every local dof against every other"."""
-from __future__ import annotations
+"""Deprecated: ``skfem_mortar.coo`` moved to :mod:`skfem_mortar.core.coo`."""
+import sys
+import warnings
+from importlib import import_module
 
-import numpy as np
+warnings.warn("skfem_mortar.coo moved to skfem_mortar.core.coo; the old path goes in the next release",
+              DeprecationWarning, stacklevel=2)
 
-__all__ = ["element_coo"]
-
-
-def element_coo(dofs: np.ndarray, elements_last: bool = False) -> tuple[np.ndarray, np.ndarray]:
-    """Global rows and columns of element matrices, raveled like the matrices.
-
-    ``dofs`` (n_el, n_loc) global indices: ``rows[e, l, m] = dofs[e, l]`` and
-    ``cols[e, l, m] = dofs[e, m]``, for element matrices ``k`` (n_el, n_loc, n_loc).
-    With ``elements_last``, ``dofs`` is (n_loc, n_el) and the matrices
-    (n_loc, n_loc, n_el): ``rows[l, m, e] = dofs[l, e]``, ``cols[l, m, e] = dofs[m, e]``.
-    """
-    d = np.asarray(dofs)
-    if elements_last:
-        n, n_el = d.shape
-        return (np.broadcast_to(d[:, None, :], (n, n, n_el)).ravel(),
-                np.broadcast_to(d[None, :, :], (n, n, n_el)).ravel())
-    n_el, n = d.shape
-    return (np.broadcast_to(d[:, :, None], (n_el, n, n)).ravel(),
-            np.broadcast_to(d[:, None, :], (n_el, n, n)).ravel())
+sys.modules[__name__] = import_module("skfem_mortar.core.coo")

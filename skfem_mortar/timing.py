@@ -1,27 +1,9 @@
-"""Named wall-clock timers for the phases that the model's item timers cannot split
-(e.g. the contact search inside a contact pair's assembly)."""
-from __future__ import annotations
+"""Deprecated: ``skfem_mortar.timing`` moved to :mod:`skfem_mortar.core.timing`."""
+import sys
+import warnings
+from importlib import import_module
 
-import time
-from collections import defaultdict
-from contextlib import contextmanager
-from typing import Iterator
+warnings.warn("skfem_mortar.timing moved to skfem_mortar.core.timing; the old path goes in the next release",
+              DeprecationWarning, stacklevel=2)
 
-__all__ = ["TIMERS", "timed", "reset"]
-
-#: phase name -> accumulated seconds (process-wide; reset by the runner per run)
-TIMERS: dict[str, float] = defaultdict(float)
-
-
-@contextmanager
-def timed(name: str) -> Iterator[None]:
-    """Add the time spent in the block to ``TIMERS[name]``."""
-    t0 = time.perf_counter()
-    try:
-        yield
-    finally:
-        TIMERS[name] += time.perf_counter() - t0
-
-
-def reset() -> None:
-    TIMERS.clear()
+sys.modules[__name__] = import_module("skfem_mortar.core.timing")

@@ -26,7 +26,7 @@ def pytest_configure(config):
     per converged step, failed attempts (step cuts)."""
     if not _RECORD:
         return
-    import skfem_mortar.stepping as stepping
+    import skfem_mortar.solver.stepping as stepping
     real = stepping.newton_step
 
     def counting(*args, **kwargs):

@@ -8,9 +8,9 @@ import numpy as np
 
 from skfem_mortar import ContactPair, Dirichlet, Model
 from skfem_mortar.scenes.hertz import FINE_ZONE, graded_quarter_disk, hertz_exact
-from skfem_mortar.stepping import solve
-from skfem_mortar.surfaces import ContactSurface, RigidPlane
-from skfem_mortar.traction import Traction
+from skfem_mortar.solver.stepping import solve
+from skfem_mortar.contact.surfaces import ContactSurface, RigidPlane
+from skfem_mortar.loads.traction import Traction
 
 R, P, E = 8.0, 3.2032, 200.0
 

@@ -2,7 +2,7 @@
 tests/test_study_workers.py; the Dask workers import it through PYTHONPATH)."""
 import os
 
-from skfem_mortar import study
+from skfem_mortar.app import study
 
 #: ring ``n_elements`` of the grid point that kills its worker
 KILL_AT = 10

@@ -54,7 +54,7 @@ def table() -> list[tuple[str, str, str, str]]:
 
 
 def _child(scene: str, param: str, value, run: bool) -> dict:
-    from skfem_mortar.runner import build_scene, run_scene
+    from skfem_mortar.app.runner import build_scene, run_scene
 
     t0 = time.perf_counter()
     try:

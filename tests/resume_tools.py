@@ -22,7 +22,7 @@ from typing import Iterator
 
 import numpy as np
 
-from skfem_mortar.io import read_series
+from skfem_mortar.output.io import read_series
 
 RTOL = 1e-10
 #: metrics that are relative measures of round-off size (errors of exact answers,

@@ -3,7 +3,7 @@
 Releasing only the tensile nodes of a too-wide Hertz zone halves its overshoot
 per iteration (the pressure of a zone forced to |x| < b changes sign at
 x0^2 = (a^2 + b^2) / 2), so the plain primal-dual active set update needs
-O(log(1/h)) iterations a step; ``ActiveSet.release`` (skfem_mortar/active_set.py) releases
+O(log(1/h)) iterations a step; ``ActiveSet.release`` (skfem_mortar/contact/active_set.py) releases
 up to twice the distance to the sign change instead (standard mortar: the
 sign change of the normal nodal forces, as its multipliers alternate in sign).
 """
@@ -14,11 +14,11 @@ import pytest
 import scipy.sparse as sp
 from skfem import MeshTri
 
-from skfem_mortar.contact import ContactPair
-from skfem_mortar.materials import NeoHooke
-from skfem_mortar.runner import run_scene
-from skfem_mortar.solid import Solid
-from skfem_mortar.surfaces import ContactSurface, RigidPlane
+from skfem_mortar.contact.pair import ContactPair
+from skfem_mortar.bodies.materials import NeoHooke
+from skfem_mortar.app.runner import run_scene
+from skfem_mortar.bodies.solid import Solid
+from skfem_mortar.contact.surfaces import ContactSurface, RigidPlane
 
 
 def _pair(method="nts", n=20):

@@ -8,7 +8,7 @@ import skfem
 
 from skfem_mortar import (ContactPair, Dirichlet, Model, NeoHooke, NewtonOptions, Solid,
                           Traction, solve)
-from skfem_mortar.surfaces import ContactSurface, RigidCircle, RigidPlane
+from skfem_mortar.contact.surfaces import ContactSurface, RigidCircle, RigidPlane
 
 NAN, INF = float("nan"), float("inf")
 

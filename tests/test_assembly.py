@@ -5,9 +5,9 @@ import pytest
 import scipy.sparse as sp
 from skfem import MeshQuad, MeshTri
 
-from skfem_mortar.materials import NeoHooke, SaintVenantKirchhoff
-from skfem_mortar.model import Contribution, Item, Model
-from skfem_mortar.solid import Solid
+from skfem_mortar.bodies.materials import NeoHooke, SaintVenantKirchhoff
+from skfem_mortar.core.model import Contribution, Item, Model
+from skfem_mortar.bodies.solid import Solid
 
 
 def _deformation(X):

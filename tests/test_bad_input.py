@@ -6,11 +6,11 @@ import skfem
 
 from skfem_mortar import (Cable, ContactPair, Dirichlet, FollowerPressure, NeoHooke, Solid,
                           SaintVenantKirchhoff)
-from skfem_mortar.checks import check_mesh
-from skfem_mortar.cli import main
-from skfem_mortar.newton import NewtonOptions
-from skfem_mortar.stepping import solve
-from skfem_mortar.surfaces import ContactSurface, RigidCircle, RigidPlane, chain_segments
+from skfem_mortar.bodies.checks import check_mesh
+from skfem_mortar.app.cli import main
+from skfem_mortar.solver.newton import NewtonOptions
+from skfem_mortar.solver.stepping import solve
+from skfem_mortar.contact.surfaces import ContactSurface, RigidCircle, RigidPlane, chain_segments
 
 pytestmark = pytest.mark.extremes
 

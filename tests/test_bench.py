@@ -4,7 +4,7 @@ import json
 import numpy as np
 import pytest
 
-from skfem_mortar.bench import PHASES, fit_slopes, run_bench
+from skfem_mortar.app.bench import PHASES, fit_slopes, run_bench
 
 
 def test_fit_slopes_recovers_power_laws():

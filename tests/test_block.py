@@ -4,9 +4,9 @@ import math
 import numpy as np
 import pytest
 
-from skfem_mortar.materials import NeoHooke, SaintVenantKirchhoff
-from skfem_mortar.newton import NewtonOptions
-from skfem_mortar.runner import build_scene, run_scene
+from skfem_mortar.bodies.materials import NeoHooke, SaintVenantKirchhoff
+from skfem_mortar.solver.newton import NewtonOptions
+from skfem_mortar.app.runner import build_scene, run_scene
 from skfem_mortar.scenes.block import block_mesh, exact_uniaxial, svk_stretch_range
 
 ELEMENTS = ["tri1", "tri2", "quad1", "quad2"]

@@ -3,13 +3,13 @@ central finite differences, construction helpers, slack handling, bad input."""
 import numpy as np
 import pytest
 
-from skfem_mortar.cable import LAWS, Cable, get_law, newton_rtol
-from skfem_mortar.errors import ConvergenceError, InversionError
-from skfem_mortar.loads import FollowerPressure
-from skfem_mortar.model import Dirichlet, Model
-from skfem_mortar.newton import NewtonOptions
+from skfem_mortar.bodies.cable import LAWS, Cable, get_law, newton_rtol
+from skfem_mortar.core.errors import ConvergenceError, InversionError
+from skfem_mortar.loads.pressure import FollowerPressure
+from skfem_mortar.core.model import Dirichlet, Model
+from skfem_mortar.solver.newton import NewtonOptions
 from skfem_mortar.scenes.ring import ring_radius
-from skfem_mortar.stepping import solve
+from skfem_mortar.solver.stepping import solve
 
 from fd import dense, fd_tangent
 

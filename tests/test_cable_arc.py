@@ -7,13 +7,13 @@ import meshio
 import numpy as np
 import pytest
 
-from skfem_mortar.newton import NewtonOptions
-from skfem_mortar.runner import run_scene
-from skfem_mortar.cable import Cable
-from skfem_mortar.loads import FollowerPressure
-from skfem_mortar.model import Dirichlet, Model
+from skfem_mortar.solver.newton import NewtonOptions
+from skfem_mortar.app.runner import run_scene
+from skfem_mortar.bodies.cable import Cable
+from skfem_mortar.loads.pressure import FollowerPressure
+from skfem_mortar.core.model import Dirichlet, Model
 from skfem_mortar.scenes.cable_arc import arc_discrete, arc_exact
-from skfem_mortar.stepping import solve
+from skfem_mortar.solver.stepping import solve
 
 TIGHT = NewtonOptions(rtol=1e-12)
 

@@ -4,8 +4,8 @@ import math
 import numpy as np
 import pytest
 
-from skfem_mortar.contact import METHODS  # the method names: nts, mortar, mortar-dual
-from skfem_mortar.runner import run_scene
+from skfem_mortar.contact.pair import METHODS  # the method names: nts, mortar, mortar-dual
+from skfem_mortar.app.runner import run_scene
 from skfem_mortar.scenes.cable_flat import flat_exact
 
 
@@ -65,8 +65,8 @@ def test_contact_pressure_is_p_on_the_flat_part():
     # interior contact nodes of NTS carry exactly p times their tributary length
     # (a straight cable on the plane under pressure p): the middle node's
     # pressure equals p to the equilibrium tolerance (rtol 1e-10 of the forces)
-    from skfem_mortar.runner import build_scene
-    from skfem_mortar.stepping import solve
+    from skfem_mortar.app.runner import build_scene
+    from skfem_mortar.solver.stepping import solve
     setup, _, _ = build_scene("cable_flat", params={"n_elements": 100}, method="nts")
     res = solve(setup.model, 8)
     d = setup.contact(res.z)

@@ -5,12 +5,12 @@ import sys
 
 import pytest
 
-from skfem_mortar.cli import main
+from skfem_mortar.app.cli import main
 from skfem_mortar.scenes import Param
 
 
 def run_cli(*args):
-    return subprocess.run([sys.executable, "-m", "skfem_mortar.cli", *args],
+    return subprocess.run([sys.executable, "-m", "skfem_mortar.app.cli", *args],
                           capture_output=True, text=True)
 
 

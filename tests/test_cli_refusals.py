@@ -9,8 +9,8 @@ from pathlib import Path
 
 import pytest
 
-import skfem_mortar.runner as runner
-from skfem_mortar.cli import main
+import skfem_mortar.app.runner as runner
+from skfem_mortar.app.cli import main
 
 ROOT = Path(__file__).resolve().parents[1]
 #: a refusal comes before any model is built: the interpreter and the package's
@@ -50,7 +50,7 @@ def test_a_refusal_is_one_line_and_exit_2(name, tmp_path):
     (tmp_path / "a_file").write_text("not a directory")
     argv = [a.format(file=tmp_path / "a_file", dir=tmp_path / "d") for a in argv]
     t0 = time.monotonic()
-    proc = subprocess.run([sys.executable, "-m", "skfem_mortar.cli", *argv],
+    proc = subprocess.run([sys.executable, "-m", "skfem_mortar.app.cli", *argv],
                           capture_output=True, text=True, timeout=60, cwd=tmp_path,
                           env={**os.environ, "PYTHONPATH": str(ROOT)})
     elapsed = time.monotonic() - t0

@@ -6,9 +6,9 @@ import numpy as np
 import skfem
 
 from skfem_mortar import ContactPair, Dirichlet, Model, NeoHooke, Solid, solve
-from skfem_mortar.contact_output import ContactOutput
-from skfem_mortar.io import read_series
-from skfem_mortar.surfaces import ContactSurface
+from skfem_mortar.output.contact_output import ContactOutput
+from skfem_mortar.output.io import read_series
+from skfem_mortar.contact.surfaces import ContactSurface
 
 
 def overhang(method="mortar"):

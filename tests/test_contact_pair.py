@@ -5,13 +5,13 @@ import numpy as np
 import pytest
 from skfem import MeshTri
 
-from skfem_mortar.contact import ContactPair
-from skfem_mortar.materials import NeoHooke
-from skfem_mortar.model import Contribution, Dirichlet, Item, Model
-from skfem_mortar.newton import NewtonOptions
-from skfem_mortar.solid import Solid
-from skfem_mortar.stepping import solve
-from skfem_mortar.surfaces import ContactSurface, RigidPlane
+from skfem_mortar.contact.pair import ContactPair
+from skfem_mortar.bodies.materials import NeoHooke
+from skfem_mortar.core.model import Contribution, Dirichlet, Item, Model
+from skfem_mortar.solver.newton import NewtonOptions
+from skfem_mortar.bodies.solid import Solid
+from skfem_mortar.solver.stepping import solve
+from skfem_mortar.contact.surfaces import ContactSurface, RigidPlane
 
 E = 100.0
 
@@ -87,7 +87,7 @@ def test_action_reaction_two_blocks():
 
 def _has_mortar():
     try:
-        import skfem_mortar.mortar  # noqa: F401
+        import skfem_mortar.contact.mortar  # noqa: F401
         return True
     except ImportError:
         return False
@@ -208,7 +208,7 @@ def _lcp_solution():
 
 
 def test_active_set_cycles_without_guard():
-    from skfem_mortar.errors import ConvergenceError
+    from skfem_mortar.core.errors import ConvergenceError
     np.testing.assert_array_less(0, np.linalg.eigvalsh(K_CYC))  # SPD
     body, pair, model = _cycling_model(False)
     with pytest.raises(ConvergenceError):
@@ -217,7 +217,7 @@ def test_active_set_cycles_without_guard():
 
 def test_active_set_guard_converges(caplog):
     body, pair, model = _cycling_model(True)
-    with caplog.at_level(logging.INFO, logger="skfem_mortar.contact"):
+    with caplog.at_level(logging.INFO, logger="skfem_mortar.contact.pair"):
         res = solve(model, 1, newton=NewtonOptions(max_iter=20), min_step=0.2)
     assert "cycling" in caplog.text
     assert res.steps[0].info["active_set_cycles"] >= 1

@@ -2,10 +2,10 @@
 import numpy as np
 import pytest
 
-from skfem_mortar.errors import ConvergenceError
-from skfem_mortar.model import Dirichlet, Model
-from skfem_mortar.newton import NewtonOptions
-from skfem_mortar.stepping import solve
+from skfem_mortar.core.errors import ConvergenceError
+from skfem_mortar.core.model import Dirichlet, Model
+from skfem_mortar.solver.newton import NewtonOptions
+from skfem_mortar.solver.stepping import solve
 
 from toy_items import Spring
 

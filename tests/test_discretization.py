@@ -10,15 +10,15 @@ import pytest
 import scipy.sparse as sp
 from skfem import MeshTri
 
-from skfem_mortar.contact import METHODS, ContactPair
-from skfem_mortar.contact_eval import ContactEval
-from skfem_mortar.discretization import (ContactDiscretization, make_method, register_method,
+from skfem_mortar.contact.pair import METHODS, ContactPair
+from skfem_mortar.contact.contact_eval import ContactEval
+from skfem_mortar.contact.discretization import (ContactDiscretization, make_method, register_method,
                                          registered_methods, unregister_method)
-from skfem_mortar.materials import NeoHooke
-from skfem_mortar.model import Dirichlet, Model
-from skfem_mortar.solid import Solid
-from skfem_mortar.stepping import solve
-from skfem_mortar.surfaces import ContactSurface, RigidPlane, tributary_lengths
+from skfem_mortar.bodies.materials import NeoHooke
+from skfem_mortar.core.model import Dirichlet, Model
+from skfem_mortar.bodies.solid import Solid
+from skfem_mortar.solver.stepping import solve
+from skfem_mortar.contact.surfaces import ContactSurface, RigidPlane, tributary_lengths
 
 E = 100.0
 BUILT_IN = ("nts", "mortar", "mortar-dual")

@@ -24,7 +24,7 @@ def test_cable_cushion_example():
     # the contact pushes the cable down (-y) and the cushion up
     assert f_cable[1] < 0 < f_cushion[1]
     # the saved series hold one frame per state, with the contact pressure
-    from skfem_mortar.io import read_series
+    from skfem_mortar.output.io import read_series
     frames = read_series(f"{ex.out}/contact.pvd")
     assert len(frames) == len(ex.result.states)
     assert (frames[-1][1].point_data["pressure"] > 0).sum() == ex.pair.active.sum()

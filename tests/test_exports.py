@@ -17,7 +17,7 @@ def test_every_export_resolves_to_its_module_object(name):
 
 def test_surfaces_are_exported_at_the_top_level():
     from skfem_mortar import ContactSurface, RigidCircle, RigidPlane
-    from skfem_mortar import surfaces
+    from skfem_mortar.contact import surfaces
 
     assert (ContactSurface, RigidPlane, RigidCircle) == (
         surfaces.ContactSurface, surfaces.RigidPlane, surfaces.RigidCircle)

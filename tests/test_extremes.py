@@ -20,13 +20,13 @@ from skfem import MeshQuad
 
 from skfem_mortar import (Cable, ContactPair, Dirichlet, FollowerPressure, Model, NeoHooke,
                           Solid, solve)
-from skfem_mortar.contact import METHODS  # the method names: nts, mortar, mortar-dual
-from skfem_mortar.errors import ConvergenceError
-from skfem_mortar.preflight import PreflightWarning
-from skfem_mortar.runner import run_scene
+from skfem_mortar.contact.pair import METHODS  # the method names: nts, mortar, mortar-dual
+from skfem_mortar.core.errors import ConvergenceError
+from skfem_mortar.contact.preflight import PreflightWarning
+from skfem_mortar.app.runner import run_scene
 from skfem_mortar.scenes.cable_flat import flat_exact
 from skfem_mortar.scenes.hertz import hertz_exact
-from skfem_mortar.surfaces import ContactSurface, RigidPlane
+from skfem_mortar.contact.surfaces import ContactSurface, RigidPlane
 
 pytestmark = pytest.mark.extremes
 
@@ -422,7 +422,7 @@ def _hertz_model(method, L, S, refine=-2):
     problems are exactly similar (the scene's own mesh generator is not
     exactly scale-invariant: see docs/robustness.md)."""
     from skfem_mortar.scenes.hertz import FINE_ZONE, graded_block, graded_quarter_disk
-    from skfem_mortar.traction import Traction
+    from skfem_mortar.loads.traction import Traction
     prm = _hertz_params(1.0, refine)
     R, P, E = prm["radius"], prm["load"], prm["E"]
     a = hertz_exact(R, P, E, 0.3, E, 0.3)["half_width"]
@@ -485,16 +485,16 @@ def test_seed_nts_vertex_trap_and_coarse_slave():
 # --------------------------------------------------------------------------- locking
 def _hertz_rigid(method, nu, kind, refine=-2):
     """Hertz on a rigid plane (tests/hertz_rigid.py), cylinder of ``tri1`` (the
-    scene's mesh), of MINI mixed u-p triangles (:mod:`skfem_mortar.mixed`, the
-    same mesh) or of selectively reduced integrated quads (:mod:`skfem_mortar.sri`,
+    scene's mesh), of MINI mixed u-p triangles (:mod:`skfem_mortar.bodies.mixed`, the
+    same mesh) or of selectively reduced integrated quads (:mod:`skfem_mortar.bodies.sri`,
     the same graded mesh at twice the size split into three quads per triangle:
     a similar resolution).  Returns the peak pressure error of the nodal
     pressures averaged over neighbouring node pairs (filters the node-to-node
     checkerboard of one-point volumetric integration, see docs/robustness.md)
     and of the raw nodal pressures."""
     import hertz_rigid
-    from skfem_mortar.mixed import MixedSolid
-    from skfem_mortar.sri import SRISolid, split_to_quads
+    from skfem_mortar.bodies.mixed import MixedSolid
+    from skfem_mortar.bodies.sri import SRISolid, split_to_quads
     R, mat = hertz_rigid.R, NeoHooke(E=hertz_rigid.E, nu=nu)
     tol = 1e-9 * R
     if kind == "sri":
@@ -548,7 +548,7 @@ def test_sri_solid_tangent_is_the_derivative_of_its_residual():
     size 0.05) match the assembled tangent: truncation O(h^2) and round-off
     O(eps / h) give about 1e-9 relative, bound 1e-6."""
     import skfem
-    from skfem_mortar.sri import SRISolid
+    from skfem_mortar.bodies.sri import SRISolid
     mesh = skfem.MeshQuad().refined(1)
     s = SRISolid(mesh, NeoHooke(E=1.0, nu=0.499), name="q")
     Model([s])

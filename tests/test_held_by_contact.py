@@ -14,16 +14,16 @@ and a master vertex between two slave nodes leaves positive gaps at both (NTS
 too).  With no active node the body was held by nothing: the first tangent was
 singular, the Newton step threw the disk 1e12 away, and every step cut restarted
 from the same empty set.  The initial set now also holds the nodes the master
-touches (:func:`skfem_mortar.active_set.touching_nodes`, the closest approach).
+touches (:func:`skfem_mortar.contact.active_set.touching_nodes`, the closest approach).
 """
 import numpy as np
 import pytest
 import skfem
 
 from skfem_mortar import ContactPair, Dirichlet, Model, NeoHooke, Solid, Traction, solve
-from skfem_mortar.active_set import touching_nodes
-from skfem_mortar.contact import METHODS  # the method names: nts, mortar, mortar-dual
-from skfem_mortar.surfaces import ContactSurface, RigidPlane
+from skfem_mortar.contact.active_set import touching_nodes
+from skfem_mortar.contact.pair import METHODS  # the method names: nts, mortar, mortar-dual
+from skfem_mortar.contact.surfaces import ContactSurface, RigidPlane
 
 R, LOAD = 1.0, 0.5
 
@@ -122,7 +122,7 @@ def test_touching_nodes_is_the_closest_approach():
     np.testing.assert_array_equal(np.flatnonzero(touching_nodes(xs, seg_s, xm, seg_m, tol)), [0])
     # the mortar weighted gap over the tributary length is h^2 / (6 R) there (to
     # O(h^4)): far above the tolerance 1e-2 h, the old initial set missed it
-    from skfem_mortar import mortar
+    from skfem_mortar.contact import mortar
     ev = mortar.evaluate(xs, seg_s, xm, seg_m, tangent=False)
     assert ev.g[0] / ev.area[0] == pytest.approx(h * h / 6, rel=0.05)
     assert ev.g[0] / ev.area[0] > 5 * tol

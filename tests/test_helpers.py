@@ -3,10 +3,10 @@ import numpy as np
 import pytest
 from skfem import MeshTri
 
-from skfem_mortar.coo import element_coo
-from skfem_mortar.model import Contribution
-from skfem_mortar.solid import boundary_facets
-from skfem_mortar.surfaces import segment_lengths, segment_normals, segments_at_nodes
+from skfem_mortar.core.coo import element_coo
+from skfem_mortar.core.model import Contribution
+from skfem_mortar.bodies.solid import boundary_facets
+from skfem_mortar.contact.surfaces import segment_lengths, segment_normals, segments_at_nodes
 
 
 def test_segment_lengths_are_those_of_segment_normals():

@@ -4,9 +4,9 @@ import math
 import numpy as np
 import pytest
 
-from skfem_mortar.runner import build_scene, run_scene
+from skfem_mortar.app.runner import build_scene, run_scene
 from skfem_mortar.scenes.hertz import graded_block, graded_quarter_disk, hertz_exact
-from skfem_mortar.stepping import solve
+from skfem_mortar.solver.stepping import solve
 
 
 def test_exact_matches_benchmark_example():

@@ -5,8 +5,8 @@ import math
 import numpy as np
 import pytest
 
-from skfem_mortar.cli import main
-from skfem_mortar.io import SeriesWriter, read_series, write_contact_csv, write_json
+from skfem_mortar.app.cli import main
+from skfem_mortar.output.io import SeriesWriter, read_series, write_contact_csv, write_json
 
 MESH = (np.array([[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]]), [("triangle", np.array([[0, 1, 2]]))])
 

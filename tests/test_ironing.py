@@ -10,8 +10,8 @@ import json
 import numpy as np
 import pytest
 
-from skfem_mortar.contact import METHODS  # the method names: nts, mortar, mortar-dual
-from skfem_mortar.runner import run_scene
+from skfem_mortar.contact.pair import METHODS  # the method names: nts, mortar, mortar-dual
+from skfem_mortar.app.runner import run_scene
 from skfem_mortar.scenes.ironing import plot_history
 
 pytestmark = [pytest.mark.extremes, pytest.mark.slow]

@@ -16,7 +16,7 @@ import numpy as np
 import pytest
 from resume_tools import Killed, assert_same_frames, assert_same_summary, renames
 
-from skfem_mortar.runner import run_scene
+from skfem_mortar.app.runner import run_scene
 
 #: every scene and method at a small size, steps enough for step cutting and
 #: growth (ironing mortar-dual, seed nts cut steps) and a changing contact zone

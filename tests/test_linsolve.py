@@ -3,9 +3,9 @@ import numpy as np
 import pytest
 import scipy.sparse as sp
 
-from skfem_mortar import linsolve
-from skfem_mortar.errors import InversionError
-from skfem_mortar.linsolve import available_backends, default_backend, solve_linear
+from skfem_mortar.solver import linsolve
+from skfem_mortar.core.errors import InversionError
+from skfem_mortar.solver.linsolve import available_backends, default_backend, solve_linear
 
 HAS_PARDISO = "pardiso" in available_backends()
 BACKENDS = ["superlu"] + (["pardiso"] if HAS_PARDISO else [])
@@ -38,7 +38,7 @@ def test_solves_saddle_point(backend):
 @pytest.mark.skipif(not HAS_PARDISO, reason="pypardiso not installed (extra 'fast')")
 def test_backends_agree_on_a_model_tangent():
     """The block Newton system of a real contact scene, both backends."""
-    from skfem_mortar.runner import build_scene
+    from skfem_mortar.app.runner import build_scene
 
     setup = build_scene("seed", {"n_cable": 24, "refine_cushion": 1})[0]
     model = setup.model

@@ -9,13 +9,13 @@ import pytest
 from scipy.optimize import brentq
 from skfem import MeshQuad, MeshTri
 
-from skfem_mortar.cable import Cable
-from skfem_mortar.loads import FollowerPressure, facet_load_matrix
-from skfem_mortar.materials import NeoHooke
-from skfem_mortar.model import Dirichlet, Model
-from skfem_mortar.newton import NewtonOptions
-from skfem_mortar.solid import Solid
-from skfem_mortar.stepping import solve
+from skfem_mortar.bodies.cable import Cable
+from skfem_mortar.loads.pressure import FollowerPressure, facet_load_matrix
+from skfem_mortar.bodies.materials import NeoHooke
+from skfem_mortar.core.model import Dirichlet, Model
+from skfem_mortar.solver.newton import NewtonOptions
+from skfem_mortar.bodies.solid import Solid
+from skfem_mortar.solver.stepping import solve
 
 from fd import dense, fd_tangent
 

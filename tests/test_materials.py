@@ -2,8 +2,8 @@
 import numpy as np
 import pytest
 
-from skfem_mortar.errors import InversionError
-from skfem_mortar.materials import NeoHooke, SaintVenantKirchhoff, lame_from_young
+from skfem_mortar.core.errors import InversionError
+from skfem_mortar.bodies.materials import NeoHooke, SaintVenantKirchhoff, lame_from_young
 
 MATERIALS = [NeoHooke(E=3.0, nu=0.3), SaintVenantKirchhoff(E=3.0, nu=0.2),
              NeoHooke(mu=1.0, lmbda=-0.5)]
@@ -157,7 +157,7 @@ def test_lame_from_young_names_its_order_mu_first():
     ``lame_parameters`` returns the same two numbers the other way round."""
     from skfem.models.elasticity import lame_parameters
 
-    from skfem_mortar.materials import Lame
+    from skfem_mortar.bodies.materials import Lame
 
     lame = lame_from_young(200.0, 0.3)
     assert isinstance(lame, Lame)

@@ -1,4 +1,4 @@
-"""The mixed u-p MINI triangle (:mod:`skfem_mortar.mixed`): tangent, patch test,
+"""The mixed u-p MINI triangle (:mod:`skfem_mortar.bodies.mixed`): tangent, patch test,
 Newton, locking in bending and in Hertz contact, conservation, bad input."""
 import numpy as np
 import pytest
@@ -7,11 +7,11 @@ from fd import dense, fd_tangent
 from skfem import MeshQuad, MeshTri
 
 from skfem_mortar import Dirichlet, Model, NeoHooke, SaintVenantKirchhoff, Solid
-from skfem_mortar.checks import signed_areas
-from skfem_mortar.contact import METHODS  # the method names: nts, mortar, mortar-dual
-from skfem_mortar.mixed import MixedSolid
-from skfem_mortar.stepping import solve
-from skfem_mortar.traction import Traction
+from skfem_mortar.bodies.checks import signed_areas
+from skfem_mortar.contact.pair import METHODS  # the method names: nts, mortar, mortar-dual
+from skfem_mortar.bodies.mixed import MixedSolid
+from skfem_mortar.solver.stepping import solve
+from skfem_mortar.loads.traction import Traction
 
 
 def _distorted_square(n=4, seed=0):
@@ -317,7 +317,7 @@ def test_hertz_scene_builds_mini_bodies():
     pressure oscillation (0 measured, the metric of a unimodal profile); the
     scene's tri1 locks (99.7 % measured).  Bounds as in the direct test: 1.5 %,
     oscillation below 1e-9 p0 (round-off of a monotone profile), tri1 > 40 %."""
-    from skfem_mortar.runner import run_scene
+    from skfem_mortar.app.runner import run_scene
     mini = run_scene("hertz", {"refine": -2, "nu": 0.499, "element": "mini"},
                      method="mortar", steps=2)["metrics"]
     tri = run_scene("hertz", {"refine": -2, "nu": 0.499}, method="mortar", steps=2)["metrics"]

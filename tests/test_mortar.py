@@ -11,8 +11,8 @@ import time
 import numpy as np
 import pytest
 
-from skfem_mortar.mortar import evaluate, dual_coefficients
-from skfem_mortar.mortar_segmentation import segment
+from skfem_mortar.contact.mortar import evaluate, dual_coefficients
+from skfem_mortar.contact.mortar_segmentation import segment
 
 
 def chain(n: int) -> np.ndarray:

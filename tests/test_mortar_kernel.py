@@ -1,6 +1,6 @@
 """One test per named step of the mortar kernel, each against a hand-computable case.
 
-Steps (see :mod:`skfem_mortar.mortar`): 1 nodal normals, 2 projections, 3
+Steps (see :mod:`skfem_mortar.contact.mortar`): 1 nodal normals, 2 projections, 3
 segment end points, 4 Gauss rule, 5 multiplier functions, 6 n_AB / n_AC / D /
 M, 7 the weighted gap by the identity, 8 the exact derivatives (first
 derivatives of every differentiated step against finite differences).
@@ -10,12 +10,12 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from skfem_mortar.jets import Jet
+from skfem_mortar.contact.jets import Jet
 from test_mortar import curved_pair
-from skfem_mortar.mortar import (Quadrature, dual_coefficients, evaluate, gauss_rule, integrals,
+from skfem_mortar.contact.mortar import (Quadrature, dual_coefficients, evaluate, gauss_rule, integrals,
                                  mortar_integrals, multiplier_coefficients,
                                  multiplier_shape_functions, segment_quadrature, weighted_gap)
-from skfem_mortar.mortar_segmentation import (nodal_normals, project_on_master, project_on_slave,
+from skfem_mortar.contact.mortar_segmentation import (nodal_normals, project_on_master, project_on_slave,
                                               segment, segment_end_points, slave_element)
 
 S2 = np.sqrt(0.5)

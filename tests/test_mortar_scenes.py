@@ -13,9 +13,9 @@ import math
 import numpy as np
 import pytest
 
-from skfem_mortar.mortar_segmentation import segment
-from skfem_mortar.runner import build_scene, run_scene
-from skfem_mortar.stepping import solve
+from skfem_mortar.contact.mortar_segmentation import segment
+from skfem_mortar.app.runner import build_scene, run_scene
+from skfem_mortar.solver.stepping import solve
 
 MORTAR = ["mortar", "mortar-dual"]
 Q = 1e4  # patch scene default pressure
@@ -441,7 +441,7 @@ def test_hertz_split_corner_and_segmented_plane():
     keeps its area; the rigid plane is a chain of collinear segments on y = 0
     with outward normal +y, covering |x| <= 3 a."""
     from skfem_mortar.scenes.hertz import graded_quarter_disk, rigid_plane
-    from skfem_mortar.surfaces import segment_normals
+    from skfem_mortar.contact.surfaces import segment_normals
     R, a = 8.0, 0.3853
     m = graded_quarter_disk(R, a / 30, 1.2 * a)
     o = np.argmin(np.hypot(m.p[0], m.p[1] - 0.0))
@@ -533,16 +533,16 @@ def test_step_start_active_set_stays_in_mask(method):
     declared active while the plane (length 0.5) supports only the middle ones."""
     from skfem import MeshTri
 
-    from skfem_mortar.contact import ContactPair
-    from skfem_mortar.materials import NeoHooke
-    from skfem_mortar.solid import Solid
-    from skfem_mortar.surfaces import ContactSurface, RigidPlane
+    from skfem_mortar.contact.pair import ContactPair
+    from skfem_mortar.bodies.materials import NeoHooke
+    from skfem_mortar.bodies.solid import Solid
+    from skfem_mortar.contact.surfaces import ContactSurface, RigidPlane
     m = MeshTri.init_tensor(np.linspace(0, 1, 5), np.linspace(0, 1, 5)).with_defaults()
     b = Solid(m, NeoHooke(E=100.0, nu=0.0), name="block")
     pair = ContactPair(ContactSurface.from_solid(b, "bottom"),
                        RigidPlane((0.5, 0.0), (0.0, 1.0), length=0.5), method, name="c",
                        segmentation="step")
-    from skfem_mortar.model import Model
+    from skfem_mortar.core.model import Model
     model = Model([b, pair])
     z = np.zeros(model.n)
     pair.begin_step(z, 1.0)                     # initial set, then pretend all were active

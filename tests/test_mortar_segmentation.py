@@ -4,7 +4,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from skfem_mortar.mortar_segmentation import (Jet, XI_TOL, nodal_normals, project_point_on_slave,
+from skfem_mortar.contact.mortar_segmentation import (Jet, XI_TOL, nodal_normals, project_point_on_slave,
                                               segment)
 
 

@@ -2,7 +2,7 @@
 import numpy as np
 import pytest
 
-from skfem_mortar import nts
+from skfem_mortar.contact import nts
 
 
 def _pack(xs, xm):

@@ -2,12 +2,12 @@
 import numpy as np
 import pytest
 
-from skfem_mortar.errors import ConvergenceError
-from skfem_mortar.model import Dirichlet, Model
-from skfem_mortar.observers import (Callback, CheckpointObserver, ContactCsv, Observer,
+from skfem_mortar.core.errors import ConvergenceError
+from skfem_mortar.core.model import Dirichlet, Model
+from skfem_mortar.solver.observers import (Callback, CheckpointObserver, ContactCsv, Observer,
                                     SeriesObserver, replay)
-from skfem_mortar.runner import build_scene
-from skfem_mortar.stepping import solve
+from skfem_mortar.app.runner import build_scene
+from skfem_mortar.solver.stepping import solve
 
 from toy_items import Spring
 
@@ -89,7 +89,7 @@ def test_result_save_writes_what_the_observers_write_during_the_solve(tmp_path):
 
 
 def test_a_checkpoint_observer_writes_one_step_per_state(tmp_path):
-    from skfem_mortar.io import read_checkpoint
+    from skfem_mortar.output.io import read_checkpoint
 
     model = _springs()
     meta = {"scene": "springs"}

@@ -16,11 +16,11 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-import skfem_mortar.runner as runner
-from skfem_mortar.cli import main
-from skfem_mortar.errors import ConvergenceError
-from skfem_mortar.io import read_checkpoint, read_series
-from skfem_mortar.outdir import LOCK_NAME, MANIFEST_NAME, read_manifest
+import skfem_mortar.app.runner as runner
+from skfem_mortar.app.cli import main
+from skfem_mortar.core.errors import ConvergenceError
+from skfem_mortar.output.io import read_checkpoint, read_series
+from skfem_mortar.output.outdir import LOCK_NAME, MANIFEST_NAME, read_manifest
 
 ROOT = Path(__file__).resolve().parents[1]
 #: a run of a few seconds (about 40 steps of 0.1 s): long enough to act on it
@@ -34,7 +34,7 @@ WAIT_S = 60.0
 
 
 def _cli(*args: str) -> subprocess.Popen:
-    return subprocess.Popen([sys.executable, "-m", "skfem_mortar.cli", "run", *args],
+    return subprocess.Popen([sys.executable, "-m", "skfem_mortar.app.cli", "run", *args],
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
                             env={**os.environ, "PYTHONPATH": str(ROOT)})
 

@@ -2,8 +2,8 @@
 import numpy as np
 import pytest
 
-from skfem_mortar.contact import METHODS  # the method names: nts, mortar, mortar-dual
-from skfem_mortar.runner import build_scene, run_scene
+from skfem_mortar.contact.pair import METHODS  # the method names: nts, mortar, mortar-dual
+from skfem_mortar.app.runner import build_scene, run_scene
 
 
 @pytest.mark.parametrize("method", METHODS)
@@ -50,7 +50,7 @@ def test_stress_is_uniform_in_both_blocks_on_matching_meshes():
     # sigma_yy = -q in every element of both blocks (Cauchy stress of the
     # uniform state); round-off relative 1e-9 as above.
     setup, _, _ = build_scene("patch", params={"n_top": 3, "n_bottom": 3})
-    from skfem_mortar.stepping import solve
+    from skfem_mortar.solver.stepping import solve
     res = solve(setup.model, 1)
     for name in ("top", "bottom"):
         body = setup.model.item(name)

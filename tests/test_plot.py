@@ -2,8 +2,8 @@
 import numpy as np
 import pytest
 
-from skfem_mortar.plot import figure, plot_newton, plot_pressure
-from skfem_mortar.runner import run_scene
+from skfem_mortar.output.plot import figure, plot_newton, plot_pressure
+from skfem_mortar.app.runner import run_scene
 
 
 def _png_pixels(path):

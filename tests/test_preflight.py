@@ -14,12 +14,12 @@ import skfem
 
 from skfem_mortar import (Cable, ContactPair, Dirichlet, FollowerPressure, Model, NeoHooke,
                           Solid, Traction)
-from skfem_mortar.contact import METHODS  # the method names: nts, mortar, mortar-dual
-from skfem_mortar.model import Contribution, Item
-from skfem_mortar.preflight import PreflightWarning
-from skfem_mortar.runner import build_scene
+from skfem_mortar.contact.pair import METHODS  # the method names: nts, mortar, mortar-dual
+from skfem_mortar.core.model import Contribution, Item
+from skfem_mortar.contact.preflight import PreflightWarning
+from skfem_mortar.app.runner import build_scene
 from skfem_mortar.scenes import get_scene, list_scenes
-from skfem_mortar.surfaces import ContactSurface, RigidCircle, RigidPlane
+from skfem_mortar.contact.surfaces import ContactSurface, RigidCircle, RigidPlane
 
 
 def _preflight(model, load_factor=0.0):

@@ -6,16 +6,16 @@ import pytest
 import scipy.sparse as sp
 from skfem import MeshQuad, MeshTri
 
-from skfem_mortar.contact_output import ContactOutput
-from skfem_mortar.materials import NeoHooke
-from skfem_mortar.mixed import MixedSolid
-from skfem_mortar.model import (ContactTable, Contribution, Dirichlet, Item, ItemProtocol,
+from skfem_mortar.output.contact_output import ContactOutput
+from skfem_mortar.bodies.materials import NeoHooke
+from skfem_mortar.bodies.mixed import MixedSolid
+from skfem_mortar.core.model import (ContactTable, Contribution, Dirichlet, Item, ItemProtocol,
                                 Model, Output)
-from skfem_mortar.newton import NewtonOptions
-from skfem_mortar.runner import run_scene
-from skfem_mortar.sri import SRISolid
-from skfem_mortar.stepping import solve
-from skfem_mortar.traction import PointLoad
+from skfem_mortar.solver.newton import NewtonOptions
+from skfem_mortar.app.runner import run_scene
+from skfem_mortar.bodies.sri import SRISolid
+from skfem_mortar.solver.stepping import solve
+from skfem_mortar.loads.traction import PointLoad
 
 from toy_items import Spring
 

@@ -13,15 +13,15 @@ import numpy as np
 import pytest
 from resume_tools import assert_same_frames, assert_same_summary, copy_run, renames
 
-from skfem_mortar.cli import main
-from skfem_mortar.io import read_checkpoint, read_series
-from skfem_mortar.runner import run_scene
+from skfem_mortar.app.cli import main
+from skfem_mortar.output.io import read_checkpoint, read_series
+from skfem_mortar.app.runner import run_scene
 
 ARGS = ["block", "--set", "refine=5", "--set", "stretch=1.8", "--steps", "40"]
 
 
 def cli(*args, **kw):
-    return subprocess.Popen([sys.executable, "-m", "skfem_mortar.cli", "run", *args],
+    return subprocess.Popen([sys.executable, "-m", "skfem_mortar.app.cli", "run", *args],
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, **kw)
 
 
@@ -228,7 +228,7 @@ def replace(src, dst):
         os._exit(9)
     return real(src, dst)
 os.replace = replace
-from skfem_mortar.cli import main
+from skfem_mortar.app.cli import main
 sys.exit(main(sys.argv[3:]))
 """
 

@@ -5,8 +5,8 @@ import math
 import numpy as np
 import pytest
 
-from skfem_mortar.newton import NewtonOptions
-from skfem_mortar.runner import run_scene
+from skfem_mortar.solver.newton import NewtonOptions
+from skfem_mortar.app.runner import run_scene
 from skfem_mortar.scenes.ring import ring_radius
 
 TIGHT = NewtonOptions(rtol=1e-13)

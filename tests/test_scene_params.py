@@ -12,7 +12,7 @@ import time
 import pytest
 
 from param_table import VALUES, table
-from skfem_mortar.runner import build_scene
+from skfem_mortar.app.runner import build_scene
 from skfem_mortar.scenes import get_scene, max_dofs
 
 CASES = table()
@@ -48,7 +48,7 @@ CLI_CASES = [
 
 def _cli(*args):
     t0 = time.perf_counter()
-    proc = subprocess.run([sys.executable, "-m", "skfem_mortar.cli", *args],
+    proc = subprocess.run([sys.executable, "-m", "skfem_mortar.app.cli", *args],
                           capture_output=True, text=True, timeout=60)
     return proc, time.perf_counter() - t0
 

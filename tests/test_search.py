@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from skfem_mortar.search import box_pairs, node_segment_pairs, segment_boxes, segment_pairs
+from skfem_mortar.contact.search import box_pairs, node_segment_pairs, segment_boxes, segment_pairs
 
 
 def _brute(lo_a, hi_a, lo_b, hi_b, margin):
@@ -60,9 +60,9 @@ def test_local_mortar_margin_keeps_the_segments_of_a_global_one():
     lengths) equal those of a margin of the largest element length, from far
     fewer candidates (the global margin pairs every fine slave element with
     every master element within the largest arc element, ~2.4)."""
-    from skfem_mortar.mortar_segmentation import segment
+    from skfem_mortar.contact.mortar_segmentation import segment
     from skfem_mortar.scenes import get_scene
-    import skfem_mortar.search as search
+    import skfem_mortar.contact.search as search
     sc = get_scene("hertz")
     setup = sc.build({p.name: p.default for p in sc.params}, "mortar")
     pair = [it for it in setup.model.items if hasattr(it, "slave")][0]
@@ -105,7 +105,7 @@ def test_search_examines_linearly_many_candidates(monkeypatch):
     # two flat matching chains: each slave segment overlaps 3 master ones. Count
     # the candidate pairs the search tests exactly (not wall time, which a loaded
     # machine makes noisy): all pairs would be n^2, a spatial index O(n).
-    from skfem_mortar import search
+    from skfem_mortar.contact import search
 
     examined = []
     real = search._overlap

@@ -5,9 +5,9 @@ import json
 import numpy as np
 import pytest
 
-from skfem_mortar.cli import main
-from skfem_mortar.io import read_series
-from skfem_mortar.runner import run_scene
+from skfem_mortar.app.cli import main
+from skfem_mortar.output.io import read_series
+from skfem_mortar.app.runner import run_scene
 
 COARSE = {"n_cable": 24, "refine_cushion": 1}
 

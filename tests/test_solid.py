@@ -4,12 +4,12 @@ import pytest
 from scipy.optimize import brentq
 from skfem import MeshQuad, MeshTri
 
-from skfem_mortar.errors import InversionError
-from skfem_mortar.materials import NeoHooke, SaintVenantKirchhoff
-from skfem_mortar.model import Dirichlet, Model
+from skfem_mortar.core.errors import InversionError
+from skfem_mortar.bodies.materials import NeoHooke, SaintVenantKirchhoff
+from skfem_mortar.core.model import Dirichlet, Model
 from skfem_mortar.scenes.block import block_mesh
-from skfem_mortar.solid import Solid
-from skfem_mortar.traction import PointLoad, Traction
+from skfem_mortar.bodies.solid import Solid
+from skfem_mortar.loads.traction import PointLoad, Traction
 
 ELEMENTS = ["tri1", "tri2", "quad1", "quad2"]
 MATERIALS = {"neo-hooke": NeoHooke(E=2.0, nu=0.3), "svk": SaintVenantKirchhoff(E=2.0, nu=0.2)}
@@ -153,8 +153,8 @@ def test_traction_and_point_load_forces():
 
 def test_traction_driven_block_matches_uniaxial_neo_hooke():
     """Dead traction T on the right face: P_xx = T, P_yy = 0 fixes (lx, ly) exactly."""
-    from skfem_mortar.newton import NewtonOptions
-    from skfem_mortar.stepping import solve
+    from skfem_mortar.solver.newton import NewtonOptions
+    from skfem_mortar.solver.stepping import solve
 
     mat = NeoHooke(E=1.0, nu=0.3)
     mu, lam, T = mat.mu, mat.lmbda, 0.4

@@ -5,7 +5,7 @@ import pytest
 import skfem
 
 from skfem_mortar import Dirichlet, MixedSolid, Model, NeoHooke, Solid, Traction, solve
-from skfem_mortar.sri import SRISolid
+from skfem_mortar.bodies.sri import SRISolid
 
 
 def tip_deflection(kind: str, nx: int, ny: int, nu: float = 0.4999) -> float:

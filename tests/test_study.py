@@ -5,9 +5,9 @@ import json
 import numpy as np
 import pytest
 
-from skfem_mortar import study
-from skfem_mortar.study import plan_study, run_study
-from skfem_mortar.study_report import pareto_front
+from skfem_mortar.app import study
+from skfem_mortar.app.study import plan_study, run_study
+from skfem_mortar.app.study_report import pareto_front
 
 TIMING = ("wall_time_s", "time.bulk", "time.contact", "time.solve", "time.output")
 

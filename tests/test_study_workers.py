@@ -5,8 +5,8 @@ import time
 
 import pytest
 
-from skfem_mortar import study
-from skfem_mortar.study import run_study
+from skfem_mortar.app import study
+from skfem_mortar.app.study import run_study
 
 pytest.importorskip("distributed", reason="dask.distributed is not installed")
 

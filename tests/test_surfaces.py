@@ -3,9 +3,9 @@ import numpy as np
 import pytest
 from skfem import MeshQuad, MeshTri
 
-from skfem_mortar.materials import NeoHooke
-from skfem_mortar.solid import Solid
-from skfem_mortar.surfaces import ContactSurface, RigidCircle, RigidPlane, chain_segments
+from skfem_mortar.bodies.materials import NeoHooke
+from skfem_mortar.bodies.solid import Solid
+from skfem_mortar.contact.surfaces import ContactSurface, RigidCircle, RigidPlane, chain_segments
 
 
 def _solid(mesh_cls=MeshTri):

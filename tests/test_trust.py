@@ -9,9 +9,9 @@ import skfem
 
 from skfem_mortar import (Cable, ConvergenceError, ContactPair, Dirichlet, FollowerPressure,
                           Model, NeoHooke, NewtonOptions, Solid, solve)
-from skfem_mortar.model import Item
-from skfem_mortar.newton import excess_norm, round_off_floor, step_scale
-from skfem_mortar.surfaces import ContactSurface, RigidPlane
+from skfem_mortar.core.model import Item
+from skfem_mortar.solver.newton import excess_norm, round_off_floor, step_scale
+from skfem_mortar.contact.surfaces import ContactSurface, RigidPlane
 
 from toy_items import Spring
 
@@ -114,7 +114,7 @@ def test_inactive_multipliers_are_exact_zeros(method, tmp_path):
     assert np.all(lam[~pair.active] == 0.0)
     assert np.all(pair.contact_data(result.z)["pressure"] >= 0.0)
     result.save(tmp_path)
-    from skfem_mortar.io import read_series
+    from skfem_mortar.output.io import read_series
     for _, frame in read_series(tmp_path / f"{pair.name}.pvd"):
         p = frame.point_data["pressure"]
         assert np.all(p >= 0.0)
@@ -188,7 +188,7 @@ def test_a_forced_active_set_that_violates_kkt_is_cut(method, monkeypatch):
     of a cycle would) on a block that is lifted off.  The
     residual converges for that set, but the nodes that should open carry
     tension or sit on an open gap: never reported converged."""
-    from skfem_mortar.active_set import ActiveSet
+    from skfem_mortar.contact.active_set import ActiveSet
 
     def forced(self, plain, mask, track, signal=None):
         if track:

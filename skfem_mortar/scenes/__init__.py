@@ -294,7 +294,7 @@ class Setup:
     n_steps : int or None
         Number of load steps this setup wants by default.
     solve_options : dict
-        Extra keyword arguments of :func:`skfem_mortar.stepping.solve`.
+        Extra keyword arguments of :func:`skfem_mortar.solver.stepping.solve`.
     plots : callable(metrics, out_dir) or None
         Scene-specific pictures written into ``--out`` (e.g. force histories).
     """

@@ -24,9 +24,9 @@ import numpy as np
 from scipy.optimize import brentq
 from skfem import MeshQuad, MeshTri
 
-from ..materials import Material, NeoHooke, SaintVenantKirchhoff, lame_from_young
-from ..model import Dirichlet, Model
-from ..solid import ELEMENTS, Solid
+from ..bodies.materials import Material, NeoHooke, SaintVenantKirchhoff, lame_from_young
+from ..core.model import Dirichlet, Model
+from ..bodies.solid import ELEMENTS, Solid
 from . import Param, Scene, Setup, grid_dofs, lame_quantities
 
 __all__ = ["SCENE", "build", "exact_uniaxial", "svk_stretch_range", "block_mesh"]

@@ -17,15 +17,15 @@ so the computed apex and tension match it to round-off and the continuum at
 second order in ``1/n``.  The apex is the highest node (the midpoint of the
 middle chord is higher by O(1/n^2) when ``n`` is odd).
 
-Start (see :meth:`skfem_mortar.cable.Cable.between`): for ``L0 > 2 a`` the
+Start (see :meth:`skfem_mortar.bodies.cable.Cable.between`): for ``L0 > 2 a`` the
 stress-free arc; for ``L0 = 2 a`` a shallow arc of height ``start_sag * 2a``
 with unchanged rest lengths (regularization of the singular straight start;
 it moves only Newton's starting point, not the answer); for ``L0 < 2 a``
 straight and pre-stretched.  The stress-free start has no geometric
 stiffness: the tangent uses the floor ``tension_floor * p a`` (times the load
 factor) on it, below the tension ``p r >= p a`` of every solution (see
-:class:`~skfem_mortar.cable.Cable`).  Newton's relative tolerance is
-:func:`~skfem_mortar.cable.newton_rtol` (1e-10 unless the cable is so stiff
+:class:`~skfem_mortar.bodies.cable.Cable`).  Newton's relative tolerance is
+:func:`~skfem_mortar.bodies.cable.newton_rtol` (1e-10 unless the cable is so stiff
 that round-off forbids it).
 """
 from __future__ import annotations
@@ -35,10 +35,10 @@ import math
 import numpy as np
 from scipy.optimize import brentq
 
-from ..cable import LAWS, Cable, get_law, newton_rtol
-from ..loads import FollowerPressure
-from ..model import Dirichlet, Model
-from ..newton import NewtonOptions
+from ..bodies.cable import LAWS, Cable, get_law, newton_rtol
+from ..loads.pressure import FollowerPressure
+from ..core.model import Dirichlet, Model
+from ..solver.newton import NewtonOptions
 from . import Param, Scene, Setup, cable_dofs, cable_quantities, positive, ratio
 
 __all__ = ["SCENE", "build", "arc_exact", "arc_discrete"]

@@ -22,19 +22,19 @@ segment keeps its frozen segments: n = 200, 8 steps, force error 1.8e-5 for
 mortar and 1.0e-5 for mortar-dual, the same as ``iteration``).  The start is the
 stress-free arc of length ``L0`` bulging to
 the plane (for ``L0 = 2 a`` the shallow regularized arc of
-:meth:`~skfem_mortar.cable.Cable.between`); it must not touch the plane.
+:meth:`~skfem_mortar.bodies.cable.Cable.between`); it must not touch the plane.
 """
 from __future__ import annotations
 
 import numpy as np
 from scipy.optimize import brentq
 
-from ..cable import LAWS, Cable, get_law
-from ..contact import ContactPair
-from ..contact_output import ContactOutput
-from ..loads import FollowerPressure
-from ..model import Dirichlet, Model
-from ..surfaces import ContactSurface, RigidPlane
+from ..bodies.cable import LAWS, Cable, get_law
+from ..contact.pair import ContactPair
+from ..output.contact_output import ContactOutput
+from ..loads.pressure import FollowerPressure
+from ..core.model import Dirichlet, Model
+from ..contact.surfaces import ContactSurface, RigidPlane
 from . import METHODS, Param, Scene, Setup, cable_dofs, cable_quantities, positive, ratio
 
 __all__ = ["SCENE", "build", "flat_exact"]

@@ -34,7 +34,7 @@ dual), 1.45 % (standard mortar); elastic 1.04 % (dual), 1.21 % (standard),
 15 % (NTS, whose nodal pressure oscillates between non-matching meshes).
 
 Nearly incompressible bodies: ``element="mini"`` builds them of MINI mixed
-u-p triangles (:class:`~skfem_mortar.mixed.MixedSolid`) on the same meshes;
+u-p triangles (:class:`~skfem_mortar.bodies.mixed.MixedSolid`) on the same meshes;
 linear triangles lock as ``nu -> 0.5`` (peak 63 % off at ``nu = 0.499``,
 ``refine = -2``; MINI 0.6 %).
 
@@ -53,13 +53,13 @@ import math
 import numpy as np
 from skfem import MeshTri
 
-from ..contact import ContactPair
-from ..contact_output import ContactOutput
-from ..materials import NeoHooke
-from ..model import Dirichlet, Model
-from ..solid import Solid
-from ..surfaces import ContactSurface
-from ..traction import Traction
+from ..contact.pair import ContactPair
+from ..output.contact_output import ContactOutput
+from ..bodies.materials import NeoHooke
+from ..core.model import Dirichlet, Model
+from ..bodies.solid import Solid
+from ..contact.surfaces import ContactSurface
+from ..loads.traction import Traction
 from . import METHODS, Param, Scene, Setup, lame_quantities, positive, ratio
 
 __all__ = ["SCENE", "build", "hertz_exact", "graded_quarter_disk", "graded_block"]
@@ -177,7 +177,7 @@ def rigid_plane(half_length: float, h0: float) -> ContactSurface:
     """The rigid plane ``y = 0`` (outward normal ``+y``) on ``|x| <= half_length`` as a
     chain of collinear segments about ``sqrt(2) h0`` long (the same straight line as
     one long segment, but its nodes stay within a few slave elements of every slave
-    element: :func:`~skfem_mortar.mortar_segmentation.segment` projects the master
+    element: :func:`~skfem_mortar.contact.mortar_segmentation.segment` projects the master
     nodes onto the slave elements along the interpolated slave normals, and the
     projection of a node many element lengths away can fail, see the notes)."""
     n = max(2, int(math.ceil(2.0 * half_length / (math.sqrt(2.0) * h0))))
@@ -189,7 +189,7 @@ def rigid_plane(half_length: float, h0: float) -> ContactSurface:
 def _body_class(element: str):
     """``Solid`` (linear triangles) or the mixed ``MixedSolid`` (MINI, for nu -> 0.5)."""
     if element == "mini":
-        from ..mixed import MixedSolid
+        from ..bodies.mixed import MixedSolid
         return MixedSolid
     return Solid
 

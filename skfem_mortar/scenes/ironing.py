@@ -47,12 +47,12 @@ from pathlib import Path
 import numpy as np
 from skfem import MeshQuad
 
-from ..contact import ContactPair
-from ..contact_output import ContactOutput
-from ..materials import NeoHooke
-from ..model import Dirichlet, Model
-from ..solid import Solid
-from ..surfaces import ContactSurface
+from ..contact.pair import ContactPair
+from ..output.contact_output import ContactOutput
+from ..bodies.materials import NeoHooke
+from ..core.model import Dirichlet, Model
+from ..bodies.solid import Solid
+from ..contact.surfaces import ContactSurface
 from . import MAX_STEPS, METHODS, Param, Scene, Setup, grid_dofs, lame_quantities, ratio
 
 __all__ = ["SCENE", "build", "die_mesh", "block_mesh", "plot_history"]

@@ -47,14 +47,14 @@ from __future__ import annotations
 import numpy as np
 from skfem import MeshQuad, MeshTri
 
-from ..contact import ContactPair
-from ..contact_output import ContactOutput
-from ..loads import FollowerPressure
-from ..materials import NeoHooke
-from ..model import Dirichlet, Model
-from ..solid import Solid
-from ..surfaces import ContactSurface
-from ..traction import PointLoad
+from ..contact.pair import ContactPair
+from ..output.contact_output import ContactOutput
+from ..loads.pressure import FollowerPressure
+from ..bodies.materials import NeoHooke
+from ..core.model import Dirichlet, Model
+from ..bodies.solid import Solid
+from ..contact.surfaces import ContactSurface
+from ..loads.traction import PointLoad
 from . import METHODS, Param, Scene, Setup, grid_dofs, lame_quantities, positive, ratio
 
 __all__ = ["SCENE", "build"]

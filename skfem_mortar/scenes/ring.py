@@ -18,8 +18,8 @@ expands about node 0, so the radius is measured from the centroid of the
 current nodes (the discrete solution is a regular polygon).  The stress-free
 start has no geometric stiffness; the tangent uses the floor
 ``tension_floor * p R0`` (times the load factor), below the tension of the
-solution (see :class:`~skfem_mortar.cable.Cable`).  Newton's relative
-tolerance is :func:`~skfem_mortar.cable.newton_rtol` (1e-10 unless the ring is
+solution (see :class:`~skfem_mortar.bodies.cable.Cable`).  Newton's relative
+tolerance is :func:`~skfem_mortar.bodies.cable.newton_rtol` (1e-10 unless the ring is
 so stiff that round-off forbids it).
 """
 from __future__ import annotations
@@ -29,10 +29,10 @@ import math
 import numpy as np
 from scipy.optimize import brentq
 
-from ..cable import LAWS, Cable, get_law, newton_rtol
-from ..loads import FollowerPressure
-from ..model import Dirichlet, Model
-from ..newton import NewtonOptions
+from ..bodies.cable import LAWS, Cable, get_law, newton_rtol
+from ..loads.pressure import FollowerPressure
+from ..core.model import Dirichlet, Model
+from ..solver.newton import NewtonOptions
 from . import Param, Scene, Setup, cable_dofs, cable_quantities, positive
 
 __all__ = ["SCENE", "build", "ring_radius"]

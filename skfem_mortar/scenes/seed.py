@@ -21,14 +21,14 @@ from __future__ import annotations
 import numpy as np
 import skfem
 
-from ..cable import LAWS, Cable
-from ..contact import ContactPair
-from ..contact_output import ContactOutput
-from ..loads import FollowerPressure
-from ..materials import NeoHooke
-from ..model import Dirichlet, Model
-from ..solid import Solid
-from ..surfaces import ContactSurface
+from ..bodies.cable import LAWS, Cable
+from ..contact.pair import ContactPair
+from ..output.contact_output import ContactOutput
+from ..loads.pressure import FollowerPressure
+from ..bodies.materials import NeoHooke
+from ..core.model import Dirichlet, Model
+from ..bodies.solid import Solid
+from ..contact.surfaces import ContactSurface
 from . import (METHODS, Param, Scene, Setup, cable_dofs, cable_quantities, grid_dofs,
                lame_quantities, positive, ratio)
 

@@ -23,8 +23,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from .cable import side_sign
-from .model import Contribution, Item
+from ..bodies.cable import side_sign
+from ..core.model import Contribution, Item
 
 __all__ = ["FollowerPressure", "facet_load_matrix"]
 
@@ -141,7 +141,7 @@ def _solid_facet_chain(body, facets):
     """Local dofs (n_f, n_loc, 2) and reference coordinates of boundary facets,
     each oriented so that the body lies on its left (outward normal on the right).
     """
-    from .solid import boundary_facets   # here: a cable's load needs no skfem
+    from ..bodies.solid import boundary_facets   # here: a cable's load needs no skfem
 
     mesh, basis = body.mesh, body.basis
     if facets is None:

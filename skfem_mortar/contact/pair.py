@@ -27,11 +27,11 @@ retry of a cut step) starts from the last converged active set, which its
 first iteration uses as it is.
 
 The active set through the iterations of a step (extrapolated release of a
-too-wide zone, cycling guard) is :class:`~skfem_mortar.active_set.ActiveSet`'s.
+too-wide zone, cycling guard) is :class:`~skfem_mortar.contact.active_set.ActiveSet`'s.
 
 The gaps and their derivatives, and whatever state the method keeps for them,
-are the contact discretization's (:class:`~skfem_mortar.discretization.ContactDiscretization`,
-looked up by ``method`` in the registry of :mod:`skfem_mortar.discretization`);
+are the contact discretization's (:class:`~skfem_mortar.contact.discretization.ContactDiscretization`,
+looked up by ``method`` in the registry of :mod:`skfem_mortar.contact.discretization`);
 the pair is method-neutral.
 """
 from __future__ import annotations
@@ -44,7 +44,7 @@ import numpy as np
 from .active_set import ActiveSet, chain_order, touching_nodes
 from .contact_eval import ContactEval
 from .discretization import METHODS, check_entries, make_method  # METHODS: the registry's names
-from .model import Contribution, Item
+from ..core.model import Contribution, Item
 
 __all__ = ["ContactPair", "METHODS"]
 
@@ -96,7 +96,7 @@ class ContactPair(Item):
     master : ContactSurface
         Deformable or rigid surface.
     method : {"nts", "mortar", "mortar-dual"} or a registered name
-        The contact discretization (:func:`~skfem_mortar.discretization.make_method`).
+        The contact discretization (:func:`~skfem_mortar.contact.discretization.make_method`).
     name : str
     c : float, optional
         Complementarity parameter (> 0); default from the bodies' stiffness.
@@ -107,7 +107,7 @@ class ContactPair(Item):
         mortar the weighted gap over the tributary length) is at most this
         fraction of the mean slave segment length (>= 0, default 1e-2), and
         the nodes that the master touches within that distance
-        (:func:`~skfem_mortar.active_set.touching_nodes`, the closest approach:
+        (:func:`~skfem_mortar.contact.active_set.touching_nodes`, the closest approach:
         a polygon resting on one vertex has the mortar gap ``h^2 / (6 R)``
         there, a master vertex between two slave nodes positive gaps at both);
         a body held only by contact needs them active.
@@ -116,12 +116,12 @@ class ContactPair(Item):
         ``segmentation``): rebuild the mortar segments at every Newton iteration
         (default, exact), or build them once per load step from the last
         converged state and freeze them during the step (cheaper, see
-        :func:`skfem_mortar.mortar.evaluate`).
+        :func:`skfem_mortar.contact.mortar.evaluate`).
     accelerate : bool
         When the tensile tail of a too-wide contact zone is released, release
         as many nodes again beyond the tail as the sign change of the
         multipliers extrapolates (default True; see
-        :class:`~skfem_mortar.active_set.ActiveSet`).  Steers only the path of
+        :class:`~skfem_mortar.contact.active_set.ActiveSet`).  Steers only the path of
         the iteration.
     **options
         The discretization's options (e.g. ``margin``), checked when it is built.
@@ -227,7 +227,7 @@ class ContactPair(Item):
         return self.discretization.evaluate(self.slave.x(z), self.master.x(z), lam, tangent)
 
     def set_fixed(self, fixed: np.ndarray) -> None:
-        """Told the prescribed global dofs (by :func:`~skfem_mortar.stepping.solve`).
+        """Told the prescribed global dofs (by :func:`~skfem_mortar.solver.stepping.solve`).
 
         Pinned-node safeguard: a slave node whose two dofs are prescribed, against a
         rigid master, has a gap that no unknown can change; its multiplier row would
@@ -367,7 +367,7 @@ class ContactPair(Item):
 
         Nodes with a master partner where ``lam - c g >= 0``, or whose gap (as a
         length) is within the touch tolerance, or that the master touches
-        within it (:func:`~skfem_mortar.active_set.touching_nodes`).
+        within it (:func:`~skfem_mortar.contact.active_set.touching_nodes`).
         """
         if self._started:
             return self.state.converged.copy()

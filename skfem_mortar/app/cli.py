@@ -1,0 +1,338 @@
+"""The ``skfem-mortar`` command line (see the README, "Command line").
+
+Exit codes:
+
+===  ==========================================================================
+0    success
+1    a run that did not converge (and nothing else)
+2    bad input or a refusal: unknown scene, parameter or option value out of
+     range, a busy ``--out`` or one holding another run's files
+3    an output could not be written (an OSError: disk full, permission)
+4    an internal error (a bug): the traceback is printed
+130  interrupted (Ctrl-C): the outputs written so far are kept, the lock released
+===  ==========================================================================
+
+Every refusal is one line on stderr naming the option and what it allows.
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import logging
+import math
+import sys
+import traceback
+import warnings
+from typing import Callable, NoReturn, Sequence
+
+__all__ = ["main"]
+
+
+#: exit codes (module docstring)
+EXIT_OK, EXIT_NOT_CONVERGED, EXIT_BAD_INPUT, EXIT_WRITE, EXIT_BUG, EXIT_INTERRUPTED = (
+    0, 1, 2, 3, 4, 130)
+
+
+class _Parser(argparse.ArgumentParser):
+    """An argument parser whose errors are one line (no usage block) and exit 2."""
+
+    def error(self, message: str) -> NoReturn:
+        self.exit(EXIT_BAD_INPUT, f"{self.prog}: error: {message} (see {self.prog} --help)\n")
+
+
+def _parse_sets(pairs: Sequence[str]) -> dict[str, str]:
+    """``--set NAME=VALUE`` pairs as a dict; ValueError on a malformed or repeated one."""
+    out: dict[str, str] = {}
+    for pair in pairs:
+        if "=" not in pair:
+            raise ValueError(f"--set takes NAME=VALUE, got {pair!r}")
+        key, val = (t.strip() for t in pair.split("=", 1))
+        if key in out:
+            raise ValueError(f"--set {key} given twice ({out[key]!r} and {val!r}); "
+                             "give each parameter once")
+        out[key] = val
+    return out
+
+
+def _int_at_least(low: int) -> Callable[[str], int]:
+    """An argparse type: an integer >= ``low``."""
+    def parse(text: str) -> int:
+        try:
+            value = int(text)
+        except ValueError:
+            value = None
+        if value is None or value < low:
+            raise argparse.ArgumentTypeError(f"must be an integer >= {low}, got {text!r}")
+        return value
+    return parse
+
+
+def _steps_list(text: str) -> list[int]:
+    """An argparse type: load step counts, integers >= 1 separated by commas."""
+    try:
+        values = [int(v) for v in text.split(",")]
+    except ValueError:
+        values = []
+    if not values or min(values) < 1:
+        raise argparse.ArgumentTypeError(
+            f"must be integers >= 1 separated by commas, got {text!r}")
+    return values
+
+
+def _positive_float(text: str) -> float:
+    """An argparse type: a finite number > 0."""
+    try:
+        value = float(text)
+    except ValueError:
+        value = math.nan
+    if not (math.isfinite(value) and value > 0):
+        raise argparse.ArgumentTypeError(f"must be a finite number > 0, got {text!r}")
+    return value
+
+
+def _out_dir(text: str) -> str:
+    """An argparse type: a directory name, not empty, not an existing file."""
+    from ..output.outdir import check_out_dir
+
+    try:
+        check_out_dir(text)
+    except ValueError as exc:
+        raise argparse.ArgumentTypeError(str(exc).removeprefix("--out ")) from None
+    return text
+
+
+def _check_args(parser: argparse.ArgumentParser, args: argparse.Namespace) -> None:
+    """What argparse cannot say alone (before anything heavy is imported)."""
+    if args.command == "run":
+        if args.resume and args.out is None:
+            parser.error("--resume needs --out DIR (the directory of the run to continue)")
+        if args.replace and args.out is None:
+            parser.error("--replace needs --out DIR (the directory to replace)")
+        if args.resume and args.replace:
+            parser.error("--resume and --replace exclude each other")
+    if hasattr(args, "set"):
+        try:
+            args.sets = _parse_sets(args.set)
+        except ValueError as exc:
+            parser.error(str(exc))
+
+
+def _cmd_scenes(args: argparse.Namespace) -> int:
+    from ..scenes import list_scenes
+
+    scenes = list_scenes()
+    if args.json:
+        print(json.dumps([{"name": s.name, "summary": s.summary,
+                           "methods": [m for m in s.methods if m is not None],
+                           "default_steps": s.default_steps,
+                           "parameters": {p.name: {"default": p.default, "doc": p.doc,
+                                                   "allowed": p.range_text()}
+                                          for p in s.params}} for s in scenes]))
+        return 0
+    for s in scenes:
+        methods = ", ".join(m for m in s.methods if m is not None) or "-"
+        print(f"{s.name}: {s.summary}  [methods: {methods}; default steps: {s.default_steps}]")
+        for p in s.params:
+            print(f"    {p.name} = {p.default!r}   {p.doc} ({p.range_text()})")
+    return 0
+
+
+def _cmd_run(args: argparse.Namespace) -> int:
+    from .runner import run_scene
+
+    summary = run_scene(args.scene, args.sets, method=args.method,
+                        steps=args.steps, out=args.out, progress=not args.no_progress,
+                        resume=args.resume, replace=args.replace)
+    if args.json:
+        print(json.dumps(summary))
+    else:
+        print(f"scene {summary['scene']} ({summary['method'] or 'no contact'}): "
+              f"{summary['n_dofs']} dofs, {summary['n_multipliers']} multipliers, "
+              f"{len(summary['steps'])} steps, {summary['wall_time_s']:.2f} s")
+        for k, v in summary["metrics"].items():
+            print(f"  {k} = {v}")
+        if args.out:
+            print(f"results written to {args.out}")
+    return 0
+
+
+def _cmd_demo(args: argparse.Namespace) -> int:
+    from .demo import run_demo
+
+    summary = run_demo(args.out, method=args.method, progress=True, replace=args.replace)
+    m = summary["metrics"]
+    print(f"seed ({summary['method']}): {len(summary['steps'])} load steps in "
+          f"{summary['wall_time_s']:.1f} s; contact force {m['contact_force']:.4g}, "
+          f"contact length {m['contact_length']:.4g}, indentation {m['max_indentation']:.4g}")
+    print(f"written to {args.out}/: figure.png, pressure.png, newton.png, summary.json, "
+          f"contact.csv, cushion.pvd, cable.pvd")
+    return 0
+
+
+def _cmd_study(args: argparse.Namespace) -> int:
+    from ..output.outdir import output_lock
+    from .study import run_study
+
+    with output_lock(args.out, "study"):
+        rows = run_study(args.scene, args.out, methods=args.method or None,
+                         sets=args.sets, steps=args.steps, quick=args.quick,
+                         tolerance=args.tolerance, resume=args.resume, workers=args.workers,
+                         scheduler=args.scheduler, progress=not args.no_progress)
+    failed = sum(r.get("status") != "ok" for r in rows)
+    print(f"{len(rows)} runs ({failed} failed): {args.out}/results.csv, pareto.png, report.md")
+    return 0
+
+
+def _cmd_bench(args: argparse.Namespace) -> int:
+    from .bench import run_bench
+    from ..output.outdir import output_lock
+
+    with output_lock(args.out, "bench"):
+        report = run_bench(args.out, scenes=args.scene or ("hertz", "seed"),
+                           method=args.method, quick=args.quick, max_dofs=args.max_dofs,
+                           steps=args.steps, progress=not args.no_progress)
+    for scene, data in report["scenes"].items():
+        for r in data["rows"]:
+            if r.get("status") != "ok":
+                print(f"{scene} {r['params']}: {r['status']}")
+                continue
+            t = r["time_per_iteration_s"]
+            print(f"{scene} {r['n_dofs']:>8d} dofs: " + ", ".join(
+                f"{k} {v * 1e3:.2f} ms" for k, v in t.items()) +
+                f"; contact share {100 * r['contact_share']:.1f} %, "
+                f"peak {r['peak_rss_mb']:.0f} MB")
+        fmt = lambda d: ", ".join(f"{k} {v:.2f}" for k, v in d.items())  # noqa: E731
+        print(f"{scene} slopes vs dofs: {fmt(data['slopes'])}")
+        print(f"{scene} slopes vs contact nodes: {fmt(data['slopes_vs_contact_nodes'])}")
+    print(f"written to {args.out}/bench.json, bench.png")
+    return 0
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = _Parser(
+        prog="skfem-mortar",
+        description="Large-deformation frictionless contact (NTS and mortar) on scikit-fem.",
+        epilog="exit codes: 0 ok, 1 did not converge, 2 bad input or refusal, 3 an output "
+               "could not be written, 4 internal error, 130 interrupted")
+    parser.add_argument("-v", "--verbose", action="store_true", help="log solver details")
+    sub = parser.add_subparsers(dest="command", required=True)
+    steps = _int_at_least(1)
+
+    p = sub.add_parser("scenes", help="list scenes, their parameters and defaults")
+    p.add_argument("--json", action="store_true")
+    p.set_defaults(func=_cmd_scenes)
+
+    p = sub.add_parser("run", help="run a scene")
+    p.add_argument("scene")
+    p.add_argument("--method", choices=["nts", "mortar", "mortar-dual"], default=None)
+    p.add_argument("--set", action="append", default=[], metavar="NAME=VALUE",
+                   help="override a scene parameter (repeatable, once per parameter)")
+    p.add_argument("--steps", type=steps, default=None, help="number of load steps (>= 1)")
+    p.add_argument("--out", type=_out_dir, default=None,
+                   help="output directory (one run: locked while it runs)")
+    p.add_argument("--json", action="store_true", help="print one JSON object on stdout")
+    p.add_argument("--no-progress", action="store_true", help="no progress bar")
+    p.add_argument("--resume", action="store_true",
+                   help="continue from the checkpoint in --out (same scene and settings)")
+    p.add_argument("--replace", action="store_true",
+                   help="remove the files of the run --out holds first")
+    p.set_defaults(func=_cmd_run)
+
+    p = sub.add_parser("study", help="speed-accuracy grid: error against wall time")
+    p.add_argument("--scene", action="append", required=True, help="scene (repeatable)")
+    p.add_argument("--method", action="append", choices=["nts", "mortar", "mortar-dual"],
+                   help="methods to compare (repeatable; default: all of the scene's)")
+    p.add_argument("--set", action="append", default=[], metavar="NAME=V1,V2,...",
+                   help="an axis of the grid: a scene parameter and its values")
+    p.add_argument("--steps", type=_steps_list, default=None,
+                   help="load step counts to compare, e.g. 5,10,20 (each >= 1)")
+    p.add_argument("--quick", action="store_true", help="a small grid (for CI)")
+    p.add_argument("--tolerance", type=_positive_float, default=1e-2,
+                   help="report the cheapest setting within this relative error (> 0)")
+    p.add_argument("--out", type=_out_dir, default="skfem-mortar-study")
+    p.add_argument("--resume", action="store_true", help="skip rows already in results.csv")
+    p.add_argument("--workers", type=_int_at_least(0), default=0,
+                   help="run on a Dask LocalCluster with this many worker processes (>= 0)")
+    p.add_argument("--scheduler", default=None, help="address of an existing Dask scheduler")
+    p.add_argument("--no-progress", action="store_true")
+    p.set_defaults(func=_cmd_study)
+
+    p = sub.add_parser("bench", help="per-phase timings and peak memory at growing sizes")
+    p.add_argument("--scene", action="append", choices=["hertz", "seed"])
+    p.add_argument("--method", choices=["nts", "mortar", "mortar-dual"], default="mortar")
+    p.add_argument("--quick", action="store_true", help="small sizes only (for CI)")
+    p.add_argument("--max-dofs", type=_int_at_least(1), default=None,
+                   help="stop a scene after this size (>= 1)")
+    p.add_argument("--steps", type=steps, default=None, help="load steps per run (>= 1)")
+    p.add_argument("--out", type=_out_dir, default="skfem-mortar-bench")
+    p.add_argument("--no-progress", action="store_true")
+    p.set_defaults(func=_cmd_bench)
+
+    p = sub.add_parser("demo", help="run the demo scene and write its outputs")
+    p.add_argument("--out", type=_out_dir, default="skfem-mortar-demo")
+    p.add_argument("--method", choices=["nts", "mortar", "mortar-dual"], default="mortar")
+    p.add_argument("--replace", action="store_true",
+                   help="remove the files of an earlier run in --out first")
+    p.set_defaults(func=_cmd_demo)
+    for sp in sub.choices.values():
+        sp.set_defaults(parser=sp)  # its errors name the command
+    return parser
+
+
+def _one_line_warning(message, category, filename, lineno, line=None) -> str:
+    """A warning as one line on the command line (a model's warning, e.g. the
+    preflight's, names its cause and fix; the source line would only be runpy's)."""
+    return f"skfem-mortar: warning: {message}\n"
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Run the command line; return the exit code (module docstring).
+
+    A refusal of the arguments themselves (argparse's, and ``--resume`` without
+    ``--out``, a repeated ``--set``) raises ``SystemExit(2)`` as argparse does.
+    """
+    warnings.formatwarning = _one_line_warning
+    parser = build_parser()
+    args = parser.parse_args(argv)  # a refusal here is SystemExit(2), --help SystemExit(0)
+    _check_args(args.parser, args)
+    logging.basicConfig(level=logging.INFO if args.verbose else logging.WARNING,
+                        stream=sys.stderr, format="%(levelname)s %(name)s: %(message)s")
+    try:
+        return _dispatch(args)
+    except KeyboardInterrupt:
+        print(f"skfem-mortar: interrupted{_kept(args)}", file=sys.stderr)
+        return EXIT_INTERRUPTED
+
+
+def _kept(args: argparse.Namespace) -> str:
+    """What an interrupted command leaves: the outputs so far (a run: resumable)."""
+    if getattr(args, "out", None) is None:
+        return ""
+    again = ", continue with --resume" if args.command in ("run", "study") else ""
+    return f"; the outputs written so far to {args.out} are kept{again}"
+
+
+def _dispatch(args: argparse.Namespace) -> int:
+    """The command, its failures mapped to exit codes."""
+    from ..core.errors import ConvergenceError
+
+    try:
+        return args.func(args)
+    except ConvergenceError as exc:
+        print(f"skfem-mortar: failed: {exc}", file=sys.stderr)
+        return EXIT_NOT_CONVERGED
+    except ValueError as exc:
+        print(f"skfem-mortar: error: {exc}", file=sys.stderr)
+        return EXIT_BAD_INPUT
+    except OSError as exc:
+        print(f"skfem-mortar: could not write the outputs: {exc}", file=sys.stderr)
+        return EXIT_WRITE
+    except Exception:
+        traceback.print_exc()
+        print("skfem-mortar: internal error (a bug; please report it with the traceback "
+              "above)", file=sys.stderr)
+        return EXIT_BUG
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(main())

@@ -1,0 +1,103 @@
+"""Input checks that belong to no single item: mesh validity.
+
+scikit-fem integrates with ``|det J|``, so an element whose vertices are listed
+in the wrong order (a folded mesh) or an element of zero area is not caught by
+the assembly: the results are silently wrong or non-finite.
+:func:`check_mesh` finds both before anything is assembled.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = ["check_mesh", "signed_areas"]
+
+#: an element is degenerate below this fraction of the mean element area
+AREA_TOL = 1e-12
+#: a sliver: area below this fraction of its longest edge squared (aspect
+#: ratio above ~1e7).  Its stiffness across the short side is ~1/ratio times
+#: the others' and the contact segments on it are as short: measured on two
+#: blocks in contact with one column of nodes moved next to another
+#: (tests/test_extremes.py), ratio 1e-6 converges to round-off for every method,
+#: 1e-8 fails for nts and mortar (dual at 1e-9), each after 25 iterations
+#: and every step cut; such a mesh is refused before anything is assembled
+SLIVER_TOL = 1e-7
+
+
+def _corners(mesh) -> np.ndarray:
+    nv = 3 if "Tri" in type(mesh).__name__ else 4
+    return np.asarray(mesh.p, dtype=float)[:, mesh.t[:nv]]      # (2, nv, n_el)
+
+
+def signed_areas(mesh) -> np.ndarray:
+    """Signed area of every element from its corner vertices (shoelace formula),
+    > 0 for counter-clockwise corners (skfem accepts either order)."""
+    c = _corners(mesh)
+    x, y = c[0], c[1]
+    return 0.5 * np.sum(x * np.roll(y, -1, axis=0) - np.roll(x, -1, axis=0) * y, axis=0)
+
+
+def check_mesh(mesh, name: str = "mesh") -> None:
+    """Raise ValueError for a mesh with inverted (folded), zero-area, non-convex or
+    non-finite elements.
+
+    skfem accepts elements listed clockwise or counter-clockwise, so an
+    inverted element is found by a fold: the two elements on an interior
+    facet must lie on opposite sides of it.  Every element area must exceed
+    ``AREA_TOL`` times the mean and ``SLIVER_TOL`` times its longest edge
+    squared, and a quadrilateral must be convex (its four corner turns of one
+    sign).
+
+    Parameters
+    ----------
+    mesh : skfem.Mesh
+        A 2D triangle or quadrilateral mesh.
+    name : str
+        Used in the message.
+    """
+    p = np.asarray(mesh.p, dtype=float)
+    if not np.all(np.isfinite(p)):
+        raise ValueError(f"{name}: node coordinates must be finite "
+                         f"({int(np.sum(~np.isfinite(p).all(axis=0)))} non-finite nodes)")
+    a = signed_areas(mesh)
+    if a.size == 0:
+        raise ValueError(f"{name}: the mesh has no elements")
+    scale = float(np.mean(np.abs(a)))
+    zero = np.flatnonzero(np.abs(a) <= AREA_TOL * scale)
+    if zero.size:
+        raise ValueError(f"{name}: {zero.size} element(s) of zero area (e.g. element "
+                         f"{int(zero[0])}); every element area must exceed {AREA_TOL:g} "
+                         f"times the mean")
+    c = _corners(mesh)
+    edges = np.roll(c, -1, axis=1) - c
+    longest = np.max(edges[0] ** 2 + edges[1] ** 2, axis=0)
+    sliver = np.flatnonzero(np.abs(a) < SLIVER_TOL * longest)
+    if sliver.size:
+        k = int(sliver[0])
+        raise ValueError(f"{name}: {sliver.size} sliver element(s) (e.g. element {k}, area / "
+                         f"longest edge^2 = {abs(a[k]) / longest[k]:.2g}); every element must "
+                         f"have area / longest edge^2 >= {SLIVER_TOL:g} (nearly coincident "
+                         f"nodes?)")
+    if c.shape[1] == 4:
+        d_next = np.roll(c, -1, axis=1) - c
+        d_prev = np.roll(c, 1, axis=1) - c
+        turn = d_next[0] * d_prev[1] - d_next[1] * d_prev[0]     # (4, n_el)
+        bad = np.flatnonzero(np.any(turn * np.sign(a) <= 0, axis=0))
+        if bad.size:
+            raise ValueError(f"{name}: {bad.size} non-convex or bow-tie quadrilateral(s) "
+                             f"(e.g. element {int(bad[0])}): every quadrilateral must be convex")
+    f2t = mesh.f2t
+    inner = np.flatnonzero(f2t[1] >= 0)
+    f = mesh.facets[:, inner]
+    x0, x1 = p[:, f[0]], p[:, f[1]]
+    cen = c.mean(axis=1)                                          # (2, n_el)
+    t = x1 - x0
+
+    def side(e):
+        d = cen[:, e] - x0
+        return t[0] * d[1] - t[1] * d[0]
+    folded = inner[side(f2t[0, inner]) * side(f2t[1, inner]) >= 0]
+    if folded.size:
+        e = f2t[:, folded[0]]
+        raise ValueError(f"{name}: inverted element(s): elements {int(e[0])} and {int(e[1])} "
+                         f"lie on the same side of their shared facet {int(folded[0])} "
+                         f"({folded.size} such facets); the mesh folds over itself")

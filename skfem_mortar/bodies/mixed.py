@@ -1,0 +1,324 @@
+"""Nearly incompressible solids on mixed u-p triangles: the MINI element.
+
+Linear triangles lock when ``nu -> 0.5`` (Hertz on ``tri1`` at ``nu = 0.499``:
+the peak contact pressure 63 % off).  :class:`MixedSolid` discretizes the
+compressible neo-Hookean solid of :class:`~skfem_mortar.bodies.materials.NeoHooke`,
+
+    W(F) = W_mu(F) + lambda/2 (ln J)^2,   W_mu = mu/2 (tr C - 2 - 2 ln J),
+
+in its mixed (perturbed Lagrangian) form with an independent pressure ``p``:
+
+    Pi(u, p) = int_Omega0 [ W_mu(F) + p ln J - p^2 / (2 lambda) ] dV .
+
+Eliminating ``p`` (stationarity: ``p = lambda ln J``) gives back ``W``
+exactly, so the continuum material is the same; only the discretization
+differs.  Displacements are P1 plus a cubic bubble per element
+(``ElementVector(ElementTriMini())``), the pressure is continuous P1
+(``ElementTriP1``): an inf-sup stable pair, and the bubble vanishes on every
+facet, so the boundary trace is linear and every contact method (nts, mortar,
+mortar-dual) works unchanged.
+
+Residuals (``v`` displacement, ``q`` pressure test functions)::
+
+    r_u[a] = int Grad v_a : (P_mu + p F^-T) dV ,   P_mu = mu (F - F^-T) ,
+    r_p[b] = int q_b (ln J - p / lambda) dV ,
+
+tangent (symmetric)::
+
+    K_uu = int Grad v : (A_mu - p F^-1_Jk F^-1_Li) : Grad du ,
+           A_mu = mu delta_ik delta_JL + mu F^-1_Jk F^-1_Li ,
+    K_up = int Grad v : F^-T q dV ,   K_pu = K_up^T ,
+    K_pp = -(1 / lambda) int q q dV .
+
+Scaling: the item's unknowns are ``[u; p~]`` with the scaled pressure
+``p~ = p / s``, ``s = mu / ell``, ``ell = sqrt(mean element area)`` (a length,
+like a displacement), and the pressure rows are multiplied by ``s`` (then every
+row is a force per unit thickness).  Newton's relative test and the contact
+complementarity parameter (the tangent diagonal at displacement dofs) then see
+consistent units.  The scaled system is ``diag(1, s) K diag(1, s)``: still
+symmetric.
+
+Kernel: with the generalized strain ``e = [Grad u (4 entries, (i, J) -> 2 i + J);
+p / s]`` every local dof ``l`` has a column ``B[:, l]`` (a displacement dof:
+``dN_l`` in the rows of its component; a pressure dof: ``s N_b`` in row 4), and
+with the stress vector ``sigma = [P_mu + p F^-T; ln J - p / lambda]`` and its
+derivative ``D = d sigma / d e_unscaled`` (5 x 5, symmetric)
+
+    r_e = sum_q B^T sigma dx ,   K_e = sum_q B^T D B dx ,
+
+one batched product over all elements and quadrature points (``B`` is built
+once: total Lagrangian, the reference gradients do not change).
+
+Quadrature: ``intorder = 4`` (six points) by default.  On an affine triangle
+the bubble gradient is quadratic, so the linearized integrands are of degree 4
+(``Grad bubble . Grad bubble``), 3 (``Grad bubble  q``) and 2 (``q q``): the
+order-4 rule integrates the small-strain system exactly; the pressure basis
+uses the same points.  Lower orders (>= 2 allowed) under-integrate the bubble.
+No static condensation: the bubble dofs are ordinary unknowns of the item.
+
+When to use: nearly incompressible bodies (``nu`` above about 0.45) in contact;
+for compressible ones ``Solid(..., "tri1")`` is cheaper and as accurate.
+"""
+from __future__ import annotations
+
+from typing import Callable
+
+import numpy as np
+import scipy.sparse as sp
+from skfem import Basis, ElementTriMini, ElementTriP1, ElementVector, MeshTri
+
+from .checks import check_mesh
+from ..core.coo import element_coo
+from skfem.helpers import inv
+
+from .materials import NeoHooke, checked_det
+from ..core.model import Contribution
+from .solid import Solid
+
+__all__ = ["MixedSolid", "mixed_stress_and_tangent"]
+
+
+def mixed_stress_and_tangent(F: np.ndarray, p: np.ndarray, mu: float, lmbda: float,
+                             tangent: bool = True
+                             ) -> tuple[np.ndarray, np.ndarray | None]:
+    """Generalized stress ``sigma`` (5, ...) and its tangent ``D`` (5, 5, ...) of the
+    mixed neo-Hookean density at quadrature arrays ``F (2, 2, ...)``, ``p (...)``.
+
+    ``sigma[2 i + J] = (P_mu + p F^-T)[i, J]``, ``sigma[4] = ln J - p / lambda``;
+    ``D`` its derivative with respect to ``[F (flattened), p]``.
+    ``InversionError`` where ``det F <= 0`` (as in NeoHooke).
+    """
+    F = np.asarray(F, dtype=float)
+    J = checked_det(F)
+    Fi = inv(F)                           # Fi[J, i] = F^-1_Ji
+    FiT = np.swapaxes(Fi, 0, 1)
+    lnJ = np.log(J)
+    tail = F.shape[2:]
+    sig = np.empty((5,) + tail)
+    sig[:4] = (mu * F + (p - mu) * FiT).reshape((4,) + tail)
+    sig[4] = lnJ - p / lmbda
+    if not tangent:
+        return sig, None
+    D = np.empty((5, 5) + tail)
+    # A[i, J, k, L] = mu d_ik d_JL + (mu - p) F^-1_Jk F^-1_Li
+    A = (mu - p) * Fi[None, :, :, None] * FiT[:, None, None, :]
+    for i in range(2):
+        for jj in range(2):
+            A[i, jj, i, jj] += mu
+    D[:4, :4] = A.reshape((4, 4) + tail)
+    D[:4, 4] = FiT.reshape((4,) + tail)
+    D[4, :4] = D[:4, 4]
+    D[4, 4] = -1.0 / lmbda
+    return sig, D
+
+
+class MixedSolid(Solid):
+    """A plane-strain neo-Hookean body on MINI triangles (P1 + bubble / P1 pressure).
+
+    Parameters
+    ----------
+    mesh : skfem.MeshTri
+        Reference configuration; named boundaries can be used by :meth:`dofs_on`.
+    material : NeoHooke
+        Its ``mu`` and ``lmbda`` (``lmbda > 0``, i.e. ``nu > 0``: the pressure
+        equation divides by ``lmbda``).
+    name : str
+        Item name.
+    intorder : int
+        Quadrature order (>= 2) of the displacement and pressure bases, default 4
+        (exact for the linearized integrands, see the module docstring).
+
+    Notes
+    -----
+    Local unknowns ``[u (N_u); p~ (N_p)]``: the MINI vector basis dofs (vertex
+    dofs, then one bubble per element and component, skfem's numbering) and the
+    scaled nodal pressures ``p~ = p / s``, ``s = mu / ell`` (:attr:`pressure_scale`).
+    """
+
+    element = "mini"
+    dof_kind = "u"
+    phase = "bulk"
+
+    def __init__(self, mesh: MeshTri, material: NeoHooke, name: str = "solid",
+                 intorder: int = 4):
+        if not isinstance(mesh, MeshTri):
+            raise ValueError(f"mesh must be a skfem.MeshTri (linear triangles), "
+                             f"got {type(mesh).__name__}")
+        if not isinstance(material, NeoHooke):
+            raise ValueError(f"material must be a skfem_mortar.bodies.materials.NeoHooke "
+                             f"(the mixed form is of its energy), got {type(material).__name__}")
+        if not material.lmbda > 0.0:
+            raise ValueError(f"material must have lmbda > 0 (nu > 0): the pressure equation "
+                             f"divides by lmbda (got lmbda = {material.lmbda})")
+        if (isinstance(intorder, bool) or not isinstance(intorder, (int, np.integer))
+                or intorder < 2):
+            raise ValueError(f"intorder must be an integer >= 2 (got {intorder!r})")
+        check_mesh(mesh, f"mesh of {name!r}")
+        self.mesh = mesh
+        self.material = material
+        self.name = name
+        self.intorder = int(intorder)
+        self._cell_type = "triangle"
+        self._n_nodes = int(mesh.nvertices)
+        self.basis = Basis(mesh, ElementVector(ElementTriMini()), intorder=self.intorder)
+        self.pbasis = Basis(mesh, ElementTriP1(), quadrature=self.basis.quadrature)
+        self._kernel_data()                      # u-part: _edofs, _comp, _dN, _dx
+        self.n_u = int(self.basis.N)
+        self.n_p = int(self.pbasis.N)
+        self.n_dofs = self.n_u + self.n_p
+        self.dof_component = np.zeros(self.n_u, dtype=np.int64)
+        self.dof_component[self._edofs.ravel()] = np.repeat(self._comp, self._edofs.shape[1])
+        #: ``ell = sqrt(mean element area)`` and ``s = mu / ell`` (p = s p~)
+        self.length_scale = float(np.sqrt(np.mean(np.sum(self._dx, axis=1))))
+        self.pressure_scale = float(material.mu) / self.length_scale
+        self._mixed_kernel_data()
+
+    def _mixed_kernel_data(self) -> None:
+        """The generalized strain operator ``B`` (n_el, n_qp * 5, n_loc) and the local dofs."""
+        pe = np.asarray(self.pbasis.element_dofs, dtype=np.int64)        # (3, n_el)
+        self._pdofs = pe
+        self._alldofs = np.vstack([self._edofs, self.n_u + pe])          # (n_loc, n_el)
+        self._N = np.stack([np.asarray(self.pbasis.basis[b][0])
+                            for b in range(self.pbasis.Nbfun)])           # (3, n_el, n_qp)
+        n_u_loc, n_p_loc = self._edofs.shape[0], pe.shape[0]
+        n_el, n_qp = self._dx.shape
+        B = np.zeros((n_el, n_qp, 5, n_u_loc + n_p_loc))
+        for l, c in enumerate(self._comp):
+            B[:, :, 2 * c, l] = self._dN[l, 0]
+            B[:, :, 2 * c + 1, l] = self._dN[l, 1]
+        for b in range(n_p_loc):
+            B[:, :, 4, n_u_loc + b] = self.pressure_scale * self._N[b]
+        self._B = B.reshape(n_el, n_qp * 5, -1)
+        self._mixed_idx: tuple[int, np.ndarray, np.ndarray] | None = None
+
+    def _mixed_index(self) -> tuple[np.ndarray, np.ndarray]:
+        """Global COO rows and columns of the element tangents ``(n_el, n_loc, n_loc)``."""
+        if self._mixed_idx is None or self._mixed_idx[0] != self.offset:
+            self._mixed_idx = (self.offset, *element_coo(self.offset + self._alldofs.T))
+        return self._mixed_idx[1], self._mixed_idx[2]
+
+    # -- fields at quadrature points ------------------------------------------
+    def pressure_dofs(self) -> np.ndarray:
+        """Local indices of the scaled pressure unknowns (``n_u .. n_dofs - 1``)."""
+        return self.n_u + np.arange(self.n_p, dtype=np.int64)
+
+    def pressure(self, z: np.ndarray) -> np.ndarray:
+        """Nodal pressures ``p = s p~`` (stress units), length ``n_p`` (= vertices)."""
+        return self.pressure_scale * np.asarray(self.u(z), dtype=float)[self.n_u:]
+
+    def pressure_at_points(self, z: np.ndarray) -> np.ndarray:
+        """``p`` on all quadrature points, ``(n_el, n_qp)``."""
+        pe = self.pressure(z)[self._pdofs]                               # (3, n_el)
+        return np.einsum("be,beq->eq", pe, self._N)
+
+    def interpolate(self, fun: Callable[[np.ndarray], np.ndarray]) -> np.ndarray:
+        """Local dof vector (length ``n_dofs``) of the interpolant of ``u = fun(X)``:
+        vertex values, bubble coefficients so that ``u`` matches ``fun`` at the
+        centroids, zero pressure."""
+        # skfem gives no location for the bubble dofs (nan): use the centroids
+        ib = np.asarray(self.basis.interior_dofs, dtype=np.int64)        # (2, n_el)
+        t = self.mesh.t
+        pts = np.array(self.basis.doflocs, dtype=float)
+        cen = self.mesh.p[:, t].mean(axis=1)
+        pts[:, ib[0]] = cen
+        pts[:, ib[1]] = cen
+        vals = np.asarray(fun(pts), dtype=float)
+        if vals.shape != pts.shape:
+            raise ValueError(f"fun must return an array of shape {pts.shape}")
+        out = np.zeros(self.n_dofs)
+        out[:self.n_u] = vals[self.dof_component, np.arange(self.n_u)]
+        # the bubble is 27 l1 l2 l3 (1 at the centroid): its coefficient is the
+        # centroid value minus the mean of the vertex values
+        for c in (0, 1):
+            out[ib[c]] -= out[self.node_dofs[c][t]].mean(axis=0)
+        return out
+
+    # -- assembly ----------------------------------------------------------------
+    def _state(self, z: np.ndarray, tangent: bool):
+        F = self.deformation_gradient(z)
+        p = self.pressure_at_points(z)
+        return mixed_stress_and_tangent(F, p, self.material.mu, self.material.lmbda, tangent)
+
+    def _local(self, z: np.ndarray, tangent: bool
+               ) -> tuple[np.ndarray, np.ndarray | None]:
+        """Element residuals ``(n_el, n_loc)`` and tangents ``(n_el, n_loc, n_loc)``."""
+        sig, D = self._state(z, tangent)
+        n_el, n_qp = self._dx.shape
+        sdx = np.moveaxis(sig * self._dx, 0, -1).reshape(n_el, n_qp * 5)   # (n_el, Q*5)
+        re = np.einsum("ea,eal->el", sdx, self._B)
+        if not tangent:
+            return re, None
+        Ddx = np.moveaxis(D * self._dx, (0, 1), (-2, -1))                   # (n_el, Q, 5, 5)
+        B4 = self._B.reshape(n_el, n_qp, 5, -1)
+        T = np.matmul(Ddx, B4).reshape(n_el, n_qp * 5, -1)
+        ke = np.matmul(np.swapaxes(self._B, 1, 2), T)
+        return re, ke
+
+    def assemble(self, z: np.ndarray, load_factor: float, tangent: bool = True
+                 ) -> Contribution:
+        re, ke = self._local(z, tangent)
+        r = np.bincount(self._alldofs.T.ravel(), weights=re.ravel(), minlength=self.n_dofs)
+        out = Contribution.from_local(self.offset, r)
+        if tangent:
+            out.k_rows, out.k_cols = self._mixed_index()
+            out.k_vals = ke.ravel()
+        return out
+
+    def internal_force(self, z: np.ndarray) -> np.ndarray:
+        """The item's residual on its local dofs (length ``n_dofs``): the internal
+        force ``int Grad v : (P_mu + p F^-T) dV`` on the displacement dofs and the
+        scaled constraint ``s int q (ln J - p / lambda) dV`` on the pressure dofs."""
+        re, _ = self._local(z, False)
+        return np.bincount(self._alldofs.T.ravel(), weights=re.ravel(), minlength=self.n_dofs)
+
+    def assemble_forms(self, z: np.ndarray, tangent: bool = True
+                       ) -> tuple[np.ndarray, sp.csr_matrix | None]:
+        """Residual and tangent through skfem's form assembly (a reference for
+        :meth:`assemble`; local numbering, length ``n_dofs``)."""
+        from skfem import BilinearForm, LinearForm
+        from skfem.helpers import ddot, grad
+
+        sig, D = self._state(z, tangent)
+        tail = sig.shape[1:]
+        s, lm = self.pressure_scale, self.material.lmbda
+        P = sig[:4].reshape((2, 2) + tail)
+        ru = LinearForm(lambda v, w: ddot(w.P, grad(v))).assemble(self.basis, P=P)
+        rp = LinearForm(lambda q, w: s * w.g * q).assemble(self.pbasis, g=sig[4])
+        r = np.concatenate([ru, rp])
+        if not tangent:
+            return r, None
+        At = np.transpose(D[:4, :4].reshape((2, 2, 2, 2) + tail), (2, 3, 0, 1, 4, 5))
+        Kuu = BilinearForm(lambda du, v, w: ddot(ddot(w.At, grad(du)), grad(v))
+                           ).assemble(self.basis, At=At)
+        FiT = D[:4, 4].reshape((2, 2) + tail)
+        Kpu = BilinearForm(lambda du, q, w: s * q * ddot(w.FiT, grad(du))
+                           ).assemble(self.basis, self.pbasis, FiT=FiT)
+        Kpp = BilinearForm(lambda dp, q, w: -(s * s / lm) * dp * q).assemble(self.pbasis)
+        return r, sp.bmat([[Kuu, Kpu.T], [Kpu, Kpp]], format="csr")
+
+    # -- output ------------------------------------------------------------------
+    def cauchy(self, z: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Mixed Cauchy stress on the quadrature points: ``sigma = J^-1 (P_mu + p F^-T) F^T``
+        (2, 2, n_el, n_qp) and ``sigma_zz = p / J`` (plane strain, ``F_zz = 1``:
+        ``P_zz = mu (1 - 1) + p``), equal to NeoHooke's when ``p = lambda ln J``."""
+        F = self.deformation_gradient(z)
+        sig, _ = self._state(z, False)
+        J = checked_det(F)
+        P = sig[:4].reshape(F.shape)
+        sigma = np.einsum("iJ...,kJ...->ik...", P, F) / J
+        return sigma, self.pressure_at_points(z) / J
+
+    def output_data(self, z: np.ndarray) -> tuple[dict, dict]:
+        """Point data ``displacement`` (N, 2) and ``pressure`` (N,) (stress units);
+        cell data: element-averaged mixed Cauchy stress ``sigma_xx, sigma_yy,
+        sigma_xy, sigma_zz`` and ``von_mises``."""
+        u = self.u(z)[self.node_dofs].T.copy()
+        pn = self.pressure(z)[np.asarray(self.pbasis.nodal_dofs[0], dtype=np.int64)]
+        s, szz = self.cauchy(z)
+        vm = np.sqrt(0.5 * ((s[0, 0] - s[1, 1]) ** 2 + (s[1, 1] - szz) ** 2
+                            + (szz - s[0, 0]) ** 2) + 3.0 * s[0, 1] ** 2)
+        avg = self.element_average
+        cells = {"sigma_xx": [avg(s[0, 0])], "sigma_yy": [avg(s[1, 1])],
+                 "sigma_xy": [avg(s[0, 1])], "sigma_zz": [avg(szz)],
+                 "von_mises": [avg(vm)]}
+        return {"displacement": u, "pressure": pn}, cells

@@ -1,0 +1,328 @@
+"""A hyperelastic plane-strain solid discretized with scikit-fem.
+
+The internal virtual work of a body with reference domain ``Omega_0``,
+
+    r(u)_a = int_Omega0 Grad v_a : P(F) dV ,        F = I + Grad u ,
+
+and its consistent tangent
+
+    K(u)_ab = int_Omega0 Grad v_a : A(F) : Grad v_b dV ,   A = dP/dF ,
+
+are the skfem forms ``internal_force``/``material_stiffness`` below over a vector
+basis; the stress ``P`` and tangent ``A`` are evaluated once per assembly on all
+quadrature points (vectorized, see :mod:`skfem_mortar.bodies.materials`).
+
+Speed: :meth:`Solid.assemble` evaluates the same integrals with kernels of its
+own instead of the generic skfem form assembly (which contracts full
+``(2, 2)`` gradients of every vector basis function with ``A`` by ``einsum``
+and sorts a fresh COO matrix each time): the scalar shape function gradients
+``dN`` and the weights ``dx`` of the basis are cached once, each local vector
+dof ``l`` has one component ``c_l``, and
+
+    r_e[l]    = sum_q  P[c_l, J] dN[l, J] dx ,
+    K_e[l, m] = sum_q  dN[l, J] A[c_l, J, c_m, L] dN[m, L] dx ,
+
+with the global COO index arrays built once (the model sums them into a fixed
+CSR pattern, see :meth:`skfem_mortar.core.model.Model.assemble`).  Linear triangles
+use the one-point (centroid) rule: ``Grad u`` is constant per element, so it
+is exact.  The tests compare both paths.
+"""
+from __future__ import annotations
+
+from typing import Callable
+
+import numpy as np
+import scipy.sparse as sp
+from skfem import (Basis, BilinearForm, ElementQuad1, ElementQuad2, ElementTriP1,
+                   ElementTriP2, ElementVector, LinearForm, Mesh)
+from skfem.helpers import ddot, grad
+
+from .checks import check_mesh
+from ..core.coo import element_coo
+from .materials import Material
+from ..core.model import Contribution, Item
+
+__all__ = ["Solid", "ELEMENTS", "boundary_facets"]
+
+#: element name -> (skfem scalar element class, reference domain name, meshio cell type)
+ELEMENTS: dict[str, tuple[type, str, str]] = {
+    "tri1": (ElementTriP1, "RefTri", "triangle"),
+    "tri2": (ElementTriP2, "RefTri", "triangle"),
+    "quad1": (ElementQuad1, "RefQuad", "quad"),
+    "quad2": (ElementQuad2, "RefQuad", "quad"),
+}
+
+
+@LinearForm
+def internal_force(v, w):
+    """``Grad v : P`` with ``P`` given on the quadrature points as ``w.P``."""
+    return ddot(w.P, grad(v))
+
+
+@BilinearForm
+def material_stiffness(du, v, w):
+    """``Grad v : A : Grad du``; ``w.At[k, L, i, J] = A[i, J, k, L]``.
+
+    ``ddot(w.At, grad(du))`` contracts the first two indices of ``At`` (those
+    of ``du``), leaving the ``(i, J)`` pair that is contracted with ``Grad v``.
+    """
+    return ddot(ddot(w.At, grad(du)), grad(v))
+
+
+def boundary_facets(mesh: Mesh, boundary: str | np.ndarray,
+                    unknown: str = "unknown boundary {tag!r}; known tags: {known}"
+                    ) -> np.ndarray:
+    """Facet indices (int64) of ``boundary``: a tag of ``mesh.boundaries`` or facet
+    indices as given (flattened, not range-checked).
+
+    An unknown tag raises ValueError with ``unknown`` formatted with the ``tag`` and
+    the sorted ``known`` tags (each caller keeps the wording of its parameter).
+    """
+    # not Mesh.normalize_facets: it sorts index lists (np.unique) and words its own error
+    if isinstance(boundary, str):
+        known = sorted(mesh.boundaries or {})
+        if boundary not in known:
+            raise ValueError(unknown.format(tag=boundary, known=known))
+        return np.asarray(mesh.boundaries[boundary], dtype=np.int64)
+    return np.asarray(boundary, dtype=np.int64).ravel()
+
+
+def _component_rows(component: int | str | None) -> list[str] | None:
+    if component is None:
+        return None
+    names = {0: "u^1", 1: "u^2", "x": "u^1", "y": "u^2"}
+    if component not in names:
+        raise ValueError(f"component must be None, 0, 1, 'x' or 'y' (got {component!r})")
+    return [names[component]]
+
+
+class Solid(Item):
+    """A plane-strain hyperelastic body: an :class:`~skfem_mortar.core.model.Item` with ``dof_kind="u"``.
+
+    Parameters
+    ----------
+    mesh : skfem.Mesh
+        Reference configuration (``MeshTri`` for ``tri*``, ``MeshQuad`` for ``quad*``).
+        Named boundaries (``mesh.boundaries``) can be used by :meth:`dofs_on`.
+    material : Material
+        :class:`~skfem_mortar.bodies.materials.NeoHooke` or
+        :class:`~skfem_mortar.bodies.materials.SaintVenantKirchhoff`.
+    element : {"tri1", "tri2", "quad1", "quad2"}
+        Lagrange element of the displacement field.
+    name : str
+        Item name.
+    intorder : int, optional
+        Quadrature order. Default: 1 for ``tri1`` (``Grad u`` and hence the
+        integrand are constant per element, so one point is exact), otherwise
+        skfem's default (twice the element order).
+    """
+
+    dof_kind = "u"
+    phase = "bulk"
+
+    def __init__(self, mesh: Mesh, material: Material, element: str = "tri1",
+                 name: str = "solid", intorder: int | None = None):
+        if element not in ELEMENTS:
+            raise ValueError(f"element must be one of {sorted(ELEMENTS)} (got {element!r})")
+        if not isinstance(material, Material):
+            raise ValueError("material must be a skfem_mortar.bodies.materials.Material")
+        elem_cls, refdom, cell_type = ELEMENTS[element]
+        if mesh.dim() != 2 or mesh.elem.refdom.__name__ != refdom:
+            raise ValueError(f"element {element!r} needs a 2D mesh of "
+                             f"{'triangles' if refdom == 'RefTri' else 'quadrilaterals'}, "
+                             f"got {type(mesh).__name__}")
+        if intorder is not None and (int(intorder) != intorder or intorder < 1):
+            raise ValueError(f"intorder must be an integer >= 1 (got {intorder})")
+        check_mesh(mesh, f"mesh of {name!r}")  # folded, zero-area, non-convex elements
+        self.mesh = mesh
+        self.material = material
+        self.element = element
+        self.name = name
+        self._cell_type = cell_type
+        if intorder is None and element == "tri1":
+            # the centroid: exact for piecewise constant integrands (skfem's
+            # lowest triangle rule has three points)
+            kw = {"quadrature": (np.array([[1.0 / 3.0], [1.0 / 3.0]]), np.array([0.5]))}
+        else:
+            kw = {} if intorder is None else {"intorder": int(intorder)}
+        self.basis = Basis(mesh, ElementVector(elem_cls()), **kw)
+        self._kernel_data()
+        self.n_dofs = int(self.basis.N)
+        self._n_nodes = int(mesh.nvertices)
+        every = self.basis.get_dofs(elements=np.arange(mesh.nelements))
+        self.dof_component = np.zeros(self.n_dofs, dtype=np.int64)
+        self.dof_component[np.asarray(every.all(["u^2"]), dtype=np.int64)] = 1
+
+    def _kernel_data(self) -> None:
+        """Cache what every assembly needs: local dofs, components, ``dN`` and ``dx``."""
+        b = self.basis
+        self._edofs = np.asarray(b.element_dofs, dtype=np.int64)       # (n_loc, n_el)
+        grads = [np.asarray(b.basis[l][0].grad) for l in range(b.Nbfun)]  # (2, 2, n_el, n_qp)
+        self._comp = np.array([int(np.argmax(np.abs(g).sum(axis=(1, 2, 3)))) for g in grads])
+        self._dN = np.stack([g[c] for g, c in zip(grads, self._comp)])  # (n_loc, 2, n_el, n_qp)
+        self._dx = np.asarray(b.dx)                                      # (n_el, n_qp)
+        self._kidx: tuple[int, np.ndarray, np.ndarray] | None = None
+
+    def _tangent_index(self) -> tuple[np.ndarray, np.ndarray]:
+        """Global COO rows and columns of the element tangents ``(n_loc, n_loc, n_el)``,
+        built once per offset (the same arrays every call)."""
+        if self._kidx is None or self._kidx[0] != self.offset:
+            self._kidx = (self.offset,
+                          *element_coo(self.offset + self._edofs, elements_last=True))
+        return self._kidx[1], self._kidx[2]
+
+    def _grad_u(self, u: np.ndarray) -> np.ndarray:
+        """``Grad u`` on all quadrature points, ``(2, 2, n_el, n_qp)``, from the cached ``dN``."""
+        ue = u[self._edofs]                                              # (n_loc, n_el)
+        G = np.zeros((2,) + self._dN.shape[1:])
+        for c in (0, 1):
+            on = self._comp == c
+            G[c] = np.einsum("le,lJeq->Jeq", ue[on], self._dN[on])
+        return G
+
+    # -- geometry ----------------------------------------------------------
+    @property
+    def X(self) -> np.ndarray:
+        """Reference coordinates of the mesh vertices, shape ``(2, n_nodes)``."""
+        return self.mesh.p[:, :self.n_nodes]
+
+    @property
+    def n_nodes(self) -> int:
+        """Number of mesh vertices (quadratic meshes list their vertices first)."""
+        return self._n_nodes
+
+    @property
+    def node_dofs(self) -> np.ndarray:
+        """Local dofs of the vertices, ``(2, n_nodes)``: row 0 x-, row 1 y-dofs."""
+        return self.basis.nodal_dofs
+
+    def u(self, z: np.ndarray) -> np.ndarray:
+        """The body's block of ``z`` (all its displacement dofs)."""
+        return np.asarray(z)[self.dofs]
+
+    def x(self, z: np.ndarray) -> np.ndarray:
+        """Current vertex coordinates ``X + u``, shape ``(2, n_nodes)``."""
+        return self.X + self.u(z)[self.node_dofs]
+
+    def interpolate(self, fun: Callable[[np.ndarray], np.ndarray]) -> np.ndarray:
+        """Local dof vector of the nodal interpolant of ``u = fun(X)``.
+
+        ``fun`` maps reference points ``(2, n)`` to displacements ``(2, n)``.
+        """
+        pts = self.basis.doflocs
+        vals = np.asarray(fun(pts), dtype=float)
+        if vals.shape != pts.shape:
+            raise ValueError(f"fun must return an array of shape {pts.shape}")
+        return vals[self.dof_component, np.arange(self.n_dofs)]
+
+    def dofs_on(self, boundary: str | np.ndarray | Callable, component: int | str | None = None
+                ) -> np.ndarray:
+        """Local dofs on a boundary (vertex and, for quadratic elements, facet dofs).
+
+        Parameters
+        ----------
+        boundary : str, array of int or callable
+            A tag of ``mesh.boundaries``, an array of facet indices, or a
+            function ``f(x) -> bool array`` of facet midpoints ``x (2, n)``
+            (skfem's convention: interior facets are tested too).
+        component : {None, 0, 1, "x", "y"}
+            Both components (None) or only one.
+        """
+        if isinstance(boundary, str):
+            boundary_facets(self.mesh, boundary)        # an unknown tag raises
+        view = self.basis.get_dofs(boundary)
+        rows = _component_rows(component)
+        out = view.all() if rows is None else view.all(rows)
+        return np.unique(np.asarray(out, dtype=np.int64))
+
+    def dofs_at_nodes(self, nodes: np.ndarray, component: int | str | None = None
+                      ) -> np.ndarray:
+        """Local dofs of a set of vertices (indices into ``X``)."""
+        nodes = np.asarray(nodes, dtype=np.int64).ravel()
+        if nodes.size and (nodes.min() < 0 or nodes.max() >= self.n_nodes):
+            raise ValueError(f"nodes must lie in [0, {self.n_nodes})")
+        rows = _component_rows(component)
+        nd = self.node_dofs if rows is None else self.node_dofs[[0 if rows[0] == "u^1" else 1]]
+        return np.unique(nd[:, nodes].ravel().astype(np.int64))
+
+    # -- kinematics and stress at quadrature points ---------------------------
+    def deformation_gradient(self, z: np.ndarray) -> np.ndarray:
+        """``F = I + Grad u`` on all quadrature points, shape ``(2, 2, n_el, n_qp)``,
+        for the global unknowns ``z`` (every method taking ``z`` expects the global vector)."""
+        F = self._grad_u(np.asarray(self.u(z), dtype=float))
+        F[0, 0] += 1.0
+        F[1, 1] += 1.0
+        return F
+
+    def internal_force(self, z: np.ndarray) -> np.ndarray:
+        """Internal force ``int Grad v : P dV`` on the body's dofs (length ``n_dofs``)
+        at the global unknowns ``z``."""
+        P = self.material.stress(self.deformation_gradient(z))
+        return internal_force.assemble(self.basis, P=P)
+
+    def assemble(self, z: np.ndarray, load_factor: float, tangent: bool = True
+                 ) -> Contribution:
+        F = self.deformation_gradient(z)
+        P, A = self.material.stress_and_tangent(F, tangent=tangent)
+        dN, dx, comp = self._dN, self._dx, self._comp
+        # r_e[l] = sum_q P[c_l, J] dN[l, J] dx
+        re = np.einsum("lJeq,lJeq->le", P[comp], dN * dx)
+        r = np.bincount(self._edofs.ravel(), weights=re.ravel(), minlength=self.n_dofs)
+        if not tangent:
+            return Contribution.from_local(self.offset, r)
+        Adx = A * dx
+        n_loc = len(comp)
+        ke = np.empty((n_loc, n_loc, dN.shape[2]))
+        for l in range(n_loc):
+            # W[k, L] = sum_J dN[l, J] A[c_l, J, k, L] dx, then K_e[l, m] = W[c_m, L] dN[m, L]
+            W = dN[l, 0] * Adx[comp[l], 0] + dN[l, 1] * Adx[comp[l], 1]   # (2, 2, n_el, n_qp)
+            ke[l] = np.einsum("mLeq,mLeq->me", W[comp], dN)
+        rows, cols = self._tangent_index()
+        out = Contribution.from_local(self.offset, r)
+        out.k_rows, out.k_cols, out.k_vals = rows, cols, ke.ravel()
+        return out
+
+    def assemble_forms(self, z: np.ndarray, tangent: bool = True
+                       ) -> tuple[np.ndarray, sp.csr_matrix | None]:
+        """Residual and tangent on the body's dofs through the skfem forms
+        ``internal_force`` and ``material_stiffness`` (a reference for :meth:`assemble`)."""
+        F = self.deformation_gradient(z)
+        P, A = self.material.stress_and_tangent(F, tangent=tangent)
+        r = internal_force.assemble(self.basis, P=P)
+        if not tangent:
+            return r, None
+        return r, material_stiffness.assemble(self.basis, At=np.transpose(A, (2, 3, 0, 1, 4, 5)))
+
+    def reaction(self, R: np.ndarray, dofs: np.ndarray) -> float:
+        """Sum of the global residual ``R`` over the body's local ``dofs``.
+
+        At a prescribed dof ``R = f_int - f_ext`` is the force the support
+        exerts on the body.
+        """
+        return float(np.sum(np.asarray(R)[self.offset + np.asarray(dofs, dtype=np.int64)]))
+
+    # -- output ------------------------------------------------------------
+    def output_mesh(self) -> tuple[np.ndarray, list[tuple[str, np.ndarray]]]:
+        """Vertices ``(N, 2)`` and linear cells (corner nodes only)."""
+        # not skfem.io.meshio.to_meshio: identical on linear meshes, but on quadratic
+        # ones it gives triangle6/quad9 cells on all nodes; the fields are per vertex
+        nv = 3 if self._cell_type == "triangle" else 4
+        return self.X.T.copy(), [(self._cell_type, self.mesh.t[:nv].T.copy())]
+
+    def element_average(self, q: np.ndarray) -> np.ndarray:
+        """Volume average over each element of a quadrature array ``(..., n_el, n_qp)``."""
+        dx = self.basis.dx
+        return np.sum(q * dx, axis=-1) / np.sum(dx, axis=-1)
+
+    def output_data(self, z: np.ndarray) -> tuple[dict, dict]:
+        """Point data ``displacement`` (N, 2); cell data: element-averaged Cauchy
+        stress ``sigma_xx, sigma_yy, sigma_xy, sigma_zz`` and ``von_mises``."""
+        u = self.u(z)[self.node_dofs].T.copy()
+        F = self.deformation_gradient(z)
+        s, szz = self.material.cauchy(F)
+        vm = self.material.von_mises(F)
+        avg = self.element_average
+        cells = {"sigma_xx": [avg(s[0, 0])], "sigma_yy": [avg(s[1, 1])],
+                 "sigma_xy": [avg(s[0, 1])], "sigma_zz": [avg(szz)],
+                 "von_mises": [avg(vm)]}
+        return {"displacement": u}, cells

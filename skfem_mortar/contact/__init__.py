@@ -1,0 +1,17 @@
+"""The contact layer: gaps, multipliers and the KKT conditions.
+
+Oriented contact surfaces, rigid planes and circles (:mod:`.surfaces`), the contact search
+(:mod:`.search`), the contact discretization protocol and its registry (:mod:`.discretization`),
+node-to-segment (:mod:`.nts`) and mortar contact (:mod:`.mortar_method`, with the kernel in
+:mod:`.mortar`, :mod:`.mortar_segmentation` and :mod:`.jets`), the contact pair
+(:mod:`.pair`, :class:`ContactPair`), its evaluation record (:mod:`.contact_eval`), the active set
+(:mod:`.active_set`) and the preflight checks (:mod:`.preflight`).
+
+This package also stands for the former module ``skfem_mortar.contact`` (now :mod:`.pair`):
+every name of that module resolves here, lazily, to the same object.
+"""
+from .._former import forward
+
+__all__ = ["ContactPair", "METHODS"]
+
+__getattr__ = forward(__name__, __path__, "pair")

@@ -1,0 +1,51 @@
+"""The result of a contact discretization: gaps and their derivatives.
+
+The kernel of a contact discretization (NTS, mortar) is a pure function of
+the current coordinates of a slave and a master surface,
+
+    evaluate(xs, seg_s, xm, seg_m, lam=None, tangent=True, **options) -> ContactEval,
+
+and :class:`ContactEval` is what it returns (also what a
+:class:`~skfem_mortar.contact.discretization.ContactDiscretization` returns to the pair).  Local dof order of the surface
+pair: slave node k -> 2k (x), 2k + 1 (y); master node j -> 2 n_s + 2j,
+2 n_s + 2j + 1.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+import scipy.sparse as sp
+
+__all__ = ["ContactEval"]
+
+
+@dataclass
+class ContactEval:
+    """Gaps of the slave nodes and their first and second derivatives.
+
+    Attributes
+    ----------
+    g : ndarray (n_s,)
+        Gap of each slave node, ``g > 0`` open (NTS: the normal gap g_N;
+        mortar: the weighted gap g~_A).  Meaningless where ``mask`` is False.
+    G : csr_matrix (n_s, 2 n_s + 2 n_m)
+        ``dg/dx`` in the local dof order of the pair.
+    H : csr_matrix (2 n_s + 2 n_m, 2 n_s + 2 n_m) or None
+        ``sum_A lam_A d^2 g_A / dx^2``; only when ``lam`` was given and a tangent asked.
+    area : ndarray (n_s,)
+        Tributary length of each slave node (half the lengths of its slave
+        segments), used to turn a nodal force into a traction.
+    mask : ndarray (n_s,) of bool
+        Slave nodes that have a master partner; the others are kept inactive.
+    info : dict
+        Extra per-node arrays for output and tests (e.g. NTS ``xi``, ``segment``).
+    """
+
+    g: np.ndarray
+    G: sp.csr_matrix | None
+    H: sp.csr_matrix | None
+    area: np.ndarray
+    mask: np.ndarray
+    info: dict = field(default_factory=dict)
+

@@ -1,0 +1,228 @@
+"""The contact discretization protocol and the registry of contact methods.
+
+A :class:`~skfem_mortar.contact.pair.ContactPair` owns what every method shares:
+the multipliers, the complementarity function ``C = c g`` (active) / ``lam``
+(inactive) with its parameter and row scale, the active set, the KKT check and
+the checkpoint of those.  What differs between methods -- how the gaps of the
+slave nodes and their derivatives are computed from the positions, and what
+state that needs between iterations and steps -- is a *contact
+discretization*: an object with the hooks of :class:`ContactDiscretization`.
+The pair calls exactly these hooks, in this order::
+
+    d = make_method(method, slave, master, pair_name=name, **options)  # options checked here
+    d.set_pinned(mask)                    # before every step attempt (stepping: set_fixed)
+    d.set_reference(xs0, xm0)             # positions of the last converged state
+    d.begin_step(xs, xm, first)           # every attempt of a load step
+    ev = d.evaluate(xs, xm, lam, tangent) # every residual / tangent evaluation
+    d.after_iteration(ev)                 # after a Newton iteration's tangent evaluation
+    d.tail_signal(lam, ev)                # when the active set releases a tensile tail
+    d.end_step(xs, xm)                    # once a load step has converged
+    d.step_info(), d.failure_hint(), d.state_dict(), d.load_state_dict(state)
+
+A new method is one class and one :func:`register_method` call; nothing in
+the pair changes.  The built-ins are ``"nts"`` (:class:`skfem_mortar.contact.nts.NTS`),
+``"mortar"`` and ``"mortar-dual"`` (:class:`skfem_mortar.contact.mortar_method.Mortar`
+with ``dual=False`` / ``True``).
+"""
+from __future__ import annotations
+
+from typing import Any, Callable, Protocol, runtime_checkable
+
+import numpy as np
+
+from .contact_eval import ContactEval
+
+__all__ = ["ContactDiscretization", "register_method", "unregister_method", "make_method",
+           "registered_methods", "check_options", "check_entries", "METHODS"]
+
+
+@runtime_checkable
+class ContactDiscretization(Protocol):
+    """What a :class:`~skfem_mortar.contact.pair.ContactPair` asks of its contact method.
+
+    Implement every attribute and method below (or subclass this class, whose
+    methods are the defaults of a method without state).  Positions are the
+    current coordinates ``xs (2, n_s)`` of the slave and ``xm (2, n_m)`` of the
+    master nodes; local dof order as in :class:`~skfem_mortar.contact.contact_eval.ContactEval`.
+
+    Attributes
+    ----------
+    method : str
+        The registered name (used in messages).
+    multiplier_kind : {"force", "traction"}
+        What a multiplier is: a nodal force (NTS: the pair divides by the
+        tributary length for a pressure) or a traction (mortar: the weighted gap
+        is a gap times a length, and the pair scales ``c`` and the multiplier
+        rows by the mean tributary length).
+    multipliers_per_node : int
+        Multipliers per slave node (1: the normal; friction will need 2).
+    symmetric : bool
+        Whether ``H`` of :meth:`evaluate` is symmetric (a second derivative of
+        the gaps: True for the built-ins).
+    has_history : bool
+        Whether the method carries state from one load step to the next
+        (then :meth:`state_dict` is not empty and a checkpoint keeps it).
+    options : dict
+        The user options it was built with, checked at construction
+        (:func:`check_options`).
+    """
+
+    method: str
+    multiplier_kind: str
+    multipliers_per_node: int
+    symmetric: bool
+    has_history: bool
+    options: dict
+
+    def set_pinned(self, pinned: np.ndarray | None) -> None:
+        """Slave nodes (bool per node) whose two dofs are prescribed against a
+        rigid master: no unknown changes their gap, so they must be out of
+        ``mask`` in every later :meth:`evaluate` (NTS masks them; mortar makes
+        them crosspoints, their multiplier merged into the neighbour's).  None: none."""
+
+    def set_reference(self, xs0: np.ndarray | None, xm0: np.ndarray | None) -> None:
+        """The positions of the last converged state (at the first step: its
+        start; None before).  Mortar's search reach is measured from them."""
+
+    def begin_step(self, xs: np.ndarray, xm: np.ndarray, first: bool) -> None:
+        """Start (or retry) a load step at these positions; ``first``: no step
+        has converged before (no converged state to restore)."""
+
+    def evaluate(self, xs: np.ndarray, xm: np.ndarray, lam: np.ndarray | None,
+                 tangent: bool) -> ContactEval:
+        """Gaps ``g`` of the slave nodes, ``G = dg/dx`` (if ``tangent``),
+        ``H = sum_A lam_A d^2 g_A/dx^2`` (if ``tangent`` and ``lam`` is given),
+        ``mask`` (nodes with a master partner), ``area`` (tributary lengths).
+        Must not change the method's state (a line search calls it)."""
+        raise NotImplementedError
+
+    def after_iteration(self, ev: ContactEval) -> None:
+        """Told the evaluation of a Newton iteration (with its tangent), after
+        the active set's update (NTS: segment hysteresis, vertex trap)."""
+
+    def tail_signal(self, lam: np.ndarray, ev: Any) -> tuple[np.ndarray | None, bool]:
+        """What the extrapolated release of a tensile tail reads
+        (:meth:`~skfem_mortar.contact.active_set.ActiveSet.update`): ``(signal per slave
+        node, is_force)`` -- the multipliers ``(lam, False)``, or (standard mortar,
+        whose multipliers alternate in sign at a too-wide edge) the normal nodal
+        forces ``(f, True)``; ``(None, True)`` if ``ev`` has no ``G``."""
+        return lam, False
+
+    def end_step(self, xs: np.ndarray, xm: np.ndarray) -> None:
+        """A load step has converged at these positions."""
+
+    def step_info(self) -> dict:
+        """Numbers to add to the step's record (e.g. NTS ``segment_locks``)."""
+        return {}
+
+    def failure_hint(self) -> str:
+        """A likely cause of a failure that the geometry shows ("" if none known)."""
+        return ""
+
+    def state_dict(self) -> dict[str, np.ndarray]:
+        """The state that shapes the next load step, as named arrays ({} if none)."""
+        return {}
+
+    def load_state_dict(self, state: dict[str, np.ndarray]) -> None:
+        """Restore :meth:`state_dict`: ValueError naming the entry that does not
+        fit, and nothing changed then.  The pair has checked the key set."""
+
+
+#: factory(slave, master, pair_name=..., **options) -> ContactDiscretization
+Factory = Callable[..., ContactDiscretization]
+
+_REGISTRY: dict[str, Factory] = {}
+
+#: the registered method names (a live view, in registration order)
+METHODS = _REGISTRY.keys()
+
+
+def register_method(name: str, factory: Factory) -> None:
+    """Make ``ContactPair(..., method=name)`` build its discretization with
+    ``factory(slave, master, pair_name=<the pair's name>, **options)``
+    (``options``: the pair's extra keywords, plus ``segmentation`` when it
+    is not the default).  A name is registered once (ValueError otherwise)."""
+    if not isinstance(name, str) or not name:
+        raise ValueError(f"a method name must be a non-empty string, got {name!r}")
+    if name in _REGISTRY:
+        raise ValueError(f"method {name!r} is registered already")
+    if not callable(factory):
+        raise ValueError(f"the factory of method {name!r} must be callable")
+    _REGISTRY[name] = factory
+
+
+def unregister_method(name: str) -> None:
+    """Forget a registered method (KeyError if it is not registered)."""
+    del _REGISTRY[name]
+
+
+def registered_methods() -> tuple[str, ...]:
+    return tuple(_REGISTRY)
+
+
+def make_method(method: str, slave: Any, master: Any, pair_name: str = "contact",
+                **options: Any) -> ContactDiscretization:
+    """The discretization of the registered ``method`` (ValueError naming the
+    registered ones if it is not; the method checks its options)."""
+    if method not in _REGISTRY:
+        raise ValueError(f"method must be one of {', '.join(_REGISTRY)}, got {method!r}")
+    out = _REGISTRY[method](slave, master, pair_name=pair_name, **options)
+    if not isinstance(out, ContactDiscretization):
+        raise TypeError(f"the factory of method {method!r} returned {type(out).__name__}, "
+                        "which lacks hooks of ContactDiscretization")
+    if out.multiplier_kind not in ("force", "traction"):
+        raise ValueError(f"method {method!r}: multiplier_kind must be 'force' or 'traction', "
+                         f"got {out.multiplier_kind!r}")
+    if out.multipliers_per_node != 1:
+        raise ValueError(f"method {method!r}: {out.multipliers_per_node} multipliers per node; "
+                         "a frictionless ContactPair takes 1")
+    return out
+
+
+#: option name -> (check, allowed range as said in the refusal)
+OptionTable = dict[str, tuple[Callable[[Any], Any], str]]
+
+
+def check_options(method: str, options: dict, allowed: OptionTable) -> None:
+    """Refuse an unknown or out-of-range option (ValueError naming it)."""
+    for k, v in options.items():
+        if k not in allowed:
+            raise ValueError(f"unknown option {k!r} for method {method!r}; its options are "
+                             f"{sorted(allowed)}")
+        check, what = allowed[k]
+        try:
+            ok = bool(check(v))
+        except TypeError:
+            ok = False
+        if not ok:
+            raise ValueError(f"{k} must be {what}, got {v!r}")
+
+
+def check_entries(owner: str, state: dict[str, np.ndarray],
+                  shapes: dict[str, list[tuple]]) -> None:
+    """Checkpoint entries of the allowed shapes and finite (ValueError naming the entry)."""
+    for k, ok in shapes.items():
+        a = np.asarray(state[k])
+        if a.shape not in ok:
+            raise ValueError(f"{owner}: checkpoint entry {k!r} has shape {a.shape}, "
+                             f"expected one of {ok}")
+        if a.dtype.kind == "f" and not np.all(np.isfinite(a)):
+            raise ValueError(f"{owner}: checkpoint entry {k!r} is not finite")
+
+
+# -- the built-in methods (imported when first built: nts and mortar_method import this module)
+def _nts(slave: Any, master: Any, **options: Any) -> ContactDiscretization:
+    from .nts import NTS
+    return NTS(slave, master, **options)
+
+
+def _mortar(dual: bool) -> Factory:
+    def factory(slave: Any, master: Any, **options: Any) -> ContactDiscretization:
+        from .mortar_method import Mortar
+        return Mortar(slave, master, dual=dual, **options)
+    return factory
+
+
+register_method("nts", _nts)
+register_method("mortar", _mortar(False))
+register_method("mortar-dual", _mortar(True))

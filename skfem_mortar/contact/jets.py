@@ -1,0 +1,235 @@
+"""Forward-mode jets: a value with its exact gradient and Hessian.
+
+A :class:`Jet` carries ``v`` (values stacked over segments and Gauss points),
+``g`` (gradients with respect to the local coordinates of a mortar segment) and
+``h`` (Hessians). Arithmetic on jets applies the chain rule exactly, so every
+quantity composed from them (normals, projections, the mortar integrand) comes
+with exact first and second derivatives. Used by :mod:`mortar_segmentation` and
+:mod:`mortar`.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = ["Jet", "cross", "normalize", "value", "at_gauss", "constant_like", "inv", "sqrt", "where"]
+
+
+def _outer(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    return a[:, None] * b[None, :]
+
+
+def _zero(h: np.ndarray) -> bool:
+    """A Hessian known to vanish: the broadcast zero views made by ``Jet.variable``/``constant``."""
+    return h.strides[0] == 0
+
+
+def _acc(h: np.ndarray, t: np.ndarray) -> np.ndarray:
+    """``h + t``, in place when the shapes allow."""
+    if h.shape == np.broadcast_shapes(h.shape, t.shape):
+        h += t
+        return h
+    return h + t
+
+
+class Jet:
+    """A value with its gradient and Hessian w.r.t. ``nv`` local variables.
+
+    ``v`` has a shape ``S`` (e.g. ``(n_seg,)`` or ``(n_seg, n_gauss)``), ``g``
+    the shape ``(nv,) + S`` and ``h`` the shape ``(nv, nv) + S`` (variables
+    first, so that numpy's inner loops run over the long value axes); ``h`` is
+    None when only first derivatives are tracked.  To save the transposed
+    additions ``h`` is stored unsymmetrized: the Hessian is ``(h + h^T) / 2``
+    (products add ``2 g_a g_b^T`` instead of ``g_a g_b^T + g_b g_a^T``; every
+    rule is linear in ``h`` so this is exact), see :meth:`hessian`.
+    Arithmetic with plain floats or arrays of shape ``S`` treats those as
+    constants.
+    """
+
+    __slots__ = ("v", "g", "h")
+    __array_ufunc__ = None  # make numpy arrays defer to Jet's reflected operators
+
+    def __init__(self, v: np.ndarray, g: np.ndarray, h: np.ndarray | None):
+        self.v, self.g, self.h = v, g, h
+
+    # -- construction
+    @staticmethod
+    def variable(v: np.ndarray, i: int, nv: int, second: bool) -> "Jet":
+        """The independent variable number ``i`` (gradient e_i, Hessian 0), as broadcast views."""
+        v = np.asarray(v, dtype=float)
+        e = np.zeros((nv,) + (1,) * v.ndim)
+        e[i] = 1.0
+        g = np.broadcast_to(e, (nv,) + v.shape)
+        h = np.broadcast_to(np.zeros(()), (nv, nv) + v.shape) if second else None
+        return Jet(v, g, h)
+
+    @staticmethod
+    def constant(v: np.ndarray, nv: int, second: bool) -> "Jet":
+        """A constant (zero gradient and Hessian), as broadcast views."""
+        v = np.asarray(v, dtype=float)
+        g = np.broadcast_to(np.zeros(()), (nv,) + v.shape)
+        h = np.broadcast_to(np.zeros(()), (nv, nv) + v.shape) if second else None
+        return Jet(v, g, h)
+
+    # -- arithmetic
+    def __add__(self, o):
+        if isinstance(o, Jet):
+            h = None
+            if self.h is not None:   # (in-place updates only ever touch fresh arrays)
+                full = np.broadcast_shapes(self.h.shape, o.h.shape)
+                if _zero(o.h) and self.h.shape == full:
+                    h = self.h
+                elif _zero(self.h) and o.h.shape == full:
+                    h = o.h
+                else:
+                    h = self.h + o.h
+            return Jet(self.v + o.v, self.g + o.g, h)
+        return Jet(self.v + o, self.g, self.h)
+
+    __radd__ = __add__
+
+    def __neg__(self):
+        return Jet(-self.v, -self.g, None if self.h is None else -self.h)
+
+    def __sub__(self, o):
+        if isinstance(o, Jet):
+            h = None
+            if self.h is not None:
+                full = np.broadcast_shapes(self.h.shape, o.h.shape)
+                if _zero(o.h) and self.h.shape == full:
+                    h = self.h
+                else:
+                    h = self.h - o.h
+            return Jet(self.v - o.v, self.g - o.g, h)
+        return Jet(self.v - o, self.g, self.h)
+
+    def __rsub__(self, o):
+        return (-self) + o
+
+    def __mul__(self, o):
+        if isinstance(o, Jet):
+            g = self.g * o.v + o.g * self.v
+            h = None
+            if self.h is not None:
+                # stored unsymmetrized: sym(h) is the Hessian (see the class doc)
+                h = _outer(self.g, o.g * 2.0)
+                if not _zero(self.h):
+                    h = _acc(h, self.h * o.v)
+                if not _zero(o.h):
+                    h = _acc(h, o.h * self.v)
+            return Jet(self.v * o.v, g, h)
+        o = np.asarray(o, dtype=float)
+        h = None
+        if self.h is not None:
+            if _zero(self.h):
+                h = np.broadcast_to(np.zeros(()), np.broadcast_shapes(self.h.shape, o.shape))
+            else:
+                h = self.h * o
+        return Jet(self.v * o, self.g * o, h)
+
+    __rmul__ = __mul__
+
+    def _chain(self, f0, f1, f2) -> "Jet":
+        """``f(self)`` given ``f, f', f''`` evaluated at ``self.v``."""
+        h = None
+        if self.h is not None:
+            h = _outer(self.g, self.g * f2)
+            if not _zero(self.h):
+                h = _acc(h, self.h * f1)
+        return Jet(f0, self.g * f1, h)
+
+    def inv(self) -> "Jet":
+        """``1 / self``."""
+        r = 1.0 / self.v
+        return self._chain(r, -r * r, 2.0 * r * r * r)
+
+    def __truediv__(self, o):
+        if isinstance(o, Jet):
+            return self * o.inv()
+        return self * (1.0 / np.asarray(o, dtype=float))
+
+    def __rtruediv__(self, o):
+        return self.inv() * o
+
+    def sqrt(self) -> "Jet":
+        """``sqrt(self)``."""
+        s = np.sqrt(self.v)
+        return self._chain(s, 0.5 / s, -0.25 / (s * self.v))
+
+    def first(self) -> "Jet":
+        """The same jet without its Hessian (first derivatives only)."""
+        return Jet(self.v, self.g, None)
+
+    def hessian(self) -> np.ndarray:
+        """The symmetric Hessian ``(h + h^T) / 2``, shape ``(nv, nv) + S``."""
+        return 0.5 * (self.h + np.swapaxes(self.h, 0, 1))
+
+    # -- shape helpers
+    def expand(self) -> "Jet":
+        """Insert a Gauss-point axis after the segment axis: ``(n,) -> (n, 1)``."""
+        return Jet(self.v[:, None], self.g[..., None],
+                   None if self.h is None else self.h[..., None])
+
+    def sum(self, axis: int = 1) -> "Jet":
+        """Sum over a value axis (e.g. the Gauss points)."""
+        return Jet(self.v.sum(axis), self.g.sum(axis + 1),
+                   None if self.h is None else self.h.sum(axis + 2))
+
+    def take(self, idx) -> "Jet":
+        """Entries ``idx`` of the leading value axis."""
+        return Jet(self.v[idx], self.g[:, idx], None if self.h is None else self.h[:, :, idx])
+
+    @staticmethod
+    def where(cond: np.ndarray, a: "Jet", b: "Jet") -> "Jet":
+        """Elementwise ``cond ? a : b`` (both jets of the same variables)."""
+        c = np.asarray(cond)
+        v = np.where(c, a.v, b.v)
+        g = np.where(c, a.g, b.g)
+        h = None if a.h is None else np.where(c, a.h, b.h)
+        return Jet(v, g, h)
+
+
+def value(x):
+    """The value of a jet, or ``x`` itself."""
+    return x.v if isinstance(x, Jet) else x
+
+
+_val = value
+
+
+def cross(ax, ay, bx, by):
+    """2D cross product ``a x b = a_x b_y - a_y b_x`` (jets or arrays)."""
+    return ax * by - ay * bx
+
+
+def normalize(x, y):
+    """``(x, y) / |(x, y)|`` for jets."""
+    r = (x * x + y * y).sqrt().inv()
+    return x * r, y * r
+
+
+# -- helpers that take jets or plain arrays alike (the kernel's steps run on both)
+def at_gauss(c):
+    """A per-segment quantity ``(n,)`` with a Gauss-point axis: ``(n, 1)``."""
+    return c.expand() if isinstance(c, Jet) else np.asarray(c)[:, None]
+
+
+def constant_like(v, like):
+    """``v`` as a constant of the same kind as ``like`` (a jet of its variables, or an array)."""
+    if isinstance(like, Jet):
+        return Jet.constant(v, like.g.shape[0], like.h is not None)
+    return np.asarray(v, dtype=float)
+
+
+def where(cond, a, b):
+    """Elementwise ``cond ? a : b`` for jets or arrays."""
+    return Jet.where(cond, a, b) if isinstance(a, Jet) else np.where(cond, a, b)
+
+
+def inv(x):
+    """``1 / x`` for a jet or an array."""
+    return x.inv() if isinstance(x, Jet) else 1.0 / x
+
+
+def sqrt(x):
+    """``sqrt(x)`` for a jet or an array."""
+    return x.sqrt() if isinstance(x, Jet) else np.sqrt(x)

@@ -1,0 +1,453 @@
+"""Mortar geometry in 2D: slave normal field, projections, mortar segments.
+
+Steps 1 to 3 of the mortar kernel (:mod:`skfem_mortar.contact.mortar` holds steps 4
+to 8).  Every function is vectorized over elements (or mortar segments) and
+works on plain arrays and on the forward-mode jets of :mod:`skfem_mortar.contact.jets`,
+so the same code gives the values and their exact first and second
+derivatives.  Points and vectors are pairs ``(x, y)``.
+
+Step 1, slave normal field (:func:`nodal_normals`, :func:`slave_element`)
+-------------------------------------------------------------------------
+A slave segment ``e = (a, b)`` with tangent ``t = x_b - x_a`` has the outward
+unit normal ``nu_e = (t_y, -t_x) / |t|``.  The nodal normal of a slave node is
+the normalized average of the unit normals of its (one or two, degenerate ones
+left out) slave segments,
+``n_A = (nu_prev + nu_next) / |nu_prev + nu_next|``, and it is interpolated
+linearly (not normalized) along the slave segment,
+
+    x_s(xi) = N_1(xi) x_a + N_2(xi) x_b,   n~(xi) = N_1(xi) n_a + N_2(xi) n_b,
+    N_1 = (1 - xi)/2,  N_2 = (1 + xi)/2,   xi in [-1, 1].
+
+Step 2, projections along this field
+------------------------------------
+* :func:`project_point_on_slave` (a master node onto a slave element): the
+  ``xi`` solving ``(x_s(xi) - x_C) x n~(xi) = 0`` (``x`` the 2D cross
+  product), a quadratic in ``xi``, solved by Newton's method from the
+  flat-surface (linear) estimate.
+* :func:`project_on_master` (a slave point onto a master element): the line
+  ``x_m(s) = x_m1 + s (x_m2 - x_m1)`` (``s = N_2(xi2)`` in [0, 1]) meets
+  ``x_s(xi) + alpha n~(xi)`` where ``(x_m(s) - x_s) x n~ = 0``, linear in ``s``.
+
+Step 3, mortar segments (:func:`segment`, :func:`segment_end_points`)
+--------------------------------------------------------------------
+For a candidate pair (slave element e, master element m) whose unit normals
+face each other (``nu_e . nu_m < 0``), the two master nodes project to
+``p_1, p_2`` on e; the mortar segment is ``[xi_a, xi_b] = [max(-1, min p),
+min(1, max p)]`` in the slave parameter, and ``eta in [-1, 1]`` runs over it
+(step 4).  Only roots in [-1, 1] are used as
+values: a master node beyond an end of e (its master parameter past that of the
+slave end point projected onto the master line along its normal) counts as
+``p = +-inf``, clipped to that end; this decides far master nodes, whose
+quadratic has no real root or spurious ones against a turning normal field
+(a long master segment against a curved slave) (a slave node projecting inside the
+master element makes that slave end an end point; this is the projection of the
+slave nodes onto the master).  Segments with ``xi_b - xi_a <= XI_TOL`` are
+dropped (a segment that short contributes O(XI_TOL) to every integral, below
+round-off of the weighted gaps for elements of any practical size), as are
+slave or master elements shorter than ``LEN_TOL`` times the mean element
+length of their surface (degenerate, no normal).  Partial overlap at the ends
+of either surface is just the clipping above.
+
+Differentiation
+---------------
+:class:`Jet` carries a value with its gradient and Hessian with respect to a
+small set of local variables (the coordinates of the nodes a segment depends
+on), stacked over segments and Gauss points.  Composing jets applies the chain
+rule exactly, so first and second derivatives of every quantity of the mortar
+integral are exact.  Implicitly defined quantities (the projection of a master
+node, a root of a quadratic f) are differentiated by one Newton step in jet
+arithmetic started from the converged value (exact gradient) plus the
+second-order implicit-function term ``-c2 d^2 / f'`` (exact Hessian).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import NamedTuple
+
+import numpy as np
+
+from .jets import Jet, _outer, _val, at_gauss, constant_like, cross, inv, normalize, sqrt, where
+
+__all__ = ["Jet", "Segmentation", "segment", "nodal_normals", "SlaveElement",
+           "slave_element", "project_point_on_slave", "project_on_slave",
+           "MasterProjection", "project_on_master", "normal_length", "segment_end_points",
+           "XI_TOL", "LEN_TOL"]
+
+XI_TOL = 1e-10
+"""Mortar segments shorter than this in the slave parameter (of length 2) are dropped."""
+LEN_TOL = 1e-10
+"""Elements shorter than this times the mean element length are degenerate and dropped."""
+
+
+# ------------------------------------------------------ step 1: slave normal field
+def _unit_normal(x1, y1, x2, y2):
+    """Right-hand unit normal of the segment 1 -> 2 (jets)."""
+    return normalize(y2 - y1, x1 - x2)
+
+
+def nodal_normals(xs: np.ndarray, seg: np.ndarray, second: bool = True, nv: int = 6):
+    """Step 1: averaged unit normals of all slave nodes, as jets in the node's 6 local variables.
+
+    ``n_k = normalize(w_p nu(p, k) + w_n nu(k, n))`` with ``nu(i, j)`` the
+    right-hand unit normal of the segment ``i -> j``, ``p``, ``n`` the
+    previous and next node along the chain and ``w = 0`` where that neighbour is
+    missing (chain ends) or its segment is degenerate (shorter than ``LEN_TOL``
+    times the mean length); a dummy position is used there.  Local variables:
+    ``(x_p, y_p, x_k, y_k, x_n, y_n)``; with ``nv = 0`` values only.
+
+    Returns
+    -------
+    (nx, ny) : Jet (n_s,)
+    pnode, nnode : int ndarray (n_s,), the neighbours (the node itself where missing).
+    """
+    n_s = xs.shape[1]
+    ends = np.full(n_s, -1, dtype=np.int64)
+    starts = np.full(n_s, -1, dtype=np.int64)
+    ar = np.arange(seg.shape[0])
+    ends[seg[:, 1]] = ar
+    starts[seg[:, 0]] = ar
+    k = np.arange(n_s)
+    # degenerate (near zero length) segments take no part in the average
+    length = np.hypot(*(xs[:, seg[:, 1]] - xs[:, seg[:, 0]]))
+    good = length > LEN_TOL * (length.mean() if length.size else 0.0)
+    has_p = (ends >= 0) & good[np.maximum(ends, 0)]
+    has_n = (starts >= 0) & good[np.maximum(starts, 0)]
+    pnode = np.where(has_p, seg[np.maximum(ends, 0), 0], k)
+    nnode = np.where(has_n, seg[np.maximum(starts, 0), 1], k)
+    # a missing neighbour gets a dummy position (weight 0, any nonzero offset)
+    xk = xs
+    xp = np.where(has_p, xs[:, pnode], xk - [[1.0], [0.0]])
+    xn = np.where(has_n, xs[:, nnode], xk + [[1.0], [0.0]])
+    J = [Jet.variable(c, i, nv, second) if i < nv else Jet.constant(c, nv, second)
+         for i, c in enumerate((xp[0], xp[1], xk[0], xk[1], xn[0], xn[1]))]
+    npx, npy = _unit_normal(J[0], J[1], J[2], J[3])
+    nnx, nny = _unit_normal(J[2], J[3], J[4], J[5])
+    wp, wn = has_p * 1.0, has_n * 1.0
+    nx, ny = normalize(npx * wp + nnx * wn, npy * wp + nny * wn)
+    return (nx, ny), pnode, nnode
+
+
+class SlaveElement(NamedTuple):
+    """Step 1: position and normal field of slave elements, both linear in ``xi``.
+
+    ``x_s(xi) = x0 + xi dx`` and ``n~(xi) = n0 + xi dn`` on ``xi in [-1, 1]``,
+    with ``x0 = (x_a + x_b)/2``, ``dx = (x_b - x_a)/2``, ``n0 = (n_a + n_b)/2``,
+    ``dn = (n_b - n_a)/2`` (each a pair of arrays or jets, one entry per element).
+    """
+
+    x0: tuple
+    dx: tuple
+    n0: tuple
+    dn: tuple
+
+
+def slave_element(xa, xb, na, nb) -> SlaveElement:
+    """Step 1: the fields of :class:`SlaveElement` from the end nodes and their nodal normals."""
+    return SlaveElement(x0=((xa[0] + xb[0]) * 0.5, (xa[1] + xb[1]) * 0.5),
+                        dx=((xb[0] - xa[0]) * 0.5, (xb[1] - xa[1]) * 0.5),
+                        n0=((na[0] + nb[0]) * 0.5, (na[1] + nb[1]) * 0.5),
+                        dn=((nb[0] - na[0]) * 0.5, (nb[1] - na[1]) * 0.5))
+
+
+# ------------------------------------------------------------ step 2: projections
+def project_on_slave(el: SlaveElement, xc, n_newton: int = 8):
+    """Step 2: slave parameter ``xi`` of the projection of the point ``xc`` along ``n~``.
+
+    Solves ``f(xi) = (x_s(xi) - x_c) x n~(xi) = c0 + c1 xi + c2 xi^2 = 0``:
+    Newton on values from the linear estimate ``-c0 / c1``; with jet inputs then
+    one Newton step in jet arithmetic from the converged value plus the
+    second-order implicit function term, for exact first and second derivatives.
+
+    Returns
+    -------
+    xi : ndarray or Jet
+    ok : bool ndarray, whether the value iteration converged to a finite root.
+    """
+    d0x = el.x0[0] - xc[0]
+    d0y = el.x0[1] - xc[1]
+    (d1x, d1y), (n0x, n0y), (n1x, n1y) = el.dx, el.n0, el.dn
+    c0 = cross(d0x, d0y, n0x, n0y)
+    c1 = cross(d0x, d0y, n1x, n1y) + cross(d1x, d1y, n0x, n0y)
+    c2 = cross(d1x, d1y, n1x, n1y)
+    v0, v1, v2 = _val(c0), _val(c1), _val(c2)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        xi = -v0 / v1
+        for _ in range(n_newton):
+            xi = xi - (v0 + xi * (v1 + xi * v2)) / (v1 + 2.0 * xi * v2)
+        res = v0 + xi * (v1 + xi * v2)
+        scale = np.abs(v0) + np.abs(v1) + np.abs(v2)
+        ok = np.isfinite(xi) & (np.abs(res) <= 1e-10 * scale + 1e-300)
+    xi = np.where(ok, xi, 0.0)
+    if not isinstance(c0, Jet):
+        return xi, ok
+    # one Newton step in jets from the converged value xi0 (a constant):
+    #   xi1 = xi0 - f(xi0) / f'(xi0)            exact value and gradient;
+    # f is quadratic, so 0 = f(xi0) + f'(xi0) d + c2 d^2 for d = xi - xi0 and
+    #   xi = xi1 - c2 d^2 / f'(xi0) + O(|dq|^3),  d^2 having the Hessian 2 g g^T,
+    # which makes the Hessian exact too (implicit function theorem).
+    f0 = c0 + c1 * xi + c2 * (xi * xi)
+    df0 = c1 + c2 * (2.0 * xi)
+    xj = xi - f0 * df0.inv()
+    if xj.h is not None:
+        corr = -2.0 * c2.v / df0.v
+        xj = Jet(xj.v, xj.g, xj.h + _outer(xj.g, xj.g * corr))
+    return xj, ok
+
+
+def project_point_on_slave(xa, xb, na, nb, xc, n_newton: int = 8):
+    """Step 2: :func:`project_on_slave` on the element ``x_a, x_b`` with nodal normals ``n_a, n_b``.
+
+    Each argument is a pair ``(x, y)`` of arrays (values only) or of jets.
+    """
+    return project_on_slave(slave_element(xa, xb, na, nb), xc, n_newton)
+
+
+class MasterProjection(NamedTuple):
+    """Step 2: the slave points ``x_s(xi)`` projected along ``n~(xi)`` onto the master line.
+
+    ``x_s(xi) + alpha(xi) n~(xi) = x_m1 + s(xi) dm`` with ``dm = x_m2 - x_m1``;
+    crossing with ``dm`` and with ``n~``:
+
+        alpha(xi) = cross(x_m1 - x_s, dm) / cross(n~, dm) = (P0 + P1 xi) / (Q0 + Q1 xi),
+        s(xi)     = cross(x_m1 - x_s, n~) / cross(n~, dm),
+
+    ``x_m1 - x_s(xi) = r0 - xi dx`` with ``r0 = x_m1 - x0``; ``P0 = cross(r0, dm)``,
+    ``P1 = -cross(dx, dm)``, ``Q0 = cross(n0, dm)``, ``Q1 = cross(dn, dm)``.
+    The master shape functions at the projected point are ``N_m1 = 1 - s``,
+    ``N_m2 = s`` (``xi2 = 2 s - 1``).  Exact wherever ``s`` is not linear in
+    ``xi`` (a curved slave normal field): no interpolation of ``xi2`` in eta.
+    """
+
+    el: SlaveElement
+    r0: tuple
+    P0: object
+    P1: object
+    Q0: object
+    Q1: object
+
+    def alpha(self, xi):
+        """``alpha(xi)`` at Gauss points ``xi`` (n, n_gauss): the distance along ``n~``."""
+        E = at_gauss
+        return (E(self.P0) + E(self.P1) * xi) * inv(E(self.Q0) + E(self.Q1) * xi)
+
+    def s(self, xi):
+        """``s(xi)`` at Gauss points (values): the master parameter, 0 at x_m1 and 1 at x_m2."""
+        V = lambda j: _val(j)[:, None]  # noqa: E731
+        (d1x, d1y), (n0x, n0y), (n1x, n1y) = self.el.dx, self.el.n0, self.el.dn
+        nxv, nyv = V(n0x) + V(n1x) * xi, V(n0y) + V(n1y) * xi
+        return ((V(self.r0[0]) - V(d1x) * xi) * nyv - (V(self.r0[1]) - V(d1y) * xi) * nxv) / (
+            V(self.Q0) + V(self.Q1) * xi)
+
+
+def project_on_master(el: SlaveElement, xm1, xm2) -> MasterProjection:
+    """Step 2: the coefficients of :class:`MasterProjection` for master elements ``(x_m1, x_m2)``."""
+    d1x, d1y = el.dx
+    r0x, r0y = xm1[0] - el.x0[0], xm1[1] - el.x0[1]
+    dmx, dmy = xm2[0] - xm1[0], xm2[1] - xm1[1]
+    return MasterProjection(el=el, r0=(r0x, r0y),
+                            P0=cross(r0x, r0y, dmx, dmy), P1=-cross(d1x, d1y, dmx, dmy),
+                            Q0=cross(el.n0[0], el.n0[1], dmx, dmy),
+                            Q1=cross(el.dn[0], el.dn[1], dmx, dmy))
+
+
+def normal_length(el: SlaveElement, xi):
+    """``|n~(xi)| = sqrt(R0 + R1 xi + R2 xi^2)`` at Gauss points ``xi`` (n, n_gauss)."""
+    (n0x, n0y), (n1x, n1y) = el.n0, el.dn
+    E = at_gauss
+    R0 = n0x * n0x + n0y * n0y
+    R1 = (n0x * n1x + n0y * n1y) * 2.0
+    R2 = n1x * n1x + n1y * n1y
+    return sqrt(E(R0) + (E(R1) + E(R2) * xi) * xi)
+
+
+# ------------------------------------------------------- step 3: mortar segments
+def segment_end_points(el: SlaveElement, xm1, xm2, src: np.ndarray):
+    """Step 3: end points ``xi_a, xi_b`` of mortar segments on their slave elements.
+
+    ``xi_a = -1`` where ``src[:, 0] == -1`` (the segment starts at the slave
+    node a), else ``p_1`` or ``p_2`` (``src`` 0 or 1), the projection
+    (:func:`project_on_slave`) of the master node ``x_m1`` or ``x_m2``; likewise
+    ``xi_b`` with ``+1`` and ``src[:, 1]``.  ``src`` comes from
+    :func:`segment`; with jets the end points carry the exact derivatives of
+    the projections.  The mortar segment is mapped onto ``eta in [-1, 1]`` by
+    ``xi1(eta) = (1 - eta)/2 xi_a + (1 + eta)/2 xi_b`` (step 4).
+
+    Returns
+    -------
+    xi_a, xi_b : ndarray or Jet (n,)
+    """
+    p1, _ = project_on_slave(el, xm1)
+    p2, _ = project_on_slave(el, xm2)
+    n = src.shape[0]
+    minus, plus = constant_like(-np.ones(n), p1), constant_like(np.ones(n), p1)
+    lo = where(src[:, 0] == -1, minus, where(src[:, 0] == 0, p1, p2))
+    hi = where(src[:, 1] == -1, plus, where(src[:, 1] == 0, p1, p2))
+    return lo, hi
+
+
+@dataclass
+class Segmentation:
+    """Mortar segments of a slave/master surface pair (values, no derivatives).
+
+    Attributes
+    ----------
+    e_s, e_m : int ndarray (n_mseg,)
+        Slave and master element of each mortar segment.
+    xi : ndarray (n_mseg, 2)
+        Slave parameters ``xi_a < xi_b`` of the segment end points on ``e_s``.
+    src : int ndarray (n_mseg, 2)
+        Where each end point comes from: -1 a slave node (``xi = -+1``), 0 or 1
+        the projection of the first or second master node of ``e_m``.
+    elem_xi : ndarray (n_seg_s, 2)
+        Projectable part ``[l, h]`` of each slave element (union of its
+        segments, assumed connected); ``[1, -1]`` where it has none.
+    elem_node : int ndarray (n_seg_s, 2)
+        The master node whose projection gives ``l`` (resp. ``h``), -1 for a
+        slave end.
+    frozen : bool
+        When passed to ``evaluate``, whether end points are frozen (policy
+        ``step``) or only the pair list is reused and end points are recomputed.
+    """
+
+    e_s: np.ndarray
+    e_m: np.ndarray
+    xi: np.ndarray
+    src: np.ndarray
+    elem_xi: np.ndarray
+    elem_node: np.ndarray
+    frozen: bool = True
+
+    @property
+    def n(self) -> int:
+        """Number of mortar segments."""
+        return int(self.e_s.size)
+
+
+def _element_lengths(x: np.ndarray, seg: np.ndarray) -> np.ndarray:
+    d = x[:, seg[:, 1]] - x[:, seg[:, 0]]
+    return np.hypot(d[0], d[1])
+
+
+def _side(p, ok, dsa, dsb, dab):
+    """Projection ``p`` of a master node, ``+-inf`` where it is outside [-1, 1] or missing.
+
+    ``dsa = s_k - s_a``, ``dsb = s_k - s_b``, ``dab = s_b - s_a`` (master
+    parameters, see :func:`segment`): ``+inf`` where the node lies beyond the
+    slave end b, ``-inf`` beyond a (this overrides any root: against a turning
+    normal field the quadratic may have spurious roots, behind the centre of
+    curvature, of either sign), else the root if it is in [-1, 1] or its sign.
+    Returns ``(p, ok)`` with ``ok`` False where neither a root nor a side is found.
+    """
+    beyond_b = dsb * dab > 0.0
+    beyond_a = dsa * dab < 0.0
+    decided = beyond_a ^ beyond_b
+    inside = ok & (np.abs(p) <= 1.0) & ~decided
+    far = np.where(decided, np.where(beyond_b, np.inf, -np.inf), np.copysign(np.inf, p))
+    return np.where(inside, p, far), inside | decided | ok
+
+
+def segment(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarray,
+            pairs: tuple[np.ndarray, np.ndarray] | None = None, margin: float | None = None,
+            frozen: bool = True, reach: float = 0.0) -> Segmentation:
+    """Step 3: the mortar segments of the current coordinates (values, vectorized over pairs).
+
+    Parameters
+    ----------
+    xs, xm : ndarray (2, n_s), (2, n_m)
+        Current slave and master node coordinates.
+    seg_s, seg_m : int ndarray (n, 2)
+        Slave and master segments, oriented with outward right-hand normals.
+    pairs : (i_s, i_m), optional
+        Candidate element pairs; by default ``search.segment_pairs`` with ``margin``.
+    margin : float, optional
+        Global search margin: every pair of boxes within ``margin``.  Default:
+        local, a slave element ``i`` and a master element ``j`` are candidates
+        when their boxes come within ``l_i + l_j + reach`` (``l`` the element
+        lengths).  The kept pairs are those whose projections overlap, which
+        only needs the boxes to come within the gap; the default holds every
+        pair with a gap (or a penetration) up to the two element lengths plus
+        ``reach``.  Beyond that a slave node has no master partner and is
+        inactive (an open gap of more than an element length).
+    frozen : bool
+        Stored in the result (see :class:`Segmentation`).
+    reach : float
+        Added to the local margin (>= 0): :class:`~skfem_mortar.contact.pair.ContactPair`
+        passes twice the largest motion of a contact node since the load step
+        began, so a node that penetrates deeply within one step is still paired.
+
+    Returns
+    -------
+    Segmentation
+    """
+    xs = np.asarray(xs, dtype=float).reshape(2, -1)
+    xm = np.asarray(xm, dtype=float).reshape(2, -1)
+    seg_s = np.asarray(seg_s, dtype=np.int64).reshape(-1, 2)
+    seg_m = np.asarray(seg_m, dtype=np.int64).reshape(-1, 2)
+    ls, lm = _element_lengths(xs, seg_s), _element_lengths(xm, seg_m)
+    if pairs is None:
+        from .search import segment_pairs
+        if margin is None:
+            pairs = segment_pairs(xs, seg_s, xm, seg_m, float(reach), ls, lm)
+        else:
+            pairs = segment_pairs(xs, seg_s, xm, seg_m, margin)
+    i_s = np.asarray(pairs[0], dtype=np.int64)
+    i_m = np.asarray(pairs[1], dtype=np.int64)
+    good_s = ls > LEN_TOL * max(ls.mean() if ls.size else 0.0, 1e-300)
+    good_m = lm > LEN_TOL * max(lm.mean() if lm.size else 0.0, 1e-300)
+    keep = good_s[i_s] & good_m[i_m]
+    i_s, i_m = i_s[keep], i_m[keep]
+
+    (nxv, nyv), _, _ = nodal_normals(xs, seg_s, second=False, nv=0)
+    a, b = seg_s[i_s, 0], seg_s[i_s, 1]
+    xa, xb = xs[:, a], xs[:, b]
+    na = (nxv.v[a], nyv.v[a])
+    nb = (nxv.v[b], nyv.v[b])
+    # facing test with the master element's unit normal
+    m1, m2 = xm[:, seg_m[i_m, 0]], xm[:, seg_m[i_m, 1]]
+    tm = m2 - m1
+    ts = xb - xa
+    facing = (ts[0] * tm[0] + ts[1] * tm[1]) < 0.0   # nu_s . nu_m = t_s . t_m / (|t_s| |t_m|)
+    xa_, xb_ = (xa[0], xa[1]), (xb[0], xb[1])
+    p1, ok1 = project_point_on_slave(xa_, xb_, na, nb, (m1[0], m1[1]))
+    p2, ok2 = project_point_on_slave(xa_, xb_, na, nb, (m2[0], m2[1]))
+    # A master node whose projection is outside [-1, 1] (or has no root at all: a
+    # far node against a turning normal field) only matters through its side of
+    # the slave element, decided by the master parameters s_a, s_b of the slave
+    # end points projected along their normals onto the master line (s = 0 at
+    # m1, 1 at m2): beyond b if s_k lies past s_b, beyond a if past s_a.  Its end
+    # point is then clipped at +-1 (a constant); p = +-1 is s_k = s_b or s_a, so
+    # the choice is continuous with the root.
+    with np.errstate(divide="ignore", invalid="ignore"):
+        sa = ((m1[0] - xa[0]) * na[1] - (m1[1] - xa[1]) * na[0]) / (na[0] * tm[1] - na[1] * tm[0])
+        sb = ((m1[0] - xb[0]) * nb[1] - (m1[1] - xb[1]) * nb[0]) / (nb[0] * tm[1] - nb[1] * tm[0])
+        dab = sb - sa
+        p1, ok1 = _side(p1, ok1, 0.0 - sa, 0.0 - sb, dab)
+        p2, ok2 = _side(p2, ok2, 1.0 - sa, 1.0 - sb, dab)
+    lo = np.maximum(-1.0, np.minimum(p1, p2))
+    hi = np.minimum(1.0, np.maximum(p1, p2))
+    src_lo = np.where(lo == -1.0, -1, np.where(p1 <= p2, 0, 1))
+    src_hi = np.where(hi == 1.0, -1, np.where(p1 <= p2, 1, 0))
+    keep = facing & ok1 & ok2 & (hi - lo > XI_TOL)
+    e_s, e_m = i_s[keep], i_m[keep]
+    xi = np.stack([lo[keep], hi[keep]], axis=1)
+    src = np.stack([src_lo[keep], src_hi[keep]], axis=1)
+
+    # projectable part of each slave element: extreme end points of its segments
+    n_es = seg_s.shape[0]
+    elem_xi = np.tile(np.array([1.0, -1.0]), (n_es, 1))
+    elem_node = np.full((n_es, 2), -1, dtype=np.int64)
+    if e_s.size:
+        node_lo = np.where(src[:, 0] >= 0, seg_m[e_m, np.maximum(src[:, 0], 0)], -1)
+        node_hi = np.where(src[:, 1] >= 0, seg_m[e_m, np.maximum(src[:, 1], 0)], -1)
+        o = np.lexsort((xi[:, 0], e_s))          # first of each element: smallest xi_a
+        first = np.ones(o.size, bool)
+        first[1:] = e_s[o[1:]] != e_s[o[:-1]]
+        elem_xi[e_s[o[first]], 0] = xi[o[first], 0]
+        elem_node[e_s[o[first]], 0] = node_lo[o[first]]
+        o = np.lexsort((-xi[:, 1], e_s))         # first of each element: largest xi_b
+        first = np.ones(o.size, bool)
+        first[1:] = e_s[o[1:]] != e_s[o[:-1]]
+        elem_xi[e_s[o[first]], 1] = xi[o[first], 1]
+        elem_node[e_s[o[first]], 1] = node_hi[o[first]]
+    return Segmentation(e_s=e_s, e_m=e_m, xi=xi, src=src, elem_xi=elem_xi,
+                        elem_node=elem_node, frozen=frozen)

@@ -1,0 +1,463 @@
+"""Node-to-segment (NTS) contact: closest-point projection, normal gap and its derivatives.
+
+For a slave node ``x`` and the master segment ``(x_1, x_2)`` it projects on,
+
+    t  = x_2 - x_1,   l = |t|,   e = t / l,   n = (t_y, -t_x) / l   (outward master normal)
+    xi = (x - x_1) . t / l^2                                      (closest-point parameter)
+    g  = [x - (1 - xi) x_1 - xi x_2] . n = (x - x_1) . n          (normal gap, > 0 open)
+
+With ``q = [x, x_1, x_2]`` (6 unknowns) the first variation, which includes the
+variations of ``xi`` and ``n`` (they cancel exactly because ``t . n = 0`` and
+``(x - x^M) || n``), is
+
+    dg/dq = [n; -(1 - xi) n; -xi n]
+
+and the second variation is the symmetric 6 x 6 matrix
+
+    d^2 g/dq^2 = (a c^T + c a^T) / l - (g / l^2) a a^T,
+    a = [0; n; -n],   c = [e; -(1 - xi) e; -xi e]
+
+(from ``dn/dt = -e n^T / l`` and ``dxi/dq = c / l - (g / l^2) a``).
+
+Projection and partner search
+-----------------------------
+Every call redoes the search (:func:`skfem_mortar.contact.search.node_segment_pairs`,
+O(n log n)): candidates are the master segments whose bounding boxes, inflated
+by ``margin``, contain the slave node, plus the two segments at the master
+vertex nearest to it (a kd-tree query), so a node far from every box (deep
+penetration after a large Newton step) still finds its partner.  Of the
+candidates the one at the smallest distance from its clipped projection
+``x^M(clip(xi, 0, 1))`` wins; ties (a node facing a convex vertex between two
+segments, both clipped to it) go to the segment whose unclipped ``xi`` is
+nearest to ``[0, 1]``.  The gap is then the distance to that segment's line
+with the unclipped ``xi`` (a smooth function for a fixed segment; the switch of
+segment at a vertex makes g_N non-smooth there -- the known NTS defect;
+:class:`NTS` passes the previous iteration's segments as ``prefer`` so that a
+node keeps its segment within a small hysteresis ``stick``).  A node
+whose projection falls off the free end of an open master chain
+(``xi < -end_tolerance`` on the first segment or ``xi > 1 + end_tolerance`` on
+the last) has left the master surface: ``mask`` is False and it stays inactive.
+
+Two-pass NTS is left out on purpose: with both surfaces acting as slave and
+master, a matching (or nearly matching) interface gets two nearly identical
+constraints per node pair, the multiplier block becomes rank deficient and the
+saddle-point system singular (or ill-conditioned) -- exactly the case of the
+patch test.  Single pass with the finer surface as slave is the usual remedy.
+"""
+from __future__ import annotations
+
+import logging
+from typing import Any
+
+import numpy as np
+import scipy.sparse as sp
+from scipy.spatial import cKDTree
+
+from .contact_eval import ContactEval
+from .discretization import ContactDiscretization, OptionTable, check_entries, check_options
+from .search import node_segment_pairs
+from .surfaces import segment_normals, tributary_lengths
+
+__all__ = ["NTS", "evaluate", "project", "LOCK_STICK", "COARSE_RATIO", "failure_hints",
+           "nearest_nodes", "vertex_trap"]
+
+log = logging.getLogger("skfem_mortar.contact.pair")  # the pair's log, as before the split
+
+LOCK_STICK = 0.5
+"""Hysteresis width (fraction of the segment length) of a node locked at a reflex vertex."""
+
+
+def _check(x: np.ndarray, seg: np.ndarray, what: str) -> tuple[np.ndarray, np.ndarray]:
+    x = np.asarray(x, dtype=float)
+    if x.ndim != 2 or x.shape[0] != 2:
+        raise ValueError(f"{what} coordinates must have shape (2, n), got {x.shape}")
+    seg = np.asarray(seg, dtype=np.int64).reshape(-1, 2)
+    if seg.size and (seg.min() < 0 or seg.max() >= x.shape[1]):
+        raise ValueError(f"{what} segments must index nodes in [0, {x.shape[1]})")
+    return x, seg
+
+
+def project(xs: np.ndarray, xm: np.ndarray, seg_m: np.ndarray, margin: float | None = None,
+            end_tolerance: float = 1e-8, prefer: np.ndarray | None = None,
+            stick: float = 0.05, lock: np.ndarray | None = None) -> dict:
+    """Closest-point projection of every slave node on the master chain.
+
+    Parameters
+    ----------
+    xs : ndarray (2, n_s)
+        Slave node coordinates.
+    xm : ndarray (2, n_m)
+        Master node coordinates.
+    seg_m : int ndarray (n_seg, 2)
+        Master segments, oriented (outward normal on the right).
+    margin : float, optional
+        Box inflation of the search (default: the median master segment length).
+    end_tolerance : float
+        Tolerance on ``xi`` at the free ends of an open master chain (>= 0).
+    prefer : int ndarray (n_s,), optional
+        The segment of each node at the previous iteration (-1: none).  It is
+        kept while the node's ``xi`` on it stays in ``[-stick, 1 + stick]``
+        (hysteresis: a node at a master vertex with a kink would otherwise
+        jump between the two segments from one Newton iteration to the next
+        and Newton would never converge).
+    stick : float
+        Hysteresis width, a fraction of the segment length (>= 0).
+    lock : bool ndarray (n_s,), optional
+        Nodes that keep their ``prefer`` segment while their ``xi`` stays in
+        ``[-LOCK_STICK, 1 + LOCK_STICK]`` (the closest-point projection then
+        continues onto the segment's extension line).  Used by
+        :class:`NTS` for a node caught at a reflex vertex of the master (see docs/robustness.md).
+
+    Returns
+    -------
+    dict with ``segment`` (n_s,) master segment index, ``xi`` (n_s,) unclipped
+    parameter, ``mask`` (n_s,) bool, ``n``/``e`` (2, n_s) master normal and
+    tangent, ``l`` (n_s,) segment length, ``g`` (n_s,) normal gap.
+    """
+    if not (np.isfinite(stick) and stick >= 0):
+        raise ValueError(f"stick must be a finite number >= 0, got {stick}")
+    if not (np.isfinite(end_tolerance) and end_tolerance >= 0):
+        raise ValueError(f"end_tolerance must be a finite number >= 0, got {end_tolerance}")
+    n_s, n_m = xs.shape[1], xm.shape[1]
+    nrm, lm = segment_normals(xm, seg_m)
+    if margin is None:
+        margin = float(np.median(lm)) if lm.size else 0.0
+    i_n, i_e = node_segment_pairs(xs, xm, seg_m, margin)
+    # the segments at the nearest master vertex (covers nodes far from all boxes)
+    seg_of_start = np.full(n_m, -1, dtype=np.int64)
+    seg_of_end = np.full(n_m, -1, dtype=np.int64)
+    seg_of_start[seg_m[:, 0]] = np.arange(len(seg_m))
+    seg_of_end[seg_m[:, 1]] = np.arange(len(seg_m))
+    _, jn = cKDTree(xm.T).query(xs.T)
+    k2 = np.concatenate([np.arange(n_s), np.arange(n_s)])
+    e2 = np.concatenate([seg_of_start[jn], seg_of_end[jn]])
+    ok = e2 >= 0
+    i_n = np.concatenate([i_n, k2[ok]])
+    i_e = np.concatenate([i_e, e2[ok]])
+    key = np.unique(i_n * len(seg_m) + i_e)
+    i_n, i_e = key // len(seg_m), key % len(seg_m)
+    # projection on each candidate
+    x1, x2 = xm[:, seg_m[i_e, 0]], xm[:, seg_m[i_e, 1]]
+    t = x2 - x1
+    l2 = np.sum(t * t, axis=0)
+    d1 = xs[:, i_n] - x1
+    xi = np.sum(d1 * t, axis=0) / l2
+    xp = np.where(xi <= 0, x1, np.where(xi >= 1, x2, x1 + xi * t))
+    dist = np.hypot(*(xs[:, i_n] - xp))
+    over = np.maximum(np.maximum(-xi, xi - 1.0), 0.0)
+    if prefer is not None:
+        prefer = np.asarray(prefer, dtype=np.int64).ravel()
+        if prefer.shape != (n_s,):
+            raise ValueError(f"prefer must have shape ({n_s},), got {prefer.shape}")
+        inside = (xi >= -stick) & (xi <= 1.0 + stick)
+        if lock is not None:
+            lock = np.asarray(lock, dtype=bool).ravel()
+            if lock.shape != (n_s,):
+                raise ValueError(f"lock must have shape ({n_s},), got {lock.shape}")
+            inside |= lock[i_n] & (xi >= -LOCK_STICK) & (xi <= 1.0 + LOCK_STICK)
+        keep = (i_e == prefer[i_n]) & inside
+    else:
+        keep = np.zeros(i_n.shape, dtype=bool)
+    order = np.lexsort((over, dist, ~keep, i_n))
+    first = np.unique(i_n[order], return_index=True)[1]
+    best = order[first]
+    k, e, xi = i_n[best], i_e[best], xi[best]
+    segment = np.full(n_s, -1, dtype=np.int64)
+    segment[k] = e
+    xi_all = np.zeros(n_s)
+    xi_all[k] = xi
+    mask = segment >= 0
+    # has the node left the free end of an open master chain?
+    is_first = seg_of_end[seg_m[:, 0]] < 0
+    is_last = seg_of_start[seg_m[:, 1]] < 0
+    es = np.where(mask, segment, 0)
+    off = (is_first[es] & (xi_all < -end_tolerance)) | (is_last[es] & (xi_all > 1 + end_tolerance))
+    mask &= ~off
+    n = nrm[:, es]
+    l = lm[es]
+    ev = (xm[:, seg_m[es, 1]] - xm[:, seg_m[es, 0]]) / l
+    g = np.sum((xs - xm[:, seg_m[es, 0]]) * n, axis=0)
+    g = np.where(mask, g, 0.0)
+    return {"segment": np.where(mask, segment, -1), "xi": xi_all, "mask": mask,
+            "n": n, "e": ev, "l": l, "g": g}
+
+
+def evaluate(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarray,
+             lam: np.ndarray | None = None, tangent: bool = True,
+             margin: float | None = None, end_tolerance: float = 1e-8,
+             prefer: np.ndarray | None = None, stick: float = 0.05,
+             lock: np.ndarray | None = None) -> ContactEval:
+    """NTS gaps ``g_N`` of the slave nodes, ``G = dg/dx`` and ``H = sum_k lam_k d^2 g_k/dx^2``.
+
+    Parameters
+    ----------
+    xs, seg_s : slave coordinates (2, n_s) and segments (n_seg_s, 2)
+    xm, seg_m : master coordinates (2, n_m) and segments (n_seg_m, 2)
+    lam : ndarray (n_s,), optional
+        Nodal contact forces (multipliers); needed for ``H``.
+    tangent : bool
+        Whether to build ``G`` (and ``H`` when ``lam`` is given).
+    margin, end_tolerance, prefer, stick, lock : see :func:`project`.
+
+    Returns
+    -------
+    ContactEval
+        Local dof order: slave node k -> 2k, 2k+1; master node j -> 2 n_s + 2j, 2 n_s + 2j + 1.
+        ``area`` is the tributary length of each slave node; ``info`` holds
+        ``xi``, ``segment`` and ``normal``.
+    """
+    xs, seg_s = _check(xs, seg_s, "slave")
+    xm, seg_m = _check(xm, seg_m, "master")
+    n_s, n_m = xs.shape[1], xm.shape[1]
+    if lam is not None:
+        lam = np.asarray(lam, dtype=float).ravel()
+        if lam.shape != (n_s,):
+            raise ValueError(f"lam must have shape ({n_s},), got {lam.shape}")
+    pr = project(xs, xm, seg_m, margin, end_tolerance, prefer, stick, lock)
+    mask, g, xi, n, e, l = pr["mask"], pr["g"], pr["xi"], pr["n"], pr["e"], pr["l"]
+    area = tributary_lengths(xs, seg_s)
+    info = {"xi": xi, "segment": pr["segment"], "normal": n}
+    ndof = 2 * n_s + 2 * n_m
+    if not tangent:
+        return ContactEval(g=g, G=None, H=None, area=area, mask=mask, info=info)
+    k = np.flatnonzero(mask)
+    es = pr["segment"][k]
+    j1, j2 = seg_m[es, 0], seg_m[es, 1]
+    dofs = np.column_stack([2 * k, 2 * k + 1,
+                            2 * n_s + 2 * j1, 2 * n_s + 2 * j1 + 1,
+                            2 * n_s + 2 * j2, 2 * n_s + 2 * j2 + 1])  # (m, 6)
+    nk, ek, xk = n[:, k].T, e[:, k].T, xi[k][:, None]  # (m, 2)
+    dg = np.hstack([nk, -(1 - xk) * nk, -xk * nk])  # (m, 6)
+    G = sp.csr_matrix((dg.ravel(), (np.repeat(k, 6), dofs.ravel())), shape=(n_s, ndof))
+    H = None
+    if lam is not None:
+        a = np.hstack([np.zeros_like(nk), nk, -nk])
+        c = np.hstack([ek, -(1 - xk) * ek, -xk * ek])
+        lk, gk = l[k][:, None, None], g[k][:, None, None]
+        ac = a[:, :, None] * c[:, None, :]
+        h = (ac + ac.transpose(0, 2, 1)) / lk - gk / lk**2 * (a[:, :, None] * a[:, None, :])
+        h *= lam[k][:, None, None]
+        H = sp.csr_matrix((h.ravel(), (np.repeat(dofs, 6, axis=1).ravel(),
+                                       np.tile(dofs, (1, 6)).ravel())), shape=(ndof, ndof))
+    return ContactEval(g=g, G=G, H=H, area=area, mask=mask, info=info)
+
+
+def _lengths(surface) -> np.ndarray:
+    return np.hypot(*np.diff(surface.X[:, surface.segments], axis=2)[:, :, 0])
+
+
+def nearest_nodes(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarray,
+                  band: float = 1.0) -> tuple[np.ndarray, dict]:
+    """The slave nodes nearest the master, with their closest-point projections.
+
+    With ``d_k`` the distance of slave node ``k`` from its clipped closest point
+    on the master (:func:`project`) and ``h_k`` the length of its longest
+    slave segment, the nearest nodes are those with a master partner and
+
+        d_k <= min_j d_j + band * h_k ,
+
+    the part of the slave that faces the master first (about ``band`` slave
+    element lengths deep).
+
+    Returns
+    -------
+    near : bool ndarray (n_s,)
+    projection : dict
+        :func:`project`'s output plus ``dist`` (n_s,) (``inf`` without a partner).
+    """
+    pr = project(xs, xm, seg_m)
+    k = np.flatnonzero(pr["mask"])
+    es = pr["segment"][k]
+    x1 = xm[:, seg_m[es, 0]]
+    xp = x1 + np.clip(pr["xi"][k], 0.0, 1.0) * (xm[:, seg_m[es, 1]] - x1)
+    dist = np.full(xs.shape[1], np.inf)
+    dist[k] = np.hypot(*(xs[:, k] - xp))
+    _, ls = segment_normals(xs, seg_s)
+    h = np.zeros(xs.shape[1])
+    np.maximum.at(h, seg_s.ravel(), np.repeat(ls, 2))
+    near = pr["mask"] & (dist <= (dist[k].min() if k.size else 0.0) + band * h)
+    pr["dist"] = dist
+    return near, pr
+
+
+#: slave / master segment length ratio near the contact above which single-pass NTS is flagged
+COARSE_RATIO = 1.2
+
+
+def failure_hints(slave, master, name: str = "contact") -> str:
+    """Likely causes of an NTS failure that the geometry shows ("" if none).
+
+    A slave surface coarser than a deformable master where they face each
+    other: over the slave nodes nearest the master (:func:`nearest_nodes`,
+    two slave element lengths deep, reference configuration), the median of
+    the slave nodes' longest segment length ``h_s`` is more than
+    :data:`COARSE_RATIO` times the median length ``h_m`` of the master segments they
+    project on.  Single-pass NTS then pushes point forces into dents of the
+    master and lets master nodes pass through the slave.  (Compared where the
+    surfaces meet, not over the whole surfaces: graded meshes, fine only in
+    the contact zone, would otherwise be compared by their coarse parts.)
+    Slave segments of nearly coincident nodes (shorter than 1e-4 of the
+    median): their constraints are nearly redundant, the saddle-point system
+    nearly singular.
+    """
+    hints = []
+    ls = _lengths(slave)
+    if master.body is not None:
+        near, pr = nearest_nodes(slave.X, slave.segments, master.X, master.segments, band=2.0)
+        if near.any():
+            h = np.zeros(slave.n_nodes)
+            np.maximum.at(h, slave.segments.ravel(), np.repeat(ls, 2))
+            hs, hm = float(np.median(h[near])), float(np.median(pr["l"][near]))
+            if hs > COARSE_RATIO * hm:
+                hints.append(f"{name}: the NTS slave surface is coarser than the master "
+                             f"where they meet (median segment lengths {hs:.3g} > {hm:.3g}); "
+                             f"single-pass NTS then pushes point forces into dents of the "
+                             f"master and lets master nodes pass through the slave: make the "
+                             f"finer surface the slave, or refine the slave, or use mortar")
+    if ls.min() < 1e-4 * np.median(ls):
+        hints.append(f"{name}: slave segments of nearly coincident nodes (shortest "
+                     f"{ls.min():.3g}, median {np.median(ls):.3g}): their NTS constraints are "
+                     f"nearly redundant and the saddle-point system nearly singular; merge "
+                     f"the nodes or use mortar")
+    return "; ".join(hints)
+
+
+def vertex_trap(history: list[np.ndarray], lock: np.ndarray | None) -> np.ndarray | None:
+    """Slave nodes caught in a vertex trap and not yet locked (None before three
+    iterations).
+
+    ``history`` holds the master segment of every slave node in the last
+    iterations (oldest first, -1 for none).  At a reflex vertex of the deformed
+    master (the master body locally concave, e.g. dented by the slave), the
+    equilibrium of a slave node with the normal of segment ``a`` can lie beyond
+    the vertex on ``b`` and the one with the normal of ``b`` before the vertex
+    on ``a``: the single-segment NTS gap has no solution there, the node's
+    projection jumps between the two segments in every Newton iteration (the
+    ``seed`` scene, nts, ``refine_cushion=3``: residual alternating 0.42 / 0.29
+    for 25 iterations).  A node whose segment repeats that of two iterations
+    ago (a, b, a) is returned; the caller locks it onto it for the rest of the
+    step attempt and the following steps, while its parameter on that segment
+    stays in ``[-0.5, 1.5]`` (:data:`LOCK_STICK`); its projection continues on
+    the segment's extension line, so its gap is that of the extended segment,
+    off by at most the overshoot times the kink angle.
+    """
+    if len(history) < 3:
+        return None
+    s2, s1, s0 = history[-3:]
+    trap = (s0 == s2) & (s0 != s1) & (s0 >= 0) & (s1 >= 0)
+    return trap if lock is None else trap & ~lock
+
+
+class NTS(ContactDiscretization):
+    """Node-to-segment contact (:func:`evaluate`) as a
+    :class:`~skfem_mortar.contact.discretization.ContactDiscretization`.
+
+    Owns the state between Newton iterations and load steps: the master
+    segment of every slave node at the last iteration (``prefer``, the
+    hysteresis of :func:`project`) and at the last converged step, the nodes
+    locked at a reflex vertex (:func:`vertex_trap`, ``lock``) and the segment
+    history that finds them, the number of locks in the step, the failure hints
+    (:func:`failure_hints`, from the reference geometry) and the pinned nodes
+    (out of ``mask``).
+
+    Options (checked here): ``margin``, ``end_tolerance``, ``stick`` of :func:`project`.
+    """
+
+    method = "nts"
+    multiplier_kind = "force"
+    multipliers_per_node = 1
+    symmetric = True
+    has_history = True  # segment preferences and locks carry over to the next step
+
+    OPTIONS: OptionTable = {
+        "margin": (lambda v: v is None or (np.isfinite(v) and v > 0), "a finite number > 0"),
+        "end_tolerance": (lambda v: np.isfinite(v) and 0 <= v < 0.5, "a number in [0, 0.5)"),
+        "stick": (lambda v: np.isfinite(v) and 0 <= v <= 0.5, "a number in [0, 0.5]")}
+
+    def __init__(self, slave: Any, master: Any, pair_name: str = "contact", **options: Any):
+        check_options(self.method, options, self.OPTIONS)
+        self.slave, self.master, self.pair_name = slave, master, pair_name
+        self.options = dict(options)
+        self._hint = failure_hints(slave, master, pair_name)
+        self._pinned: np.ndarray | None = None
+        self._prefer: np.ndarray | None = None
+        self._prefer_converged: np.ndarray | None = None
+        self._lock: np.ndarray | None = None
+        self._lock_converged: np.ndarray | None = None
+        self._seg_hist: list[np.ndarray] = []
+        self._locks = 0
+
+    def set_pinned(self, pinned: np.ndarray | None) -> None:
+        self._pinned = pinned
+
+    def begin_step(self, xs: np.ndarray, xm: np.ndarray, first: bool) -> None:
+        """Restore the segment choices and locks of the last converged step."""
+        if first:
+            self._prefer_converged = None
+        self._prefer = self._prefer_converged
+        self._lock = None if self._lock_converged is None else self._lock_converged.copy()
+        self._seg_hist = []
+        self._locks = 0
+
+    def evaluate(self, xs: np.ndarray, xm: np.ndarray, lam: np.ndarray | None,
+                 tangent: bool) -> ContactEval:
+        extra: dict = {}
+        if self._prefer is not None:
+            extra["prefer"] = self._prefer
+            if self._lock is not None and self._lock.any():
+                extra["lock"] = self._lock
+        ev = evaluate(xs, self.slave.segments, xm, self.master.segments, lam=lam,
+                      tangent=tangent, **extra, **self.options)
+        if self._pinned is not None and self._pinned.any():
+            ev.mask = ev.mask & ~self._pinned
+        return ev
+
+    def after_iteration(self, ev: ContactEval) -> None:
+        """Segment hysteresis: the next iteration prefers these segments; vertex
+        trap: lock a node whose master segment alternates a, b, a
+        (:func:`vertex_trap`)."""
+        self._prefer = np.asarray(ev.info["segment"])
+        self._seg_hist = (self._seg_hist + [self._prefer.copy()])[-3:]
+        new = vertex_trap(self._seg_hist, self._lock)
+        if new is None:
+            return
+        if self._lock is None:
+            self._lock = np.zeros(new.shape, dtype=bool)
+        if new.any():
+            self._locks += int(new.sum())
+            log.info("%s: %d slave node(s) alternate between two master segments; "
+                     "locked onto one for the rest of the step", self.pair_name, int(new.sum()))
+            self._lock |= new
+
+    def end_step(self, xs: np.ndarray, xm: np.ndarray) -> None:
+        self._prefer_converged = self._prefer
+        if self._lock is not None and self._prefer is not None:
+            # a lock lasts while the node stays on its segment (LOCK_STICK)
+            self._lock_converged = self._lock & (self._prefer >= 0)
+
+    def step_info(self) -> dict:
+        """``segment_locks``: nodes locked by the vertex-trap guard in the step."""
+        return {"segment_locks": self._locks}
+
+    def failure_hint(self) -> str:
+        """:func:`failure_hints` of the reference geometry."""
+        return self._hint
+
+    def state_dict(self) -> dict[str, np.ndarray]:
+        """The converged segment preferences and locks (``[]``: not set yet)."""
+        def arr(a, dtype):
+            return np.zeros(0, dtype=dtype) if a is None else np.asarray(a, dtype=dtype).copy()
+        return {"prefer": arr(self._prefer_converged, np.int64),
+                "lock": arr(self._lock_converged, bool)}
+
+    def load_state_dict(self, state: dict[str, np.ndarray]) -> None:
+        ns = self.slave.n_nodes
+        check_entries(self.pair_name, state, {"prefer": [(0,), (ns,)], "lock": [(0,), (ns,)]})
+        if state["prefer"].size and (state["prefer"].min() < -1
+                                     or state["prefer"].max() >= len(self.master.segments)):
+            raise ValueError(f"{self.pair_name}: checkpoint entry 'prefer' indexes no master "
+                             "segment")
+        self._prefer_converged = (np.array(state["prefer"], dtype=np.int64)
+                                  if state["prefer"].size else None)
+        self._lock_converged = (np.array(state["lock"], dtype=bool)
+                                if state["lock"].size else None)

@@ -1,0 +1,366 @@
+"""Contact surfaces: oriented chains of straight segments.
+
+A :class:`ContactSurface` holds ``n`` surface nodes and ``segments`` (n_seg, 2)
+indices into them, ordered along one chain (open or closed) and oriented so
+that the OUTWARD unit normal of a segment with tangent ``t = x_2 - x_1`` is its
+right-hand normal
+
+    n = (t_y, -t_x) / |t| .
+
+A counter-clockwise boundary of a solid is oriented this way.  Surfaces are
+built from a :class:`~skfem_mortar.bodies.solid.Solid`'s tagged boundary facets
+(:meth:`ContactSurface.from_solid`), from a cable
+(:meth:`ContactSurface.from_cable`, the side chosen by the user), or are rigid
+(:class:`RigidPlane`, :class:`RigidCircle`: fixed coordinates, no unknowns).
+Only the vertices of a solid's facets are used (straight segments), so a
+solid surface needs linear elements.
+"""
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+import scipy.sparse as sp
+from scipy.sparse.csgraph import connected_components
+
+__all__ = ["ContactSurface", "RigidPlane", "RigidCircle", "chain_segments",
+           "segment_lengths", "segment_normals", "tributary_lengths", "segments_at_nodes",
+           "LINEAR_TRACE"]
+
+#: solid elements whose boundary trace is linear between facet vertices: tri1,
+#: quad1 and the mixed "mini" triangle (P1 + bubble, the bubble vanishes on facets)
+LINEAR_TRACE = ("tri1", "quad1", "mini")
+
+
+def segment_lengths(x: np.ndarray, seg: np.ndarray) -> np.ndarray:
+    """Lengths ``l = |x[:, seg[:, 1]] - x[:, seg[:, 0]]|`` (n_seg,) of segments of nodes ``x`` (2, n)."""
+    return np.hypot(*(x[:, seg[:, 1]] - x[:, seg[:, 0]]))
+
+
+def segments_at_nodes(seg: np.ndarray, n_nodes: int) -> tuple[np.ndarray, np.ndarray]:
+    """The neighbours along a chain: for every node the segment that ends there and
+    the one that starts there, (n_nodes,) each, -1 where there is none.
+
+    ``ending[seg[:, 0]]`` is then the previous segment of each segment and
+    ``starting[seg[:, 1]]`` its next one.
+    """
+    seg = np.asarray(seg, dtype=np.int64).reshape(-1, 2)
+    ending = np.full(n_nodes, -1, dtype=np.int64)
+    starting = np.full(n_nodes, -1, dtype=np.int64)
+    ar = np.arange(seg.shape[0])
+    ending[seg[:, 1]] = ar
+    starting[seg[:, 0]] = ar
+    return ending, starting
+
+
+def segment_normals(x: np.ndarray, seg: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Outward unit normals and lengths of segments.
+
+    ``t = x[:, seg[:, 1]] - x[:, seg[:, 0]]``, ``l = |t|``, ``n = (t_y, -t_x) / l``.
+
+    Returns
+    -------
+    n : ndarray (2, n_seg)
+    l : ndarray (n_seg,)
+    """
+    t = x[:, seg[:, 1]] - x[:, seg[:, 0]]
+    l = np.hypot(t[0], t[1])
+    return np.vstack([t[1], -t[0]]) / np.where(l > 0, l, 1.0), l
+
+
+def tributary_lengths(x: np.ndarray, seg: np.ndarray) -> np.ndarray:
+    """Tributary length of each node: half the lengths of the segments it belongs to,
+    ``a_k = sum_{e ∋ k} l_e / 2``."""
+    l = segment_lengths(x, seg)
+    return np.bincount(seg.ravel(), weights=np.repeat(0.5 * l, 2), minlength=x.shape[1])
+
+
+def chain_segments(seg: np.ndarray, n_nodes: int | None = None) -> tuple[np.ndarray, bool]:
+    """Order directed segments into one simple chain.
+
+    Parameters
+    ----------
+    seg : int ndarray (n_seg, 2)
+        Directed segments (start node, end node), in any order.
+    n_nodes : int, optional
+        Number of nodes the indices refer to.
+
+    Returns
+    -------
+    order : int ndarray (n_seg,)
+        Permutation putting the segments in chain order (end of one = start of the next).
+    closed : bool
+        Whether the chain is a closed loop.
+
+    Raises
+    ------
+    ValueError
+        When the segments are not one simple chain: a node starts or ends more
+        than one segment (a branch, or inconsistent orientation), a segment is
+        degenerate, or the segments form several pieces.
+    """
+    seg = np.asarray(seg, dtype=np.int64).reshape(-1, 2)
+    if seg.shape[0] == 0:
+        raise ValueError("segments must not be empty")
+    if np.any(seg[:, 0] == seg[:, 1]):
+        raise ValueError("segments must join two different nodes")
+    n = int(seg.max()) + 1 if n_nodes is None else int(n_nodes)
+    out_deg = np.bincount(seg[:, 0], minlength=n)
+    in_deg = np.bincount(seg[:, 1], minlength=n)
+    if out_deg.max() > 1 or in_deg.max() > 1:
+        raise ValueError("segments do not form a simple chain: a node starts or ends "
+                         "more than one segment (branching or inconsistently oriented surface)")
+    used = (out_deg + in_deg) > 0
+    graph = sp.coo_matrix((np.ones(len(seg)), (seg[:, 0], seg[:, 1])), shape=(n, n))
+    n_comp, labels = connected_components(graph, directed=False)
+    if len(np.unique(labels[used])) != 1:
+        raise ValueError("segments do not form a simple chain: they form "
+                         f"{len(np.unique(labels[used]))} separate pieces")
+    starts = np.flatnonzero(used & (in_deg == 0))
+    closed = starts.size == 0
+    # successor of each segment: the segment starting where it ends
+    _, seg_of_start = segments_at_nodes(seg, n)
+    nxt = seg_of_start[seg[:, 1]]
+    first = 0 if closed else int(seg_of_start[starts[0]])
+    # rank along the chain by pointer doubling (vectorized, O(n log n))
+    m = len(seg)
+    nxt_c = np.where(nxt < 0, np.arange(m), nxt)
+    if closed:
+        nxt_c = nxt_c.copy()
+        prev_first = np.flatnonzero(nxt == first)
+        nxt_c[prev_first] = prev_first  # cut the loop before the first segment
+    dist = np.where(nxt_c == np.arange(m), 0, 1).astype(np.int64)
+    jump = nxt_c.copy()
+    for _ in range(int(np.ceil(np.log2(max(m, 2)))) + 1):
+        dist = dist + dist[jump]
+        jump = jump[jump]
+    # dist = number of segments after each one; the chain order is by decreasing dist
+    order = np.argsort(-dist, kind="stable")
+    if order[0] != first or np.any(np.diff(dist[order]) != -1):
+        raise ValueError("segments do not form a simple chain")
+    return order, bool(closed)
+
+
+class ContactSurface:
+    """An oriented chain of straight segments on a body (or rigid).
+
+    Parameters
+    ----------
+    body : Item or None
+        The body owning the nodes (with ``x(z)``, ``node_dofs``, ``offset``),
+        or None for a rigid surface.
+    nodes : int ndarray (n,)
+        Body node index of each surface node (ignored for a rigid surface).
+    segments : int ndarray (n_seg, 2)
+        Indices into the surface nodes; reordered into chain order.
+    X : ndarray (2, n), optional
+        Fixed coordinates of a rigid surface.
+    name : str
+    """
+
+    def __init__(self, body: Any, nodes: np.ndarray | None, segments: np.ndarray,
+                 X: np.ndarray | None = None, name: str = "surface"):
+        self.body = body
+        self.name = name
+        segments = np.asarray(segments, dtype=np.int64).reshape(-1, 2)
+        if body is None:
+            if X is None:
+                raise ValueError("X (2, n) is required for a rigid surface")
+            self._X = np.asarray(X, dtype=float)
+            if self._X.ndim != 2 or self._X.shape[0] != 2:
+                raise ValueError(f"X must have shape (2, n), got {self._X.shape}")
+            if not np.all(np.isfinite(self._X)):
+                raise ValueError("X (the rigid surface's coordinates) must be finite")
+            n = self._X.shape[1]
+            self.nodes = None
+        else:
+            self.nodes = np.asarray(nodes, dtype=np.int64).ravel()
+            n = self.nodes.size
+            if n and (self.nodes.min() < 0 or self.nodes.max() >= body.n_nodes):
+                raise ValueError(f"nodes must lie in [0, {body.n_nodes})")
+            self._X = np.asarray(body.X, dtype=float)[:, self.nodes]
+        if segments.size and (segments.min() < 0 or segments.max() >= n):
+            raise ValueError(f"segments must index surface nodes in [0, {n})")
+        order, self.closed = chain_segments(segments, n)
+        self.segments = segments[order]
+        if np.any(segment_lengths(self._X, self.segments) <= 0):
+            raise ValueError("surface has a segment of zero length")
+
+    # -- geometry ----------------------------------------------------------
+    @property
+    def n_nodes(self) -> int:
+        return int(self._X.shape[1])
+
+    @property
+    def rigid(self) -> bool:
+        return self.body is None
+
+    @property
+    def X(self) -> np.ndarray:
+        """Reference coordinates (2, n)."""
+        return self._X
+
+    def x(self, z: np.ndarray) -> np.ndarray:
+        """Current coordinates ``(2, n)`` of the surface nodes."""
+        if self.body is None:
+            return self._X
+        return self.body.x(z)[:, self.nodes]
+
+    def dofs(self) -> np.ndarray | None:
+        """Global indices ``(2, n)`` into z of the x/y unknowns, or None (rigid)."""
+        if self.body is None:
+            return None
+        return self.body.offset + np.asarray(self.body.node_dofs)[:, self.nodes]
+
+    def normals(self, z: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Outward unit normals (2, n_seg) and lengths (n_seg,) in the current configuration."""
+        return segment_normals(self.x(z), self.segments)
+
+    # -- construction --------------------------------------------------------
+    @classmethod
+    def from_solid(cls, solid: Any, boundary: str | np.ndarray, name: str = "") -> "ContactSurface":
+        """The surface made of a solid's boundary facets.
+
+        Each facet is oriented so that its right-hand normal points away from
+        the element it bounds (outward), then the facets are chained.
+
+        Parameters
+        ----------
+        solid : Solid
+        boundary : str or int ndarray
+            A tag of ``solid.mesh.boundaries`` or facet indices.
+        """
+        mesh = solid.mesh
+        element = getattr(solid, "element", "tri1")
+        if element not in LINEAR_TRACE:
+            raise ValueError(f"contact surfaces need elements whose boundary trace is linear "
+                             f"{LINEAR_TRACE}: the segments join facet vertices only, got "
+                             f"element {element!r}")
+        from ..bodies.solid import boundary_facets
+
+        facets = boundary_facets(mesh, boundary,
+                                 "boundary must be one of the mesh tags {known}, got {tag!r}")
+        if facets.size == 0:
+            raise ValueError("boundary must contain at least one facet")
+        if facets.min() < 0 or facets.max() >= mesh.facets.shape[1]:
+            raise ValueError(f"facet indices must lie in [0, {mesh.facets.shape[1]})")
+        # own orientation test: skfem's facets list their vertices sorted and its
+        # oriented boundaries pick an element side, not a vertex order along the chain
+        ends = mesh.facets[:, facets].T.copy()  # (n_f, 2)
+        elem = mesh.f2t[0, facets]
+        nv = mesh.t.shape[0] if mesh.t.shape[0] in (3, 4) else (3 if "Tri" in type(mesh).__name__ else 4)
+        centroid = mesh.p[:, mesh.t[:nv, elem]].mean(axis=1)
+        p = mesh.p
+        nrm, _ = segment_normals(p, ends)
+        mid = 0.5 * (p[:, ends[:, 0]] + p[:, ends[:, 1]])
+        flip = np.sum(nrm * (mid - centroid), axis=0) < 0
+        ends[flip] = ends[flip][:, ::-1]
+        nodes, local = np.unique(ends, return_inverse=True)
+        return cls(solid, nodes, local.reshape(-1, 2), name=name or f"{solid.name}_{boundary if isinstance(boundary, str) else 'surface'}")
+
+    @classmethod
+    def from_cable(cls, cable: Any, side: str = "left", name: str = "") -> "ContactSurface":
+        """The surface of a cable seen from one side.
+
+        Parameters
+        ----------
+        cable : Cable
+            With ``elements`` (n_el, 2) node pairs along the cable.
+        side : {"left", "right"}
+            Side of the cable (walking from its first to its last node) whose
+            normal is the outward normal of the surface.  "right" keeps the
+            element order (right-hand normal); "left" flips it.
+        """
+        if side not in ("left", "right"):
+            raise ValueError(f"side must be 'left' or 'right', got {side!r}")
+        el = np.asarray(cable.elements, dtype=np.int64).reshape(-1, 2)
+        if side == "left":
+            el = el[:, ::-1]
+        nodes, local = np.unique(el, return_inverse=True)
+        return cls(cable, nodes, local.reshape(-1, 2), name=name or f"{cable.name}_{side}")
+
+
+def _vector2(v: Any, name: str) -> np.ndarray:
+    """A finite 2-vector (ValueError naming ``name`` otherwise)."""
+    try:
+        a = np.asarray(v, dtype=float).reshape(2)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} must be a 2-vector (x, y), got {v!r}") from None
+    if not np.all(np.isfinite(a)):
+        raise ValueError(f"{name} must be finite, got {v!r}")
+    return a
+
+
+class RigidPlane(ContactSurface):
+    """A rigid straight line through ``point`` with outward unit normal ``normal``.
+
+    Represented by ``n_segments`` equal segments (default one) of total
+    length ``length`` centred on ``point``, from ``point - (length/2) t`` to
+    ``point + (length/2) t`` with ``t = (-n_y, n_x)`` (so that its right-hand
+    normal is ``n``).  Mortar projects the master nodes onto the slave
+    elements along the slave's normal field; a node very far away (one long
+    segment) may have no projection onto a slave element whose normal field
+    turns (grazing contact, see docs/robustness.md): more segments, of about
+    the slave's size over the contact zone, avoid it.
+    """
+
+    def __init__(self, point: tuple[float, float], normal: tuple[float, float],
+                 length: float = 1e3, name: str = "plane", n_segments: int = 1):
+        point, normal = _vector2(point, "point"), _vector2(normal, "normal")
+        nn = np.linalg.norm(normal)
+        if not np.isfinite(nn) or nn == 0:
+            raise ValueError("normal must be a finite non-zero vector")
+        if not (np.isfinite(length) and length > 0):
+            raise ValueError(f"length must be a finite number > 0, got {length}")
+        if int(n_segments) != n_segments or n_segments < 1:
+            raise ValueError(f"n_segments must be an integer >= 1, got {n_segments}")
+        n_segments = int(n_segments)
+        normal = normal / nn
+        t = np.array([-normal[1], normal[0]])
+        s = np.linspace(-0.5 * length, 0.5 * length, n_segments + 1)
+        X = point[:, None] + t[:, None] * s
+        seg = np.column_stack([np.arange(n_segments), np.arange(1, n_segments + 1)])
+        super().__init__(None, None, seg, X=X, name=name)
+        self.point, self.normal = point, normal
+
+
+class RigidCircle(ContactSurface):
+    """A rigid circle (or arc) as a fine polygon, outward normal pointing away from the centre
+    (a body pressed onto it from outside), or towards it with ``inside=True`` (a hole, a
+    body pressed onto it from inside).
+
+    Parameters
+    ----------
+    center : (2,)
+    radius : float (> 0)
+    n_segments : int (>= 3)
+    arc : (theta0, theta1), optional
+        Angles (radians, counter-clockwise) of the arc; default the full circle.
+    inside : bool
+        The contacting body is inside the circle: the segments run clockwise,
+        so that the right-hand normal points to the centre (default False).
+    """
+
+    def __init__(self, center: tuple[float, float], radius: float, n_segments: int = 256,
+                 arc: tuple[float, float] | None = None, name: str = "circle",
+                 inside: bool = False):
+        if not (np.isfinite(radius) and radius > 0):
+            raise ValueError(f"radius must be a finite number > 0, got {radius}")
+        if int(n_segments) != n_segments or n_segments < 3:
+            raise ValueError(f"n_segments must be an integer >= 3, got {n_segments}")
+        n_segments = int(n_segments)
+        center = _vector2(center, "center")
+        if arc is None:
+            th = np.linspace(0.0, 2 * np.pi, n_segments, endpoint=False)
+            seg = np.column_stack([np.arange(n_segments), np.roll(np.arange(n_segments), -1)])
+        else:
+            th0, th1 = map(float, arc)
+            if not th1 > th0:
+                raise ValueError("arc must be (theta0, theta1) with theta1 > theta0")
+            th = np.linspace(th0, th1, n_segments + 1)
+            seg = np.column_stack([np.arange(n_segments), np.arange(1, n_segments + 1)])
+        X = center[:, None] + radius * np.vstack([np.cos(th), np.sin(th)])
+        # counter-clockwise nodes: right-hand normal points outward; reversed
+        # segments (clockwise) for a body inside the circle: normal to the centre
+        super().__init__(None, None, seg[:, ::-1] if inside else seg, X=X, name=name)
+        self.center, self.radius, self.inside = center, float(radius), bool(inside)

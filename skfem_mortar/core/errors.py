@@ -1,0 +1,47 @@
+"""Exceptions raised by skfem-mortar."""
+from __future__ import annotations
+
+from typing import Any
+
+
+class SkfemMortarError(Exception):
+    """Base class of the package's own errors."""
+
+
+class InversionError(SkfemMortarError, FloatingPointError):
+    """An element was inverted (det F <= 0) or a kernel produced a non-finite value.
+
+    The Newton solver treats it as a failed iteration: the load step is cut.
+    """
+
+
+class ConvergenceError(SkfemMortarError):
+    """A load step could not be solved, even after cutting it to the minimum size.
+
+    Attributes
+    ----------
+    step : int
+        Index of the load step (counted from 1) that failed.
+    load_factor : float
+        The load factor the failed attempt aimed at.
+    iteration : int
+        The Newton iteration at which the last attempt stopped.
+    residual_history : list of float
+        Residual norms of the last attempt.
+    reason : str
+        Why the last attempt stopped.
+    """
+
+    def __init__(self, step: int, load_factor: float, iteration: int,
+                 residual_history: list[float], reason: str,
+                 attempts: list[dict[str, Any]] | None = None):
+        self.step = step
+        self.load_factor = load_factor
+        self.iteration = iteration
+        self.residual_history = list(residual_history)
+        self.reason = reason
+        self.attempts = attempts or []
+        hist = ", ".join(f"{r:.3e}" for r in self.residual_history[-8:])
+        super().__init__(
+            f"no convergence in load step {step} at load factor {load_factor:.6g} "
+            f"(iteration {iteration}: {reason}); residual history [{hist}]")

@@ -1,0 +1,626 @@
+"""Model items, the global unknown layout and the assembly of residual and tangent.
+
+The global unknown vector is ``z = [u; lam]``: first the displacement blocks of
+all bodies, then the multiplier blocks of all contact pairs.  Every *item* of a
+model (a body, a load, a boundary condition, a contact pair) contributes to the
+residual ``R(z, load_factor)`` and to its tangent ``K = dR/dz``.  Equilibrium is
+``R = 0`` with the sign convention
+
+    R = f_int(u) - f_ext(u, load_factor) + (contact forces) ,
+
+so that loads enter with a minus sign and ``K`` is the usual stiffness.  The
+solver knows nothing about what an item is: adding a new kind of body, load or
+contact pair means adding one item class.
+"""
+from __future__ import annotations
+
+import time
+from collections import defaultdict
+from dataclasses import dataclass, field
+from typing import Any, Iterable, Protocol, Sequence, runtime_checkable
+
+import numpy as np
+import scipy.sparse as sp
+
+__all__ = ["Contribution", "Item", "ItemProtocol", "Output", "ContactTable", "Model",
+           "Dirichlet"]
+
+
+@dataclass
+class Contribution:
+    """One item's share of the global residual and tangent, in global indices.
+
+    Residual entries ``(r_index, r_value)`` are summed (duplicates add up);
+    the tangent is given as COO triplets ``(k_rows, k_cols, k_vals)``.
+    """
+
+    r_index: np.ndarray
+    r_value: np.ndarray
+    k_rows: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int64))
+    k_cols: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int64))
+    k_vals: np.ndarray = field(default_factory=lambda: np.zeros(0))
+
+    @classmethod
+    def empty(cls) -> "Contribution":
+        return cls(np.zeros(0, dtype=np.int64), np.zeros(0))
+
+    @classmethod
+    def from_local(cls, offset: int, r: np.ndarray,
+                   K: sp.spmatrix | None = None) -> "Contribution":
+        """Wrap a residual vector and a sparse tangent on a contiguous block.
+
+        ``r`` and ``K`` are numbered locally (0 .. n-1) and shifted by ``offset``.
+        """
+        idx = offset + np.arange(len(r), dtype=np.int64)
+        if K is None:
+            return cls(idx, np.asarray(r, dtype=float))
+        K = K.tocoo()
+        return cls(idx, np.asarray(r, dtype=float),
+                   K.row.astype(np.int64) + offset,
+                   K.col.astype(np.int64) + offset, K.data)
+
+    @classmethod
+    def from_dofs(cls, dofs: np.ndarray, r: np.ndarray, k: np.ndarray | None = None
+                  ) -> "Contribution":
+        """Element-wise arrays: ``dofs`` (n_el, n_loc) global indices,
+        ``r`` (n_el, n_loc) and ``k`` (n_el, n_loc, n_loc) element residuals and tangents.
+        """
+        dofs = np.asarray(dofs, dtype=np.int64)
+        out = cls(dofs.ravel(), np.asarray(r, dtype=float).ravel())
+        if k is not None:
+            n = dofs.shape[1]
+            out.k_rows = np.repeat(dofs, n, axis=1).ravel()
+            out.k_cols = np.tile(dofs, (1, n)).ravel()
+            out.k_vals = np.asarray(k, dtype=float).ravel()
+        return out
+
+    @classmethod
+    def concat(cls, parts: Iterable["Contribution"]) -> "Contribution":
+        parts = list(parts)
+        if not parts:
+            return cls.empty()
+        return cls(*(np.concatenate([getattr(p, a) for p in parts])
+                     for a in ("r_index", "r_value", "k_rows", "k_cols", "k_vals")))
+
+
+class Item:
+    """Base class of everything a model is made of: the declared item protocol.
+
+    The solver (:class:`Model`, :mod:`~skfem_mortar.solver.newton`,
+    :mod:`~skfem_mortar.solver.stepping`) calls only the hooks declared here, never
+    a method it has to look for; every hook has a default, so an item
+    overrides only what it needs (a load: :meth:`assemble`; a boundary
+    condition: :meth:`prescribed`; a contact pair: most of them).
+    :class:`ItemProtocol` states the same contract as a ``typing.Protocol``.
+
+    The order of the calls in one solve::
+
+        Model(items)                  referenced_bodies, dof_kind, n_dofs -> offset
+        solve: prescribed(start)      the fixed dofs of the start state
+               preflight              reads the items (skfem_mortar.contact.preflight)
+               per attempt of a step:
+                   set_fixed(fixed)   the dofs prescribed in this step
+                   begin_step(z, lf)
+                   assemble(z, lf, tangent)   every Newton iteration, line search
+                   settled()          until the discrete state stops changing
+                   violation(z, scale)        once the residual has converged
+               per converged step: end_step(z, lf), step_info()
+               per checkpoint:     state_dict() / load_state_dict(state)
+               step given up:      failure_hint()
+
+    Attributes
+    ----------
+    name : str
+        Unique name within the model (used in output file names and logs).
+    dof_kind : {"u", "lam", None}
+        Whether the item owns displacement unknowns, multiplier unknowns or none.
+    n_dofs : int
+        How many unknowns the item owns.
+    offset : int
+        Global index of the item's first unknown (set by :class:`Model`).
+    phase : str
+        Timing bucket of its assembly: "bulk", "contact" or "loads".
+    symmetric : bool
+        Declaration: the tangent the item assembles is symmetric (a
+        hyperelastic body: yes; a follower load or a contact pair with its
+        complementarity rows: no).  Default True.
+    has_history : bool
+        Declaration: the item carries state from one load step to the next
+        (an active set), i.e. it keeps a :meth:`state_dict`.  Default: whether
+        the class overrides :meth:`state_dict`.
+    """
+
+    name: str = ""
+    dof_kind: str | None = None
+    n_dofs: int = 0
+    offset: int = 0
+    phase: str = "bulk"
+    symmetric: bool = True
+
+    @property
+    def has_history(self) -> bool:
+        # a class declares it with ``has_history = True/False`` (an instance may
+        # set it too); the default reads what the class does: a state to
+        # checkpoint is a history
+        declared = self.__dict__.get("_has_history")
+        return type(self).state_dict is not Item.state_dict if declared is None else declared
+
+    @has_history.setter
+    def has_history(self, value: bool) -> None:
+        self.__dict__["_has_history"] = bool(value)
+
+    # -- assembly ---------------------------------------------------------
+    def assemble(self, z: np.ndarray, load_factor: float,
+                 tangent: bool = True) -> Contribution:
+        """Residual contribution and (if ``tangent``) its derivative at ``z``.
+
+        A call with ``tangent=False`` is a trial evaluation (line search) and
+        must not change the item's state (e.g. an active set).
+        """
+        return Contribution.empty()
+
+    def prescribed(self, load_factor: float) -> tuple[np.ndarray, np.ndarray] | None:
+        """Global dofs fixed by this item and their values at ``load_factor``."""
+        return None
+
+    def referenced_bodies(self) -> list["Item"]:
+        """The bodies this item acts on (its ``body``), which must be in the same
+        :class:`Model`.  The preflight (:mod:`skfem_mortar.contact.preflight`) also reads
+        them, with :attr:`dof_kind`, :meth:`prescribed` and the contact pairs'
+        surfaces, to refuse a model that cannot work before the first step."""
+        body = getattr(self, "body", None)
+        return [body] if isinstance(body, Item) else []
+
+    # -- hooks of the load stepping --------------------------------------
+    def set_fixed(self, fixed: np.ndarray) -> None:
+        """The global dofs prescribed in the coming step, before each attempt
+        (a contact pair drops its slave nodes that are pinned)."""
+
+    def begin_step(self, z: np.ndarray, load_factor: float) -> None:
+        """Called before each attempt of a load step (``z`` is the last converged state)."""
+
+    def end_step(self, z: np.ndarray, load_factor: float) -> None:
+        """Called once a load step has converged.  May clean its own unknowns in
+        ``z`` in place (a contact pair sets its inactive multipliers to exact 0)."""
+
+    def settled(self) -> bool:
+        """False while the item's discrete state (an active set) still changes."""
+        return True
+
+    def step_info(self) -> dict:
+        """Numbers to keep per converged step (e.g. ``n_active``); summed over
+        the items into the step's record."""
+        return {}
+
+    def violation(self, z: np.ndarray, scale: float) -> str:
+        """Why ``z`` violates the item's own conditions ("" if it does not).
+
+        Asked by Newton once the residual has passed its test; a non-empty
+        answer makes the attempt fail (the step is cut), never a converged
+        step.  ``scale`` is the step's force scale (newton module docstring).
+        """
+        return ""
+
+    def failure_hint(self) -> str:
+        """What to try when a step cannot converge even at the smallest
+        increment ("" for nothing to say); added to the ConvergenceError."""
+        return ""
+
+    # -- checkpoint ---------------------------------------------------------
+    def state_dict(self) -> dict[str, np.ndarray]:
+        """Everything of the item that shapes the next load step (active sets,
+        segment preferences, scales), as named arrays for a checkpoint; ``{}``
+        for a stateless item.  ``load_state_dict(state_dict())`` restores it."""
+        return {}
+
+    def load_state_dict(self, state: dict[str, np.ndarray]) -> None:
+        """Restore what :meth:`state_dict` returned (ValueError if it does not fit)."""
+        if state:
+            raise ValueError(f"{self.name}: this item keeps no state, got {sorted(state)}")
+
+    # -- output (read by the output layer only) ----------------------------
+    def outputs(self) -> list["Output"]:
+        """What the output layer writes and draws for this item, as
+        :class:`Output` objects (one series each).
+
+        Default: the item itself if it is an :class:`Output` (a body), the
+        slave surface (:class:`~skfem_mortar.output.contact_output.ContactOutput`) if
+        it is a :class:`ContactTable` (a contact pair), else nothing.
+        """
+        if isinstance(self, Output):
+            return [self]
+        if isinstance(self, ContactTable):
+            from ..output.contact_output import ContactOutput  # numpy only; output layer
+
+            return [ContactOutput(self)]
+        return []
+
+    @property
+    def dofs(self) -> slice:
+        """Global slice of the unknowns this item owns."""
+        return slice(self.offset, self.offset + self.n_dofs)
+
+
+class ItemProtocol(Protocol):
+    """The hooks the solver calls on every item, as a structural type (the
+    contract :class:`Item` implements with defaults; see its docstring).
+    A model still takes only :class:`Item` subclasses."""
+
+    name: str
+    dof_kind: str | None
+    n_dofs: int
+    offset: int
+    phase: str
+    symmetric: bool
+    has_history: bool
+
+    def assemble(self, z: np.ndarray, load_factor: float,
+                 tangent: bool = True) -> Contribution: ...
+    def prescribed(self, load_factor: float) -> tuple[np.ndarray, np.ndarray] | None: ...
+    def referenced_bodies(self) -> list: ...
+    def set_fixed(self, fixed: np.ndarray) -> None: ...
+    def begin_step(self, z: np.ndarray, load_factor: float) -> None: ...
+    def end_step(self, z: np.ndarray, load_factor: float) -> None: ...
+    def settled(self) -> bool: ...
+    def step_info(self) -> dict: ...
+    def violation(self, z: np.ndarray, scale: float) -> str: ...
+    def failure_hint(self) -> str: ...
+    def state_dict(self) -> dict[str, np.ndarray]: ...
+    def load_state_dict(self, state: dict[str, np.ndarray]) -> None: ...
+    def outputs(self) -> list: ...
+
+
+@runtime_checkable
+class Output(Protocol):
+    """The output protocol: something written as one PVD/VTU series and drawn
+    (a body, a contact pair's slave surface).  Used only by the output layer
+    (:mod:`skfem_mortar.solver.observers`, :mod:`skfem_mortar.output.plot`)."""
+
+    name: str
+
+    def output_mesh(self) -> tuple[np.ndarray, list[tuple[str, np.ndarray]]]:
+        """Reference points (N, 2) and meshio cell blocks ``[(type, cells)]``."""
+        ...
+
+    def output_data(self, z: np.ndarray) -> tuple[dict, dict]:
+        """``(point_data, cell_data)`` at the unknowns ``z``; point data may hold
+        ``displacement`` (N, 2), which pictures add to the points."""
+        ...
+
+
+@runtime_checkable
+class ContactTable(Protocol):
+    """An item that reports contact per slave node (``contact.csv``, the
+    pressure in pictures): a contact pair.  Used only by the output layer."""
+
+    name: str
+
+    def contact_data(self, z: np.ndarray) -> dict[str, np.ndarray]:
+        """Arrays ``x, y, gap, pressure, ...`` per slave node at ``z``."""
+        ...
+
+
+def dof_indices(dofs: Any, n: int, what: str) -> np.ndarray:
+    """Integer dof indices in ``[0, n)`` from ``dofs`` (ValueError otherwise).
+
+    A boolean mask of length ``n`` is taken as the mask it is (its True
+    entries); any other boolean array, non-integer numbers, or indices
+    outside ``[0, n)`` are refused.
+    """
+    a = np.asarray(dofs)
+    if a.dtype == bool:
+        if a.shape != (n,):
+            raise ValueError(f"{what}: a boolean mask must have shape ({n},), got {a.shape}")
+        return np.flatnonzero(a)
+    a = a.ravel()
+    if a.size and not np.issubdtype(a.dtype, np.integer):
+        raise ValueError(f"{what} must be integers in [0, {n}), got {a.dtype} values")
+    a = a.astype(np.int64)
+    if a.size and (a.min() < 0 or a.max() >= n):
+        raise ValueError(f"{what} must lie in [0, {n}), got values in [{a.min()}, {a.max()}]")
+    return a
+
+
+def _check_repeats(value: np.ndarray, inverse: np.ndarray, first: np.ndarray,
+                   dofs: np.ndarray) -> None:
+    """A dof listed twice must be given the same value both times."""
+    clash = value != value[first][inverse.ravel()]
+    if np.any(clash):
+        k = int(np.flatnonzero(clash)[0])
+        raise ValueError(f"dof {dofs[k]} is listed twice with different values "
+                         f"({value[first][inverse.ravel()][k]} and {value[k]})")
+
+
+class Dirichlet(Item):
+    """Prescribed values of global unknowns, ramped with the load factor.
+
+    ``value(load_factor) = ramp * load_factor * value + (1 - ramp) * value``, or,
+    when ``value`` is a callable, ``value(load_factor)`` itself (a load path,
+    e.g. press a die down, then slide it).
+
+    Parameters
+    ----------
+    body : Item
+        The body whose unknowns are prescribed.
+    dofs : array of int
+        Indices *local to the body's block*.
+    value : float, array or callable
+        Final prescribed value(s) (displacement), or a function of the load
+        factor returning a scalar or one value per dof (in the order of ``dofs``).
+    ramp : bool
+        Scale the value with the load factor (default) or hold it fixed.
+    """
+
+    def __init__(self, body: Item, dofs: np.ndarray, value: float | np.ndarray = 0.0,
+                 ramp: bool = True, name: str = ""):
+        if not isinstance(body, Item) or body.dof_kind != "u":
+            raise ValueError(f"body must be a body of the model (a Solid, Cable, ...), "
+                             f"got {type(body).__name__}")
+        self.body = body
+        dofs = dof_indices(dofs, body.n_dofs, f"dofs of body {body.name!r}")
+        self.local_dofs, self._order, inverse = np.unique(dofs, return_index=True,
+                                                          return_inverse=True)
+        self.path = value if callable(value) else None
+        if self.path is not None:
+            value = np.asarray(self.path(0.0), dtype=float)
+        value = np.asarray(value, dtype=float)
+        if value.ndim and value.shape != dofs.shape:
+            raise ValueError(f"value must be a scalar or one value per dof ({dofs.size}), "
+                             f"got shape {value.shape}")
+        if not np.all(np.isfinite(value)):
+            raise ValueError(f"value must be finite (dirichlet on body {body.name!r})")
+        if value.ndim:  # keep values aligned with the sorted unique dofs
+            _check_repeats(value, inverse, self._order, dofs)
+            value = value[self._order]
+        if not np.all(np.isfinite(value)):
+            raise ValueError("value must be finite")
+        self.value = value
+        self.ramp = ramp
+        self.name = name or f"dirichlet_{body.name}"
+
+    def prescribed(self, load_factor: float) -> tuple[np.ndarray, np.ndarray]:
+        if self.path is not None:
+            vals = np.asarray(self.path(load_factor), dtype=float)
+            vals = vals[self._order] if vals.ndim else vals
+            if not np.all(np.isfinite(vals)):
+                raise ValueError(f"{self.name}: the prescribed path gave non-finite values "
+                                 f"at load factor {load_factor}")
+            return (self.body.offset + self.local_dofs,
+                    np.broadcast_to(vals, self.local_dofs.shape).astype(float))
+        scale = load_factor if self.ramp else 1.0
+        vals = np.broadcast_to(scale * self.value, self.local_dofs.shape).astype(float)
+        return self.body.offset + self.local_dofs, vals
+
+
+def _check_items(items: list[Item]) -> None:
+    """Every entry an Item, none listed twice (its load or stiffness would count
+    twice), every body an item refers to in the list."""
+    for k, it in enumerate(items):
+        if not isinstance(it, Item):
+            raise ValueError(f"items[{k}] is not a model item (a body, load, boundary "
+                             f"condition or contact pair), got {type(it).__name__}")
+    seen: dict[int, int] = {}
+    for k, it in enumerate(items):
+        if id(it) in seen:
+            raise ValueError(f"items[{seen[id(it)]}] and items[{k}] are the same item "
+                             f"{it.name!r}: list each item once (twice would count it twice)")
+        seen[id(it)] = k
+    for it in items:
+        for body in it.referenced_bodies():
+            if id(body) not in seen:
+                raise ValueError(f"item {it.name!r} acts on body {body.name!r}, which is not "
+                                 f"in the model: add the body to the items")
+
+
+class Model:
+    """A list of items with a global unknown layout.
+
+    Items with ``dof_kind == "u"`` get the first blocks (in the given order),
+    items with ``dof_kind == "lam"`` the blocks after them.
+    """
+
+    def __init__(self, items: Sequence[Item]):
+        self.items: list[Item] = list(items)
+        _check_items(self.items)
+        # bodies and contact pairs name output files and blocks: their names are unique
+        names = [it.name for it in self.items if it.dof_kind is not None]
+        dup = {n for n in names if names.count(n) > 1}
+        if dup:
+            raise ValueError(f"body and contact pair names must be unique, repeated: "
+                             f"{sorted(dup)}")
+        offset = 0
+        for kind in ("u", "lam"):
+            for it in self.items:
+                if it.dof_kind == kind:
+                    it.offset = offset
+                    offset += int(it.n_dofs)
+            if kind == "u":
+                self.n_u = offset
+        self.n = offset
+        self.n_lam = self.n - self.n_u
+        self.timers: dict[str, float] = defaultdict(float)
+        # tangent assembly cache (see _tangent): the last index arrays of every
+        # item, and the CSR pattern of the items whose indices did not change
+        self._last_idx: list[tuple[np.ndarray, np.ndarray] | None] = [None] * len(self.items)
+        self._varying = np.zeros(len(self.items), dtype=bool)
+        self._pattern: _Pattern | None = None
+
+    # -- checkpoint ---------------------------------------------------------
+    def state_dict(self) -> dict[str, np.ndarray]:
+        """Which items' tangent index arrays have varied (their triplets are summed
+        apart from the fixed pattern): with it a resumed run sums every tangent
+        in the same order as an uninterrupted one, so it repeats its solves to
+        the last bit."""
+        return {"varying": self._varying.copy()}
+
+    def load_state_dict(self, state: dict[str, np.ndarray]) -> None:
+        """Restore :meth:`state_dict` (ValueError if it does not fit this model)."""
+        v = np.asarray(state.get("varying", np.zeros(0)))
+        if set(state) != {"varying"} or v.shape != self._varying.shape or v.dtype != bool:
+            raise ValueError(f"model state must be {{'varying': bool ({len(self.items)},)}}, "
+                             f"got {sorted(state)} with shape {v.shape}")
+        self._varying = v.copy()
+        self._last_idx = [None] * len(self.items)
+        self._pattern = None
+
+    # -- queries -----------------------------------------------------------
+    def item(self, name: str) -> Item:
+        for it in self.items:
+            if it.name == name:
+                return it
+        raise KeyError(name)
+
+    @property
+    def bodies(self) -> list[Item]:
+        return [it for it in self.items if it.dof_kind == "u"]
+
+    @property
+    def symmetric(self) -> bool:
+        """Whether every item declares a symmetric tangent (:attr:`Item.symmetric`)."""
+        return all(it.symmetric for it in self.items)
+
+    def outputs(self) -> list[Output]:
+        """Every item's :meth:`Item.outputs`, in the order of the items."""
+        return [o for it in self.items for o in it.outputs()]
+
+    def contact_tables(self) -> list[ContactTable]:
+        """The items that report contact per slave node (the contact pairs)."""
+        return [it for it in self.items if isinstance(it, ContactTable)]
+
+    def zeros(self) -> np.ndarray:
+        return np.zeros(self.n)
+
+    # -- checks --------------------------------------------------------------
+    def preflight(self, z: np.ndarray, load_factor: float, fixed: np.ndarray) -> None:
+        """Refuse, before the first load step, a model that cannot work (ValueError
+        naming the item and the fix): contact surfaces that do not face each
+        other, rigid modes held by nothing; warn where a method is known to fail
+        (:mod:`skfem_mortar.contact.preflight`).  ``fixed``: the prescribed global dofs."""
+        from ..contact.preflight import run  # preflight needs the contact pair, which imports this
+        run(self, np.asarray(z, dtype=float), float(load_factor), np.asarray(fixed))
+
+    # -- assembly ----------------------------------------------------------
+    def prescribed(self, load_factor: float) -> tuple[np.ndarray, np.ndarray]:
+        """All prescribed global dofs and their values (conflicts raise ValueError)."""
+        dofs, vals = [np.zeros(0, dtype=np.int64)], [np.zeros(0)]
+        for it in self.items:
+            p = it.prescribed(load_factor)
+            if p is not None:
+                dofs.append(np.asarray(p[0], dtype=np.int64))
+                vals.append(np.asarray(p[1], dtype=float))
+        d, v = np.concatenate(dofs), np.concatenate(vals)
+        ud, inv = np.unique(d, return_inverse=True)
+        uv = np.zeros(len(ud))
+        uv[inv] = v
+        if len(ud) < len(d) and not np.allclose(uv[inv], v, rtol=1e-12, atol=0.0):
+            raise ValueError("the same dof is prescribed twice with different values")
+        return ud, uv
+
+    def assemble(self, z: np.ndarray, load_factor: float, tangent: bool = True
+                 ) -> tuple[np.ndarray, sp.csr_matrix | None, float]:
+        """Sum all contributions.
+
+        Returns
+        -------
+        R : ndarray (n,)
+            Global residual.
+        K : csr_matrix (n, n) or None
+            Global tangent dR/dz, built once from all COO triplets.
+        scale : float
+            The largest norm of a single item's residual: a force scale used by
+            the solver for relative convergence checks (units-free).
+        """
+        parts = []
+        scale = 0.0
+        for it in self.items:
+            t0 = time.perf_counter()
+            c = it.assemble(z, load_factor, tangent)
+            self.timers[it.phase] += time.perf_counter() - t0
+            if c.r_value.size:
+                scale = max(scale, float(np.linalg.norm(c.r_value)))
+            parts.append(c)
+        t0 = time.perf_counter()
+        R = np.bincount(np.concatenate([p.r_index for p in parts]),
+                        weights=np.concatenate([p.r_value for p in parts]), minlength=self.n)
+        K = self._tangent(parts) if tangent else None
+        self.timers["bulk"] += time.perf_counter() - t0
+        return R, K, scale
+
+    def _tangent(self, parts: list[Contribution]) -> sp.csr_matrix:
+        """Sum the tangent triplets of all items into one CSR matrix.
+
+        Items whose index arrays have equalled those of their previous call at
+        every call so far (bodies, loads: a fixed mesh; every item at its first
+        call) are *stable*: their
+        values are summed with one ``bincount`` into a CSR pattern built once
+        (no sorting of COO triplets per iteration).  An item whose indices
+        changed once (a contact pair: active sets and segments change) is
+        *varying* from then on; its triplets go through a COO to CSR conversion
+        of their own, added at the end.  So the pattern is rebuilt at most once
+        per item that turns out to vary.
+        """
+        stable = []
+        for i, c in enumerate(parts):
+            if self._varying[i]:
+                continue
+            last = self._last_idx[i]
+            self._last_idx[i] = (c.k_rows, c.k_cols)
+            # an item is taken as stable from its first call on, so the order in
+            # which entries are summed depends only on which items have varied
+            # (the state a checkpoint keeps), not on how many calls came before
+            if last is None or (_same(last[0], c.k_rows) and _same(last[1], c.k_cols)):
+                stable.append(i)
+            else:
+                self._varying[i] = True
+                self._last_idx[i] = None
+        stable = tuple(i for i in stable if parts[i].k_vals.size)
+        pat = self._pattern
+        if stable and (pat is None or pat.items != stable
+                       or any(pat.idx[j][0] is not parts[i].k_rows
+                              and not _same(pat.idx[j][0], parts[i].k_rows)
+                              for j, i in enumerate(stable))):
+            pat = self._pattern = _Pattern(stable, [parts[i] for i in stable], self.n)
+        if not stable:
+            pat = None
+        rest = [p for i, p in enumerate(parts) if pat is None or i not in pat.items]
+        rest = [p for p in rest if p.k_vals.size]
+        K = None
+        if pat is not None:
+            K = pat.matrix([parts[i].k_vals for i in pat.items])
+        if rest or K is None:
+            Kr = sp.coo_matrix((_cat([p.k_vals for p in rest], float),
+                                (_cat([p.k_rows for p in rest], np.int64),
+                                 _cat([p.k_cols for p in rest], np.int64))),
+                               shape=(self.n, self.n)).tocsr()
+            K = Kr if K is None else K + Kr
+        return K
+
+
+def _cat(arrays: list[np.ndarray], dtype) -> np.ndarray:
+    return np.concatenate(arrays) if arrays else np.zeros(0, dtype=dtype)
+
+
+def _same(a: np.ndarray, b: np.ndarray) -> bool:
+    return a is b or (a.shape == b.shape and np.array_equal(a, b))
+
+
+class _Pattern:
+    """A fixed CSR pattern of the triplets of some items and where each triplet goes."""
+
+    def __init__(self, items: tuple[int, ...], parts: list[Contribution], n: int):
+        self.items = items
+        self.idx = [(p.k_rows, p.k_cols) for p in parts]
+        rows = np.concatenate([p.k_rows for p in parts]).astype(np.int64)
+        cols = np.concatenate([p.k_cols for p in parts]).astype(np.int64)
+        keys, self.where = np.unique(rows * n + cols, return_inverse=True)
+        self.nnz = keys.size
+        self.indices = (keys % n).astype(np.int32 if n < 2**31 else np.int64)
+        self.indptr = np.zeros(n + 1, dtype=self.indices.dtype)
+        np.cumsum(np.bincount(keys // n, minlength=n), out=self.indptr[1:])
+        self.n = n
+
+    def matrix(self, vals: list[np.ndarray]) -> sp.csr_matrix:
+        data = np.bincount(self.where, weights=np.concatenate(vals), minlength=self.nnz)
+        K = sp.csr_matrix((data, self.indices.copy(), self.indptr.copy()), shape=(self.n, self.n))
+        K.has_sorted_indices = True
+        return K

@@ -1,0 +1,117 @@
+"""Dead loads on a :class:`~skfem_mortar.bodies.solid.Solid`: surface tractions and point loads.
+
+Both are fixed in the reference configuration (they do not follow the
+deformation), so their residual contribution ``-load_factor * f`` does not
+depend on ``u`` and their tangent is zero.
+"""
+from __future__ import annotations
+
+from typing import Callable, Sequence
+
+import numpy as np
+from skfem import FacetBasis, LinearForm
+from skfem.helpers import dot
+
+from ..core.model import Contribution, Item
+from ..bodies.solid import boundary_facets
+
+__all__ = ["Traction", "PointLoad"]
+
+
+@LinearForm
+def _traction_work(v, w):
+    """``v . t`` with the reference traction ``t`` on the facet quadrature points."""
+    return dot(w.t, v)
+
+
+class Traction(Item):
+    """A reference (dead) traction ``T`` on a boundary, ramped with the load factor.
+
+    Residual: ``R_a -= load_factor * int_Gamma0 v_a . T dA``.
+
+    Parameters
+    ----------
+    body : Solid
+        The loaded body.
+    boundary : str or array of int
+        A tag of ``body.mesh.boundaries`` or an array of boundary facet indices.
+    traction : sequence of 2 floats, or callable
+        The traction vector per unit reference length, or a function
+        ``T(x) -> array (2, ...)`` of the reference facet quadrature points.
+    name : str
+        Item name (default ``traction_<body>_<boundary>``).
+    """
+
+    phase = "loads"
+
+    def __init__(self, body, boundary: str | np.ndarray,
+                 traction: Sequence[float] | Callable[[np.ndarray], np.ndarray],
+                 name: str = ""):
+        facets = boundary_facets(body.mesh, boundary)
+        if facets.size and (facets.min() < 0 or facets.max() >= body.mesh.nfacets):
+            raise ValueError(f"boundary facets must lie in [0, {body.mesh.nfacets})")
+        fb = FacetBasis(body.mesh, body.basis.elem, facets=facets)
+        if callable(traction):
+            t = np.asarray(traction(fb.global_coordinates()), dtype=float)
+        else:
+            t0 = np.asarray(traction, dtype=float)
+            if t0.shape != (2,):
+                raise ValueError("traction must be a 2-vector or a callable")
+            t = t0[:, None, None] * np.ones((1,) + fb.global_coordinates().shape[1:])
+        if not np.all(np.isfinite(t)):
+            raise ValueError("traction must be finite")
+        f = _traction_work.assemble(fb, t=t)
+        self.body = body
+        tag = boundary if isinstance(boundary, str) else "facets"
+        self.name = name or f"traction_{body.name}_{tag}"
+        self._idx = np.flatnonzero(f)
+        self._f = f[self._idx]
+
+    @property
+    def force(self) -> np.ndarray:
+        """The full-load nodal force vector (local to the body)."""
+        out = np.zeros(self.body.n_dofs)
+        out[self._idx] = self._f
+        return out
+
+    def assemble(self, z: np.ndarray, load_factor: float, tangent: bool = True
+                 ) -> Contribution:
+        return Contribution(self.body.offset + self._idx, -load_factor * self._f)
+
+
+class PointLoad(Item):
+    """Nodal forces on given local dofs of a body, ramped with the load factor.
+
+    Residual: ``R[dofs] -= load_factor * values``.
+
+    Parameters
+    ----------
+    body : Item
+        The body (``dof_kind == "u"``).
+    local_dofs : array of int
+        Dofs local to the body's block.
+    values : float or array
+        Force per dof (a scalar applies to all).
+    """
+
+    phase = "loads"
+
+    def __init__(self, body, local_dofs: np.ndarray, values: float | np.ndarray,
+                 name: str = ""):
+        dofs = np.asarray(local_dofs, dtype=np.int64).ravel()
+        if dofs.size and (dofs.min() < 0 or dofs.max() >= body.n_dofs):
+            raise ValueError(f"local_dofs must lie in [0, {body.n_dofs})")
+        try:
+            vals = np.broadcast_to(np.asarray(values, dtype=float), dofs.shape).copy()
+        except ValueError:
+            raise ValueError("values must be a scalar or one value per local dof") from None
+        if not np.all(np.isfinite(vals)):
+            raise ValueError("values must be finite")
+        self.body = body
+        self.local_dofs = dofs
+        self.values = vals
+        self.name = name or f"point_load_{body.name}"
+
+    def assemble(self, z: np.ndarray, load_factor: float, tangent: bool = True
+                 ) -> Contribution:
+        return Contribution(self.body.offset + self.local_dofs, -load_factor * self.values)

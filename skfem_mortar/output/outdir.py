@@ -1,0 +1,435 @@
+"""An output directory holds one run: its lock and the manifest of its files.
+
+The lock ``DIR/.skfem-mortar.lock`` is created atomically (``O_CREAT | O_EXCL``)
+and holds, as JSON, the host, the process id (and, on Linux, that process's
+start time, so that a reused pid is not taken for the run), the start time,
+the command and a token. A second run on a locked directory is refused. A lock
+whose process is gone (same host, pid not alive) is stale: it is taken over
+with a one-line note. A lock taken on another host is never judged: the run is
+refused, naming that host.
+
+The manifest ``DIR/.skfem-mortar-run.json`` names the run (its identity: scene,
+method, parameters, steps) and the top-level entries it writes (series, their
+frame directories, ``checkpoint/``, ``summary.json``, ``contact.csv``, pictures).
+It is written before the run writes anything else, so every file in the
+directory is either the run's (listed, or a temporary file of a listed one) or
+not ours. A new run into a directory that holds another run's files refuses
+unless told to replace them; replacing removes exactly the listed files of the
+old run (``summary.json`` first, then the checkpoint index, so nothing half
+removed passes for a finished or resumable run), never a file it does not list.
+"""
+from __future__ import annotations
+
+import json
+import logging
+import os
+import re
+import socket
+import time
+import uuid
+from contextlib import contextmanager
+from pathlib import Path
+from typing import Any, Iterable, Iterator
+
+__all__ = ["OutputDirError", "LOCK_NAME", "MANIFEST_NAME", "check_out_dir", "output_lock",
+           "read_manifest", "claim", "adopt", "add_to_manifest", "remove_run",
+           "remove_temporaries", "entries"]
+
+LOCK_NAME = ".skfem-mortar.lock"
+MANIFEST_NAME = ".skfem-mortar-run.json"
+MANIFEST_FORMAT = "skfem-mortar outputs 1"
+#: a lock or manifest larger than this is not ours (bytes)
+MAX_META_BYTES = 1 << 20
+#: the frame files of a series directory ``<name>/<name>_NNNN.vtu``
+_FRAME = re.compile(r"(?P<name>.+)_\d{4,}\.vtu")
+
+_log = logging.getLogger(__name__)
+#: directories this process holds the lock of, with the nesting depth
+_HELD: dict[str, int] = {}
+
+
+class OutputDirError(ValueError):
+    """An output directory that cannot be used: a file, busy, or holding other files."""
+
+
+def check_out_dir(path: str | os.PathLike) -> Path:
+    """``path`` as an output directory: not empty text, not an existing file.
+
+    Raises
+    ------
+    OutputDirError
+        For ``""`` or a path that exists and is not a directory.
+    """
+    if str(path).strip() == "":
+        raise OutputDirError("--out must name a directory, got empty text")
+    p = Path(path)
+    if p.exists() and not p.is_dir():
+        raise OutputDirError(f"--out {p} is an existing file, not a directory")
+    return p
+
+
+# -- the lock ---------------------------------------------------------------------
+
+def _proc_stat(pid: int) -> list[str] | None:
+    """Fields 3... of ``/proc/<pid>/stat`` (state first), None where there is none."""
+    try:
+        text = Path(f"/proc/{pid}/stat").read_text()
+    except OSError:
+        return None
+    return text.rsplit(")", 1)[-1].split()
+
+
+def _pid_start(pid: int) -> str | None:
+    """Start time of process ``pid`` (clock ticks since boot; Linux only, else None)."""
+    fields = _proc_stat(pid)
+    return fields[19] if fields and len(fields) > 19 else None
+
+
+def _alive(pid: int, start: str | None) -> bool:
+    """Whether process ``pid`` runs and is the one started at ``start`` (if known)."""
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except PermissionError:
+        return True  # someone else's process
+    fields = _proc_stat(pid)
+    if fields is None:
+        return True  # no /proc: the pid is all we know
+    if fields[0] == "Z":
+        return False  # a zombie has finished
+    return start is None or len(fields) <= 19 or fields[19] == start
+
+
+def _describe_lock(held: dict) -> str:
+    return (f"{held.get('command', 'a run')} of pid {held.get('pid')} on host "
+            f"{held.get('host')!r}, started {held.get('started')}")
+
+
+def _read_lock(path: Path) -> dict | None:
+    """The lock's content; None if it vanished; {} if unreadable (being written)."""
+    try:
+        if path.stat().st_size > MAX_META_BYTES:
+            return {}
+        held = json.loads(path.read_text())
+    except FileNotFoundError:
+        return None
+    except (OSError, UnicodeDecodeError, json.JSONDecodeError):
+        return {}
+    return held if isinstance(held, dict) else {}
+
+
+def _is_stale(held: dict) -> bool:
+    """A lock of this host whose process is gone."""
+    pid = held.get("pid")
+    if held.get("host") != socket.gethostname() or not (isinstance(pid, int) and pid > 0):
+        return False
+    start = held.get("pid_start")
+    return not _alive(pid, start if isinstance(start, str) else None)
+
+
+def _take_over(path: Path, held: dict) -> None:
+    """Move a stale lock aside; put it back if what was moved is not the lock judged
+    stale (another run took it over in between)."""
+    aside = path.with_name(f"{LOCK_NAME}.{os.getpid()}.{uuid.uuid4().hex[:8]}.stale")
+    try:
+        os.rename(path, aside)
+    except FileNotFoundError:
+        return
+    moved = _read_lock(aside)
+    if moved != held:
+        try:
+            os.link(aside, path)
+        except OSError:
+            pass  # a newer lock is in place: the next attempt reads it
+    else:
+        _log.warning("%s: took over the stale lock of %s (that process is gone)",
+                     path.parent, _describe_lock(held))
+    aside.unlink(missing_ok=True)
+
+
+def _busy(directory: Path, held: dict) -> OutputDirError:
+    if not held:
+        return OutputDirError(f"--out {directory} is in use: its lock {directory / LOCK_NAME} "
+                              "is being written or unreadable; remove it if no run uses "
+                              "the directory")
+    where = "" if held.get("host") == socket.gethostname() else " (another host: not checked)"
+    return OutputDirError(f"--out {directory} is in use by the {_describe_lock(held)}{where}; "
+                          "wait for it to end or use another --out")
+
+
+def _create_lock(path: Path, info: dict) -> bool:
+    """Create the lock file with ``info``; False if it exists."""
+    try:
+        fd = os.open(path, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o644)
+    except FileExistsError:
+        return False
+    try:
+        with os.fdopen(fd, "w") as f:
+            f.write(json.dumps(info))
+    except BaseException:
+        path.unlink(missing_ok=True)
+        raise
+    return True
+
+
+def _acquire(directory: Path, command: str) -> str:
+    """Take the lock of ``directory``; return its token.
+
+    Raises
+    ------
+    OutputDirError
+        If another live run holds it, or a run on another host.
+    """
+    path = directory / LOCK_NAME
+    token = uuid.uuid4().hex
+    pid = os.getpid()
+    info = {"host": socket.gethostname(), "pid": pid, "pid_start": _pid_start(pid),
+            "started": time.strftime("%Y-%m-%dT%H:%M:%S%z"), "command": command,
+            "token": token}
+    for _ in range(5):  # a few rounds: a stale lock taken over, a lock that vanished
+        if _create_lock(path, info):
+            return token
+        held = _read_lock(path)
+        if held is None:
+            continue
+        if not _is_stale(held):
+            raise _busy(directory, held)
+        _take_over(path, held)
+    raise _busy(directory, _read_lock(path) or {})
+
+
+def _release(directory: Path, token: str) -> None:
+    """Remove the lock if it is still ours."""
+    path = directory / LOCK_NAME
+    held = _read_lock(path)
+    if held and held.get("token") == token:
+        path.unlink(missing_ok=True)
+
+
+@contextmanager
+def output_lock(directory: str | os.PathLike, command: str = "run") -> Iterator[Path]:
+    """Hold the lock of the output directory ``directory`` (created if needed).
+
+    Nested use in one process (``demo`` around its ``run_scene``) holds it once.
+    The lock is released on any exit, KeyboardInterrupt included; a killed
+    process leaves a stale lock that the next run takes over.
+
+    Parameters
+    ----------
+    directory : path
+    command : str
+        What holds it (named in the refusal of a second run).
+
+    Raises
+    ------
+    OutputDirError
+        If ``directory`` is a file, or another run holds the lock.
+    """
+    directory = check_out_dir(directory)
+    directory.mkdir(parents=True, exist_ok=True)
+    key = str(directory.resolve())
+    if _HELD.get(key):
+        _HELD[key] += 1
+        try:
+            yield directory
+        finally:
+            _HELD[key] -= 1
+        return
+    token = _acquire(directory, command)
+    _HELD[key] = 1
+    try:
+        yield directory
+    finally:
+        del _HELD[key]
+        _release(directory, token)
+
+
+# -- the manifest -----------------------------------------------------------------
+
+def _plain_names(names: Iterable[Any]) -> list[str]:
+    """The entries that are plain names inside the directory (no path, not '.', '..')."""
+    return [n for n in names if isinstance(n, str) and n not in ("", ".", "..")
+            and Path(n).name == n and "/" not in n and "\\" not in n]
+
+
+def read_manifest(directory: str | os.PathLike) -> dict | None:
+    """The manifest of the run in ``directory``, None if there is none or it is
+    not one (its entries are then not taken for ours)."""
+    path = Path(directory) / MANIFEST_NAME
+    try:
+        if path.stat().st_size > MAX_META_BYTES:
+            return None
+        data = json.loads(path.read_text())
+    except (OSError, UnicodeDecodeError, json.JSONDecodeError):
+        return None
+    if not (isinstance(data, dict) and data.get("format") == MANIFEST_FORMAT
+            and isinstance(data.get("files"), list)):
+        return None
+    data["files"] = _plain_names(data["files"])
+    return data
+
+
+def _write_manifest(directory: Path, command: str, identity: dict, files: Iterable[str]) -> None:
+    from .io import write_json
+
+    write_json(directory / MANIFEST_NAME,
+               {"format": MANIFEST_FORMAT, "command": command, "identity": identity,
+                "files": sorted(set(_plain_names(files)))})
+
+
+def add_to_manifest(directory: str | os.PathLike, names: Iterable[str]) -> None:
+    """List ``names`` as files of the run in ``directory`` (before writing them)."""
+    directory = Path(directory)
+    man = read_manifest(directory)
+    if man is None:
+        raise OutputDirError(f"{directory} has no run manifest to add {list(names)} to")
+    _write_manifest(directory, man["command"], man["identity"], man["files"] + list(names))
+
+
+def _is_ours(name: str, files: list[str]) -> bool:
+    """A listed entry, the lock or manifest, or a temporary file of one of them."""
+    if name in files or name in (LOCK_NAME, MANIFEST_NAME) or name.startswith(LOCK_NAME + "."):
+        return True
+    return name.startswith(".") and any(name.startswith(f".{f}.")
+                                        for f in files + [MANIFEST_NAME])
+
+
+def _foreign(directory: Path, files: list[str]) -> list[str]:
+    """Entries of ``directory`` that are not the run's."""
+    return sorted(p.name for p in directory.iterdir() if not _is_ours(p.name, files))
+
+
+def _present(directory: Path, files: list[str]) -> bool:
+    return any((directory / f).exists() for f in files)
+
+
+def _describe_run(man: dict) -> str:
+    ident = man.get("identity") or {}
+    if not isinstance(ident, dict):
+        ident = {}
+    return (f"{man.get('command', 'run')} of scene {ident.get('scene')!r}, method "
+            f"{ident.get('method')!r}, {ident.get('steps')} steps")
+
+
+def _remove_dir(path: Path) -> None:
+    """A listed directory: the checkpoint's files or a series' frames and temporary
+    files; the directory itself if that empties it (a user's file in it stays)."""
+    from .io import clear_checkpoint
+
+    if path.is_symlink() or not path.is_dir():
+        path.unlink(missing_ok=True)
+        return
+    if path.name == "checkpoint":
+        clear_checkpoint(path)
+    else:
+        for p in path.iterdir():
+            m = _FRAME.fullmatch(p.name)
+            if p.is_file() and ((m and m.group("name") == path.name)
+                                or p.name.startswith(f".{path.name}_")):
+                p.unlink(missing_ok=True)
+    try:
+        path.rmdir()
+    except OSError:
+        pass  # not empty: what is left is not ours
+
+
+def remove_run(directory: str | os.PathLike, man: dict) -> None:
+    """Remove the files the manifest ``man`` lists and their temporary files:
+    ``summary.json`` first, then the checkpoint (index first), then the rest.
+    The manifest itself stays until the caller writes the next one."""
+    directory = Path(directory)
+    order = sorted(man["files"], key=lambda f: (f != "summary.json", f != "checkpoint", f))
+    for name in order:
+        path = directory / name
+        if path.is_dir() and not path.is_symlink():
+            _remove_dir(path)
+        else:
+            path.unlink(missing_ok=True)
+    remove_temporaries(directory, man["files"])
+
+
+def remove_temporaries(directory: str | os.PathLike, files: list[str]) -> None:
+    """Remove the temporary files that a kill left beside the listed entries
+    (``.<name>.*``) and inside the listed series directories (``.<name>_*``)."""
+    directory = Path(directory)
+    for p in directory.iterdir():
+        if (p.name.startswith(".") and p.is_file() and p.name not in (LOCK_NAME, MANIFEST_NAME)
+                and _is_ours(p.name, files) and not p.name.startswith(LOCK_NAME)):
+            p.unlink(missing_ok=True)
+    for name in files:
+        sub = directory / name
+        if sub.is_dir() and not sub.is_symlink() and name != "checkpoint":
+            for p in sub.iterdir():
+                if p.is_file() and p.name.startswith(f".{name}_"):
+                    p.unlink(missing_ok=True)
+
+
+def claim(directory: str | os.PathLike, identity: dict, files: Iterable[str], *,
+          command: str = "run", replace: bool = False, own: bool = False) -> None:
+    """Make ``directory`` (locked by the caller) the directory of a new run.
+
+    Parameters
+    ----------
+    directory : path
+    identity : dict
+        The new run's identity (JSON-ready).
+    files : iterable of str
+        The top-level entries it will write.
+    command : str
+        What writes it (``run``, ``demo``).
+    replace : bool
+        Remove the files of the run the directory holds (``--replace``).
+    own : bool
+        The caller resumes a run with this identity that has nothing to resume
+        from: that run's files may be removed without ``replace``.
+
+    Raises
+    ------
+    OutputDirError
+        If the directory holds entries that are no run's (never removed), or
+        another run's files and neither ``replace`` nor ``own`` applies.
+    """
+    directory = Path(directory)
+    man = read_manifest(directory)
+    old = man["files"] if man else []
+    foreign = _foreign(directory, old)
+    if foreign:
+        shown = ", ".join(foreign[:3]) + (f" and {len(foreign) - 3} more" if len(foreign) > 3
+                                          else "")
+        raise OutputDirError(f"--out {directory} holds files that no run there lists as its "
+                             f"own ({shown}); use an empty or new --out, or remove them")
+    if man is not None and _present(directory, old):
+        if not (replace or (own and man.get("identity") == identity)):
+            raise OutputDirError(f"--out {directory} holds the files of another run "
+                                 f"({_describe_run(man)}); pass --replace to remove them "
+                                 "first, --resume to continue that run, or use another --out")
+        remove_run(directory, man)
+    _write_manifest(directory, command, identity, files)
+
+
+def adopt(directory: str | os.PathLike, identity: dict, files: Iterable[str], *,
+          command: str = "run") -> None:
+    """Continue the run in ``directory`` (``--resume``, checkpoint validated): its
+    manifest lists ``files`` too, its temporary files and ``summary.json`` go
+    (the summary is written again when the resumed run ends).
+
+    Raises
+    ------
+    OutputDirError
+        If the manifest names another run.
+    """
+    directory = Path(directory)
+    man = read_manifest(directory)
+    if man is not None and man.get("identity") != identity:
+        raise OutputDirError(f"resume: --out {directory} holds the files of another run "
+                             f"({_describe_run(man)}); drop --resume or use another --out")
+    listed = list(files) + (man["files"] if man else [])
+    _write_manifest(directory, command, identity, listed)
+    (directory / "summary.json").unlink(missing_ok=True)
+    remove_temporaries(directory, sorted(set(_plain_names(listed))))
+
+
+def entries(directory: str | os.PathLike) -> set[str]:
+    """The names of the top-level entries of ``directory``."""
+    return {p.name for p in Path(directory).iterdir()}

@@ -1,0 +1,334 @@
+"""Block Newton method over displacements and multipliers.
+
+One load step: starting from the last converged unknowns ``z`` and the new
+prescribed values, iterate
+
+    K(z) dz = -R(z),      z <- z + alpha dz
+
+on the free unknowns (``K = dR/dz`` holds the bulk, load and contact blocks
+``[K_uu  K_ulam; K_lamu  K_lamlam]``). The prescribed increment enters the
+first iteration through the consistent predictor ``K_ff dz_f = -(R_f + K_fp dz_p)``,
+so that a large boundary displacement does not invert the elements next to
+the boundary before the interior has followed.
+
+Convergence (a step is reported converged only when all three hold):
+
+(a) equilibrium: ``|| max(|R_f| - floor, 0) || <= max(rtol * S, atol)`` with the step's force
+    scale ``S = max(||R_f(z0, lf1) - R_f(z0, lf0)||, ||K_fp dz_p||)`` (the
+    external load increment over the step and the stiffness times the
+    prescribed increment, both at the converged start state ``z0``), fixed
+    before the first iteration from data only, so a blown-up iterate cannot
+    inflate it; ``floor`` is each row's round-off of the stiffness scale,
+    ``ROUND_OFF * eps * max_j |K_ij| * L`` (``L`` the largest coordinate), so
+    a residual that is round-off in every row passes;
+(b) every item is *settled* (no active set change in the last iteration) and
+    reports no violation of its own conditions (:meth:`Item.violation`, e.g.
+    the contact pair's KKT conditions, to the tolerances it states);
+(c) every unknown is finite.
+
+A stalled residual is accepted at round-off only below ``STAGNATION_RESIDUAL * S``
+(see :func:`_stagnated_at_round_off`).  An iteration whose residual exceeds
+``divergence`` times the step's scale is divergent.
+"""
+from __future__ import annotations
+
+import logging
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..core.errors import InversionError
+from .linsolve import solve_linear
+from ..core.model import Model
+
+__all__ = ["NewtonOptions", "NewtonReport", "newton"]
+
+log = logging.getLogger(__name__)
+
+
+@dataclass
+class NewtonOptions:
+    """Settings of the Newton iteration.
+
+    Parameters
+    ----------
+    max_iter : int
+        Iterations allowed per load step attempt (>= 1).
+    rtol : float
+        Relative residual tolerance, in (0, 1).
+    atol : float
+        Absolute residual tolerance (>= 0, a force): the test is
+        ``|| max(|R_f| - floor, 0) || <= max(rtol * S, atol)``; 0 (default)
+        means the step's force scale ``S`` and the round-off floor alone.
+    line_search : bool
+        Backtracking on the residual norm (halving, Armijo factor 1e-4).
+    max_backtracks : int
+        Halvings per iteration when ``line_search`` is on.
+    divergence : float
+        An iteration whose residual exceeds ``divergence`` times the step's
+        reference scale is declared divergent.
+    """
+
+    max_iter: int = 25
+    rtol: float = 1e-10
+    atol: float = 0.0
+    line_search: bool = False
+    max_backtracks: int = 8
+    divergence: float = 1e8
+
+    def __post_init__(self):
+        if not (isinstance(self.max_iter, (int, np.integer)) and self.max_iter >= 1):
+            raise ValueError(f"max_iter must be an integer >= 1, got {self.max_iter!r}")
+        if not (0.0 < self.rtol < 1.0):
+            raise ValueError(f"rtol must lie in (0, 1), got {self.rtol!r}")
+        if not (np.isfinite(self.atol) and self.atol >= 0.0):
+            raise ValueError(f"atol must be a finite number >= 0, got {self.atol!r}")
+        if not (np.isfinite(self.divergence) and self.divergence > 1.0):
+            raise ValueError(f"divergence must be a finite number > 1, got {self.divergence!r}")
+        if not (isinstance(self.max_backtracks, (int, np.integer)) and self.max_backtracks >= 0):
+            raise ValueError(f"max_backtracks must be an integer >= 0, "
+                             f"got {self.max_backtracks!r}")
+
+
+@dataclass
+class NewtonReport:
+    """What one attempt of a load step did."""
+
+    converged: bool
+    iterations: int
+    residual_norms: list[float] = field(default_factory=list)
+    reason: str = ""
+    solve_time: float = 0.0
+    inversion_cuts: int = 0
+    roundoff: bool = False
+    #: the step's force scale S, the residual tolerance it gave, and the norm
+    #: of the rows' round-off floor
+    scale: float = 0.0
+    tolerance: float = 0.0
+    floor: float = 0.0
+
+
+#: factor of the round-off floor of a row, ``ROUND_OFF * eps * max_j |K_ij| * L``:
+#: the force in row i carries a round-off of about ``eps max_j |K_ij| L``
+#: (positions x = X + u are known to ``eps L``, and the row's largest stiffness
+#: turns that into a force); summed over the few elements at a node, 100 times
+#: that is the level below which a row's residual is noise
+ROUND_OFF = 1e2
+
+
+def round_off_floor(model: Model, z: np.ndarray, K, free: np.ndarray) -> np.ndarray:
+    """Per free row, ``ROUND_OFF * eps * max_j |K_ij| * L``: the residual below
+    which the row's force is round-off (``L`` the largest coordinate of a body
+    node at ``z``).  Per row, so that a body 1e6 times stiffer than another
+    does not lend its round-off to the soft body's rows."""
+    length = 0.0
+    for body in model.bodies:
+        x = getattr(body, "x", None)
+        if x is not None:
+            length = max(length, float(np.max(np.abs(x(z)), initial=0.0)))
+    Kf = abs(K[free][:, free])
+    k_row = np.asarray(Kf.max(axis=1).todense()).ravel() if Kf.nnz else np.zeros(free.size)
+    return ROUND_OFF * np.finfo(float).eps * length * k_row
+
+
+def excess_norm(Rf: np.ndarray, floor: np.ndarray) -> float:
+    """``|| max(|R_i| - floor_i, 0) ||``: the residual beyond each row's round-off."""
+    return float(np.linalg.norm(np.maximum(np.abs(Rf) - floor, 0.0)))
+
+
+def step_scale(model: Model, z0: np.ndarray, lf0: float, lf1: float, free: np.ndarray,
+               K_dz_fixed: np.ndarray | None) -> float:
+    """The step's force scale ``S = max(||R_f(z0, lf1) - R_f(z0, lf0)||, ||K_fp dz_p||)``.
+
+    The first term is the external load increment at the converged start
+    state (only loads depend on the load factor; trial evaluations, so no
+    item's state changes), the second the force of the prescribed increment.
+    """
+    R1, _, _ = model.assemble(z0, lf1, tangent=False)
+    R0, _, _ = model.assemble(z0, lf0, tangent=False)
+    s = float(np.linalg.norm(R1[free] - R0[free]))
+    if K_dz_fixed is not None:
+        s = max(s, float(np.linalg.norm(K_dz_fixed)))
+    return s if np.isfinite(s) else np.inf
+
+
+def newton(model: Model, z: np.ndarray, load_factor: float, free: np.ndarray,
+           fixed: np.ndarray, dz_fixed: np.ndarray,
+           options: NewtonOptions | None = None,
+           start: tuple[np.ndarray, float] | None = None) -> NewtonReport:
+    """Solve one load step in place on ``z``.
+
+    Parameters
+    ----------
+    model : Model
+    z : ndarray
+        Unknowns at the last converged state (prescribed entries still at their
+        old values); updated in place.
+    load_factor : float
+        Target load factor of the step.
+    free, fixed : ndarray of int
+        Free and prescribed global indices.
+    dz_fixed : ndarray
+        Increment of the prescribed values over the step.
+    options : NewtonOptions
+    start : (z, load_factor), optional
+        The converged state the step starts from and its load factor (default:
+        ``z`` itself at ``load_factor``): the step's force scale is taken there.
+    """
+    opt = options or NewtonOptions()
+    report = NewtonReport(False, 0)
+    z0, lf0 = (z.copy(), load_factor) if start is None else start
+    ref = tol = 0.0
+    floor = np.zeros(free.size)
+    last: tuple[np.ndarray, float] | None = None  # the last update (dz_f, alpha)
+    for it in range(opt.max_iter + 1):
+        try:
+            R, K, _ = _assemble_damped(model, z, load_factor, free, last, opt, report)
+        except InversionError as exc:
+            report.reason = f"inversion: {exc}"
+            return report
+        K_dz = K[free][:, fixed] @ dz_fixed if (it == 0 and fixed.size) else None
+        Rf = R[free] + K_dz if K_dz is not None else R[free]
+        rnorm = float(np.linalg.norm(Rf))
+        report.residual_norms.append(rnorm)
+        if not np.isfinite(rnorm):
+            report.reason = "non-finite residual"
+            return report
+        if it == 0:  # the step's yardsticks, from data only (module docstring)
+            report.scale = step_scale(model, z0, lf0, load_factor, free, K_dz)
+            floor = round_off_floor(model, z0, K, free)
+            tol = report.tolerance = max(opt.rtol * report.scale, opt.atol)
+            report.floor = float(np.linalg.norm(floor))
+            ref = max(rnorm, report.scale, report.floor)
+        if it > 0 or not fixed.size:
+            settled = all(item.settled() for item in model.items)
+            done = settled and excess_norm(Rf, floor) <= tol
+            if not done and settled and _stagnated_at_round_off(model, z, free, last, report,
+                                                                report.scale):
+                log.info("residual %.3e stagnates at round-off (tolerance %.3e)", rnorm, tol)
+                report.roundoff = done = True
+            if done:
+                report.iterations = it
+                report.reason = _violations(model, z, max(report.scale, report.floor))
+                report.converged = not report.reason
+                if report.reason:
+                    report.roundoff = False
+                    log.info("residual converged, but %s", report.reason)
+                return report
+        if it == opt.max_iter:
+            report.reason = f"no convergence in {opt.max_iter} iterations"
+            report.iterations = it
+            return report
+        if rnorm > opt.divergence * max(ref, np.finfo(float).tiny):
+            report.reason = "divergence"
+            report.iterations = it
+            return report
+        t0 = time.perf_counter()
+        try:
+            dzf = solve_linear(K[free][:, free], -Rf)
+        except InversionError as exc:
+            report.reason = str(exc)
+            report.iterations = it
+            return report
+        report.solve_time += time.perf_counter() - t0
+        if it == 0 and fixed.size:
+            z[fixed] += dz_fixed
+        alpha = 1.0
+        if opt.line_search:
+            alpha = _backtrack(model, z, load_factor, free, dzf, rnorm, opt)
+        z[free] += alpha * dzf
+        last = (dzf, alpha)
+        report.iterations = it + 1
+    return report  # pragma: no cover (loop always returns)
+
+
+def _violations(model: Model, z: np.ndarray, scale: float) -> str:
+    """Why a state whose residual passed is still not a solution ("" if none):
+    a non-finite unknown, or an item's own conditions (:meth:`Item.violation`)."""
+    if not np.all(np.isfinite(z)):
+        return "non-finite unknowns"
+    return "; ".join(m for m in (item.violation(z, scale) for item in model.items) if m)
+
+
+#: relative size of the last Newton update below which it is round-off (both blocks)
+STAGNATION_UPDATE = 1e-7
+#: a stagnating residual is accepted only below this fraction of the force scale
+STAGNATION_RESIDUAL = 1e-6
+
+
+def _stagnated_at_round_off(model: Model, z: np.ndarray, free: np.ndarray,
+                            last: tuple[np.ndarray, float] | None, report: NewtonReport,
+                            current: float) -> bool:
+    """Round-off safeguard: the residual no longer decreases and the iterate no longer moves.
+
+    The floor :func:`round_off_floor` holds the stiffness scale; with
+    a body ``1e6`` times stiffer than the other (the patch test at a stiffness
+    ratio of 1e6) the internal forces carry a round-off of ``eps E h``, far
+    above it, and the residual stalls there.  Accepted as converged when
+    (all of) the active set is settled, the residual is below
+    ``STAGNATION_RESIDUAL`` times the step's force scale and did not halve over the
+    last two iterations, and the last update was below ``STAGNATION_UPDATE``
+    of the current unknowns, separately for the displacements and the
+    multipliers (each block relative to itself: unit-free).
+    """
+    r = report.residual_norms
+    if last is None or len(r) < 3 or r[-1] > STAGNATION_RESIDUAL * current:
+        return False
+    if r[-1] < 0.5 * min(r[-3], r[-2]):
+        return False
+    dzf, alpha = last
+    is_u = free < model.n_u
+    for blk in (is_u, ~is_u):
+        if not blk.any():
+            continue
+        zb = float(np.max(np.abs(z[free[blk]])))
+        db = float(np.max(np.abs(alpha * dzf[blk])))
+        if db > STAGNATION_UPDATE * zb:
+            return False
+    return True
+
+
+def _assemble_damped(model: Model, z: np.ndarray, load_factor: float, free: np.ndarray,
+                     last: tuple[np.ndarray, float] | None, opt: NewtonOptions,
+                     report: NewtonReport):
+    """Assemble at ``z``; if an element is inverted there, halve the last update.
+
+    Inversion safeguard: a Newton update that inverts an element (a contact
+    node pushed through a soft element by a linearized step, e.g. ``seed``
+    with nts at ``refine_cushion=3``) is taken back by halves (at most
+    ``max_backtracks`` times) before the step is given up and cut; a
+    converged answer does not depend on it.  The first iteration (no update
+    yet) raises at once.
+    """
+    while True:
+        try:
+            return model.assemble(z, load_factor, tangent=True)
+        except InversionError:
+            if last is None or report.inversion_cuts >= opt.max_backtracks:
+                raise
+            dzf, alpha = last
+            z[free] -= 0.5 * alpha * dzf
+            last = (dzf, 0.5 * alpha)
+            report.inversion_cuts += 1
+            log.debug("inversion: update halved to alpha = %.3g", 0.5 * alpha)
+
+
+def _backtrack(model: Model, z: np.ndarray, load_factor: float, free: np.ndarray,
+               dzf: np.ndarray, rnorm: float, opt: NewtonOptions) -> float:
+    """Largest alpha in {1, 1/2, 1/4, ...} with ||R(z + alpha dz)|| <= (1 - 1e-4 alpha) ||R||."""
+    alpha = 1.0
+    for _ in range(opt.max_backtracks):
+        trial = z.copy()
+        trial[free] += alpha * dzf
+        try:
+            R, _, _ = model.assemble(trial, load_factor, tangent=False)
+            r = float(np.linalg.norm(R[free]))
+        except InversionError:
+            r = np.inf
+        if np.isfinite(r) and r <= (1.0 - 1e-4 * alpha) * rnorm:
+            return alpha
+        alpha *= 0.5
+    log.debug("line search: no decrease after %d halvings, taking the full step",
+              opt.max_backtracks)
+    return 1.0

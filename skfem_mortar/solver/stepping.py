@@ -1,0 +1,490 @@
+"""Load stepping with automatic step cutting.
+
+The load factor goes from ``start`` to 1 in ``n_steps`` equal increments. A step
+whose Newton attempt fails (divergence, a non-finite value, an inverted element,
+a singular tangent, too many iterations) is retried from the last converged
+state with half the increment; after ``easy_steps`` consecutive steps that
+converged in at most ``easy_iterations`` iterations the increment grows again
+by ``growth`` (never beyond the nominal ``1 / n_steps``). When the increment
+falls below ``min_step`` a :class:`ConvergenceError` is raised.
+
+The increment in force and its counters are a :class:`Controller`; a
+:class:`Restart` (the last converged state, the steps so far, the controller and
+every item's :meth:`~skfem_mortar.core.model.Item.state_dict`) continues a run
+exactly where a checkpoint left it.
+"""
+from __future__ import annotations
+
+import logging
+import os
+import time
+import warnings
+from pathlib import Path
+from dataclasses import dataclass, field, replace
+from typing import Any, Callable, Sequence
+
+import numpy as np
+
+from ..core.errors import ConvergenceError
+from ..core.model import Item, Model, Output
+from .newton import NewtonOptions, NewtonReport
+from .newton import newton as newton_step
+from .observers import Callback, ContactCsv, Observer, ProgressBar, SeriesObserver, replay
+
+__all__ = ["Controller", "Restart", "StepRecord", "Result", "solve"]
+
+log = logging.getLogger(__name__)
+
+
+@dataclass
+class Controller:
+    """The step-size controller between two load steps: all it needs to go on.
+
+    Attributes
+    ----------
+    increment : float
+        Load increment of the next step, in (0, 1].
+    n_easy : int
+        Consecutive easy steps since the increment last changed.
+    cuts : int
+        Failed attempts since the last converged step.
+    lf_prev : float
+        Load factor of the converged step before the last one (the base of
+        the ``extrapolate`` predictor), in [0, 1).
+    """
+
+    increment: float
+    n_easy: int = 0
+    cuts: int = 0
+    lf_prev: float = 0.0
+
+    def as_dict(self) -> dict:
+        return {"increment": float(self.increment), "n_easy": int(self.n_easy),
+                "cuts": int(self.cuts), "lf_prev": float(self.lf_prev)}
+
+    @classmethod
+    def from_dict(cls, d: dict) -> "Controller":
+        """The controller of :meth:`as_dict` (ValueError naming a missing or bad entry)."""
+        if not isinstance(d, dict) or set(d) != {"increment", "n_easy", "cuts", "lf_prev"}:
+            raise ValueError(f"controller must have the entries increment, n_easy, cuts, "
+                             f"lf_prev, got {d!r}")
+        for k in ("n_easy", "cuts"):
+            if not (isinstance(d[k], int) and not isinstance(d[k], bool) and d[k] >= 0):
+                raise ValueError(f"controller {k} must be an integer >= 0, got {d[k]!r}")
+        for k in ("increment", "lf_prev"):
+            if not (isinstance(d[k], (int, float)) and np.isfinite(d[k])):
+                raise ValueError(f"controller {k} must be a finite number, got {d[k]!r}")
+        if not 0.0 < d["increment"] <= 1.0:
+            raise ValueError(f"controller increment must lie in (0, 1], got {d['increment']!r}")
+        if not 0.0 <= d["lf_prev"] < 1.0:
+            raise ValueError(f"controller lf_prev must lie in [0, 1), got {d['lf_prev']!r}")
+        return cls(float(d["increment"]), d["n_easy"], d["cuts"], float(d["lf_prev"]))
+
+
+@dataclass
+class Restart:
+    """Where a resumed solve starts: a checkpoint's last converged step.
+
+    Attributes
+    ----------
+    z : ndarray
+        The converged unknowns.
+    load_factor : float
+        Their load factor, in (0, 1).
+    history : list of StepRecord
+        The steps done up to ``z`` (kept in the result).
+    controller : Controller
+        The step-size controller after the last step.
+    previous : ndarray or None
+        The converged unknowns before ``z`` (the ``extrapolate`` predictor).
+    items : dict
+        ``{item name: item.state_dict()}`` after the last step, for every
+        item whose state is not empty.
+    source : str
+        Where it was read from (named in error messages).
+    """
+
+    z: np.ndarray
+    load_factor: float
+    history: list["StepRecord"]
+    controller: Controller
+    previous: np.ndarray | None = None
+    items: dict[str, dict[str, np.ndarray]] = field(default_factory=dict)
+    source: str = "restart"
+
+
+#: the key of the model's own state among the item states of a checkpoint
+MODEL_STATE = "__model__"
+
+
+def stateful_items(model: Model) -> dict[str, object]:
+    """The items of ``model`` that keep a state (a non-empty ``state_dict``), by
+    name, and the model itself under ``MODEL_STATE``.
+
+    Raises
+    ------
+    ValueError
+        When two of them share a name (their states could not be told apart).
+    """
+    out: dict[str, object] = {MODEL_STATE: model}  # the model's own (tangent pattern)
+    for item in model.items:
+        if item.state_dict():
+            if item.name in out:
+                raise ValueError(f"two items with a state share the name {item.name!r}")
+            out[item.name] = item
+    return out
+
+
+def restore_items(model: Model, states: dict[str, dict[str, np.ndarray]],
+                  source: str = "restart") -> None:
+    """``load_state_dict`` of every stateful item of ``model`` from ``states``.
+
+    Raises
+    ------
+    ValueError
+        Naming ``source`` and what does not fit: an unknown item, a missing
+        one, or the item's own refusal.
+    """
+    items = stateful_items(model)
+    unknown = sorted(set(states) - set(items))
+    if unknown:
+        raise ValueError(f"{source}: states of unknown items {unknown}")
+    for name, item in items.items():
+        if name not in states:
+            raise ValueError(f"{source}: no state of item {name!r}")
+        try:
+            item.load_state_dict(states[name])
+        except ValueError as exc:
+            raise ValueError(f"{source}: {exc}") from None
+
+
+@dataclass
+class StepRecord:
+    """One converged load step (``controller``: the step-size controller after
+    it, not part of :meth:`as_dict`)."""
+
+    load_factor: float
+    newton_iterations: int
+    residual_norms: list[float]
+    n_active: int = 0
+    active_set_changes: int = 0
+    cuts: int = 0
+    increment: float = 0.0
+    info: dict = field(default_factory=dict)
+    controller: Controller | None = None
+
+    @classmethod
+    def from_dict(cls, d: dict) -> "StepRecord":
+        return cls(d["load_factor"], d["newton_iterations"], list(d["residual_norms"]),
+                   d.get("n_active", 0), d.get("active_set_changes", 0), d.get("cuts", 0),
+                   d.get("increment", 0.0))
+
+    def as_dict(self) -> dict:
+        return {"load_factor": float(self.load_factor),
+                "newton_iterations": int(self.newton_iterations),
+                "residual_norms": [float(r) for r in self.residual_norms],
+                "n_active": int(self.n_active),
+                "active_set_changes": int(self.active_set_changes),
+                "cuts": int(self.cuts),
+                "increment": float(self.increment)}
+
+
+@dataclass
+class Result:
+    """Everything a solve produced: data only (the states and the step records).
+
+    Writing and drawing go through the output layer: :meth:`save` replays the
+    result to the observers of :mod:`skfem_mortar.solver.observers`, :meth:`plot`
+    calls :func:`skfem_mortar.output.plot.draw`; both import it when called.
+
+    Attributes
+    ----------
+    model : Model
+    steps : list of StepRecord
+        Converged steps, in order.
+    states : list of ndarray
+        ``states[0]`` the initial unknowns, ``states[k]`` after step ``k``
+        (for a resumed run: the states from the restart on, unless the caller
+        puts the earlier ones back).
+    converged : bool
+    solve_time : float
+        Time spent in linear solves (s).
+    """
+
+    model: Model
+    steps: list[StepRecord] = field(default_factory=list)
+    states: list[np.ndarray] = field(default_factory=list)
+    converged: bool = False
+    solve_time: float = 0.0
+    wall_time: float = 0.0
+
+    @property
+    def z(self) -> np.ndarray:
+        return self.states[-1]
+
+    @property
+    def load_factors(self) -> np.ndarray:
+        return np.array([0.0] + [s.load_factor for s in self.steps])
+
+    def outputs(self) -> list[Output]:
+        """What can be written or drawn: the bodies, then the slave surface of each
+        contact pair (pressure and gap), by the items' :meth:`~skfem_mortar.core.model.Item.outputs`."""
+        outs = self.model.outputs()
+        return ([o for o in outs if isinstance(o, Item)]
+                + [o for o in outs if not isinstance(o, Item)])
+
+    def fields(self, k: int = -1) -> dict[str, tuple[dict, dict]]:
+        """Per output (by name): ``(point_data, cell_data)`` at state ``k``."""
+        return {o.name: o.output_data(self.states[k]) for o in self.outputs()}
+
+    def save(self, out: str | os.PathLike) -> Path:
+        """Write one PVD/VTU series per output, one frame per state, into ``out``;
+        for a contact model also ``contact.csv`` (final state) of the first pair."""
+        out = Path(out)
+        tables = self.model.contact_tables()
+        observers: list[Observer] = [SeriesObserver(out, self.outputs())]
+        if tables:
+            observers.append(ContactCsv(out / "contact.csv", tables[0]))
+        replay(self, observers)
+        return out
+
+    def plot(self, path: str | os.PathLike, title: str = "") -> Path:
+        """The initial and the final configuration side by side, as a PNG
+        (see :func:`skfem_mortar.output.plot.figure`)."""
+        from ..output.plot import draw
+
+        tables = self.model.contact_tables()
+        return draw([it for it in self.model.items if isinstance(it, Output)],
+                    self.states[0], self.z, path, title=title,
+                    contact=tables[0].contact_data if tables else None)
+
+    def residual(self, k: int = -1) -> np.ndarray:
+        """Global residual at state ``k`` (reactions at prescribed dofs)."""
+        lf = self.load_factors[k]
+        R, _, _ = self.model.assemble(self.states[k], lf, tangent=False)
+        return R
+
+
+#: the largest number of nominal load steps a solve accepts (a 1e6-step run of
+#: the smallest scene would take days; more is a typo)
+MAX_STEPS = 1_000_000
+
+
+def _number(v: Any) -> bool:
+    return isinstance(v, (int, float, np.integer, np.floating)) and not isinstance(v, bool)
+
+
+def _validate(n_steps: int, min_step: float, start: float, growth: float = 2.0,
+              easy_iterations: int = 4, easy_steps: int = 2,
+              increment: float | None = None) -> None:
+    """Refuse stepping arguments out of range (ValueError naming the argument)."""
+    if not (isinstance(n_steps, (int, np.integer)) and not isinstance(n_steps, bool)
+            and 1 <= n_steps <= MAX_STEPS):
+        raise ValueError(f"n_steps must be an integer in [1, {MAX_STEPS}], got {n_steps!r}")
+    if not (_number(min_step) and 0.0 < min_step <= 1.0):
+        raise ValueError(f"min_step must lie in (0, 1], got {min_step!r}")
+    if not (_number(start) and 0.0 <= start < 1.0):
+        raise ValueError(f"start must lie in [0, 1), got {start!r}")
+    if not (_number(growth) and 1.0 <= growth <= 1e3):
+        raise ValueError(f"growth must be a number in [1, 1000], got {growth!r}")
+    for name, v, lo in (("easy_iterations", easy_iterations, 0), ("easy_steps", easy_steps, 1)):
+        if not (isinstance(v, (int, np.integer)) and not isinstance(v, bool) and v >= lo):
+            raise ValueError(f"{name} must be an integer >= {lo}, got {v!r}")
+    if increment is not None and not (_number(increment) and 0.0 < increment <= 1.0):
+        raise ValueError(f"increment must lie in (0, 1], got {increment!r}")
+
+
+def solve(model: Model, n_steps: int = 1, *, newton_options: NewtonOptions | None = None,
+          newton: NewtonOptions | None = None, min_step: float = 1e-4,
+          growth: float = 2.0, easy_iterations: int = 4, easy_steps: int = 2,
+          z0: np.ndarray | None = None, start: float = 0.0, progress: bool = False,
+          callback: Callable[[StepRecord, np.ndarray], None] | None = None,
+          history: list[StepRecord] | None = None,
+          increment: float | None = None, extrapolate: bool = False,
+          restart: Restart | None = None,
+          observers: Sequence[Observer] = ()) -> Result:
+    """Solve the model from load factor ``start`` to 1.
+
+    Parameters
+    ----------
+    model : Model
+    n_steps : int
+        Nominal number of equal load increments (>= 1).
+    newton : NewtonOptions
+        Newton settings.
+    newton_options : NewtonOptions
+        Deprecated name of ``newton`` (a DeprecationWarning; it still works).
+
+    The step-size controller:
+
+    min_step : float
+        Smallest load increment allowed by step cutting, in (0, 1].
+    growth : float
+        Factor by which the increment grows back after easy steps.
+    easy_iterations, easy_steps : int
+        A step converged in at most ``easy_iterations`` iterations is easy;
+        after ``easy_steps`` easy steps in a row the increment grows.
+    increment : float, optional
+        First load increment (default ``1 / n_steps``).
+    extrapolate : bool
+        Start each step from the linear extrapolation of the last two converged
+        states instead of the last one.
+
+    Where the solve starts (either ``restart`` or ``z0``, ``start``, ``history``,
+    ``increment``):
+
+    z0 : ndarray, optional
+        Initial unknowns (default zeros).
+    start : float
+        Load factor of ``z0``.
+    history : list of StepRecord, optional
+        Steps already done before ``z0`` (kept in the result).
+    restart : Restart, optional
+        Continue a checkpointed run exactly: its state, steps, step-size
+        controller and item states (instead of ``z0``, ``start``, ``history``
+        and ``increment``). The steps that follow are the same solves as those
+        of the uninterrupted run.
+    What is done with the states as they come (:mod:`skfem_mortar.solver.observers`):
+
+    observers : sequence of Observer
+        Told ``on_start(model, z, load_factor)`` once the preflight has passed,
+        ``on_step(record, z)`` after each converged step and ``on_end(result)``
+        when the solve returns or raises, in the order given (after the
+        progress bar and before the callback).
+    progress : bool
+        Show a tqdm progress bar on stderr (a :class:`~skfem_mortar.solver.observers.ProgressBar`).
+    callback : callable(StepRecord, z)
+        Called after each converged step (a :class:`~skfem_mortar.solver.observers.Callback`);
+        the record's ``controller`` holds the step-size controller after the step.
+
+    Raises
+    ------
+    ConvergenceError
+        When a step cannot converge even at ``min_step``.
+    ValueError
+        Bad arguments, or a ``restart`` that does not fit the model (naming
+        its ``source``).
+    """
+    if restart is not None:
+        if z0 is not None or start or history or increment:
+            raise ValueError("give either restart or z0, start, history, increment")
+        z0, start, history = restart.z, restart.load_factor, restart.history
+    _validate(n_steps, min_step, start, growth, easy_iterations, easy_steps, increment)
+    if newton_options is not None:
+        warnings.warn("solve(newton_options=...) is deprecated, use solve(newton=...)",
+                      DeprecationWarning, stacklevel=2)
+    opts = newton_options or newton or NewtonOptions()
+    watchers = _observers(observers, progress, callback)
+    t_start = time.perf_counter()
+    z = model.zeros() if z0 is None else np.array(z0, dtype=float)
+    if z.shape != (model.n,):
+        raise ValueError(f"z0 must have shape ({model.n},), got {z.shape}")
+    fixed, values = model.prescribed(start)
+    z[fixed] = values
+    nominal = 1.0 / n_steps
+    if restart is None:
+        ctl, z_prev = Controller(increment or nominal, lf_prev=start), None
+    else:
+        restore_items(model, restart.items, restart.source)
+        ctl, z_prev = replace(restart.controller), restart.previous
+    # refuse what cannot work before the first step (a resumed run: with its
+    # items' states restored, e.g. the converged active set)
+    model.preflight(z, start, fixed)
+    result = Result(model, steps=list(history or []), states=[z.copy()])
+    lf = start
+    step_no = len(result.steps) + 1
+    started: list[Observer] = []
+    try:
+        for o in watchers:
+            started.append(o)
+            o.on_start(model, z, start)
+        while lf < 1.0 - 1e-14:
+            target = min(lf + ctl.increment, 1.0)
+            if 1.0 - target < 1e-12:
+                target = 1.0
+            fixed, values = model.prescribed(target)
+            free = np.setdiff1d(np.arange(model.n), fixed, assume_unique=True)
+            trial = z.copy()
+            if extrapolate and z_prev is not None and lf > ctl.lf_prev:
+                # linear predictor along the last increment (free unknowns only;
+                # the prescribed ones follow the consistent predictor of newton)
+                scale = (target - lf) / (lf - ctl.lf_prev)
+                step_dir = z - z_prev
+                trial[free] += scale * step_dir[free]
+            dz_fixed = values - trial[fixed]
+            for item in model.items:
+                item.set_fixed(fixed)  # e.g. contact pairs drop pinned slave nodes
+                item.begin_step(trial, target)
+            rep: NewtonReport = newton_step(model, trial, target, free, fixed, dz_fixed, opts,
+                                            start=(z, lf))
+            result.solve_time += rep.solve_time
+            if rep.converged:
+                z_prev, z = z, trial
+                rec = _converged(model, z, target, rep, ctl)
+                ctl.lf_prev, lf = lf, target
+                _grow(ctl, rep.iterations, nominal, growth, easy_iterations, easy_steps)
+                rec.increment, rec.controller = ctl.increment, replace(ctl)
+                result.steps.append(rec)
+                result.states.append(z.copy())
+                step_no += 1
+                for o in watchers:
+                    o.on_step(rec, z)
+                continue
+            # failed attempt: cut the increment and retry from the last converged state
+            log.info("step %d to load factor %.6g failed (%s); cutting the step",
+                     step_no, target, rep.reason)
+            ctl.increment *= 0.5
+            ctl.cuts += 1
+            ctl.n_easy = 0
+            if ctl.increment < min_step * (1.0 - 1e-12):
+                _give_up(model, step_no, target, rep)
+        result.converged = True
+        result.wall_time = time.perf_counter() - t_start
+    finally:
+        for o in started:
+            o.on_end(result)
+    return result
+
+
+def _observers(observers: Sequence[Observer], progress: bool,
+               callback: Callable[[StepRecord, np.ndarray], None] | None) -> list[Observer]:
+    """The observers of a solve: the progress bar, the given ones, the callback."""
+    observers = list(observers)
+    for k, o in enumerate(observers):
+        if not isinstance(o, Observer):
+            raise ValueError(f"observers[{k}] must be an Observer (skfem_mortar.solver.observers), "
+                             f"got {type(o).__name__}")
+    return (([ProgressBar()] if progress else []) + observers
+            + ([Callback(callback)] if callback is not None else []))
+
+
+def _converged(model: Model, z: np.ndarray, target: float, rep: NewtonReport,
+               ctl: Controller) -> StepRecord:
+    """Close a converged step: the items' ``end_step`` and the step's record."""
+    for item in model.items:
+        item.end_step(z, target)
+    info: dict = {}
+    for item in model.items:
+        for k, v in item.step_info().items():
+            info[k] = info.get(k, 0) + v
+    rec = StepRecord(target, rep.iterations, rep.residual_norms,
+                     int(info.get("n_active", 0)),
+                     int(info.get("active_set_changes", 0)), ctl.cuts, 0.0, info)
+    ctl.cuts = 0
+    return rec
+
+
+def _grow(ctl: Controller, iterations: int, nominal: float, growth: float,
+          easy_iterations: int, easy_steps: int) -> None:
+    """Count an easy step; after ``easy_steps`` of them grow the increment."""
+    ctl.n_easy = ctl.n_easy + 1 if iterations <= easy_iterations else 0
+    if ctl.n_easy >= easy_steps and ctl.increment < nominal:
+        ctl.increment = min(nominal, ctl.increment * growth)
+        ctl.n_easy = 0
+
+
+def _give_up(model: Model, step_no: int, target: float, rep: NewtonReport) -> None:
+    hints = [h for h in (it.failure_hint() for it in model.items) if h]
+    reason = "; ".join([rep.reason] + hints)
+    raise ConvergenceError(step_no, target, rep.iterations, rep.residual_norms, reason)
+
