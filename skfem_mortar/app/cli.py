@@ -25,6 +25,8 @@ import traceback
 import warnings
 from typing import Callable, NoReturn, Sequence
 
+from ..contact import BUILTIN_METHODS
+
 __all__ = ["main"]
 
 
@@ -224,7 +226,7 @@ def build_parser() -> argparse.ArgumentParser:
 
     p = sub.add_parser("run", help="run a scene")
     p.add_argument("scene")
-    p.add_argument("--method", choices=["nts", "mortar", "mortar-dual"], default=None)
+    p.add_argument("--method", choices=BUILTIN_METHODS, default=None)
     p.add_argument("--set", action="append", default=[], metavar="NAME=VALUE",
                    help="override a scene parameter (repeatable, once per parameter)")
     p.add_argument("--steps", type=steps, default=None, help="number of load steps (>= 1)")
@@ -240,7 +242,7 @@ def build_parser() -> argparse.ArgumentParser:
 
     p = sub.add_parser("study", help="speed-accuracy grid: error against wall time")
     p.add_argument("--scene", action="append", required=True, help="scene (repeatable)")
-    p.add_argument("--method", action="append", choices=["nts", "mortar", "mortar-dual"],
+    p.add_argument("--method", action="append", choices=BUILTIN_METHODS,
                    help="methods to compare (repeatable; default: all of the scene's)")
     p.add_argument("--set", action="append", default=[], metavar="NAME=V1,V2,...",
                    help="an axis of the grid: a scene parameter and its values")
@@ -259,7 +261,7 @@ def build_parser() -> argparse.ArgumentParser:
 
     p = sub.add_parser("bench", help="per-phase timings and peak memory at growing sizes")
     p.add_argument("--scene", action="append", choices=["hertz", "seed"])
-    p.add_argument("--method", choices=["nts", "mortar", "mortar-dual"], default="mortar")
+    p.add_argument("--method", choices=BUILTIN_METHODS, default="mortar")
     p.add_argument("--quick", action="store_true", help="small sizes only (for CI)")
     p.add_argument("--max-dofs", type=_int_at_least(1), default=None,
                    help="stop a scene after this size (>= 1)")
@@ -270,7 +272,7 @@ def build_parser() -> argparse.ArgumentParser:
 
     p = sub.add_parser("demo", help="run the demo scene and write its outputs")
     p.add_argument("--out", type=_out_dir, default="skfem-mortar-demo")
-    p.add_argument("--method", choices=["nts", "mortar", "mortar-dual"], default="mortar")
+    p.add_argument("--method", choices=BUILTIN_METHODS, default="mortar")
     p.add_argument("--replace", action="store_true",
                    help="remove the files of an earlier run in --out first")
     p.set_defaults(func=_cmd_demo)

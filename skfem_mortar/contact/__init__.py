@@ -12,6 +12,11 @@ every name of that module resolves here, lazily, to the same object.
 """
 from .._former import forward
 
-__all__ = ["ContactPair", "METHODS"]
+__all__ = ["ContactPair", "METHODS", "BUILTIN_METHODS"]
+
+#: the contact methods that come with the package (registered by
+#: :mod:`.discretization`; the scenes and the command line offer these); here,
+#: so that the command line learns them without importing the contact code
+BUILTIN_METHODS = ("nts", "mortar", "mortar-dual")
 
 __getattr__ = forward(__name__, __path__, "pair")

@@ -30,10 +30,12 @@ from typing import Any, Callable, Protocol, runtime_checkable
 
 import numpy as np
 
+from . import BUILTIN_METHODS
 from .contact_eval import ContactEval
 
 __all__ = ["ContactDiscretization", "register_method", "unregister_method", "make_method",
-           "registered_methods", "check_options", "check_entries", "METHODS"]
+           "registered_methods", "check_options", "check_entries", "METHODS",
+           "BUILTIN_METHODS"]
 
 
 @runtime_checkable
@@ -223,6 +225,5 @@ def _mortar(dual: bool) -> Factory:
     return factory
 
 
-register_method("nts", _nts)
-register_method("mortar", _mortar(False))
-register_method("mortar-dual", _mortar(True))
+for _name, _factory in zip(BUILTIN_METHODS, (_nts, _mortar(False), _mortar(True))):
+    register_method(_name, _factory)

@@ -43,6 +43,7 @@ import numpy as np
 
 from .active_set import ActiveSet, chain_order, touching_nodes
 from .contact_eval import ContactEval
+from . import BUILTIN_METHODS  # noqa: F401 (the former module offered the method names)
 from .discretization import METHODS, check_entries, make_method  # METHODS: the registry's names
 from ..core.model import Contribution, Item
 

@@ -29,10 +29,12 @@ from typing import Any, Callable, Sequence
 
 import numpy as np
 
+from ..contact import BUILTIN_METHODS
+
 __all__ = ["Param", "Derived", "Scene", "Setup", "get_scene", "list_scenes", "METHODS",
            "max_dofs", "MAX_STEPS", "SAFE_LOW", "SAFE_HIGH"]
 
-METHODS = ("nts", "mortar", "mortar-dual")
+METHODS = BUILTIN_METHODS  # the contact methods a scene with contact offers
 
 #: the magnitude window of every quantity a scene derives from its parameters
 #: (moduli, loads, tensions): products and squares of two such numbers (energy
