@@ -75,6 +75,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from .contact_eval import ContactEval
+from .surfaces import segment_lengths, tributary_lengths
 from .jets import Jet, at_gauss, constant_like, sqrt, value, where
 from .mortar_segmentation import (Segmentation, nodal_normals,
                                   normal_length, project_on_master, project_on_slave,
@@ -448,10 +449,8 @@ def multiplier_support(xs: np.ndarray, seg_s: np.ndarray, sg: Segmentation
     support, tributary : ndarray (n_s,)
     """
     n_s = xs.shape[1]
-    ls = np.hypot(*(xs[:, seg_s[:, 1]] - xs[:, seg_s[:, 0]]))
-    trib = np.zeros(n_s)
-    np.add.at(trib, seg_s[:, 0], 0.5 * ls)
-    np.add.at(trib, seg_s[:, 1], 0.5 * ls)
+    ls = segment_lengths(xs, seg_s)
+    trib = tributary_lengths(xs, seg_s)
     lo_v, hi_v = sg.xi[:, 0], sg.xi[:, 1]
     half = 0.5 * ls[sg.e_s]
     a, b = seg_s[sg.e_s, 0], seg_s[sg.e_s, 1]

@@ -66,6 +66,7 @@ from typing import NamedTuple
 
 import numpy as np
 
+from .surfaces import segment_lengths
 from .jets import Jet, _outer, _val, at_gauss, constant_like, cross, inv, normalize, sqrt, where
 
 __all__ = ["Jet", "Segmentation", "segment", "nodal_normals", "SlaveElement",
@@ -108,7 +109,7 @@ def nodal_normals(xs: np.ndarray, seg: np.ndarray, second: bool = True, nv: int 
     starts[seg[:, 0]] = ar
     k = np.arange(n_s)
     # degenerate (near zero length) segments take no part in the average
-    length = np.hypot(*(xs[:, seg[:, 1]] - xs[:, seg[:, 0]]))
+    length = segment_lengths(xs, seg)
     good = length > LEN_TOL * (length.mean() if length.size else 0.0)
     has_p = (ends >= 0) & good[np.maximum(ends, 0)]
     has_n = (starts >= 0) & good[np.maximum(starts, 0)]

@@ -56,7 +56,8 @@ from scipy.spatial import cKDTree
 from .contact_eval import ContactEval
 from .discretization import ContactDiscretization, OptionTable, check_entries, check_options
 from .search import node_segment_pairs
-from .surfaces import segment_normals, tributary_lengths
+from ..core.coo import element_coo
+from .surfaces import segment_lengths, segment_normals, tributary_lengths
 
 __all__ = ["NTS", "evaluate", "project", "LOCK_STICK", "COARSE_RATIO", "failure_hints",
            "nearest_nodes", "vertex_trap"]
@@ -237,13 +238,12 @@ def evaluate(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarra
         ac = a[:, :, None] * c[:, None, :]
         h = (ac + ac.transpose(0, 2, 1)) / lk - gk / lk**2 * (a[:, :, None] * a[:, None, :])
         h *= lam[k][:, None, None]
-        H = sp.csr_matrix((h.ravel(), (np.repeat(dofs, 6, axis=1).ravel(),
-                                       np.tile(dofs, (1, 6)).ravel())), shape=(ndof, ndof))
+        H = sp.csr_matrix((h.ravel(), element_coo(dofs)), shape=(ndof, ndof))
     return ContactEval(g=g, G=G, H=H, area=area, mask=mask, info=info)
 
 
 def _lengths(surface) -> np.ndarray:
-    return np.hypot(*np.diff(surface.X[:, surface.segments], axis=2)[:, :, 0])
+    return segment_lengths(surface.X, surface.segments)
 
 
 def nearest_nodes(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarray,

@@ -46,6 +46,7 @@ from .contact_eval import ContactEval
 from . import BUILTIN_METHODS  # noqa: F401 (the former module offered the method names)
 from .discretization import METHODS, check_entries, make_method  # METHODS: the registry's names
 from ..core.model import Contribution, Item
+from .surfaces import segment_lengths
 
 __all__ = ["ContactPair", "METHODS"]
 
@@ -166,7 +167,7 @@ class ContactPair(Item):
         self.discretization = make_method(method, slave, master, pair_name=name, **options)
         self.n_dofs = slave.n_nodes
         self.c = c
-        lengths = np.hypot(*np.diff(slave.X[:, slave.segments], axis=2)[:, :, 0])
+        lengths = segment_lengths(slave.X, slave.segments)
         self._touch = float(touch_tolerance) * float(np.mean(lengths))
         self._h = float(np.median(lengths))  # the gap tolerance's length
         self._tol_p = 0.0  # pressure tolerance of the last converged check

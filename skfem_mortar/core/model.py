@@ -22,6 +22,8 @@ from typing import Any, Iterable, Protocol, Sequence, runtime_checkable
 import numpy as np
 import scipy.sparse as sp
 
+from .coo import element_coo
+
 __all__ = ["Contribution", "Item", "ItemProtocol", "Output", "ContactTable", "Model",
            "Dirichlet"]
 
@@ -68,9 +70,7 @@ class Contribution:
         dofs = np.asarray(dofs, dtype=np.int64)
         out = cls(dofs.ravel(), np.asarray(r, dtype=float).ravel())
         if k is not None:
-            n = dofs.shape[1]
-            out.k_rows = np.repeat(dofs, n, axis=1).ravel()
-            out.k_cols = np.tile(dofs, (1, n)).ravel()
+            out.k_rows, out.k_cols = element_coo(dofs)
             out.k_vals = np.asarray(k, dtype=float).ravel()
         return out
 
