@@ -66,7 +66,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from .surfaces import segment_lengths
+from .surfaces import segment_lengths, segments_at_nodes
 from .jets import Jet, _outer, _val, at_gauss, constant_like, cross, inv, normalize, sqrt, where
 
 __all__ = ["Jet", "Segmentation", "segment", "nodal_normals", "SlaveElement",
@@ -102,11 +102,7 @@ def nodal_normals(xs: np.ndarray, seg: np.ndarray, second: bool = True, nv: int 
     pnode, nnode : int ndarray (n_s,), the neighbours (the node itself where missing).
     """
     n_s = xs.shape[1]
-    ends = np.full(n_s, -1, dtype=np.int64)
-    starts = np.full(n_s, -1, dtype=np.int64)
-    ar = np.arange(seg.shape[0])
-    ends[seg[:, 1]] = ar
-    starts[seg[:, 0]] = ar
+    ends, starts = segments_at_nodes(seg, n_s)
     k = np.arange(n_s)
     # degenerate (near zero length) segments take no part in the average
     length = segment_lengths(xs, seg)

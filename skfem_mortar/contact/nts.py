@@ -57,7 +57,7 @@ from .contact_eval import ContactEval
 from .discretization import ContactDiscretization, OptionTable, check_entries, check_options
 from .search import node_segment_pairs
 from ..core.coo import element_coo
-from .surfaces import segment_lengths, segment_normals, tributary_lengths
+from .surfaces import segment_lengths, segment_normals, segments_at_nodes, tributary_lengths
 
 __all__ = ["NTS", "evaluate", "project", "LOCK_STICK", "COARSE_RATIO", "failure_hints",
            "nearest_nodes", "vertex_trap"]
@@ -125,10 +125,7 @@ def project(xs: np.ndarray, xm: np.ndarray, seg_m: np.ndarray, margin: float | N
         margin = float(np.median(lm)) if lm.size else 0.0
     i_n, i_e = node_segment_pairs(xs, xm, seg_m, margin)
     # the segments at the nearest master vertex (covers nodes far from all boxes)
-    seg_of_start = np.full(n_m, -1, dtype=np.int64)
-    seg_of_end = np.full(n_m, -1, dtype=np.int64)
-    seg_of_start[seg_m[:, 0]] = np.arange(len(seg_m))
-    seg_of_end[seg_m[:, 1]] = np.arange(len(seg_m))
+    seg_of_end, seg_of_start = segments_at_nodes(seg_m, n_m)
     _, jn = cKDTree(xm.T).query(xs.T)
     k2 = np.concatenate([np.arange(n_s), np.arange(n_s)])
     e2 = np.concatenate([seg_of_start[jn], seg_of_end[jn]])
