@@ -162,3 +162,20 @@ def test_mortar_search_reaches_a_node_that_penetrated_deeply_within_the_step():
     pair._x0 = (pair.slave.x(z), pair.master.x(z))       # as if it had started there
     ev0 = pair.evaluate(z, tangent=False, with_lam=False)
     assert ev0.mask.sum() < ev.mask.sum()
+
+
+def test_distance_to_polyline_equals_the_brute_force_minimum():
+    """Against every point-segment distance (random polylines and points, some far
+    outside every box): equal to round-off of coordinates O(10), so 1e-13."""
+    from skfem_mortar.contact.search import distance_to_polyline
+    rng = np.random.default_rng(7)
+    for _ in range(10):
+        m = int(rng.integers(2, 40))
+        x = np.cumsum(rng.normal(size=(2, m)), axis=1)
+        seg = np.column_stack([np.arange(m - 1), np.arange(1, m)])
+        p = rng.normal(scale=6.0, size=(2, 600))
+        a, d = x[:, seg[:, 0]], x[:, seg[:, 1]] - x[:, seg[:, 0]]
+        q = p[:, :, None]
+        t = np.clip(np.sum((q - a[:, None]) * d[:, None], axis=0) / np.sum(d * d, axis=0), 0, 1)
+        brute = np.sqrt(np.min(np.sum((q - a[:, None] - t[None] * d[:, None]) ** 2, axis=0), 1))
+        np.testing.assert_allclose(distance_to_polyline(p, x, seg), brute, rtol=1e-13, atol=1e-13)

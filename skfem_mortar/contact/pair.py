@@ -46,6 +46,7 @@ from .contact_eval import ContactEval
 from . import BUILTIN_METHODS  # noqa: F401 (the former module offered the method names)
 from .discretization import METHODS, check_entries, make_method  # METHODS: the registry's names
 from ..core.model import Contribution, Item
+from .search import distance_to_polyline
 from .surfaces import segment_lengths
 
 __all__ = ["ContactPair", "METHODS"]
@@ -65,28 +66,6 @@ K_LAM = 1e-6
 #: the pair's own checkpoint entries (:meth:`ContactPair.state_dict`; the
 #: discretization's are beside them)
 _PAIR_STATE = ("started", "active", "c", "row_scale", "x0_slave", "x0_master", "tol_p")
-
-#: point-segment pairs per chunk of :func:`distance_to_polyline` (bounds its memory)
-_DIST_CHUNK = 1 << 20
-
-
-def distance_to_polyline(p: np.ndarray, x: np.ndarray, seg: np.ndarray) -> np.ndarray:
-    """Euclidean distance of each point ``p (2, n)`` to the segments ``seg`` of
-    the nodes ``x (2, m)``: ``min_e |p - (x_1 + t (x_2 - x_1))|``, ``t`` clipped
-    to [0, 1]; vectorized in chunks of points (output only: the nodes that
-    face no master segment)."""
-    a, b = x[:, seg[:, 0]], x[:, seg[:, 1]]
-    d = b - a
-    dd = np.maximum(np.sum(d * d, axis=0), np.finfo(float).tiny)
-    out = np.empty(p.shape[1])
-    step = max(1, _DIST_CHUNK // max(seg.shape[0], 1))
-    for k in range(0, p.shape[1], step):
-        q = p[:, k:k + step, None]                     # (2, c, 1)
-        t = np.clip(np.sum((q - a[:, None]) * d[:, None], axis=0) / dd, 0.0, 1.0)
-        r = q - (a[:, None] + t[None] * d[:, None])    # (2, c, n_seg)
-        out[k:k + step] = np.sqrt(np.min(np.sum(r * r, axis=0), axis=1))
-    return out
-
 
 class ContactPair(Item):
     """Frictionless contact between a slave and a master surface with Lagrange multipliers.

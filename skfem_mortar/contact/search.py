@@ -201,3 +201,39 @@ def node_segment_pairs(xn: np.ndarray, xm: np.ndarray, seg_m: np.ndarray, margin
         xn = np.asarray(xn, dtype=float).reshape(2, -1)
         lo_m, hi_m = segment_boxes(xm, seg_m)
         return box_pairs(xn, xn, lo_m, hi_m, margin)
+
+
+#: points per batch of :func:`distance_to_polyline` (each batch one box search)
+_DIST_BATCH = 256
+
+
+def distance_to_polyline(p: np.ndarray, x: np.ndarray, seg: np.ndarray) -> np.ndarray:
+    """Euclidean distance of each point ``p (2, n)`` to the segments ``seg`` of the
+    nodes ``x (2, m)``: ``min_e |p - (x_1 + t (x_2 - x_1))|``, ``t`` clipped to [0, 1].
+
+    The nearest vertex (a k-d tree) bounds each distance by ``d_v``; the closest
+    segment then lies in its box inflated by ``d_v``, so the points, in batches
+    sorted by ``d_v``, are paired with the segment boxes (:func:`box_pairs`) with
+    the batch's largest ``d_v`` as margin, and the minimum is taken over those pairs only.
+    """
+    p = np.asarray(p, dtype=float).reshape(2, -1)
+    out = np.empty(p.shape[1])
+    if p.shape[1] == 0:
+        return out
+    d_v, _ = cKDTree(x.T).query(p.T)
+    order = np.argsort(d_v)
+    lo, hi = segment_boxes(x, seg)
+    for k in range(0, order.size, _DIST_BATCH):
+        idx = order[k:k + _DIST_BATCH]
+        pk = p[:, idx]  # an output query: not timed as the contact search
+        i_p, i_e = box_pairs(pk, pk, lo, hi, float(d_v[idx].max()))
+        a, b = x[:, seg[i_e, 0]], x[:, seg[i_e, 1]]
+        d = b - a
+        q = p[:, idx[i_p]]
+        t = np.clip(np.sum((q - a) * d, axis=0)
+                    / np.maximum(np.sum(d * d, axis=0), np.finfo(float).tiny), 0.0, 1.0)
+        r = np.hypot(*(q - a - t * d))
+        best = np.full(idx.size, np.inf)
+        np.minimum.at(best, i_p, r)
+        out[idx] = np.minimum(best, d_v[idx])  # a vertex is a point of the polyline too
+    return out

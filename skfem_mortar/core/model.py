@@ -324,11 +324,12 @@ def dof_indices(dofs: Any, n: int, what: str) -> np.ndarray:
 def _check_repeats(value: np.ndarray, inverse: np.ndarray, first: np.ndarray,
                    dofs: np.ndarray) -> None:
     """A dof listed twice must be given the same value both times."""
-    clash = value != value[first][inverse.ravel()]
+    kept = value[first][inverse.ravel()]  # the value of each dof's first listing
+    clash = value != kept
     if np.any(clash):
         k = int(np.flatnonzero(clash)[0])
         raise ValueError(f"dof {dofs[k]} is listed twice with different values "
-                         f"({value[first][inverse.ravel()][k]} and {value[k]})")
+                         f"({kept[k]} and {value[k]})")
 
 
 class Dirichlet(Item):
