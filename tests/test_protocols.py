@@ -29,8 +29,6 @@ DECLARED = {"Solid": (True, False), "MixedSolid": (True, False), "SRISolid": (Tr
             "Cable": (True, False), "FollowerPressure": (False, False),
             "Traction": (True, False), "PointLoad": (True, False),
             "Dirichlet": (True, False), "ContactPair": (False, True)}
-#: declarations that live in modules of the cleanup branch, not yet made there
-#: (the default of Item says True until then)
 
 
 def _solved(scene, method=None):
@@ -170,3 +168,27 @@ def test_an_instance_may_declare_history():
     it = OnlyAssemble()
     it.has_history = True
     assert it.has_history and not OnlyAssemble().has_history
+
+
+def test_the_loaded_declarations_are_true_of_the_residuals(solved_models):
+    """An item declared not ``loaded`` assembles the same residual at any load
+    factor (exactly: the load factor does not enter its arithmetic), and every
+    load does change with it; ``Model.load_residual`` then sums the loads alone."""
+    changed = set()
+    for it, z, model in _items(solved_models):
+        r0 = it.assemble(z, 0.25, tangent=False)
+        r1 = it.assemble(z, 0.75, tangent=False)
+        same = (np.array_equal(r0.r_index, r1.r_index)
+                and np.array_equal(r0.r_value, r1.r_value))
+        if not it.loaded:
+            assert same, type(it).__name__
+        elif not same:
+            changed.add(type(it).__name__)
+    assert {"FollowerPressure", "Traction", "PointLoad"} <= changed
+    for result, model in solved_models:
+        full = model.assemble(result.z, 0.75, tangent=False)[0] \
+            - model.assemble(result.z, 0.25, tangent=False)[0]
+        loads = model.load_residual(result.z, 0.75) - model.load_residual(result.z, 0.25)
+        # the bodies' forces cancel in ``full`` only to their round-off
+        scale = np.abs(model.assemble(result.z, 0.75, tangent=False)[0]).max() + 1e-300
+        np.testing.assert_allclose(loads, full, rtol=0, atol=1e-13 * scale)

@@ -99,6 +99,7 @@ class Cable(Item):
     """
 
     dof_kind = "u"
+    loaded = False  # its residual does not depend on the load factor
     phase = "bulk"
 
     def __init__(self, X: np.ndarray, elements: np.ndarray | None = None, *,

@@ -118,6 +118,7 @@ class Solid(Item):
     """
 
     dof_kind = "u"
+    loaded = False  # its residual does not depend on the load factor
     phase = "bulk"
 
     def __init__(self, mesh: Mesh, material: Material, element: str = "tri1",

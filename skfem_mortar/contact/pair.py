@@ -114,6 +114,7 @@ class ContactPair(Item):
     """
 
     dof_kind = "lam"
+    loaded = False  # its residual does not depend on the load factor
     #: K_lamu = c G on active rows against K_ulam = -G^T (and H): not symmetric
     symmetric = False
     phase = "contact"

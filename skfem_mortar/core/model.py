@@ -124,6 +124,11 @@ class Item:
         Declaration: the tangent the item assembles is symmetric (a
         hyperelastic body: yes; a follower load or a contact pair with its
         complementarity rows: no).  Default True.
+    loaded : bool
+        Declaration: the item's residual depends on the load factor (a load;
+        a user's item by default).  Bodies and contact pairs declare False, so
+        the step's load increment (:func:`~skfem_mortar.solver.newton.step_scale`)
+        assembles only the loads.
     has_history : bool
         Declaration: the item carries state from one load step to the next
         (an active set), i.e. it keeps a :meth:`state_dict`.  Default: whether
@@ -136,6 +141,7 @@ class Item:
     offset: int = 0
     phase: str = "bulk"
     symmetric: bool = True
+    loaded: bool = True
 
     @property
     def has_history(self) -> bool:
@@ -252,6 +258,7 @@ class ItemProtocol(Protocol):
     offset: int
     phase: str
     symmetric: bool
+    loaded: bool
     has_history: bool
 
     def assemble(self, z: np.ndarray, load_factor: float,
@@ -516,6 +523,17 @@ class Model:
         if len(ud) < len(d) and not np.allclose(uv[inv], v, rtol=1e-12, atol=0.0):
             raise ValueError("the same dof is prescribed twice with different values")
         return ud, uv
+
+    def load_residual(self, z: np.ndarray, load_factor: float) -> np.ndarray:
+        """The residual of the items whose residual depends on the load factor
+        (``loaded``) at ``z``: ``-f_ext(z, load_factor)`` (trial evaluations)."""
+        parts = [it.assemble(z, load_factor, tangent=False)
+                 for it in self.items if it.loaded]
+        if not parts:
+            return np.zeros(self.n)
+        return np.bincount(np.concatenate([p.r_index for p in parts]),
+                           weights=np.concatenate([p.r_value for p in parts]),
+                           minlength=self.n)
 
     def assemble(self, z: np.ndarray, load_factor: float, tangent: bool = True
                  ) -> tuple[np.ndarray, sp.csr_matrix | None, float]:

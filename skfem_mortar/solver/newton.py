@@ -142,11 +142,11 @@ def step_scale(model: Model, z0: np.ndarray, lf0: float, lf1: float, free: np.nd
     """The step's force scale ``S = max(||R_f(z0, lf1) - R_f(z0, lf0)||, ||K_fp dz_p||)``.
 
     The first term is the external load increment at the converged start
-    state (only loads depend on the load factor; trial evaluations, so no
-    item's state changes), the second the force of the prescribed increment.
+    state (the items declared ``loaded``; trial evaluations, so no item's
+    state changes), the second the force of the prescribed increment.
     """
-    R1, _, _ = model.assemble(z0, lf1, tangent=False)
-    R0, _, _ = model.assemble(z0, lf0, tangent=False)
+    R1 = model.load_residual(z0, lf1)
+    R0 = model.load_residual(z0, lf0)
     s = float(np.linalg.norm(R1[free] - R0[free]))
     if K_dz_fixed is not None:
         s = max(s, float(np.linalg.norm(K_dz_fixed)))
