@@ -192,3 +192,25 @@ def test_the_loaded_declarations_are_true_of_the_residuals(solved_models):
         # the bodies' forces cancel in ``full`` only to their round-off
         scale = np.abs(model.assemble(result.z, 0.75, tangent=False)[0]).max() + 1e-300
         np.testing.assert_allclose(loads, full, rtol=0, atol=1e-13 * scale)
+
+
+def test_the_body_protocol_of_built_in_bodies(solved_models):
+    """Every built-in body gives its vertex positions (the Body protocol); a user
+    body without them is a body all the same and lends no length to the floor."""
+    from skfem_mortar.core.model import Body
+    from skfem_mortar.solver.newton import ROUND_OFF, round_off_floor
+
+    for it, z, model in _items(solved_models):
+        if it.dof_kind == "u":
+            assert isinstance(it, Body), type(it).__name__
+            x = it.x(z)
+            assert x.shape == it.X.shape and x.shape[0] == 2
+    assert not isinstance(OnlyAssemble(), Body)
+    result, model = solved_models[0]
+    free = np.arange(model.n)
+    K = model.assemble(result.z, 1.0)[1]
+    floor = round_off_floor(model, result.z, K, free)
+    # the floor is eps-sized and scales with the largest vertex coordinate L
+    length = max(float(np.abs(b.x(result.z)).max()) for b in model.bodies)
+    k_row = np.asarray(abs(K).max(axis=1).todense()).ravel()
+    np.testing.assert_allclose(floor, ROUND_OFF * np.finfo(float).eps * length * k_row, rtol=1e-14)

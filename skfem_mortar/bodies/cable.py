@@ -23,7 +23,7 @@ from scipy.optimize import brentq
 from .cable_laws import LAWS, CableLaw, get_law, newton_rtol  # noqa: F401 (public here too)
 from ..core.errors import InversionError
 from ..core.model import Contribution, Item
-from ..contact.surfaces import segment_lengths
+from ..core.chain import segment_lengths
 
 __all__ = ["CableLaw", "LAWS", "get_law", "Cable", "newton_rtol", "side_sign"]
 

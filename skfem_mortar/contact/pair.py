@@ -45,7 +45,9 @@ from .active_set import ActiveSet, chain_order, touching_nodes
 from .contact_eval import ContactEval
 from . import BUILTIN_METHODS  # noqa: F401 (the former module offered the method names)
 from .discretization import METHODS, check_entries, make_method  # METHODS: the registry's names
+from . import preflight as _preflight  # noqa: F401 (registers the checks Model.preflight runs)
 from ..core.model import Contribution, Item
+from ..output.contact_output import ContactOutput
 from .search import distance_to_polyline
 from .surfaces import segment_lengths
 
@@ -485,6 +487,11 @@ class ContactPair(Item):
                 **self.discretization.step_info()}
 
     # -- results -----------------------------------------------------------------
+    def outputs(self) -> list:
+        """The slave surface as one output series (pressure, gap, ``has_master``
+        per slave node): a :class:`~skfem_mortar.output.contact_output.ContactOutput`."""
+        return [ContactOutput(self)]
+
     def contact_data(self, z: np.ndarray) -> dict[str, np.ndarray]:
         """Per slave node: ``x, y`` (current), ``gap`` (length) and ``pressure`` (traction).
 

@@ -53,6 +53,9 @@ from typing import Any, Iterator
 import numpy as np
 import scipy.sparse as sp
 
+from ..bodies.cable import Cable
+from ..bodies.solid import Solid
+from ..core.model import Dirichlet, register_check
 from . import nts
 from .surfaces import RigidCircle, RigidPlane, segment_normals, tributary_lengths
 
@@ -79,6 +82,9 @@ def run(model: Any, z: np.ndarray, load_factor: float, fixed: np.ndarray) -> Non
         check_orientation(pair, z)
     check_rigid_modes(model, z, load_factor, fixed)
     warn_methods(model)
+
+
+register_check(run)  # Model.preflight runs it (the core names no layer below it)
 
 
 def _contact_pairs(model: Any) -> list:
@@ -364,8 +370,6 @@ def _r_factor(blocks: Iterator[np.ndarray], ncols: int) -> np.ndarray:
 
 def _continuum(body: Any) -> bool:
     """A solid or a cable: a body whose own energy is invariant under rigid motions."""
-    from ..bodies.cable import Cable
-    from ..bodies.solid import Solid
     return isinstance(body, (Solid, Cable))
 
 
@@ -382,7 +386,6 @@ def _stiffness_rows(model: Any, z: np.ndarray, load_factor: float, free_u: np.nd
     tangent-only regularizations (a cable's tension floor) or the rotation of
     their stresses in a loaded state, which must not count.
     """
-    from ..core.model import Dirichlet
     parts = [it.assemble(z, load_factor, tangent=True) for it in model.items
              if (it.dof_kind is None and not isinstance(it, Dirichlet))
              or (it.dof_kind == "u" and not _continuum(it))]

@@ -17,15 +17,15 @@ from __future__ import annotations
 import time
 from collections import defaultdict
 from dataclasses import dataclass, field
-from typing import Any, Iterable, Protocol, Sequence, runtime_checkable
+from typing import Any, Callable, Iterable, Protocol, Sequence, runtime_checkable
 
 import numpy as np
 import scipy.sparse as sp
 
 from .coo import element_coo
 
-__all__ = ["Contribution", "Item", "ItemProtocol", "Output", "ContactTable", "Model",
-           "Dirichlet"]
+__all__ = ["Contribution", "Item", "ItemProtocol", "Output", "Body", "ContactTable", "Model",
+           "Dirichlet", "register_check"]
 
 
 @dataclass
@@ -229,17 +229,11 @@ class Item:
         """What the output layer writes and draws for this item, as
         :class:`Output` objects (one series each).
 
-        Default: the item itself if it is an :class:`Output` (a body), the
-        slave surface (:class:`~skfem_mortar.output.contact_output.ContactOutput`) if
-        it is a :class:`ContactTable` (a contact pair), else nothing.
+        Default: the item itself if it is an :class:`Output` (a body), else
+        nothing; a contact pair offers its slave surface
+        (:meth:`skfem_mortar.contact.pair.ContactPair.outputs`).
         """
-        if isinstance(self, Output):
-            return [self]
-        if isinstance(self, ContactTable):
-            from ..output.contact_output import ContactOutput  # numpy only; output layer
-
-            return [ContactOutput(self)]
-        return []
+        return [self] if isinstance(self, Output) else []
 
     @property
     def dofs(self) -> slice:
@@ -292,6 +286,24 @@ class Output(Protocol):
     def output_data(self, z: np.ndarray) -> tuple[dict, dict]:
         """``(point_data, cell_data)`` at the unknowns ``z``; point data may hold
         ``displacement`` (N, 2), which pictures add to the points."""
+        ...
+
+
+@runtime_checkable
+class Body(Protocol):
+    """The body protocol: what the solver and the contact layer read of an item
+    with ``dof_kind == "u"`` besides the :class:`Item` hooks (a
+    :class:`~skfem_mortar.bodies.solid.Solid`, a
+    :class:`~skfem_mortar.bodies.cable.Cable`).  An item that does not offer it
+    still solves; it just lends no length to the round-off floor
+    (:func:`skfem_mortar.solver.newton.round_off_floor`).  A body that carries a
+    contact surface also has ``X`` (reference vertex coordinates, ``(2, n_nodes)``)
+    and ``node_dofs`` (:class:`~skfem_mortar.contact.surfaces.ContactSurface`)."""
+
+    name: str
+
+    def x(self, z: np.ndarray) -> np.ndarray:
+        """Current vertex coordinates ``X + u`` at the unknowns ``z``, ``(2, n_nodes)``."""
         ...
 
 
@@ -420,6 +432,18 @@ def _check_items(items: list[Item]) -> None:
                                  f"in the model: add the body to the items")
 
 
+#: the model-wide checks :meth:`Model.preflight` runs (see :func:`register_check`)
+_MODEL_CHECKS: list[Callable[["Model", np.ndarray, float, np.ndarray], None]] = []
+
+
+def register_check(check: Callable[["Model", np.ndarray, float, np.ndarray], None]) -> None:
+    """Add ``check(model, z, load_factor, fixed)`` to what :meth:`Model.preflight`
+    runs (once: registering the same function again does nothing).  A check
+    raises ValueError to refuse the model and may warn."""
+    if check not in _MODEL_CHECKS:
+        _MODEL_CHECKS.append(check)
+
+
 class Model:
     """A list of items with a global unknown layout.
 
@@ -480,6 +504,8 @@ class Model:
 
     @property
     def bodies(self) -> list[Item]:
+        """The items with displacement unknowns (``dof_kind == "u"``), in order;
+        those that are a :class:`Body` also give their vertex positions."""
         return [it for it in self.items if it.dof_kind == "u"]
 
     @property
@@ -502,10 +528,17 @@ class Model:
     def preflight(self, z: np.ndarray, load_factor: float, fixed: np.ndarray) -> None:
         """Refuse, before the first load step, a model that cannot work (ValueError
         naming the item and the fix): contact surfaces that do not face each
-        other, rigid modes held by nothing; warn where a method is known to fail
-        (:mod:`skfem_mortar.contact.preflight`).  ``fixed``: the prescribed global dofs."""
-        from ..contact.preflight import run  # preflight needs the contact pair, which imports this
-        run(self, np.asarray(z, dtype=float), float(load_factor), np.asarray(fixed))
+        other, rigid modes held by nothing; warn where a method is known to fail.
+        ``fixed``: the prescribed global dofs.
+
+        Runs the model-wide checks of :func:`register_check`, in the order they
+        were registered: the contact layer registers its own
+        (:mod:`skfem_mortar.contact.preflight`) when it is imported, and
+        :func:`skfem_mortar.solver.stepping.solve` imports it, so a solve runs
+        them all (the core names no layer below it)."""
+        z, fixed = np.asarray(z, dtype=float), np.asarray(fixed)
+        for check in _MODEL_CHECKS:
+            check(self, z, float(load_factor), fixed)
 
     # -- assembly ----------------------------------------------------------
     def prescribed(self, load_factor: float) -> tuple[np.ndarray, np.ndarray]:

@@ -289,10 +289,14 @@ class Setup:
     model : Model
     metrics : callable(Result) -> dict
         Scene-specific numbers (``q``, ``q_exact``, ``q_error``).
-    outputs : list
+    outputs : list, optional
         Items with ``output_mesh()`` / ``output_data(z)`` written as series.
-    contact : callable(z) -> dict or None
+        Default: ``model.outputs()`` (every body, then every contact pair's
+        slave surface, in the order of the model's items).
+    contact : callable(z) -> dict or None, optional
         Arrays ``x, y, gap, pressure`` per slave node for ``contact.csv``.
+        Default: the ``contact_data`` of the model's contact pair when it has
+        exactly one (none without contact; a scene with several names one).
     n_steps : int or None
         Number of load steps this setup wants by default.
     solve_options : dict
@@ -303,11 +307,19 @@ class Setup:
 
     model: Any
     metrics: Callable[[Any], dict] = field(default=lambda result: {})
-    outputs: list = field(default_factory=list)
+    outputs: list | None = None
     contact: Callable[[Any], dict] | None = None
     n_steps: int | None = None
     solve_options: dict = field(default_factory=dict)
     plots: Callable[[dict, Any], None] | None = None
+
+    def __post_init__(self):
+        if self.outputs is None:
+            self.outputs = self.model.outputs()
+        if self.contact is None:
+            tables = self.model.contact_tables()
+            if len(tables) == 1:
+                self.contact = tables[0].contact_data
 
 
 @dataclass

@@ -180,7 +180,7 @@ def build(params: dict, method: str | None = None) -> Setup:
             "max_stress_error": float(dev.max()) / (abs(pxx_exact) if pxx_exact else material.mu),
         }
 
-    return Setup(model=model, metrics=metrics, outputs=[solid])
+    return Setup(model=model, metrics=metrics)
 
 
 def estimate_dofs(params: dict) -> int:

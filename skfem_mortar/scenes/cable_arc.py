@@ -129,7 +129,7 @@ def build(params: dict, method: str | None = None) -> Setup:
             out[f"{q}_discrete_error"] = abs(val - discrete[q]) / abs(discrete[q])
         return out
 
-    return Setup(model=model, metrics=metrics, outputs=[cable],
+    return Setup(model=model, metrics=metrics,
                  solve_options={"newton": NewtonOptions(rtol=newton_rtol(EA, p * a))})
 
 

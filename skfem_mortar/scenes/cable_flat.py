@@ -31,7 +31,6 @@ from scipy.optimize import brentq
 
 from ..bodies.cable import LAWS, Cable, get_law
 from ..contact.pair import ContactPair
-from ..output.contact_output import ContactOutput
 from ..loads.pressure import FollowerPressure
 from ..core.model import Dirichlet, Model
 from ..contact.surfaces import ContactSurface, RigidPlane
@@ -119,7 +118,7 @@ def build(params: dict, method: str | None = None) -> Setup:
             out[f"{q}_error"] = None if ref is None else abs(val - ref) / abs(ref)
         return out
 
-    return Setup(model=model, metrics=metrics, outputs=[cable, ContactOutput(pair)], contact=pair.contact_data)
+    return Setup(model=model, metrics=metrics)
 
 
 def derived(params: dict) -> list:

@@ -54,7 +54,6 @@ import numpy as np
 from skfem import MeshTri
 
 from ..contact.pair import ContactPair
-from ..output.contact_output import ContactOutput
 from ..bodies.materials import NeoHooke
 from ..core.model import Dirichlet, Model
 from ..bodies.solid import Solid
@@ -216,14 +215,12 @@ def build(params: dict, method: str | None = None) -> Setup:
     slave = ContactSurface.from_solid(cyl, "arc", name="cylinder_arc")
     if rigid:
         master = rigid_plane(3.0 * a, h0)
-        outputs = [cyl]
     else:
         W = 30.0 * a
         base = body(graded_block(W, h0, FINE_ZONE * a), NeoHooke(E=Eb, nu=nub), name="base")
         master = ContactSurface.from_solid(base, "top", name="base_top")
         items += [base, Dirichlet(base, base.dofs_on("bottom"), 0.0, name="base_bottom"),
                   Dirichlet(base, base.dofs_on("axis", "x"), 0.0, name="base_axis")]
-        outputs = [cyl, base]
     options = {} if method == "nts" else {"segmentation": params["segmentation"]}
     pair = ContactPair(slave, master, method, name="contact", **options)
     items.append(pair)
@@ -258,8 +255,7 @@ def build(params: dict, method: str | None = None) -> Setup:
             out[f"{q}_error"] = abs(val - ex[q]) / ex[q]
         return out
 
-    return Setup(model=model, metrics=metrics, outputs=outputs + [ContactOutput(pair)],
-                 contact=pair.contact_data)
+    return Setup(model=model, metrics=metrics)
 
 
 #: the range of the contact half-width over the radius: Hertz theory needs

@@ -48,7 +48,6 @@ import numpy as np
 from skfem import MeshQuad
 
 from ..contact.pair import ContactPair
-from ..output.contact_output import ContactOutput
 from ..bodies.materials import NeoHooke
 from ..core.model import Dirichlet, Model
 from ..bodies.solid import Solid
@@ -155,7 +154,6 @@ def build(params: dict, method: str | None = None) -> Setup:
         return out
 
     return Setup(model=model, metrics=metrics,
-                 outputs=[block, die, ContactOutput(pair)], contact=pair.contact_data,
                  n_steps=int(params["n_steps"]),
                  plots=lambda metrics, out: plot_history(
                      metrics, Path(out) / "reactions.png", title=f"ironing ({method})"))

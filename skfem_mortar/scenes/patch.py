@@ -48,7 +48,6 @@ import numpy as np
 from skfem import MeshQuad, MeshTri
 
 from ..contact.pair import ContactPair
-from ..output.contact_output import ContactOutput
 from ..loads.pressure import FollowerPressure
 from ..bodies.materials import NeoHooke
 from ..core.model import Dirichlet, Model
@@ -156,8 +155,7 @@ def build(params: dict, method: str | None = None) -> Setup:
                 "n_active": int(pair.active.sum()),
                 "max_abs_gap": float(np.nanmax(np.abs(d["gap"])))}
 
-    return Setup(model=model, metrics=metrics, outputs=[top, bottom, ContactOutput(pair)],
-                 contact=pair.contact_data)
+    return Setup(model=model, metrics=metrics)
 
 
 def estimate_dofs(params: dict) -> int:

@@ -108,7 +108,7 @@ def build(params: dict, method: str | None = None) -> Setup:
             "tension_error": abs(tension - t_exact) / t_exact,
         }
 
-    return Setup(model=model, metrics=metrics, outputs=[ring],
+    return Setup(model=model, metrics=metrics,
                  solve_options={"newton": NewtonOptions(rtol=newton_rtol(EA, p * R0))})
 
 

@@ -23,7 +23,6 @@ import skfem
 
 from ..bodies.cable import LAWS, Cable
 from ..contact.pair import ContactPair
-from ..output.contact_output import ContactOutput
 from ..loads.pressure import FollowerPressure
 from ..bodies.materials import NeoHooke
 from ..core.model import Dirichlet, Model
@@ -117,8 +116,8 @@ def build(params: dict, method: str | None = None) -> Setup:
     # the linear predictor along the last increment saves an iteration where the
     # contact zone grows (mortar default: at most 7 -> 6 iterations per step)
     return Setup(model=model, metrics=metrics, solve_options={"extrapolate": True},
-                 outputs=[cushion, cable, ContactOutput(pair)],
-                 contact=pair.contact_data)
+                 # the cushion first: pictures draw the cable over it
+                 outputs=[cushion, cable, *pair.outputs()])
 
 
 def _split_xy(body, local_dofs) -> tuple[np.ndarray, np.ndarray]:

@@ -40,7 +40,7 @@ import numpy as np
 
 from ..core.errors import InversionError
 from .linsolve import solve_linear
-from ..core.model import Model
+from ..core.model import Body, Model
 
 __all__ = ["NewtonOptions", "NewtonReport", "newton"]
 
@@ -121,12 +121,12 @@ def round_off_floor(model: Model, z: np.ndarray, K, free: np.ndarray) -> np.ndar
     """Per free row, ``ROUND_OFF * eps * max_j |K_ij| * L``: the residual below
     which the row's force is round-off (``L`` the largest coordinate of a body
     node at ``z``).  Per row, so that a body 1e6 times stiffer than another
-    does not lend its round-off to the soft body's rows."""
+    does not lend its round-off to the soft body's rows.  The bodies give their
+    positions through the :class:`~skfem_mortar.core.model.Body` protocol."""
     length = 0.0
     for body in model.bodies:
-        x = getattr(body, "x", None)
-        if x is not None:
-            length = max(length, float(np.max(np.abs(x(z)), initial=0.0)))
+        if isinstance(body, Body):
+            length = max(length, float(np.max(np.abs(body.x(z)), initial=0.0)))
     Kf = abs(K[free][:, free])
     k_row = np.asarray(Kf.max(axis=1).todense()).ravel() if Kf.nnz else np.zeros(free.size)
     return ROUND_OFF * np.finfo(float).eps * length * k_row

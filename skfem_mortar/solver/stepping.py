@@ -25,6 +25,7 @@ from typing import Any, Callable, Sequence
 
 import numpy as np
 
+from ..contact import preflight as _preflight  # noqa: F401 (registers its checks: solve runs them)
 from ..core.errors import ConvergenceError
 from ..core.model import Item, Model, Output
 from .newton import NewtonOptions, NewtonReport
