@@ -403,21 +403,8 @@ def solve(model: Model, n_steps: int = 1, *, newton_options: NewtonOptions | Non
             target = min(lf + ctl.increment, 1.0)
             if 1.0 - target < 1e-12:
                 target = 1.0
-            fixed, values = model.prescribed(target)
-            free = np.setdiff1d(np.arange(model.n), fixed, assume_unique=True)
-            trial = z.copy()
-            if extrapolate and z_prev is not None and lf > ctl.lf_prev:
-                # linear predictor along the last increment (free unknowns only;
-                # the prescribed ones follow the consistent predictor of newton)
-                scale = (target - lf) / (lf - ctl.lf_prev)
-                step_dir = z - z_prev
-                trial[free] += scale * step_dir[free]
-            dz_fixed = values - trial[fixed]
-            for item in model.items:
-                item.set_fixed(fixed)  # e.g. contact pairs drop pinned slave nodes
-                item.begin_step(trial, target)
-            rep: NewtonReport = newton_step(model, trial, target, free, fixed, dz_fixed, opts,
-                                            start=(z, lf))
+            predictor = z_prev if extrapolate and lf > ctl.lf_prev else None
+            trial, rep = _attempt(model, z, lf, target, opts, predictor, ctl.lf_prev)
             result.solve_time += rep.solve_time
             if rep.converged:
                 z_prev, z = z, trial
@@ -445,6 +432,28 @@ def solve(model: Model, n_steps: int = 1, *, newton_options: NewtonOptions | Non
         for o in started:
             o.on_end(result)
     return result
+
+
+def _attempt(model: Model, z: np.ndarray, lf: float, target: float, opts: NewtonOptions,
+             z_prev: np.ndarray | None, lf_prev: float) -> tuple[np.ndarray, NewtonReport]:
+    """One Newton solve from the converged ``z`` at ``lf`` to the load factor
+    ``target``: the prescribed values of ``target``, the items' step hooks, and
+    with ``z_prev`` (the state at ``lf_prev``) the linear predictor
+    ``z + (target - lf) / (lf - lf_prev) (z - z_prev)`` on the free unknowns (the
+    prescribed ones follow the consistent predictor of newton).  Returns the
+    trial state (converged or not) and Newton's report."""
+    fixed, values = model.prescribed(target)
+    free = np.setdiff1d(np.arange(model.n), fixed, assume_unique=True)
+    trial = z.copy()
+    if z_prev is not None:
+        scale = (target - lf) / (lf - lf_prev)
+        trial[free] += scale * (z - z_prev)[free]
+    dz_fixed = values - trial[fixed]
+    for item in model.items:
+        item.set_fixed(fixed)  # e.g. contact pairs drop pinned slave nodes
+        item.begin_step(trial, target)
+    rep = newton_step(model, trial, target, free, fixed, dz_fixed, opts, start=(z, lf))
+    return trial, rep
 
 
 def _observers(observers: Sequence[Observer], progress: bool,
