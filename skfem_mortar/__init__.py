@@ -19,6 +19,7 @@ _EXPORTS = {
     "NewtonOptions": "solver.newton",
     "ConvergenceError": "core.errors", "InversionError": "core.errors",
     "NeoHooke": "bodies.materials", "SaintVenantKirchhoff": "bodies.materials",
+    "LinearElastic": "bodies.materials",
     "Solid": "bodies.solid", "MixedSolid": "bodies.mixed", "Traction": "loads.traction", "PointLoad": "loads.traction",
     "Cable": "bodies.cable",
     "FollowerPressure": "loads.pressure",

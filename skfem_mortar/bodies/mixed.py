@@ -73,7 +73,7 @@ from skfem.helpers import inv
 
 from .materials import NeoHooke, checked_det
 from ..core.model import Contribution
-from .solid import Solid
+from .solid import Solid, refuse_reduction
 
 __all__ = ["MixedSolid", "mixed_stress_and_tangent"]
 
@@ -127,6 +127,12 @@ class MixedSolid(Solid):
     intorder : int
         Quadrature order (>= 2) of the displacement and pressure bases, default 4
         (exact for the linearized integrands, see the module docstring).
+    kinematics : {"finite"}
+        Only finite strain (the mixed form is of the neo-Hookean energy).
+    plane : {"strain"}
+        Only plane strain: the pressure constrains ``ln J`` of the in-plane
+        motion, and plane stress does not lock (use
+        :class:`~skfem_mortar.bodies.solid.Solid` with ``plane="stress"``).
 
     Notes
     -----
@@ -140,7 +146,8 @@ class MixedSolid(Solid):
     phase = "bulk"
 
     def __init__(self, mesh: MeshTri, material: NeoHooke, name: str = "solid",
-                 intorder: int = 4):
+                 intorder: int = 4, *, kinematics: str = "finite", plane: str = "strain"):
+        refuse_reduction(type(self).__name__, kinematics, plane)
         if not isinstance(mesh, MeshTri):
             raise ValueError(f"mesh must be a skfem.MeshTri (linear triangles), "
                              f"got {type(mesh).__name__}")
@@ -156,6 +163,7 @@ class MixedSolid(Solid):
         check_mesh(mesh, f"mesh of {name!r}")
         self.mesh = mesh
         self.material = material
+        self.kinematics, self.plane = kinematics, plane
         self.name = name
         self.intorder = int(intorder)
         self._cell_type = "triangle"

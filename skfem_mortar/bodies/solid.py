@@ -1,4 +1,4 @@
-"""A hyperelastic plane-strain solid discretized with scikit-fem.
+"""A plane-strain or plane-stress solid, finite or small strain, discretized with scikit-fem.
 
 The internal virtual work of a body with reference domain ``Omega_0``,
 
@@ -11,6 +11,23 @@ and its consistent tangent
 are the skfem forms ``internal_force``/``material_stiffness`` below over a vector
 basis; the stress ``P`` and tangent ``A`` are evaluated once per assembly on all
 quadrature points (vectorized, see :mod:`skfem_mortar.bodies.materials`).
+
+Kinematics: ``kinematics="finite"`` (default for hyperelastic materials) uses
+the material's ``P(F)``; ``kinematics="small"`` its linearization at ``F = I``
+(:class:`~skfem_mortar.bodies.materials.LinearElastic`:
+``sigma = lambda tr(eps) I + 2 mu eps``, ``eps = sym Grad u``, in the place
+of ``P``: the residual ``int Grad v : sigma dV`` and the constant tangent).
+Only the bulk is linearized: the body's current configuration is still
+``x = X + u`` (:meth:`Solid.x`), and contact, follower pressures and the
+preflight use it with their finite-deformation kernels, so rigid motions and
+sliding stay exact.  What that leaves between this model and the fully
+linearized contact of linear Hertz theory (gap along the reference normal,
+pressures on the reference surface) is measured in ``scenes/hertz.py``.
+
+Plane: ``plane="strain"`` (``F_zz = 1``, default) or ``"stress"``
+(``S_zz = 0``, :meth:`~skfem_mortar.bodies.materials.Material.with_plane`).
+Stresses and internal forces are per unit reference thickness; a model's
+thickness ``H`` (``Model(items, thickness=H)``) multiplies them.
 
 Speed: :meth:`Solid.assemble` evaluates the same integrals with kernels of its
 own instead of the generic skfem form assembly (which contracts full
@@ -39,10 +56,14 @@ from skfem.helpers import ddot, grad
 
 from .checks import check_mesh
 from ..core.coo import element_coo
-from .materials import Material
+from .materials import PLANES, LinearElastic, Material
 from ..core.model import Contribution, Item
 
-__all__ = ["Solid", "ELEMENTS", "boundary_facets"]
+__all__ = ["Solid", "ELEMENTS", "KINEMATICS", "boundary_facets", "constitutive_law",
+           "refuse_reduction"]
+
+#: the strain measures a solid offers
+KINEMATICS = ("finite", "small")
 
 #: element name -> (skfem scalar element class, reference domain name, meshio cell type)
 ELEMENTS: dict[str, tuple[type, str, str]] = {
@@ -87,6 +108,54 @@ def boundary_facets(mesh: Mesh, boundary: str | np.ndarray,
     return np.asarray(boundary, dtype=np.int64).ravel()
 
 
+def constitutive_law(material: Material, kinematics: str | None = None,
+                     plane: str = "strain") -> tuple[Material, str]:
+    """The law a solid evaluates and its kinematics: ``material`` in ``plane``
+    (:meth:`~skfem_mortar.bodies.materials.Material.with_plane`), linearized for
+    ``kinematics="small"``.
+
+    ``kinematics=None`` is ``"small"`` for a
+    :class:`~skfem_mortar.bodies.materials.LinearElastic` material, else
+    ``"finite"``.
+
+    Raises
+    ------
+    ValueError
+        ``material`` not a Material; ``kinematics`` not one of
+        :data:`KINEMATICS` (or ``"finite"`` with a LinearElastic material: it
+        has no finite-strain law); ``plane`` not one of ``"strain"``, ``"stress"``.
+    """
+    if not isinstance(material, Material):
+        raise ValueError("material must be a skfem_mortar.bodies.materials.Material")
+    small_law = isinstance(material, LinearElastic)
+    if kinematics is None:
+        kinematics = "small" if small_law else "finite"
+    if kinematics not in KINEMATICS:
+        raise ValueError(f"kinematics must be one of {', '.join(map(repr, KINEMATICS))} "
+                         f"(got {kinematics!r})")
+    if small_law and kinematics != "small":
+        raise ValueError("kinematics must be 'small' for a LinearElastic material (it is "
+                         "the small-strain law; for finite strain use SaintVenantKirchhoff "
+                         f"or NeoHooke), got {kinematics!r}")
+    if plane not in PLANES:
+        raise ValueError(f"plane must be one of {', '.join(map(repr, PLANES))} "
+                         f"(got {plane!r})")
+    law = material.with_plane(plane)
+    return (law.linearized() if kinematics == "small" else law), kinematics
+
+
+def refuse_reduction(body: str, kinematics: str, plane: str) -> None:
+    """For the bodies that are finite-strain plane-strain only (MixedSolid, SRISolid):
+    ValueError naming ``kinematics`` or ``plane`` unless they are ``"finite"`` and
+    ``"strain"``."""
+    if kinematics != "finite":
+        raise ValueError(f"kinematics must be 'finite' for a {body} (it has no small-strain "
+                         f"form; use Solid(..., kinematics='small')), got {kinematics!r}")
+    if plane != "strain":
+        raise ValueError(f"plane must be 'strain' for a {body} (plane stress does not lock: "
+                         f"use Solid(..., plane='stress')), got {plane!r}")
+
+
 def _component_rows(component: int | str | None) -> list[str] | None:
     if component is None:
         return None
@@ -97,7 +166,7 @@ def _component_rows(component: int | str | None) -> list[str] | None:
 
 
 class Solid(Item):
-    """A plane-strain hyperelastic body: an :class:`~skfem_mortar.core.model.Item` with ``dof_kind="u"``.
+    """A 2D elastic body: an :class:`~skfem_mortar.core.model.Item` with ``dof_kind="u"``.
 
     Parameters
     ----------
@@ -105,8 +174,9 @@ class Solid(Item):
         Reference configuration (``MeshTri`` for ``tri*``, ``MeshQuad`` for ``quad*``).
         Named boundaries (``mesh.boundaries``) can be used by :meth:`dofs_on`.
     material : Material
-        :class:`~skfem_mortar.bodies.materials.NeoHooke` or
-        :class:`~skfem_mortar.bodies.materials.SaintVenantKirchhoff`.
+        :class:`~skfem_mortar.bodies.materials.NeoHooke`,
+        :class:`~skfem_mortar.bodies.materials.SaintVenantKirchhoff` or
+        :class:`~skfem_mortar.bodies.materials.LinearElastic`.
     element : {"tri1", "tri2", "quad1", "quad2"}
         Lagrange element of the displacement field.
     name : str
@@ -115,6 +185,19 @@ class Solid(Item):
         Quadrature order. Default: 1 for ``tri1`` (``Grad u`` and hence the
         integrand are constant per element, so one point is exact), otherwise
         skfem's default (twice the element order).
+    kinematics : {"finite", "small"}, optional
+        Finite strain (the material's ``P(F)``) or small strain (its
+        linearization, ``sigma = lambda tr(eps) I + 2 mu eps``; module
+        docstring: contact still sees ``x = X + u``).  Default: ``"small"``
+        for a LinearElastic material, else ``"finite"``.
+    plane : {"strain", "stress"}
+        Plane strain (``F_zz = 1``, default) or plane stress (``S_zz = 0``).
+
+    Attributes
+    ----------
+    material : Material
+        The law evaluated: the given material in ``plane``, linearized for
+        small kinematics (:func:`constitutive_law`).
     """
 
     dof_kind = "u"
@@ -122,11 +205,11 @@ class Solid(Item):
     phase = "bulk"
 
     def __init__(self, mesh: Mesh, material: Material, element: str = "tri1",
-                 name: str = "solid", intorder: int | None = None):
+                 name: str = "solid", intorder: int | None = None, *,
+                 kinematics: str | None = None, plane: str = "strain"):
         if element not in ELEMENTS:
             raise ValueError(f"element must be one of {sorted(ELEMENTS)} (got {element!r})")
-        if not isinstance(material, Material):
-            raise ValueError("material must be a skfem_mortar.bodies.materials.Material")
+        material, kinematics = constitutive_law(material, kinematics, plane)
         elem_cls, refdom, cell_type = ELEMENTS[element]
         if mesh.dim() != 2 or mesh.elem.refdom.__name__ != refdom:
             raise ValueError(f"element {element!r} needs a 2D mesh of "
@@ -137,6 +220,8 @@ class Solid(Item):
         check_mesh(mesh, f"mesh of {name!r}")  # folded, zero-area, non-convex elements
         self.mesh = mesh
         self.material = material
+        self.kinematics = kinematics
+        self.plane = plane
         self.element = element
         self.name = name
         self._cell_type = cell_type
@@ -317,7 +402,9 @@ class Solid(Item):
 
     def output_data(self, z: np.ndarray) -> tuple[dict, dict]:
         """Point data ``displacement`` (N, 2); cell data: element-averaged Cauchy
-        stress ``sigma_xx, sigma_yy, sigma_xy, sigma_zz`` and ``von_mises``."""
+        stress ``sigma_xx, sigma_yy, sigma_xy, sigma_zz`` and ``von_mises`` (small
+        strain: ``sigma`` itself), and in plane stress the out-of-plane stretch
+        ``stretch_zz``."""
         u = self.u(z)[self.node_dofs].T.copy()
         F = self.deformation_gradient(z)
         s, szz = self.material.cauchy(F)
@@ -326,4 +413,6 @@ class Solid(Item):
         cells = {"sigma_xx": [avg(s[0, 0])], "sigma_yy": [avg(s[1, 1])],
                  "sigma_xy": [avg(s[0, 1])], "sigma_zz": [avg(szz)],
                  "von_mises": [avg(vm)]}
+        if self.plane == "stress":  # the thickness change (the loaded area keeps H)
+            cells["stretch_zz"] = [avg(self.material.stretch_zz(F))]
         return {"displacement": u}, cells

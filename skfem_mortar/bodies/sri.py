@@ -30,7 +30,7 @@ from skfem.helpers import grad, inv
 
 from .materials import NeoHooke, checked_det
 from ..core.model import Contribution
-from .solid import Solid, internal_force, material_stiffness
+from .solid import Solid, internal_force, material_stiffness, refuse_reduction
 
 __all__ = ["SRISolid", "split_to_quads", "ONE_POINT"]
 
@@ -64,6 +64,12 @@ class SRISolid(Solid):
         Its ``mu`` goes to the fully integrated part, its ``lmbda`` to the
         reduced one; any ``nu`` in ``(-1, 0.5)``.
     name : str
+    kinematics : {"finite"}
+        Only finite strain (the split is of the neo-Hookean energy).
+    plane : {"strain"}
+        Only plane strain: plane stress does not lock (its in-plane
+        ``lambda* = 2 lambda mu / (lambda + 2 mu)`` stays below ``2 mu``), use
+        :class:`~skfem_mortar.bodies.solid.Solid`.
 
     Notes
     -----
@@ -72,7 +78,9 @@ class SRISolid(Solid):
     full neo-Hookean Cauchy stress at the 2 x 2 points, smoothed per element.
     """
 
-    def __init__(self, mesh: MeshQuad, material: NeoHooke, name: str = "solid"):
+    def __init__(self, mesh: MeshQuad, material: NeoHooke, name: str = "solid", *,
+                 kinematics: str = "finite", plane: str = "strain"):
+        refuse_reduction(type(self).__name__, kinematics, plane)
         if not isinstance(material, NeoHooke):
             raise ValueError("material must be a NeoHooke (the split is of its energy)")
         super().__init__(mesh, NeoHooke(mu=material.mu, lmbda=0.0), element="quad1",

@@ -129,6 +129,12 @@ class Item:
         a user's item by default).  Bodies and contact pairs declare False, so
         the step's load increment (:func:`~skfem_mortar.solver.newton.step_scale`)
         assembles only the loads.
+    per_thickness : bool
+        Declaration: the item's residual and tangent are per unit reference
+        thickness (bodies, tractions, pressures, contact), so the model
+        multiplies them by its thickness ``H``; False for forces that are
+        totals already (:class:`~skfem_mortar.loads.traction.PointLoad`).
+        Default True.
     has_history : bool
         Declaration: the item carries state from one load step to the next
         (an active set), i.e. it keeps a :meth:`state_dict`.  Default: whether
@@ -142,6 +148,7 @@ class Item:
     phase: str = "bulk"
     symmetric: bool = True
     loaded: bool = True
+    per_thickness: bool = True
 
     @property
     def has_history(self) -> bool:
@@ -444,14 +451,64 @@ def register_check(check: Callable[["Model", np.ndarray, float, np.ndarray], Non
         _MODEL_CHECKS.append(check)
 
 
+def check_thickness(thickness: float) -> float:
+    """``thickness`` as a float, ValueError unless finite and > 0."""
+    try:
+        H = float(thickness)
+    except (TypeError, ValueError):
+        raise ValueError(f"thickness must be a finite number > 0, got {thickness!r}") from None
+    if not (np.isfinite(H) and H > 0.0):
+        raise ValueError(f"thickness must be a finite number > 0, got {thickness!r}")
+    return H
+
+
+def _times(c: Contribution, H: float) -> Contribution:
+    """``c`` with its residual and tangent values multiplied by ``H`` (the same index arrays)."""
+    return Contribution(c.r_index, H * c.r_value, c.k_rows, c.k_cols, H * c.k_vals)
+
+
 class Model:
     """A list of items with a global unknown layout.
 
     Items with ``dof_kind == "u"`` get the first blocks (in the given order),
     items with ``dof_kind == "lam"`` the blocks after them.
+
+    Parameters
+    ----------
+    items : sequence of Item
+    thickness : float
+        The reference thickness ``H`` (finite, > 0; default 1), for plane strain
+        and plane stress alike.  Every item that declares
+        :attr:`Item.per_thickness` (bodies, tractions, follower pressures,
+        contact pairs) works per unit reference thickness; the model multiplies
+        its residual and tangent by ``H`` (:meth:`assemble`), so
+
+            R = H (f_int - f_traction - f_pressure + G^T lam ; C(lam, g)) - f_point
+
+        and point loads, reactions (the residual at prescribed dofs) and the
+        contact forces in ``R`` are totals over ``H``, while stresses,
+        tractions, follower and contact pressures stay per unit length per
+        unit reference thickness (the out-of-plane stretch of plane stress
+        changes no loaded area).  The multipliers keep their meaning: the
+        multiplier rows ``C(lam, g) = 0`` are the same equations (times ``H``,
+        a row scaling that leaves every Newton step unchanged and keeps all
+        rows in total-force units); a mortar multiplier is a contact pressure,
+        an NTS multiplier a nodal force per unit thickness (``H lam`` its
+        total).  Quantities an item computes on its own
+        (``ContactPair.forces``, ``FollowerPressure.resultant``,
+        ``Solid.internal_force``) are per unit thickness: multiply them by
+        :attr:`thickness`.  With ``H = 1`` nothing is multiplied.
+
+    Raises
+    ------
+    ValueError
+        For an item that is not an :class:`Item` or is listed twice, a body an
+        item acts on that is missing, repeated body or pair names, or a
+        ``thickness`` that is not finite and > 0.
     """
 
-    def __init__(self, items: Sequence[Item]):
+    def __init__(self, items: Sequence[Item], thickness: float = 1.0):
+        self.thickness = check_thickness(thickness)
         self.items: list[Item] = list(items)
         _check_items(self.items)
         # bodies and contact pairs name output files and blocks: their names are unique
@@ -482,15 +539,22 @@ class Model:
         """Which items' tangent index arrays have varied (their triplets are summed
         apart from the fixed pattern): with it a resumed run sums every tangent
         in the same order as an uninterrupted one, so it repeats its solves to
-        the last bit."""
-        return {"varying": self._varying.copy()}
+        the last bit; and the ``thickness`` the states were computed with."""
+        return {"varying": self._varying.copy(), "thickness": np.array(self.thickness)}
 
     def load_state_dict(self, state: dict[str, np.ndarray]) -> None:
-        """Restore :meth:`state_dict` (ValueError if it does not fit this model)."""
+        """Restore :meth:`state_dict` (ValueError if it does not fit this model:
+        other items, or another thickness; a state without ``thickness``, from
+        before it existed, is one of thickness 1)."""
         v = np.asarray(state.get("varying", np.zeros(0)))
-        if set(state) != {"varying"} or v.shape != self._varying.shape or v.dtype != bool:
-            raise ValueError(f"model state must be {{'varying': bool ({len(self.items)},)}}, "
-                             f"got {sorted(state)} with shape {v.shape}")
+        if (not {"varying"} <= set(state) <= {"varying", "thickness"}
+                or v.shape != self._varying.shape or v.dtype != bool):
+            raise ValueError(f"model state must be {{'varying': bool ({len(self.items)},), "
+                             f"'thickness': float}}, got {sorted(state)} with shape {v.shape}")
+        H = float(np.asarray(state.get("thickness", 1.0)))
+        if H != self.thickness:
+            raise ValueError(f"model state was computed with thickness {H:g}, this model "
+                             f"has thickness {self.thickness:g}")
         self._varying = v.copy()
         self._last_idx = [None] * len(self.items)
         self._pattern = None
@@ -560,7 +624,7 @@ class Model:
     def load_residual(self, z: np.ndarray, load_factor: float) -> np.ndarray:
         """The residual of the items whose residual depends on the load factor
         (``loaded``) at ``z``: ``-f_ext(z, load_factor)`` (trial evaluations)."""
-        parts = [it.assemble(z, load_factor, tangent=False)
+        parts = [self._per_thickness(it, it.assemble(z, load_factor, tangent=False))
                  for it in self.items if it.loaded]
         if not parts:
             return np.zeros(self.n)
@@ -568,9 +632,16 @@ class Model:
                            weights=np.concatenate([p.r_value for p in parts]),
                            minlength=self.n)
 
+    def _per_thickness(self, item: Item, c: Contribution) -> Contribution:
+        """``c`` times the thickness if ``item`` works per unit thickness (class doc)."""
+        if self.thickness == 1.0 or not item.per_thickness:
+            return c
+        return _times(c, self.thickness)
+
     def assemble(self, z: np.ndarray, load_factor: float, tangent: bool = True
                  ) -> tuple[np.ndarray, sp.csr_matrix | None, float]:
-        """Sum all contributions.
+        """Sum all contributions (those of :attr:`Item.per_thickness` items times
+        the thickness ``H``).
 
         Returns
         -------
@@ -586,7 +657,7 @@ class Model:
         scale = 0.0
         for it in self.items:
             t0 = time.perf_counter()
-            c = it.assemble(z, load_factor, tangent)
+            c = self._per_thickness(it, it.assemble(z, load_factor, tangent))
             self.timers[it.phase] += time.perf_counter() - t0
             if c.r_value.size:
                 scale = max(scale, float(np.linalg.norm(c.r_value)))

@@ -59,7 +59,9 @@ class FollowerPressure(Item):
         A cable (the chain of its elements is loaded), or a body with an skfem
         ``mesh`` and vector ``basis`` (then ``facets`` selects the boundary).
     pressure : float
-        Final pressure ``p`` (force per current length), finite.  The applied
+        Final pressure ``p`` (force per current length per unit reference
+        thickness: a model's thickness multiplies the force, an out-of-plane
+        stretch does not change the loaded area), finite.  The applied
         value is ``load_factor * p`` (or ``p`` when ``ramp`` is False).
     side : {"left", "right"} for a cable; {"inward", "outward"} for a solid
         Where the load pushes: left or right of the chain direction of the

@@ -36,7 +36,8 @@ class Traction(Item):
     boundary : str or array of int
         A tag of ``body.mesh.boundaries`` or an array of boundary facet indices.
     traction : sequence of 2 floats, or callable
-        The traction vector per unit reference length, or a function
+        The traction vector per unit reference length and unit reference
+        thickness (a model's thickness multiplies its force), or a function
         ``T(x) -> array (2, ...)`` of the reference facet quadrature points.
     name : str
         Item name (default ``traction_<body>_<boundary>``).
@@ -82,7 +83,8 @@ class Traction(Item):
 class PointLoad(Item):
     """Nodal forces on given local dofs of a body, ramped with the load factor.
 
-    Residual: ``R[dofs] -= load_factor * values``.
+    Residual: ``R[dofs] -= load_factor * values``.  The values are total forces
+    (not per unit thickness): ``Model(..., thickness=H)`` leaves them as they are.
 
     Parameters
     ----------
@@ -95,6 +97,8 @@ class PointLoad(Item):
     """
 
     phase = "loads"
+    #: its values are total forces: a model's thickness does not multiply them
+    per_thickness = False
 
     def __init__(self, body, local_dofs: np.ndarray, values: float | np.ndarray,
                  name: str = ""):

@@ -1,4 +1,4 @@
-"""Scene ``block``: a homogeneous plane-strain block in uniaxial stretch (benchmarks section 1).
+"""Scene ``block``: a homogeneous block in uniaxial stretch (benchmarks section 1).
 
 The unit square ``[0, 1]^2`` rests on frictionless supports (``u_x = 0`` on
 the left, ``u_y = 0`` on the bottom); the right face is moved to
@@ -7,6 +7,10 @@ traction-free. The exact solution is the affine map ``F = diag(lx, ly)`` with
 ``lx = stretch`` and ``ly`` from the zero lateral stress condition ``P_yy = 0``.
 Every isoparametric element reproduces an affine field exactly, so on any
 (distorted) mesh the computed answer equals the exact one to round-off.
+``plane`` chooses plane strain (``F_zz = 1``, default) or plane stress
+(``S_zz = 0``, then ``lz = ly`` by isotropy), ``kinematics`` finite strain
+(default) or small strain (linear elasticity with the material's ``mu``,
+``lambda``: ``ly = 1 + eps_yy``, ``P_xx = sigma_xx``), see :func:`exact_uniaxial`.
 
 Metrics (errors relative to the exact value, or to ``mu`` where that is 0):
 
@@ -24,9 +28,10 @@ import numpy as np
 from scipy.optimize import brentq
 from skfem import MeshQuad, MeshTri
 
-from ..bodies.materials import Material, NeoHooke, SaintVenantKirchhoff, lame_from_young
+from ..bodies.materials import (PLANES, LinearElastic, Material, NeoHooke,
+                                SaintVenantKirchhoff, lame_from_young)
 from ..core.model import Dirichlet, Model
-from ..bodies.solid import ELEMENTS, Solid
+from ..bodies.solid import ELEMENTS, KINEMATICS, Solid, constitutive_law
 from . import Param, Scene, Setup, grid_dofs, lame_quantities
 
 __all__ = ["SCENE", "build", "exact_uniaxial", "svk_stretch_range", "block_mesh"]
@@ -34,27 +39,37 @@ __all__ = ["SCENE", "build", "exact_uniaxial", "svk_stretch_range", "block_mesh"
 MATERIALS = {"neo-hooke": NeoHooke, "svk": SaintVenantKirchhoff}
 
 
-def svk_stretch_range(nu: float) -> tuple[float, float]:
+def svk_stretch_range(nu: float, plane: str = "strain") -> tuple[float, float]:
     """Open interval of ``stretch`` where the SVK block has a stable uniaxial state.
 
     The lateral Green strain is ``E_yy = -a E_xx`` with ``a = nu / (1 - nu)``
-    (plane strain), so ``ly^2 = 1 - a (lx^2 - 1)`` must be positive:
+    (plane strain) or ``a = nu`` (plane stress: ``lambda* / (lambda* + 2 mu) = nu``),
+    so ``ly^2 = 1 - a (lx^2 - 1)`` must be positive:
     ``lx < sqrt(1 + 1 / a)`` when ``a > 0``. In compression the nominal
     stress ``P_xx = c lx (lx^2 - 1) / 2`` has its limit point at
     ``lx = 1 / sqrt(3)``.
     """
-    a = nu / (1.0 - nu)
+    a = nu if plane == "stress" else nu / (1.0 - nu)
     high = math.sqrt(1.0 + 1.0 / a) if a > 0 else math.inf
     return 1.0 / math.sqrt(3.0), high
 
 
 def exact_uniaxial(material: Material, stretch: float) -> tuple[float, float]:
-    """Lateral stretch ``ly`` and nominal stress ``P_xx`` of the uniaxial plane-strain state.
+    """Lateral stretch ``ly`` and nominal stress ``P_xx`` of the uniaxial state of
+    ``material`` in its plane (``material.plane``).
 
-    Neo-Hooke: ``mu (ly^2 - 1) + lambda ln(lx ly) = 0`` (solved with brentq on the
-    branch through ``ly = 1`` at ``lx = 1``), ``P_xx = mu (lx - 1/lx) + lambda ln(lx ly) / lx``.
-    SVK: ``S_yy = 0`` gives ``E_yy = -lambda E_xx / (lambda + 2 mu)``,
-    ``ly = sqrt(1 + 2 E_yy)``, ``P_xx = lx (lambda (E_xx + E_yy) + 2 mu E_xx)``.
+    With ``lambda_p`` the in-plane Lame constant (``lambda`` in plane strain,
+    ``lambda* = 2 lambda mu / (lambda + 2 mu)`` in plane stress):
+
+    Neo-Hooke: ``mu (ly^2 - 1) + lambda ln(lx ly^k) = 0`` with ``k = 1`` (plane
+    strain) or ``k = 2`` (plane stress, ``lz = ly``), solved with brentq on the
+    branch through ``ly = 1`` at ``lx = 1``; ``P_xx = mu (lx - 1/lx) + lambda
+    ln(lx ly^k) / lx``.
+    SVK: ``S_yy = 0`` gives ``E_yy = -lambda_p E_xx / (lambda_p + 2 mu)``,
+    ``ly = sqrt(1 + 2 E_yy)``, ``P_xx = lx (lambda_p (E_xx + E_yy) + 2 mu E_xx)``.
+    Linear elasticity (small strain): ``eps_xx = lx - 1``,
+    ``eps_yy = -lambda_p eps_xx / (lambda_p + 2 mu)``, ``ly = 1 + eps_yy``,
+    ``P_xx = sigma_xx = lambda_p (eps_xx + eps_yy) + 2 mu eps_xx``.
 
     Raises
     ------
@@ -62,24 +77,32 @@ def exact_uniaxial(material: Material, stretch: float) -> tuple[float, float]:
         If no such state exists (naming ``stretch`` and the allowed range).
     """
     mu, lam, lx = material.mu, material.lmbda, float(stretch)
+    lam_p = material.lmbda_plane
     if not lx > 0.0:
         raise ValueError(f"stretch must be > 0 (got {stretch})")
+    if isinstance(material, LinearElastic):
+        exx = lx - 1.0
+        eyy = -lam_p * exx / (lam_p + 2.0 * mu)
+        return 1.0 + eyy, lam_p * (exx + eyy) + 2.0 * mu * exx
     if isinstance(material, SaintVenantKirchhoff):
-        low, high = svk_stretch_range(material.nu)
+        low, high = svk_stretch_range(material.nu, material.plane)
         if not low < lx < high:
             raise ValueError(
                 f"stretch must lie in ({low:.6g}, {high:.6g}) for the svk material with "
-                f"nu = {material.nu:.6g} (below: past the compressive limit point "
-                f"1/sqrt(3); above: no real lateral stretch), got {lx}")
+                f"nu = {material.nu:.6g} in plane {material.plane} (below: past the "
+                f"compressive limit point 1/sqrt(3); above: no real lateral stretch), "
+                f"got {lx}")
         exx = 0.5 * (lx * lx - 1.0)
-        eyy = -lam * exx / (lam + 2.0 * mu)
+        eyy = -lam_p * exx / (lam_p + 2.0 * mu)
         ly = math.sqrt(1.0 + 2.0 * eyy)
-        return ly, lx * (lam * (exx + eyy) + 2.0 * mu * exx)
+        return ly, lx * (lam_p * (exx + eyy) + 2.0 * mu * exx)
     if not isinstance(material, NeoHooke):
-        raise ValueError(f"material must be NeoHooke or SaintVenantKirchhoff, got {material!r}")
+        raise ValueError(f"material must be NeoHooke, SaintVenantKirchhoff or LinearElastic, "
+                         f"got {material!r}")
+    k = 2 if material.plane == "stress" else 1
 
     def g(ly: float) -> float:
-        return mu * (ly * ly - 1.0) + lam * math.log(lx * ly)
+        return mu * (ly * ly - 1.0) + lam * math.log(lx * ly ** k)
 
     g1 = g(1.0)
     if g1 == 0.0:
@@ -90,8 +113,8 @@ def exact_uniaxial(material: Material, stretch: float) -> tuple[float, float]:
             hi *= 2.0
         ly = brentq(g, 1.0, hi, xtol=1e-15, rtol=4 * np.finfo(float).eps)
     else:                      # root below 1
-        # g is increasing for ly^2 > -lambda / (2 mu) (always when lambda >= 0)
-        lo = math.sqrt(-lam / (2.0 * mu)) if lam < 0.0 else 0.5
+        # g is increasing for ly^2 > -k lambda / (2 mu) (always when lambda >= 0)
+        lo = math.sqrt(-k * lam / (2.0 * mu)) if lam < 0.0 else 0.5
         if lam >= 0.0:
             while g(lo) > 0.0:
                 lo *= 0.5
@@ -99,7 +122,7 @@ def exact_uniaxial(material: Material, stretch: float) -> tuple[float, float]:
             raise ValueError(f"stretch = {lx} has no uniaxial neo-Hookean state for "
                              f"nu = {material.nu:.6g}; use a larger stretch")
         ly = brentq(g, lo, 1.0, xtol=1e-15, rtol=4 * np.finfo(float).eps)
-    return ly, mu * (lx - 1.0 / lx) + lam * math.log(lx * ly) / lx
+    return ly, mu * (lx - 1.0 / lx) + lam * math.log(lx * ly ** k) / lx
 
 
 def block_mesh(kind: str, refine: int, distort: float, seed: int = 0):
@@ -147,11 +170,13 @@ def build(params: dict, method: str | None = None) -> Setup:
     """Model, metrics and outputs of the block (``method`` is unused: no contact)."""
     _check(params)
     material = MATERIALS[params["material"]](E=params["E"], nu=params["nu"])
+    kinematics, plane = params.get("kinematics", "finite"), params.get("plane", "strain")
+    law, _ = constitutive_law(material, kinematics, plane)
     stretch = float(params["stretch"])
-    ly_exact, pxx_exact = exact_uniaxial(material, stretch)  # raises on invalid SVK range
+    ly_exact, pxx_exact = exact_uniaxial(law, stretch)  # raises on invalid SVK range
     element = params["element"]
     mesh = block_mesh(element[:-1], params["refine"], params["distort"])
-    solid = Solid(mesh, material, element, name="block")
+    solid = Solid(mesh, material, element, name="block", kinematics=kinematics, plane=plane)
     right = solid.dofs_on("right", "x")
     model = Model([
         solid,
@@ -196,8 +221,9 @@ def derived(params: dict) -> list:
 
 SCENE = Scene(
     name="block",
-    summary="Plane-strain block in uniaxial stretch on frictionless supports: "
-            "homogeneous, exact to round-off on any mesh (benchmarks section 1).",
+    summary="Block in uniaxial stretch on frictionless supports (plane strain or stress, "
+            "finite or small strain): homogeneous, exact to round-off on any mesh "
+            "(benchmarks section 1).",
     params=(
         Param("E", 1.0, "Young's modulus", float, low=0.0, low_inclusive=False),
         Param("nu", 0.3, "Poisson's ratio", float, low=-1.0, high=0.5,
@@ -209,6 +235,10 @@ SCENE = Scene(
         Param("refine", 3, "uniform refinements of the unit square", int, low=0, high=12),
         Param("distort", 0.2, "random interior vertex shift, as a fraction of h", float,
               low=0.0, high=0.3, high_inclusive=False),
+        Param("kinematics", "finite", "finite strain (the hyperelastic law) or small strain "
+              "(linear elasticity with its mu, lambda)", str, choices=KINEMATICS),
+        Param("plane", "strain", "plane strain (F_zz = 1) or plane stress (S_zz = 0)", str,
+              choices=PLANES),
     ),
     build=build,
     methods=(None,),

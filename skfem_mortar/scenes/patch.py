@@ -41,6 +41,19 @@ master partner carry no load.  The defaults (``offset = 0``,
 ``top_width = 1``) are the aligned test of benchmarks section 5.
 ``segmentation`` (mortar only) rebuilds the mortar segments every Newton
 iteration or once per load step; nothing slides here, so both give the same.
+
+``kinematics="small"`` makes both blocks linear elastic (small strain; the
+contact still acts on the current configuration): with ``nu = 0`` the
+uniform state is exact as well.  ``thickness`` is the model's reference
+thickness ``H`` (``Model(..., thickness=H)``): the pressures stay ``q``, the
+forces are totals over ``H`` (the point loads on the uncovered parts are
+given as ``q H`` times their length).
+
+Metrics: ``pressure_error`` (largest nodal deviation from ``q`` over the
+overlap, relative), ``contact_force`` (the slave's contact resultant, total
+over ``H``) against ``q H`` times the overlap, and ``support_reaction`` (the
+vertical reaction of the lower block's support, from the residual) against
+``q H`` times the width of the lower block, each with ``_exact`` and ``_error``.
 """
 from __future__ import annotations
 
@@ -51,7 +64,7 @@ from ..contact.pair import ContactPair
 from ..loads.pressure import FollowerPressure
 from ..bodies.materials import NeoHooke
 from ..core.model import Dirichlet, Model
-from ..bodies.solid import Solid
+from ..bodies.solid import KINEMATICS, Solid
 from ..contact.surfaces import ContactSurface
 from ..loads.traction import PointLoad
 from . import METHODS, Param, Scene, Setup, grid_dofs, lame_quantities, positive, ratio
@@ -62,13 +75,14 @@ WIDTH, HEIGHT = 1.0, 0.5
 
 
 def _block(x0: float, width: float, y0: float, nx: int, element: str, E: float, nu: float,
-           name: str) -> Solid:
+           name: str, kinematics: str = "finite") -> Solid:
     ny = max(1, (nx + 1) // 2)
     xs = np.linspace(x0, x0 + width, nx + 1)
     ys = np.linspace(y0, y0 + HEIGHT, ny + 1)
     mesh_cls = MeshTri if element == "tri1" else MeshQuad
     mesh = mesh_cls.init_tensor(xs, ys).with_defaults()
-    return Solid(mesh, NeoHooke(E=E, nu=nu), element=element, name=name)
+    return Solid(mesh, NeoHooke(E=E, nu=nu), element=element, name=name,
+                 kinematics=kinematics)
 
 
 def _corner(body: Solid, x: float, y: float) -> int:
@@ -117,10 +131,12 @@ def build(params: dict, method: str | None = None) -> Setup:
                          f"got offset = {s:g} (overlap {max(hi - lo, 0.0):g})")
     method = method or "nts"
     element = params["element"]
+    kin = params.get("kinematics", "finite")
+    H = float(params.get("thickness", 1.0))
     bottom = _block(0.0, WIDTH, 0.0, int(params["n_bottom"]), element,
-                    float(params["E_bottom"]), nu, "bottom")
+                    float(params["E_bottom"]), nu, "bottom", kin)
     top = _block(s, wt, HEIGHT, int(params["n_top"]), element, float(params["E_top"]), nu,
-                 "top")
+                 "top", kin)
     slave = ContactSurface.from_solid(top, "bottom", name="top_bottom")
     master = ContactSurface.from_solid(bottom, "top", name="bottom_top")
     options = {} if method == "nts" else {"segmentation": params["segmentation"]}
@@ -134,11 +150,13 @@ def build(params: dict, method: str | None = None) -> Setup:
         Dirichlet(top, top.dofs_at_nodes([_corner(top, s, 2 * HEIGHT)], "x"), 0.0,
                   name="top_x"),
     ]
-    # the parts of the interface facing nothing carry q directly (module doc)
-    items += [ld for ld in (uncovered_load(top, "bottom", lo, hi, q, "overhang_load"),
-                            uncovered_load(bottom, "top", lo, hi, -q, "uncovered_load"))
+    # the parts of the interface facing nothing carry q directly (module doc); point
+    # loads are totals, so over the thickness H
+    items += [ld for ld in (uncovered_load(top, "bottom", lo, hi, q * H, "overhang_load"),
+                            uncovered_load(bottom, "top", lo, hi, -q * H, "uncovered_load"))
               if ld is not None]
-    model = Model(items)
+    model = Model(items, thickness=H)
+    support = bottom.dofs_on("bottom", "y")
     xs0 = slave.X[0]
     tol = 1e-12 * WIDTH
     inside = (xs0 >= lo - tol) & (xs0 <= hi + tol)
@@ -148,12 +166,21 @@ def build(params: dict, method: str | None = None) -> Setup:
         p = d["pressure"]
         err = float(np.max(np.abs(p[inside] - q)) / q)
         free = ~np.isfinite(d["gap"])  # no master partner: must carry nothing
-        return {"pressure_error": err, "pressure_min": float(p[inside].min()),
-                "pressure_max": float(p[inside].max()), "pressure_exact": q,
-                "n_overlap": int(inside.sum()),
-                "unsupported_pressure": float(np.max(np.abs(p[free]), initial=0.0) / q),
-                "n_active": int(pair.active.sum()),
-                "max_abs_gap": float(np.nanmax(np.abs(d["gap"])))}
+        out = {"pressure_error": err, "pressure_min": float(p[inside].min()),
+               "pressure_max": float(p[inside].max()), "pressure_exact": q,
+               "n_overlap": int(inside.sum()),
+               "unsupported_pressure": float(np.max(np.abs(p[free]), initial=0.0) / q),
+               "n_active": int(pair.active.sum()),
+               "max_abs_gap": float(np.nanmax(np.abs(d["gap"])))}
+        # totals over the thickness: the pair's own resultant is per unit thickness
+        forces = {"contact_force": (model.thickness * float(pair.total_force(result.z)[1]),
+                                    q * H * (hi - lo)),
+                  "support_reaction": (bottom.reaction(result.residual(), support),
+                                       q * H * WIDTH)}
+        for key, (val, exact) in forces.items():
+            out.update({key: val, f"{key}_exact": exact,
+                        f"{key}_error": abs(val - exact) / exact})
+        return out
 
     return Setup(model=model, metrics=metrics)
 
@@ -168,7 +195,9 @@ def derived(params: dict) -> list:
     """Both blocks' Lame parameters, the pressure, and the strain scale ``pressure / E``
     of each block at most 10 (beyond, the block is crushed flat)."""
     q, nu = float(params["pressure"]), float(params["nu"])
-    out = [positive("pressure", q, "pressure")]
+    out = [positive("pressure", q, "pressure"),
+           positive("the total load pressure thickness", q * float(params["thickness"]),
+                    "pressure", "thickness")]
     for name in ("E_top", "E_bottom"):
         E = float(params[name])
         out += lame_quantities(E, nu, name, "nu", name[2:] + " block")
@@ -205,6 +234,11 @@ SCENE = Scene(
         Param("segmentation", "iteration", "mortar only: rebuild the mortar segments every "
               "Newton iteration, or once per load step (frozen during the step)", str,
               choices=("iteration", "step")),
+        Param("kinematics", "finite", "both blocks: finite strain (neo-Hooke) or small "
+              "strain (linear elasticity; contact on the current configuration)", str,
+              choices=KINEMATICS),
+        Param("thickness", 1.0, "reference thickness H: forces are totals over H, "
+              "pressures per unit thickness", float, low=0.0, low_inclusive=False),
     ),
     build=build,
     methods=METHODS,

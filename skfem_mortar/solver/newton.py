@@ -248,7 +248,10 @@ def _violations(model: Model, z: np.ndarray, scale: float) -> str:
     a non-finite unknown, or an item's own conditions (:meth:`Item.violation`)."""
     if not np.all(np.isfinite(z)):
         return "non-finite unknowns"
-    return "; ".join(m for m in (item.violation(z, scale) for item in model.items) if m)
+    # the items see the force scale per unit thickness, as their own forces are
+    H = getattr(model, "thickness", 1.0)
+    return "; ".join(m for m in (item.violation(z, scale / H if item.per_thickness else scale)
+                                 for item in model.items) if m)
 
 
 #: relative size of the last Newton update below which it is round-off (both blocks)
