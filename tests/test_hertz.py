@@ -100,3 +100,39 @@ def test_bad_parameters():
         run_scene("hertz", params={"load": 1e4})  # a > 0.2 R
     with pytest.raises(ValueError, match="refine"):
         run_scene("hertz", params={"refine": 9})
+
+
+@pytest.mark.parametrize("method", ["mortar", "mortar-dual"])
+def test_one_step_hertz_equals_four_steps(method):
+    """The scene declares one-step safety for the mortar methods (frictionless,
+    hyperelastic, re-segmented every iteration: no state carried between steps),
+    so a default run takes one load step; it reaches the four-step answer.
+    1e-10: both solves stop at rtol 1e-13 of the force scale, and the condition
+    of the contact block turns that into ~1e-11 of the multipliers (measured
+    3e-11 for mortar-dual on the rigid plane, 2e-14 elsewhere)."""
+    from skfem_mortar.solver.newton import NewtonOptions
+
+    runs = {}
+    for steps in (None, 4):
+        _, res, setup = run_scene("hertz", {}, method=method, steps=steps, return_result=True,
+                                  newton=NewtonOptions(rtol=1e-13))
+        runs[steps] = res, setup.model.item("contact")
+    (r1, p1), (r4, p4) = runs[None], runs[4]
+    assert len(r1.steps) == 1 and len(r4.steps) == 4
+    for block in (slice(0, p1.offset), p1.dofs):
+        scale = np.abs(r4.z[block]).max()
+        assert np.abs(r1.z[block] - r4.z[block]).max() <= 1e-10 * scale
+    np.testing.assert_array_equal(p1.active, p4.active)
+    # fewer iterations in all: the point of taking the whole load at once
+    assert sum(s.newton_iterations for s in r1.steps) < sum(s.newton_iterations for s in r4.steps)
+
+
+@pytest.mark.parametrize("method, params", [("nts", {}),
+                                            ("mortar", {"segmentation": "step"})])
+def test_path_dependent_hertz_keeps_its_steps(method, params):
+    """NTS (locks, preferences) and frozen segments carry state between steps:
+    their runs keep the scene's default steps."""
+    from skfem_mortar.scenes import get_scene
+
+    scene = get_scene("hertz")
+    assert scene.steps(scene.resolve(params), method) == scene.default_steps > 1

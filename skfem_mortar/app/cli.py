@@ -127,13 +127,15 @@ def _cmd_scenes(args: argparse.Namespace) -> int:
         print(json.dumps([{"name": s.name, "summary": s.summary,
                            "methods": [m for m in s.methods if m is not None],
                            "default_steps": s.default_steps,
+                           "one_step": s.one_step_text or None,
                            "parameters": {p.name: {"default": p.default, "doc": p.doc,
                                                    "allowed": p.range_text()}
                                           for p in s.params}} for s in scenes]))
         return 0
     for s in scenes:
         methods = ", ".join(m for m in s.methods if m is not None) or "-"
-        print(f"{s.name}: {s.summary}  [methods: {methods}; default steps: {s.default_steps}]")
+        one = f", 1 {s.one_step_text}" if s.one_step_text else ""
+        print(f"{s.name}: {s.summary}  [methods: {methods}; default steps: {s.default_steps}{one}]")
         for p in s.params:
             print(f"    {p.name} = {p.default!r}   {p.doc} ({p.range_text()})")
     return 0

@@ -118,7 +118,7 @@ def _run_scene(name: str, params: dict[str, Any] | None, method: str | None,
     if steps is not None:
         _check_steps(steps)  # before the scene is built
     setup, values, method = build_scene(name, params, method)
-    n_steps = steps if steps is not None else (setup.n_steps or scene.default_steps)
+    n_steps = steps if steps is not None else (setup.n_steps or scene.steps(values, method))
     _check_steps(n_steps)
     model = setup.model
     model.timers.clear()

@@ -337,6 +337,13 @@ class Scene:
         The quantities the scene computes from its parameters, each with its
         allowed range; one out of range (or not finite) is refused, naming the
         parameters it comes from.
+    one_step : callable(values, method) -> bool, optional
+        Whether the answer at these parameters and method does not depend on the
+        load path (a unique solution, and a method that keeps no state from one
+        step to the next): then a run takes the whole load in one step and cuts
+        only on failure, instead of ``default_steps`` (a suite test shows that
+        one step gives the answer of several).  ``one_step_text`` says when, for
+        the listing.
     """
 
     name: str
@@ -348,6 +355,15 @@ class Scene:
     estimate_dofs: Callable[[dict], int] | None = None
     sizes: tuple[str, ...] = ()
     derived: Callable[[dict], list[Derived]] | None = None
+    one_step: Callable[[dict, str | None], bool] | None = None
+    one_step_text: str = ""
+
+    def steps(self, values: dict, method: str | None) -> int:
+        """The load steps of a run at resolved ``values`` and ``method`` unless the
+        user gives them: 1 where :attr:`one_step` holds, else ``default_steps``."""
+        if self.one_step is not None and self.one_step(values, method):
+            return 1
+        return self.default_steps
 
     def param(self, name: str) -> Param:
         for p in self.params:
