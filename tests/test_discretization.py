@@ -158,7 +158,7 @@ def test_the_built_ins_implement_the_protocol(method):
     assert isinstance(d, ContactDiscretization)
     assert d.method == method and d.multipliers_per_node == 1 and d.symmetric
     assert d.multiplier_kind == ("force" if method == "nts" else "traction")
-    assert d.has_history == (method == "nts")
+    assert d.has_history  # nts: segment preferences, locks; all: the reserved pattern
     assert isinstance(make_method(method, pair.slave, pair.master), type(d))
 
 

@@ -18,6 +18,15 @@ The pair calls exactly these hooks, in this order::
     d.tail_signal(lam, ev)                # when the active set releases a tensile tail
     d.end_step(xs, xm)                    # once a load step has converged
     d.step_info(), d.failure_hint(), d.state_dict(), d.load_state_dict(state)
+    P = d.pattern(xs, xm)                 # optional (PatternedDiscretization): with a tangent
+
+The optional hook :meth:`PatternedDiscretization.pattern` reserves the
+tangent's sparsity: a superset of the local dofs each multiplier row can
+couple to, which stays the same object while the search finds no new
+candidate pairs.  The pair then emits its triplets over that reservation
+(explicit zeros), so the global sparsity pattern repeats over Newton
+iterations and load steps; a method without the hook still works (its
+triplets follow ``G`` and ``H`` as they come, and the pattern changes with them).
 
 A new method is one class and one :func:`register_method` call; nothing in
 the pair changes.  The built-ins are ``"nts"`` (:class:`skfem_mortar.contact.nts.NTS`),
@@ -29,11 +38,12 @@ from __future__ import annotations
 from typing import Any, Callable, Protocol, runtime_checkable
 
 import numpy as np
+import scipy.sparse as sp
 
 from . import BUILTIN_METHODS
 from .contact_eval import ContactEval
 
-__all__ = ["ContactDiscretization", "register_method", "unregister_method", "make_method",
+__all__ = ["ContactDiscretization", "PatternedDiscretization", "register_method", "unregister_method", "make_method",
            "registered_methods", "check_options", "check_entries", "METHODS",
            "BUILTIN_METHODS"]
 
@@ -128,6 +138,69 @@ class ContactDiscretization(Protocol):
     def load_state_dict(self, state: dict[str, np.ndarray]) -> None:
         """Restore :meth:`state_dict`: ValueError naming the entry that does not
         fit, and nothing changed then.  The pair has checked the key set."""
+
+
+@runtime_checkable
+class PatternedDiscretization(Protocol):
+    """The optional hook of a :class:`ContactDiscretization`: a reserved pattern.
+
+    Not part of :class:`ContactDiscretization` (a method without it still
+    works); a :class:`~skfem_mortar.contact.pair.ContactPair` uses it when its
+    method has it.
+    """
+
+    def pattern(self, xs: np.ndarray, xm: np.ndarray) -> sp.csr_matrix:
+        """A superset of the local dofs each multiplier row can couple to.
+
+        Returns a sparse matrix ``P (n_rows, 2 n_s + 2 n_m)`` (local dof order
+        of :class:`~skfem_mortar.contact.contact_eval.ContactEval`) whose row
+        ``A`` holds every dof ``d`` with ``G[A, d] != 0`` at any positions the
+        iteration may reach before the search finds new candidate pairs, so
+
+            nz(G) in nz(P),    nz(H) in union_A S_A x S_A,   S_A = nz(P[A, :]),
+
+        (``H = sum_A lam_A d2 g_A / dx2`` couples only dofs ``g_A`` depends on).
+        The method reserves with a margin beyond its search (e.g. the master
+        segments within the search reach plus an element length) and returns
+        the *same object* as long as the search at ``xs, xm`` finds no candidate
+        pair outside the reservation; a new object means a new reservation.
+        Called with the positions of a tangent evaluation, after :meth:`evaluate`;
+        must not change what :meth:`evaluate` returns.
+        """
+        ...
+
+
+def covers(held: np.ndarray, needed: np.ndarray) -> bool:
+    """Whether the sorted keys ``held`` (a reservation's candidate pairs) contain
+    every key of ``needed`` (the current search's candidates)."""
+    if needed.size == 0:
+        return True
+    if held.size == 0:
+        return False
+    pos = np.minimum(np.searchsorted(held, needed), held.size - 1)
+    return bool(np.all(held[pos] == needed))
+
+
+def reserved_keys(owner: str, keys: np.ndarray, n_keys: int) -> np.ndarray | None:
+    """A checkpoint's reserved candidate keys: sorted unique integers in
+    ``[0, n_keys)`` (ValueError naming the entry otherwise), None if empty."""
+    a = np.asarray(keys)
+    if a.size == 0:
+        return None
+    if (a.ndim != 1 or not np.issubdtype(a.dtype, np.integer) or a.min() < 0
+            or a.max() >= n_keys or np.any(np.diff(a) <= 0)):
+        raise ValueError(f"{owner}: checkpoint entry 'reserved' must be sorted unique "
+                         f"integers in [0, {n_keys})")
+    return a.astype(np.int64)
+
+
+def pattern_matrix(rows: np.ndarray, cols: np.ndarray, shape: tuple[int, int]
+                   ) -> sp.csr_matrix:
+    """The 0/1 csr matrix (sorted, no duplicates) with ones at ``(rows, cols)``."""
+    P = sp.csr_matrix((np.ones(rows.size), (rows, cols)), shape=shape)
+    P.sum_duplicates()
+    P.data[:] = 1.0
+    return P
 
 
 #: factory(slave, master, pair_name=..., **options) -> ContactDiscretization

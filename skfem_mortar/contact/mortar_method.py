@@ -5,21 +5,31 @@ multipliers ``Phi_A = N_A``) and ``method="mortar-dual"`` (biorthogonal ones):
 the kernel is :mod:`skfem_mortar.contact.mortar`, the segmentation
 :mod:`skfem_mortar.contact.mortar_segmentation`; this class holds what the kernel is
 told from one call to the next (the segmentation policy and a frozen
-segmentation, the search reach, the crosspoints).
+segmentation, the search reach, the crosspoints, the reserved pattern).
 """
 from __future__ import annotations
 
 from typing import Any
 
 import numpy as np
+import scipy.sparse as sp
 
 from . import mortar
 from .active_set import normal_nodal_force
 from .contact_eval import ContactEval
-from .discretization import ContactDiscretization, OptionTable, check_options
+from .discretization import (ContactDiscretization, OptionTable, check_options, covers,
+                             pattern_matrix, reserved_keys)
 from .mortar_segmentation import Segmentation, segment
+from .search import segment_pairs
+from .surfaces import segment_lengths, segments_at_nodes
 
-__all__ = ["Mortar"]
+__all__ = ["Mortar", "RESERVE_LENGTHS"]
+
+#: the reserved pattern (:meth:`Mortar.pattern`) holds the element pairs of the
+#: search with its margin widened by this many element lengths (the larger of
+#: the median slave and master lengths): the surfaces may slide that far
+#: against each other before the search finds a new pair
+RESERVE_LENGTHS = 1.0
 
 
 class Mortar(ContactDiscretization):
@@ -52,7 +62,7 @@ class Mortar(ContactDiscretization):
     multiplier_kind = "traction"
     multipliers_per_node = 1
     symmetric = True
-    has_history = False  # all it keeps is rebuilt at each step from the positions it is told
+    has_history = True  # the reserved pattern (all else is rebuilt at each step)
 
     OPTIONS: OptionTable = {
         "margin": (lambda v: v is None or (np.isfinite(v) and v > 0), "a finite number > 0"),
@@ -73,6 +83,9 @@ class Mortar(ContactDiscretization):
         self._sg: Segmentation | None = None
         self._x0: tuple[np.ndarray, np.ndarray] | None = None
         self._pinned: np.ndarray | None = None
+        #: (held pair keys, pattern) of :meth:`pattern`; reservations made
+        self._reserved: tuple[np.ndarray, sp.csr_matrix] | None = None
+        self.reservations = 0
 
     def set_pinned(self, pinned: np.ndarray | None) -> None:
         self._pinned = pinned
@@ -86,6 +99,82 @@ class Mortar(ContactDiscretization):
             self._sg = None
             self._sg = segment(xs, self.slave.segments, xm, self.master.segments,
                                margin=self.options.get("margin"), frozen=True)
+
+    def _pairs(self, xs: np.ndarray, xm: np.ndarray, widen: float = 0.0) -> np.ndarray:
+        """The candidate element pairs of the search :meth:`evaluate` runs at these
+        positions (the frozen segmentation's pairs under policy ``step``), its
+        margin widened by ``widen``, as sorted keys ``e_s * n_seg_m + e_m``."""
+        seg_s, seg_m = self.slave.segments, self.master.segments
+        if self._sg is not None and widen == 0.0:
+            return np.unique(self._sg.e_s * len(seg_m) + self._sg.e_m)
+        margin = self.options.get("margin")
+        if margin is not None:
+            i_s, i_m = segment_pairs(xs, seg_s, xm, seg_m, margin + widen)
+        else:
+            reach = (self.reach(xs, xm) if "margin" not in self.options and self._x0 is not None
+                     else 0.0)
+            i_s, i_m = segment_pairs(xs, seg_s, xm, seg_m, reach + widen,
+                                     segment_lengths(xs, seg_s), segment_lengths(xm, seg_m))
+        return i_s * len(seg_m) + i_m
+
+    def _reserve(self, xs: np.ndarray, xm: np.ndarray, need: np.ndarray) -> None:
+        """Reserve the pairs of the search widened by :data:`RESERVE_LENGTHS` element
+        lengths and the current reach (and ``need``)."""
+        seg_s, seg_m = self.slave.segments, self.master.segments
+        h = max(float(np.median(segment_lengths(xs, seg_s))),
+                float(np.median(segment_lengths(xm, seg_m))) if len(seg_m) else 0.0)
+        # the search reach grows with the motion over the step: reserve it twice
+        reach = self.reach(xs, xm) if self._x0 is not None else 0.0
+        held = np.union1d(self._pairs(xs, xm, RESERVE_LENGTHS * h + reach), need)
+        self._reserved = (held, self._pattern_of(held))
+        self.reservations += 1
+
+    def _pattern_of(self, held: np.ndarray) -> sp.csr_matrix:
+        """Row ``A``: its own dofs, and for each slave element at ``A`` with a held
+        pair its nodes ``p, a, b, n`` and the nodes of its held master elements."""
+        seg_s, seg_m = self.slave.segments, self.master.segments
+        n_s = self.slave.n_nodes
+        e_s, e_m = held // len(seg_m), held % len(seg_m)
+        ending, starting = segments_at_nodes(seg_s, n_s)
+        a, b = seg_s[:, 0], seg_s[:, 1]
+        p = np.where(ending[a] >= 0, seg_s[np.maximum(ending[a], 0), 0], a)
+        n = np.where(starting[b] >= 0, seg_s[np.maximum(starting[b], 0), 1], b)
+        el = np.unique(e_s)  # slave elements with a held pair: p, a, b, n each
+        snodes = np.stack([p[el], a[el], b[el], n[el]], 1)
+        own = np.arange(n_s)
+        two = np.arange(2)
+        rows = np.concatenate([np.repeat(np.stack([a[el], b[el]], 1), 8, axis=1).ravel(),
+                               np.repeat(np.stack([a[e_s], b[e_s]], 1), 4, axis=1).ravel(),
+                               own, own])
+        sc = (2 * snodes[:, :, None] + two).reshape(-1, 8)
+        mc = (2 * n_s + 2 * seg_m[e_m][:, :, None] + two).reshape(-1, 4)
+        cols = np.concatenate([np.tile(sc, (1, 2)).ravel(), np.tile(mc, (1, 2)).ravel(),
+                               2 * own, 2 * own + 1])
+        return pattern_matrix(rows, cols, (n_s, 2 * n_s + 2 * self.master.n_nodes))
+
+    def pattern(self, xs: np.ndarray, xm: np.ndarray) -> sp.csr_matrix:
+        """The reserved pattern (:class:`~skfem_mortar.contact.discretization.PatternedDiscretization`).
+
+        The weighted gap ``g_A`` sums over the mortar segments of the slave
+        elements at ``A``; a segment of the element ``(a, b)`` and the master
+        element ``(m1, m2)`` depends on the slave nodes ``p, a, b, n`` (the nodal
+        normals reach one node further) and on master nodes of the elements
+        paired with ``(a, b)`` (``m1, m2`` and the nodes bounding the
+        projectable part).  So row ``A`` holds, for each slave element at
+        ``A`` with a reserved pair, its nodes ``p, a, b, n`` and the nodes of
+        its reserved master elements, besides ``A``'s own dofs.  Reserved:
+        the pairs of the search with its margin widened by
+        :data:`RESERVE_LENGTHS` element lengths and by the reach once more
+        (the reach grows with the motion in the step); the same object is returned
+        while the search's pairs (:meth:`evaluate`'s) lie in it, reserved anew
+        only when they leave it.  The reservation carries over to the next step
+        and into checkpoints (:meth:`state_dict`), so a resumed run reserves as
+        the uninterrupted one.
+        """
+        need = self._pairs(xs, xm)
+        if self._reserved is None or not covers(self._reserved[0], need):
+            self._reserve(xs, xm, need)
+        return self._reserved[1]
 
     def reach(self, xs: np.ndarray, xm: np.ndarray) -> float:
         """Largest motion of a slave node plus that of a master node since the last
@@ -111,6 +200,16 @@ class Mortar(ContactDiscretization):
         if pinned:
             ev.mask = ev.mask & ~self._pinned
         return ev
+
+    def state_dict(self) -> dict[str, np.ndarray]:
+        """The reserved element pairs of :meth:`pattern` (``[]``: none yet)."""
+        held = np.zeros(0, dtype=np.int64) if self._reserved is None else self._reserved[0]
+        return {"reserved": held.copy()}
+
+    def load_state_dict(self, state: dict[str, np.ndarray]) -> None:
+        held = reserved_keys(self.pair_name, state["reserved"],
+                             len(self.slave.segments) * len(self.master.segments))
+        self._reserved = None if held is None else (held, self._pattern_of(held))
 
     def tail_signal(self, lam: np.ndarray, ev: Any) -> tuple[np.ndarray | None, bool]:
         """Dual: the multipliers; standard: the normal nodal forces (its

@@ -54,18 +54,28 @@ import scipy.sparse as sp
 from scipy.spatial import cKDTree
 
 from .contact_eval import ContactEval
-from .discretization import ContactDiscretization, OptionTable, check_entries, check_options
+from .discretization import (ContactDiscretization, OptionTable, check_entries, check_options,
+                             covers, pattern_matrix, reserved_keys)
 from .search import node_segment_pairs
 from ..core.coo import element_coo
 from .surfaces import segment_lengths, segment_normals, segments_at_nodes, tributary_lengths
 
-__all__ = ["NTS", "evaluate", "project", "LOCK_STICK", "COARSE_RATIO", "failure_hints",
+__all__ = ["NTS", "evaluate", "project", "candidates", "RESERVE_MARGIN", "RESERVE_HALO", "LOCK_STICK", "COARSE_RATIO", "failure_hints",
            "nearest_nodes", "vertex_trap"]
 
 log = logging.getLogger("skfem_mortar.contact.pair")  # the pair's log, as before the split
 
 LOCK_STICK = 0.5
 """Hysteresis width (fraction of the segment length) of a node locked at a reflex vertex."""
+
+
+#: the reserved pattern (:meth:`NTS.pattern`) holds the master segments whose boxes,
+#: inflated by this many search margins, hold a slave node: a node may move one
+#: more margin (a median master segment length) before the search finds a new pair
+RESERVE_MARGIN = 2.0
+#: ... and this many chain neighbours on each side of the two segments at the
+#: node's nearest master vertex (a node far from every box slides by a segment)
+RESERVE_HALO = 1
 
 
 def _check(x: np.ndarray, seg: np.ndarray, what: str) -> tuple[np.ndarray, np.ndarray]:
@@ -76,6 +86,32 @@ def _check(x: np.ndarray, seg: np.ndarray, what: str) -> tuple[np.ndarray, np.nd
     if seg.size and (seg.min() < 0 or seg.max() >= x.shape[1]):
         raise ValueError(f"{what} segments must index nodes in [0, {x.shape[1]})")
     return x, seg
+
+
+def candidates(xs: np.ndarray, xm: np.ndarray, seg_m: np.ndarray, margin: float,
+               halo: int = 0) -> np.ndarray:
+    """The candidate (slave node, master segment) pairs of the projection, as sorted
+    keys ``node * n_seg + segment``: the segments whose boxes, inflated by ``margin``,
+    hold the node, and the two segments at the master vertex nearest to it (so a
+    node far from every box, deep penetration after a large Newton step, still
+    finds its partner), with ``halo`` chain neighbours on each side of those two.
+    """
+    n_s, n_seg = xs.shape[1], len(seg_m)
+    i_n, i_e = node_segment_pairs(xs, xm, seg_m, margin)
+    seg_of_end, seg_of_start = segments_at_nodes(seg_m, xm.shape[1])
+    _, jn = cKDTree(xm.T).query(xs.T)
+    k2 = np.concatenate([np.arange(n_s), np.arange(n_s)])
+    e2 = np.concatenate([seg_of_start[jn], seg_of_end[jn]])
+    near = [e2]
+    back, ahead = e2, e2
+    for _ in range(halo):  # previous segment of e: ending[seg[e, 0]]; next: starting[seg[e, 1]]
+        back = np.where(back >= 0, seg_of_end[seg_m[np.maximum(back, 0), 0]], -1)
+        ahead = np.where(ahead >= 0, seg_of_start[seg_m[np.maximum(ahead, 0), 1]], -1)
+        near += [back, ahead]
+    e2 = np.concatenate(near)
+    k2 = np.tile(k2, len(near))
+    ok = e2 >= 0
+    return np.unique(np.concatenate([i_n * n_seg + i_e, k2[ok] * n_seg + e2[ok]]))
 
 
 def project(xs: np.ndarray, xm: np.ndarray, seg_m: np.ndarray, margin: float | None = None,
@@ -123,16 +159,8 @@ def project(xs: np.ndarray, xm: np.ndarray, seg_m: np.ndarray, margin: float | N
     nrm, lm = segment_normals(xm, seg_m)
     if margin is None:
         margin = float(np.median(lm)) if lm.size else 0.0
-    i_n, i_e = node_segment_pairs(xs, xm, seg_m, margin)
-    # the segments at the nearest master vertex (covers nodes far from all boxes)
     seg_of_end, seg_of_start = segments_at_nodes(seg_m, n_m)
-    _, jn = cKDTree(xm.T).query(xs.T)
-    k2 = np.concatenate([np.arange(n_s), np.arange(n_s)])
-    e2 = np.concatenate([seg_of_start[jn], seg_of_end[jn]])
-    ok = e2 >= 0
-    i_n = np.concatenate([i_n, k2[ok]])
-    i_e = np.concatenate([i_e, e2[ok]])
-    key = np.unique(i_n * len(seg_m) + i_e)
+    key = candidates(xs, xm, seg_m, margin)
     i_n, i_e = key // len(seg_m), key % len(seg_m)
     # projection on each candidate
     x1, x2 = xm[:, seg_m[i_e, 0]], xm[:, seg_m[i_e, 1]]
@@ -383,9 +411,59 @@ class NTS(ContactDiscretization):
         self._lock_converged: np.ndarray | None = None
         self._seg_hist: list[np.ndarray] = []
         self._locks = 0
+        #: (held candidate keys, pattern) of :meth:`pattern`; reservations made
+        self._reserved: tuple[np.ndarray, sp.csr_matrix] | None = None
+        self.reservations = 0
 
     def set_pinned(self, pinned: np.ndarray | None) -> None:
         self._pinned = pinned
+
+    def _margin(self, xm: np.ndarray) -> float:
+        """The search margin of :func:`project` (default: the median master segment length)."""
+        margin = self.options.get("margin")
+        if margin is None:
+            lm = segment_lengths(xm, self.master.segments)
+            margin = float(np.median(lm)) if lm.size else 0.0
+        return margin
+
+    def _reserve(self, xs: np.ndarray, xm: np.ndarray, need: np.ndarray) -> None:
+        """Reserve the candidates :data:`RESERVE_MARGIN` search margins and
+        :data:`RESERVE_HALO` chain neighbours wide (and ``need``)."""
+        held = np.union1d(candidates(xs, xm, self.master.segments,
+                                     RESERVE_MARGIN * self._margin(xm), RESERVE_HALO), need)
+        self._reserved = (held, self._pattern_of(held))
+        self.reservations += 1
+
+    def _pattern_of(self, held: np.ndarray) -> sp.csr_matrix:
+        """Row ``k``: the dofs of slave node ``k`` and of its held master segments."""
+        seg_m = self.master.segments
+        n_s, n_seg = self.slave.n_nodes, len(seg_m)
+        k, e = held // n_seg, held % n_seg
+        own = np.arange(n_s)
+        rows = np.concatenate([np.repeat(k, 4), own, own])
+        mdofs = (2 * n_s + 2 * seg_m[e][:, :, None] + np.arange(2)).reshape(-1, 4)
+        cols = np.concatenate([mdofs.ravel(), 2 * own, 2 * own + 1])
+        return pattern_matrix(rows, cols, (n_s, 2 * n_s + 2 * self.master.n_nodes))
+
+    def pattern(self, xs: np.ndarray, xm: np.ndarray) -> sp.csr_matrix:
+        """The reserved pattern (:class:`~skfem_mortar.contact.discretization.PatternedDiscretization`).
+
+        Row ``k`` holds the dofs of slave node ``k`` and of every reserved master
+        segment of it: the candidates of :func:`candidates` with the margin
+        :data:`RESERVE_MARGIN` times the search margin and :data:`RESERVE_HALO`
+        chain neighbours of the nearest vertex's segments.  The gap ``g_k``
+        depends on node ``k`` and the segment it projects on, which
+        :func:`project` picks among its candidates; so while those candidates
+        (search margin, no halo) lie in the reservation, it holds ``G`` and
+        ``H``, and the same object is returned; reserved anew only when they
+        leave it.  The reservation carries over to the next step and into
+        checkpoints (:meth:`state_dict`), so a resumed run reserves as the
+        uninterrupted one.
+        """
+        need = candidates(xs, xm, self.master.segments, self._margin(xm))
+        if self._reserved is None or not covers(self._reserved[0], need):
+            self._reserve(xs, xm, need)
+        return self._reserved[1]
 
     def begin_step(self, xs: np.ndarray, xm: np.ndarray, first: bool) -> None:
         """Restore the segment choices and locks of the last converged step."""
@@ -441,19 +519,25 @@ class NTS(ContactDiscretization):
         return self._hint
 
     def state_dict(self) -> dict[str, np.ndarray]:
-        """The converged segment preferences and locks (``[]``: not set yet)."""
+        """The converged segment preferences and locks, and the reserved candidate
+        pairs of :meth:`pattern` (``[]``: not set yet)."""
         def arr(a, dtype):
             return np.zeros(0, dtype=dtype) if a is None else np.asarray(a, dtype=dtype).copy()
         return {"prefer": arr(self._prefer_converged, np.int64),
-                "lock": arr(self._lock_converged, bool)}
+                "lock": arr(self._lock_converged, bool),
+                "reserved": arr(None if self._reserved is None else self._reserved[0], np.int64)}
 
     def load_state_dict(self, state: dict[str, np.ndarray]) -> None:
         ns = self.slave.n_nodes
         check_entries(self.pair_name, state, {"prefer": [(0,), (ns,)], "lock": [(0,), (ns,)]})
+        reserved_keys(self.pair_name, state["reserved"], ns * len(self.master.segments))
         if state["prefer"].size and (state["prefer"].min() < -1
                                      or state["prefer"].max() >= len(self.master.segments)):
             raise ValueError(f"{self.pair_name}: checkpoint entry 'prefer' indexes no master "
                              "segment")
+        reserved = reserved_keys(self.pair_name, state["reserved"],
+                                 ns * len(self.master.segments))
+        self._reserved = None if reserved is None else (reserved, self._pattern_of(reserved))
         self._prefer_converged = (np.array(state["prefer"], dtype=np.int64)
                                   if state["prefer"].size else None)
         self._lock_converged = (np.array(state["lock"], dtype=bool)

@@ -44,8 +44,10 @@ import numpy as np
 from .active_set import ActiveSet, chain_order, touching_nodes
 from .contact_eval import ContactEval
 from . import BUILTIN_METHODS  # noqa: F401 (the former module offered the method names)
-from .discretization import METHODS, check_entries, make_method  # METHODS: the registry's names
+from .discretization import (METHODS, PatternedDiscretization, check_entries,  # METHODS: the
+                             make_method)  # registry's names
 from . import preflight as _preflight  # noqa: F401 (registers the checks Model.preflight runs)
+from .reservation import Reservation
 from ..core.model import Contribution, Item
 from ..output.contact_output import ContactOutput
 from .search import distance_to_polyline
@@ -163,6 +165,10 @@ class ContactPair(Item):
                                                         slave.n_nodes),
                                name, cycle_guard=cycle_guard, accelerate=accelerate)
         self._started = False
+        #: (the discretization's pattern, the triplets over it) and how often a
+        #: pattern missed an entry of G or H (:meth:`_widen`)
+        self._reserved: tuple[Any, Reservation] | None = None
+        self.pattern_misses = 0
 
     # -- helpers -------------------------------------------------------------
     def referenced_bodies(self) -> list:
@@ -290,6 +296,14 @@ class ContactPair(Item):
                            np.concatenate([-vals * lam[G.row[keep]], Cval]))
         if not tangent:
             return out
+        res = self._reservation(z, gd)
+        if res is not None:  # the triplets over the reserved pattern (explicit zeros)
+            kv = res.values(ev.G, ev.H, active, c, rs)
+            if kv is None:
+                res = self._widen(ev)
+                kv = res.values(ev.G, ev.H, active, c, rs)
+            out.k_rows, out.k_cols, out.k_vals = res.rows, res.cols, kv
+            return out
         kr, kc, kv = [rows_u], [cols_l], [-vals]  # K_ulam = -G^T
         act_g = active[G.row[keep]]  # K_lamu = c G on active rows
         kr.append(cols_l[act_g])
@@ -309,6 +323,30 @@ class ContactPair(Item):
         out.k_cols = np.concatenate(kc).astype(np.int64)
         out.k_vals = np.concatenate(kv)
         return out
+
+    def _reservation(self, z: np.ndarray, gd: np.ndarray) -> Reservation | None:
+        """The tangent triplets over the discretization's reserved pattern
+        (:class:`~skfem_mortar.contact.discretization.PatternedDiscretization`),
+        built once per reservation; None for a method without the hook."""
+        if not isinstance(self.discretization, PatternedDiscretization):
+            return None
+        P = self.discretization.pattern(self.slave.x(z), self.master.x(z))
+        if (self._reserved is None or self._reserved[0] is not P
+                or not self._reserved[1].fits(gd, self.offset)):
+            self._reserved = (P, Reservation(P, gd, self.offset))
+        return self._reserved[1]
+
+    def _widen(self, ev: ContactEval) -> Reservation:
+        """A pattern that missed entries of ``G`` or ``H`` (a method's bug): take
+        them in (this reservation only) and say so."""
+        P, res = self._reserved
+        self.pattern_misses += 1
+        log.warning("%s: method %r reserved a pattern without some entries of its G or H; "
+                    "they are added (its pattern() must return a superset)", self.name,
+                    self.method)
+        res = res.widened(ev.G, ev.H)
+        self._reserved = (P, res)
+        return res
 
     # -- active set --------------------------------------------------------------
     @property
