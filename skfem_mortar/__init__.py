@@ -23,7 +23,7 @@ _EXPORTS = {
     "Solid": "bodies.solid", "MixedSolid": "bodies.mixed", "Traction": "loads.traction", "PointLoad": "loads.traction",
     "Cable": "bodies.cable",
     "FollowerPressure": "loads.pressure",
-    "ContactPair": "contact.pair",
+    "ContactPair": "contact.pair", "TiePair": "contact.tie",
     "ContactSurface": "contact.surfaces", "RigidPlane": "contact.surfaces", "RigidCircle": "contact.surfaces",
     "run_scene": "app.runner", "build_scene": "app.runner",
 }
