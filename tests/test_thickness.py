@@ -82,3 +82,21 @@ def test_checkpoint_state_carries_the_thickness():
     m1.load_state_dict({"varying": state["varying"]})
     with pytest.raises(ValueError, match="thickness 1, this model has thickness 0.5"):
         m2.load_state_dict({"varying": state["varying"]})
+
+
+@pytest.mark.parametrize("method", ["nts", "mortar"])
+def test_force_helpers_are_totals_over_the_thickness(method):
+    """The model hands H to its items: the pair's contact forces and the pressure's
+    resultant are totals over H (a tenth at H = 0.1), and the two sides of the
+    contact still balance.  1e-12: the two runs differ by the Newton tolerance."""
+    got = {}
+    for H in (1.0, 0.1):
+        _, res, setup = run_scene("patch", {"thickness": H}, method=method, return_result=True)
+        pair = setup.model.item("contact")
+        pressure = setup.model.item("pressure")
+        fs, fm = pair.forces(res.z)
+        assert pair.thickness == H and pressure.thickness == H
+        np.testing.assert_allclose(fs.sum(axis=1), -fm.sum(axis=1), atol=1e-12 * np.abs(fs).sum())
+        got[H] = pair.total_force(res.z), pressure.resultant(res.z, 1.0)
+    for a, b in zip(got[1.0], got[0.1]):
+        np.testing.assert_allclose(b, 0.1 * a, rtol=1e-12, atol=1e-12 * np.abs(a).max())

@@ -558,15 +558,17 @@ class ContactPair(Item):
                 "has_master": ev.mask.copy(), "distance": dist}
 
     def forces(self, z: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """Contact forces ``(2, n)`` on the slave and on the master nodes: ``G^T lam``
+        """Contact forces ``(2, n)`` on the slave and on the master nodes: ``H G^T lam``
         split into the two surfaces (the force the other body exerts; the residual
-        term is its negative)."""
+        term is its negative), totals over the model's thickness ``H``
+        (:attr:`~skfem_mortar.core.model.Item.thickness`)."""
         lam = np.asarray(z)[self.dofs]
         ev = self.evaluate(z, tangent=True, with_lam=False)
-        f = ev.G.T @ lam
+        f = self.thickness * (ev.G.T @ lam)
         n_s = self.slave.n_nodes
         return f[:2 * n_s].reshape(-1, 2).T, f[2 * n_s:].reshape(-1, 2).T
 
     def total_force(self, z: np.ndarray) -> np.ndarray:
-        """Resultant (2,) of the contact force on the slave surface."""
+        """Resultant (2,) of the contact force on the slave surface (a total over
+        the model's thickness, as :meth:`forces`)."""
         return self.forces(z)[0].sum(axis=1)

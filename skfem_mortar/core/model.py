@@ -135,6 +135,12 @@ class Item:
         multiplies them by its thickness ``H``; False for forces that are
         totals already (:class:`~skfem_mortar.loads.traction.PointLoad`).
         Default True.
+    thickness : float
+        Set by the :class:`Model` the item is in: the model's thickness ``H``
+        for a :attr:`per_thickness` item, else 1.  Items whose helpers report
+        forces (``ContactPair.forces``, ``FollowerPressure.resultant``,
+        ``TiePair.forces``) multiply them by it, so that those are totals over
+        ``H`` like the model's residual and reactions.  Default 1 (an item in no model).
     has_history : bool
         Declaration: the item carries state from one load step to the next
         (an active set), i.e. it keeps a :meth:`state_dict`.  Default: whether
@@ -149,6 +155,7 @@ class Item:
     symmetric: bool = True
     loaded: bool = True
     per_thickness: bool = True
+    thickness: float = 1.0
 
     @property
     def has_history(self) -> bool:
@@ -494,10 +501,11 @@ class Model:
         a row scaling that leaves every Newton step unchanged and keeps all
         rows in total-force units); a mortar multiplier is a contact pressure,
         an NTS multiplier a nodal force per unit thickness (``H lam`` its
-        total).  Quantities an item computes on its own
-        (``ContactPair.forces``, ``FollowerPressure.resultant``,
-        ``Solid.internal_force``) are per unit thickness: multiply them by
-        :attr:`thickness`.  With ``H = 1`` nothing is multiplied.
+        total).  The model hands ``H`` to its items (:attr:`Item.thickness`),
+        so their force helpers (``ContactPair.forces`` and ``total_force``,
+        ``TiePair.forces``, ``FollowerPressure.resultant``) are totals too;
+        a body's ``internal_force`` (its element residual) stays per unit
+        thickness.  With ``H = 1`` nothing is multiplied.
 
     Raises
     ------
@@ -517,6 +525,8 @@ class Model:
         if dup:
             raise ValueError(f"body and contact pair names must be unique, repeated: "
                              f"{sorted(dup)}")
+        for it in self.items:  # what the items' force helpers multiply by (Item.thickness)
+            it.thickness = self.thickness if it.per_thickness else 1.0
         offset = 0
         for kind in ("u", "lam"):
             for it in self.items:

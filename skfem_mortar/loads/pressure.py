@@ -131,8 +131,9 @@ class FollowerPressure(Item):
         return Contribution.from_dofs(dofs, r, k)
 
     def resultant(self, z: np.ndarray, load_factor: float = 1.0) -> np.ndarray:
-        """Total applied force (2,) = sum of the nodal loads ``f_a``."""
-        c = self.sign * self.current_pressure(load_factor)
+        """Total applied force (2,) = sum of the nodal loads ``f_a``, over the
+        model's thickness ``H`` (:attr:`~skfem_mortar.core.model.Item.thickness`)."""
+        c = self.thickness * self.sign * self.current_pressure(load_factor)
         dofs = self.body.offset + self._flat
         x = self._X.reshape(len(dofs), -1) + np.asarray(z)[dofs]
         f = c * (x @ self._B.T)

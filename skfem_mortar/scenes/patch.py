@@ -172,8 +172,8 @@ def build(params: dict, method: str | None = None) -> Setup:
                "unsupported_pressure": float(np.max(np.abs(p[free]), initial=0.0) / q),
                "n_active": int(pair.active.sum()),
                "max_abs_gap": float(np.nanmax(np.abs(d["gap"])))}
-        # totals over the thickness: the pair's own resultant is per unit thickness
-        forces = {"contact_force": (model.thickness * float(pair.total_force(result.z)[1]),
+        # totals over the thickness H: the pair's resultant and the reaction are
+        forces = {"contact_force": (float(pair.total_force(result.z)[1]),
                                     q * H * (hi - lo)),
                   "support_reaction": (bottom.reaction(result.residual(), support),
                                        q * H * WIDTH)}
