@@ -36,3 +36,21 @@ def test_exports_are_lazy():
 def test_unknown_name_raises_attribute_error():
     with pytest.raises(AttributeError, match="no attribute 'Nope'"):
         skfem_mortar.Nope  # noqa: B018
+
+
+def test_a_contact_run_imports_only_what_it_needs():
+    """A hertz run without output files needs neither pictures (pyvista,
+    matplotlib), nor clusters (dask), nor root finders (scipy.optimize, 0.3 s to
+    import), nor file writers (meshio)."""
+    import subprocess
+    import sys
+
+    code = ("import sys; from skfem_mortar.app.runner import run_scene; "
+            "run_scene('hertz', {'refine': -2}, 'mortar'); "
+            "print(' '.join(sorted({m.split('.')[0] + ('.' + m.split('.')[1] if m.startswith('scipy.') "
+            "and '.' in m else '') for m in sys.modules})))")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    loaded = set(out.stdout.split())
+    assert "scipy.sparse" in loaded  # the check sees what is imported
+    for heavy in ("pyvista", "matplotlib", "dask", "scipy.optimize", "meshio", "tqdm"):
+        assert heavy not in loaded, heavy

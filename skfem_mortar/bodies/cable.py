@@ -18,7 +18,7 @@ through given points (:meth:`Cable.from_points`).
 from __future__ import annotations
 
 import numpy as np
-from scipy.optimize import brentq
+from ..core.lazy import brentq
 
 from .cable_laws import LAWS, CableLaw, get_law, newton_rtol  # noqa: F401 (public here too)
 from ..core.errors import InversionError

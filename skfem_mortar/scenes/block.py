@@ -25,7 +25,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from scipy.optimize import brentq
+from ..core.lazy import brentq
 from skfem import MeshQuad, MeshTri
 
 from ..bodies.materials import (PLANES, LinearElastic, Material, NeoHooke,

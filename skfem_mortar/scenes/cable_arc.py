@@ -33,7 +33,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from scipy.optimize import brentq
+from ..core.lazy import brentq
 
 from ..bodies.cable import LAWS, Cable, get_law, newton_rtol
 from ..loads.pressure import FollowerPressure

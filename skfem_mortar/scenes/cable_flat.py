@@ -27,7 +27,7 @@ the plane (for ``L0 = 2 a`` the shallow regularized arc of
 from __future__ import annotations
 
 import numpy as np
-from scipy.optimize import brentq
+from ..core.lazy import brentq
 
 from ..bodies.cable import LAWS, Cable, get_law
 from ..contact.pair import ContactPair
