@@ -183,7 +183,11 @@ class _Pardiso:
     with weighted matching and scaling, iparm(11) = iparm(13) = 1, so the
     zero diagonal of the active multiplier rows is paired off before the
     ordering; pivots that are still too small are perturbed (iparm(14) counts
-    them) and answered with iterative refinement).
+    them) and answered with iterative refinement).  Measured on hertz
+    (elastic base, ``refine=2``, 1.75e5 unknowns, one core of a loaded
+    machine): without the matching the factorization is 25 % faster but
+    perturbs 25 pivots and answers to a relative residual of 4e-6 (refinement
+    needed); with it no perturbation and 4e-12.
     """
 
     def __init__(self, mtype: int = 11):
@@ -199,6 +203,7 @@ class _Pardiso:
                      10: 8,   # perturb pivots below 1e-8 of the norm
                      11: 1,   # symmetric scaling ...
                      13: 1,   # ... with weighted matching (2 x 2 pivots for the zero diagonal)
+                     18: -1,  # report the factor's nonzeros in iparm(18)
                      21: 1}   # Bunch-Kaufman pivoting
             for i, v in iparm.items():
                 self.solver.set_iparm(i, v)
