@@ -104,14 +104,14 @@ def test_pardiso_reuses_the_analysis_of_a_repeated_pattern():
     analysis is reused and the answer is still right; a new pattern starts afresh."""
     A, b = saddle_point(seed=4)
     solve_linear(A, b, backend="pardiso")
-    kept = linsolve._pardiso_solver.pattern
+    kept = linsolve.pardiso_solver().pattern
     assert kept is not None
     A2 = A.copy()
     A2.data = A2.data * (1.0 + 0.3 * np.random.default_rng(5).random(A2.nnz))
     x = solve_linear(A2, b, backend="pardiso")
-    assert linsolve._pardiso_solver.pattern is kept  # no new analysis
+    assert linsolve.pardiso_solver().pattern is kept  # no new analysis
     np.testing.assert_allclose(x, np.linalg.solve(A2.toarray(), b), rtol=1e-9, atol=1e-12)
     A3, b3 = saddle_point(n=50, seed=6)
     x3 = solve_linear(A3, b3, backend="pardiso")
-    assert linsolve._pardiso_solver.pattern is not kept
+    assert linsolve.pardiso_solver().pattern is not kept
     np.testing.assert_allclose(x3, np.linalg.solve(A3.toarray(), b3), rtol=1e-9, atol=1e-12)

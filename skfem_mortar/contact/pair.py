@@ -40,6 +40,7 @@ import logging
 from typing import Any
 
 import numpy as np
+import scipy.sparse as sp
 
 from .active_set import ActiveSet, chain_order, touching_nodes
 from .contact_eval import ContactEval
@@ -47,7 +48,6 @@ from . import BUILTIN_METHODS  # noqa: F401 (the former module offered the metho
 from .discretization import (METHODS, PatternedDiscretization, check_entries,  # METHODS: the
                              make_method)  # registry's names
 from . import preflight as _preflight  # noqa: F401 (registers the checks Model.preflight runs)
-from .reservation import Reservation
 from ..core.model import Contribution, Item
 from ..output.contact_output import ContactOutput
 from .search import distance_to_polyline
@@ -70,6 +70,128 @@ K_LAM = 1e-6
 #: the pair's own checkpoint entries (:meth:`ContactPair.state_dict`; the
 #: discretization's are beside them)
 _PAIR_STATE = ("started", "active", "c", "row_scale", "x0_slave", "x0_master", "tol_p")
+
+# -- the tangent over a reserved pattern ---------------------------------------
+# A contact pair's tangent triplets over a reserved pattern (explicit zeros).
+#
+# With the reserved pattern ``P`` of a contact discretization
+# (:meth:`~skfem_mortar.contact.discretization.PatternedDiscretization.pattern`:
+# row ``A`` holds the local dofs ``S_A`` multiplier ``A`` can couple to), the
+# pair's tangent blocks have the fixed sparsity
+#
+#     K_ulam = -G^T        on  {(d, A) : d in S_A}
+#     K_lamu = c G         on  {(A, d) : d in S_A}   (zero on inactive rows)
+#     K_lamlam = I         on  the diagonal          (zero on active rows)
+#     K_uu = -H            on  union_A S_A x S_A     (the structure of P^T P)
+#
+# mapped to global unknowns (dofs of a rigid master dropped).  The triplet index
+# arrays are built once per reservation and returned as the same objects, so the
+# model's sparsity pattern repeats while the reservation does; the values of
+# ``G`` and ``H`` are scattered into it each evaluation (entries the reservation
+# lacks are reported, and :meth:`Reservation.widened` takes them in).
+
+
+def _keys(M: sp.spmatrix) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Rows, columns and sorted keys ``row * n_cols + col`` of a canonical csr matrix."""
+    M = sp.csr_matrix(M)
+    M.sum_duplicates()  # also sorts the indices
+    rows = np.repeat(np.arange(M.shape[0], dtype=np.int64), np.diff(M.indptr))
+    cols = M.indices.astype(np.int64)
+    return rows, cols, rows * M.shape[1] + cols
+
+
+def _scatter(M: sp.spmatrix | None, keys: np.ndarray, n_cols: int) -> np.ndarray | None:
+    """The entries of ``M`` summed at their positions among ``keys`` (zeros
+    elsewhere); None if an entry of ``M`` lies outside ``keys``."""
+    if M is None:
+        return np.zeros(keys.size)
+    C = M.tocoo()
+    nz = C.data != 0  # a stored zero needs no place
+    k = C.row[nz].astype(np.int64) * n_cols + C.col[nz]
+    if k.size == 0:
+        return np.zeros(keys.size)
+    if keys.size == 0:
+        return None
+    pos = np.minimum(np.searchsorted(keys, k), keys.size - 1)
+    if not np.array_equal(keys[pos], k):
+        return None
+    return np.bincount(pos, weights=C.data[nz], minlength=keys.size)
+
+
+def _ones(M: sp.spmatrix) -> sp.csr_matrix:
+    """Ones at the nonzero entries of ``M``."""
+    C = sp.csr_matrix(M, dtype=float, copy=True)
+    C.eliminate_zeros()
+    C.data[:] = 1.0
+    return C
+
+
+class Reservation:
+    """The tangent triplets of a contact pair over a reserved pattern.
+
+    Parameters
+    ----------
+    P : sparse matrix (n_s, n_local)
+        The reserved pattern (nonzero structure only).
+    gd : int ndarray (n_local,)
+        Global index of each local dof, ``-1`` for a rigid master's.
+    offset : int
+        Global index of the pair's first multiplier.
+    extra_h : sparse matrix (n_local, n_local), optional
+        Further ``K_uu`` entries to reserve (beyond ``P^T P``).
+
+    Attributes
+    ----------
+    rows, cols : int ndarray
+        The global triplet indices, blocks ``K_ulam, K_lamu, K_lamlam, K_uu`` in this order.
+    """
+
+    def __init__(self, P: sp.spmatrix, gd: np.ndarray, offset: int,
+                 extra_h: sp.spmatrix | None = None):
+        P = _ones(P)
+        self.P, self.gd, self.offset = P, np.asarray(gd, dtype=np.int64), int(offset)
+        n_s, n_loc = P.shape
+        self.n_loc = n_loc
+        prow, pcol, self.keys_g = _keys(P)
+        S = (P.T @ P).tocsr()
+        if extra_h is not None:
+            S = S + _ones(extra_h)
+        S.data[:] = 1.0
+        self.S = S
+        hrow, hcol, self.keys_h = _keys(S)
+        self.keep_g = self.gd[pcol] >= 0
+        self.keep_h = (self.gd[hrow] >= 0) & (self.gd[hcol] >= 0)
+        self.row_g = prow[self.keep_g]  # the multiplier row of each kept G entry
+        u = self.gd[pcol[self.keep_g]]
+        lam = self.offset + self.row_g
+        diag = self.offset + np.arange(n_s, dtype=np.int64)
+        self.rows = np.concatenate([u, lam, diag, self.gd[hrow[self.keep_h]]])
+        self.cols = np.concatenate([lam, u, diag, self.gd[hcol[self.keep_h]]])
+
+    def fits(self, gd: np.ndarray, offset: int) -> bool:
+        """Whether it was built for these global dofs and multiplier offset."""
+        return offset == self.offset and np.array_equal(gd, self.gd)
+
+    def values(self, G: sp.spmatrix, H: sp.spmatrix | None, active: np.ndarray, c: float,
+               row_scale: float) -> np.ndarray | None:
+        """The tangent values at :attr:`rows`, :attr:`cols`: ``-G^T``, ``c s G`` on
+        active rows, ``s`` on the diagonal of inactive ones, ``-H`` (``s`` the row
+        scale; explicit zeros elsewhere).  None if ``G`` or ``H`` has an entry
+        outside the reservation."""
+        Gd = _scatter(G, self.keys_g, self.n_loc)
+        Hd = _scatter(H, self.keys_h, self.n_loc)
+        if Gd is None or Hd is None:
+            return None
+        g = Gd[self.keep_g]
+        return np.concatenate([-g, np.where(active[self.row_g], c * row_scale * g, 0.0),
+                               np.where(active, 0.0, row_scale), -Hd[self.keep_h]])
+
+    def widened(self, G: sp.spmatrix, H: sp.spmatrix | None) -> "Reservation":
+        """The reservation that also holds every entry of ``G`` and ``H``."""
+        P = self.P + _ones(G)
+        extra = self.S if H is None else self.S + _ones(H)
+        return Reservation(P, self.gd, self.offset, extra)
+
 
 class ContactPair(Item):
     """Frictionless contact between a slave and a master surface with Lagrange multipliers.
@@ -171,6 +293,15 @@ class ContactPair(Item):
         self.pattern_misses = 0
 
     # -- helpers -------------------------------------------------------------
+    @property
+    def symmetrizable(self) -> bool:
+        """Its multiplier rows can be scaled to a symmetric system (active rows
+        ``c s G`` against the columns ``-G^T``, inactive rows the identity) when
+        ``H`` is symmetric (the discretization's ``symmetric``) and its triplets
+        lie on a reserved pattern (the same structure for rows and columns)."""
+        return bool(self.discretization.symmetric
+                    and isinstance(self.discretization, PatternedDiscretization))
+
     def referenced_bodies(self) -> list:
         """The bodies of the slave and (unless rigid) the master surface."""
         return [b for b in (self.slave.body, self.master.body) if b is not None]
@@ -303,6 +434,7 @@ class ContactPair(Item):
                 res = self._widen(ev)
                 kv = res.values(ev.G, ev.H, active, c, rs)
             out.k_rows, out.k_cols, out.k_vals = res.rows, res.cols, kv
+            out.reserved = True
             return out
         kr, kc, kv = [rows_u], [cols_l], [-vals]  # K_ulam = -G^T
         act_g = active[G.row[keep]]  # K_lamu = c G on active rows

@@ -34,6 +34,10 @@ class Contribution:
 
     Residual entries ``(r_index, r_value)`` are summed (duplicates add up);
     the tangent is given as COO triplets ``(k_rows, k_cols, k_vals)``.
+    ``reserved``: the triplet indices are a reservation (a contact pair over its
+    reserved pattern): they repeat, as the same arrays, until the reservation
+    changes, so the model rebuilds its fixed pattern when they change instead of
+    summing them apart (:meth:`Model._tangent`).
     """
 
     r_index: np.ndarray
@@ -41,6 +45,7 @@ class Contribution:
     k_rows: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int64))
     k_cols: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int64))
     k_vals: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    reserved: bool = False
 
     @classmethod
     def empty(cls) -> "Contribution":
@@ -543,6 +548,9 @@ class Model:
         self._last_idx: list[tuple[np.ndarray, np.ndarray] | None] = [None] * len(self.items)
         self._varying = np.zeros(len(self.items), dtype=bool)
         self._pattern: _Pattern | None = None
+        #: how often the fixed pattern was built (the first time and at each
+        #: change of a stable item's indices, e.g. a new contact reservation)
+        self.pattern_builds = 0
 
     # -- checkpoint ---------------------------------------------------------
     def state_dict(self) -> dict[str, np.ndarray]:
@@ -586,6 +594,15 @@ class Model:
     def symmetric(self) -> bool:
         """Whether every item declares a symmetric tangent (:attr:`Item.symmetric`)."""
         return all(it.symmetric for it in self.items)
+
+    @property
+    def symmetrizable(self) -> bool:
+        """Whether the tangent is symmetric but for the multiplier rows of the
+        contact pairs: every item declares a symmetric tangent, or (a contact
+        pair) ``symmetrizable`` (its rows ``c G`` are a multiple of its columns
+        ``-G^T`` and its ``H`` is symmetric), so scaling those rows makes the
+        system symmetric (:func:`~skfem_mortar.solver.linsolve.symmetrize`)."""
+        return all(it.symmetric or getattr(it, "symmetrizable", False) for it in self.items)
 
     def outputs(self) -> list[Output]:
         """Every item's :meth:`Item.outputs`, in the order of the items."""
@@ -684,13 +701,18 @@ class Model:
 
         Items whose index arrays have equalled those of their previous call at
         every call so far (bodies, loads: a fixed mesh; every item at its first
-        call) are *stable*: their
-        values are summed with one ``bincount`` into a CSR pattern built once
-        (no sorting of COO triplets per iteration).  An item whose indices
-        changed once (a contact pair: active sets and segments change) is
-        *varying* from then on; its triplets go through a COO to CSR conversion
-        of their own, added at the end.  So the pattern is rebuilt at most once
-        per item that turns out to vary.
+        call), and items whose indices are a reservation
+        (:attr:`Contribution.reserved`: a contact pair over its reserved
+        pattern), are *stable*: their values are summed with one ``bincount``
+        into a CSR pattern (no sorting of COO triplets per iteration), which is
+        built again only when the indices of one of them change (each item's
+        own sorted keys are kept, so a new reservation costs a merge, not a
+        sort of every triplet).  An item whose indices changed without a
+        reservation (a contact method without the pattern hook) is *varying*
+        from then on; its triplets go through a COO to CSR conversion of their
+        own, added at the end (and the sum's pattern changes with them).
+        While no item varies, the returned matrix is the pattern's
+        (:meth:`free_block` then gathers its free part from a cached index).
         """
         stable = []
         for i, c in enumerate(parts):
@@ -701,7 +723,8 @@ class Model:
             # an item is taken as stable from its first call on, so the order in
             # which entries are summed depends only on which items have varied
             # (the state a checkpoint keeps), not on how many calls came before
-            if last is None or (_same(last[0], c.k_rows) and _same(last[1], c.k_cols)):
+            if (last is None or c.reserved
+                    or (_same(last[0], c.k_rows) and _same(last[1], c.k_cols))):
                 stable.append(i)
             else:
                 self._varying[i] = True
@@ -709,10 +732,11 @@ class Model:
         stable = tuple(i for i in stable if parts[i].k_vals.size)
         pat = self._pattern
         if stable and (pat is None or pat.items != stable
-                       or any(pat.idx[j][0] is not parts[i].k_rows
-                              and not _same(pat.idx[j][0], parts[i].k_rows)
+                       or any(not (_same(pat.idx[j][0], parts[i].k_rows)
+                                   and _same(pat.idx[j][1], parts[i].k_cols))
                               for j, i in enumerate(stable))):
-            pat = self._pattern = _Pattern(stable, [parts[i] for i in stable], self.n)
+            pat = self._pattern = _Pattern(stable, [parts[i] for i in stable], self.n, pat)
+            self.pattern_builds += 1
         if not stable:
             pat = None
         rest = [p for i, p in enumerate(parts) if pat is None or i not in pat.items]
@@ -728,6 +752,16 @@ class Model:
             K = Kr if K is None else K + Kr
         return K
 
+    def free_block(self, K: sp.csr_matrix, free: np.ndarray) -> sp.csr_matrix:
+        """``K[free][:, free]``; for the matrix of the fixed pattern (no item
+        varies) gathered with an index cached with the pattern and the free
+        dofs, so its ``indptr`` and ``indices`` are the same (read-only) memory
+        while both repeat (a linear solver then keeps its analysis)."""
+        pat = self._pattern
+        if pat is not None and pat.last is not None and K is pat.last:
+            return pat.restrict(K, np.asarray(free))
+        return K[free][:, free]
+
 
 def _cat(arrays: list[np.ndarray], dtype) -> np.ndarray:
     return np.concatenate(arrays) if arrays else np.zeros(0, dtype=dtype)
@@ -737,23 +771,85 @@ def _same(a: np.ndarray, b: np.ndarray) -> bool:
     return a is b or (a.shape == b.shape and np.array_equal(a, b))
 
 
-class _Pattern:
-    """A fixed CSR pattern of the triplets of some items and where each triplet goes."""
+def _unique_keys(rows: np.ndarray, cols: np.ndarray, n: int) -> tuple[np.ndarray, np.ndarray]:
+    """Sorted unique keys ``row * n + col`` of triplets and the place of each
+    triplet among them (``keys[inv] == row * n + col``)."""
+    k = rows.astype(np.int64) * n + cols
+    order = np.argsort(k, kind="stable")
+    ks = k[order]
+    new = np.ones(ks.size, dtype=bool)
+    new[1:] = ks[1:] != ks[:-1]
+    inv = np.empty(ks.size, dtype=np.int64)
+    inv[order] = np.cumsum(new) - 1
+    return ks[new], inv
 
-    def __init__(self, items: tuple[int, ...], parts: list[Contribution], n: int):
+
+def _union(sorted_keys: list[np.ndarray]) -> np.ndarray:
+    """The sorted union of sorted unique key arrays (a stable sort merges the
+    runs; ``np.unique`` hashes, which measured ten times slower here)."""
+    k = np.sort(np.concatenate(sorted_keys), kind="stable")
+    keep = np.ones(k.size, dtype=bool)
+    keep[1:] = k[1:] != k[:-1]
+    return k[keep]
+
+
+def _readonly(a: np.ndarray) -> np.ndarray:
+    a.flags.writeable = False
+    return a
+
+
+class _Pattern:
+    """A fixed CSR pattern of the triplets of some items, where each triplet goes,
+    and the gathers of its free block.
+
+    Each item's sorted unique keys ``row * n + col`` (and the place of each of
+    its triplets among them) are computed once per index arrays (taken from
+    ``previous`` when the arrays are the same); the pattern is their union,
+    ``indices`` and ``indptr`` read-only.
+    """
+
+    def __init__(self, items: tuple[int, ...], parts: list[Contribution], n: int,
+                 previous: "_Pattern | None" = None):
         self.items = items
         self.idx = [(p.k_rows, p.k_cols) for p in parts]
-        rows = np.concatenate([p.k_rows for p in parts]).astype(np.int64)
-        cols = np.concatenate([p.k_cols for p in parts]).astype(np.int64)
-        keys, self.where = np.unique(rows * n + cols, return_inverse=True)
+        known = {} if previous is None else dict(zip(previous.items, zip(previous.idx,
+                                                                        previous.local)))
+        self.local = []
+        for i, p in zip(items, parts):
+            old = known.get(i)
+            if old is not None and _same(old[0][0], p.k_rows) and _same(old[0][1], p.k_cols):
+                self.local.append(old[1])
+            else:
+                self.local.append(_unique_keys(p.k_rows, p.k_cols, n))
+        keys = self.local[0][0] if len(self.local) == 1 else _union(
+            [uk for uk, _ in self.local])
+        self.where = np.concatenate([np.searchsorted(keys, uk)[inv] for uk, inv in self.local])
         self.nnz = keys.size
-        self.indices = (keys % n).astype(np.int32 if n < 2**31 else np.int64)
-        self.indptr = np.zeros(n + 1, dtype=self.indices.dtype)
-        np.cumsum(np.bincount(keys // n, minlength=n), out=self.indptr[1:])
+        itype = np.int32 if n < 2**31 else np.int64
+        self.indices = _readonly((keys % n).astype(itype))
+        indptr = np.zeros(n + 1, dtype=itype)
+        np.cumsum(np.bincount(keys // n, minlength=n), out=indptr[1:])
+        self.indptr = _readonly(indptr)
         self.n = n
+        self.last: sp.csr_matrix | None = None  # the last matrix made
+        self._free: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray] | None = None
 
     def matrix(self, vals: list[np.ndarray]) -> sp.csr_matrix:
         data = np.bincount(self.where, weights=np.concatenate(vals), minlength=self.nnz)
-        K = sp.csr_matrix((data, self.indices.copy(), self.indptr.copy()), shape=(self.n, self.n))
+        K = sp.csr_matrix((data, self.indices, self.indptr), shape=(self.n, self.n))
         K.has_sorted_indices = True
+        self.last = K
         return K
+
+    def restrict(self, K: sp.csr_matrix, free: np.ndarray) -> sp.csr_matrix:
+        """``K[free][:, free]`` of a matrix of this pattern, by a cached gather."""
+        if self._free is None or not np.array_equal(self._free[0], free):
+            M = sp.csr_matrix((np.arange(1.0, self.nnz + 1.0), self.indices, self.indptr),
+                              shape=(self.n, self.n))[free][:, free]
+            M.sort_indices()
+            self._free = (free.copy(), M.data.astype(np.int64) - 1,
+                          _readonly(M.indices), _readonly(M.indptr))
+        _, gather, indices, indptr = self._free
+        Kf = sp.csr_matrix((K.data[gather], indices, indptr), shape=(free.size, free.size))
+        Kf.has_sorted_indices = True
+        return Kf

@@ -16,7 +16,22 @@ Two backends:
     weighted matching for the zero diagonal; chosen automatically when
     ``pypardiso`` is installed.  PARDISO perturbs tiny pivots instead of
     failing, so its answer is checked (relative residual); a failed check falls
-    back to SuperLU, which also gives the clean "singular" diagnosis.
+    back to SuperLU, which also gives the clean "singular" diagnosis.  The
+    symbolic analysis is kept while the sparsity pattern repeats (the model's
+    fixed pattern with the contact pairs' reservations: one analysis per
+    solve on hertz), a poor answer of a kept analysis is refined before a new
+    one.  A system that is symmetric but for its contact multiplier rows
+    (``multipliers`` of :func:`solve_linear`) is symmetrized
+    (:func:`symmetrize`) and factored by the symmetric indefinite solver
+    (``mtype`` -2, upper triangle, Bunch-Kaufman with weighted matching): half
+    the factor of the LU; its answer is checked against the original system,
+    and the unsymmetric solver retries if it fails.
+
+SuperLU keeps nothing between calls: scipy's ``splu`` computes its COLAMD
+column ordering in every call, and ``permc_spec`` takes only the name of an
+ordering, not a permutation, so the ordering of a repeated pattern cannot be
+handed back (pre-permuting the matrix with the last ``perm_c`` and
+``NATURAL`` would, but changes SuperLU's pivoting; not done).
 
 The environment variable ``SKFEM_MORTAR_SOLVER`` (``superlu`` or ``pardiso``)
 overrides the automatic choice, and :func:`solve_linear` takes ``backend``.
@@ -28,6 +43,7 @@ import logging
 import os
 import sys
 import warnings
+from typing import Callable, NamedTuple
 
 import numpy as np
 import scipy.sparse as sp
@@ -35,7 +51,8 @@ import scipy.sparse.linalg as spla
 
 from ..core.errors import InversionError
 
-__all__ = ["solve_linear", "available_backends", "default_backend", "BACKENDS"]
+__all__ = ["solve_linear", "available_backends", "default_backend", "BACKENDS",
+           "pardiso_solver", "symmetrize", "SYMMETRIC"]
 
 log = logging.getLogger(__name__)
 
@@ -46,8 +63,16 @@ PARDISO_RTOL = 1e-8
 #: spin-waiting cost more than they save there (measured on 2 busy cores: 400
 #: unknowns 26 ms on 2 threads, 6 ms on one; 2000 unknowns 250 ms against 12 ms)
 PARDISO_SERIAL_BELOW = 20000
+#: iterative refinement steps on a poor answer of a reused analysis before a new
+#: analysis (its matching, computed for earlier values, may pivot poorly after
+#: an active-set change; each step is one solve with the factors, ~5 % of a
+#: factorization)
+REFINE_STEPS = 3
+#: factor symmetrizable systems with PARDISO's symmetric indefinite solver
+#: (``SKFEM_MORTAR_SYMMETRIC=0`` turns it off: the unsymmetric path)
+SYMMETRIC = os.environ.get("SKFEM_MORTAR_SYMMETRIC", "1").strip() != "0"
 
-_pardiso_solver = None  # the process's _Pardiso
+_pardiso_solvers: dict[int, "_Pardiso"] = {}  # the process's, by matrix type
 
 
 def _point_to_mkl() -> None:
@@ -90,7 +115,8 @@ def default_backend() -> str:
     return "pardiso" if _pardiso_available() else "superlu"
 
 
-def solve_linear(K: sp.spmatrix, b: np.ndarray, backend: str | None = None) -> np.ndarray:
+def solve_linear(K: sp.spmatrix, b: np.ndarray, backend: str | None = None,
+                 multipliers: np.ndarray | None = None) -> np.ndarray:
     """Solve ``K x = b`` with a sparse direct solver.
 
     Parameters
@@ -100,6 +126,13 @@ def solve_linear(K: sp.spmatrix, b: np.ndarray, backend: str | None = None) -> n
     backend : {"superlu", "pardiso"}, optional
         Default :func:`default_backend`.  ``pardiso`` without ``pypardiso``
         installed raises ImportError.
+    multipliers : bool ndarray (n,), optional
+        The multiplier rows of a system that is symmetric but for them (every
+        item symmetric but the contact pairs' rows, ``Model.symmetrizable``):
+        PARDISO then factors the symmetrized system (:func:`symmetrize`) with
+        its symmetric indefinite solver (half the factor).  SuperLU solves the
+        system as it is (scipy offers no symmetric indefinite factorization;
+        its ``SymmetricMode`` measured slower, see the module docstring).
 
     Raises
     ------
@@ -114,7 +147,8 @@ def solve_linear(K: sp.spmatrix, b: np.ndarray, backend: str | None = None) -> n
         raise ValueError(f"backend must be one of {BACKENDS}, got {backend!r}")
     b = np.asarray(b, dtype=float)
     if backend == "pardiso":
-        x = _pardiso(K, b)
+        mult = None if multipliers is None else np.asarray(multipliers, dtype=bool)
+        x = _pardiso(K, b, mult)
         if x is not None:
             return x
     return _superlu(K, b)
@@ -133,21 +167,50 @@ def _superlu(K: sp.spmatrix, b: np.ndarray) -> np.ndarray:
 
 
 class _Pardiso:
-    """One PARDISO instance per process (its construction looks up MKL, ~1 s).
+    """One PARDISO instance per process and matrix type (its construction looks up MKL).
 
-    Newton iterations often repeat the sparsity pattern (same active set and
-    mortar segments): then the symbolic analysis (ordering, ~40 % of a solve)
-    of the previous call is reused (phases 22 + 33 instead of 13).  Should the
-    reused analysis give a poor answer (its weighted matching was computed for
-    the earlier values), a fresh full solve follows.
+    The symbolic analysis (ordering and symbolic factorization, phase 11;
+    about 40 % of a solve) is kept while the sparsity pattern repeats
+    (the model's fixed pattern and a contact pair's reservation: equal
+    ``indptr`` and ``indices``): a repeated pattern
+    costs phases 22 + 33 only (a new one: 11, then 22 + 33).  Should the reused analysis give a poor answer
+    (its weighted matching was computed for the earlier values), a fresh full
+    solve follows.  ``analyses``, ``factorizations`` and ``solves`` count the
+    phases run.
+
+    ``mtype`` 11 (real unsymmetric, the default) or -2 (real symmetric
+    indefinite: the caller passes the upper triangle; Bunch-Kaufman pivoting
+    with weighted matching and scaling, iparm(11) = iparm(13) = 1, so the
+    zero diagonal of the active multiplier rows is paired off before the
+    ordering; pivots that are still too small are perturbed (iparm(14) counts
+    them) and answered with iterative refinement).  Measured on hertz
+    (elastic base, ``refine=2``, 1.75e5 unknowns, one core of a loaded
+    machine): without the matching the factorization is 25 % faster but
+    perturbs 25 pivots and answers to a relative residual of 4e-6 (refinement
+    needed); with it no perturbation and 4e-12.
     """
 
-    def __init__(self):
+    def __init__(self, mtype: int = 11):
         _point_to_mkl()
         import pypardiso
 
-        self.solver = pypardiso.PyPardisoSolver()
+        self.mtype = mtype
+        self.solver = pypardiso.PyPardisoSolver(mtype=mtype)
+        if mtype == -2:
+            iparm = {1: 1,    # our own settings below (zeros elsewhere: MKL's defaults)
+                     2: 2,    # nested dissection (METIS)
+                     8: 2,    # at most 2 steps of iterative refinement
+                     10: 8,   # perturb pivots below 1e-8 of the norm
+                     11: 1,   # symmetric scaling ...
+                     13: 1,   # ... with weighted matching (2 x 2 pivots for the zero diagonal)
+                     18: -1,  # report the factor's nonzeros in iparm(18)
+                     21: 1}   # Bunch-Kaufman pivoting
+            for i, v in iparm.items():
+                self.solver.set_iparm(i, v)
         self.pattern: tuple[np.ndarray, np.ndarray] | None = None
+        self.analyses = self.factorizations = self.solves = 0
+        #: perturbed pivots of the last factorization (iparm(14))
+        self.perturbed = 0
 
     def release(self) -> None:
         self.solver.free_memory(everything=True)
@@ -171,31 +234,190 @@ class _Pardiso:
         s.set_phase(phase)
         previous = self._threads(A.shape[0])
         try:
-            return np.asarray(s._call_pardiso(A, s._check_b(A, b)), dtype=float).ravel()
+            x = np.asarray(s._call_pardiso(A, s._check_b(A, b)), dtype=float).ravel()
         finally:
             if previous is not None:
                 self.solver.libmkl.MKL_Set_Num_Threads_Local(previous)
+        self.analyses += phase == 11
+        self.factorizations += phase == 23
+        self.solves += phase != 11
+        self.perturbed = int(s.get_iparm(14))
+        return x
 
-    def solve(self, A: sp.csr_matrix, b: np.ndarray) -> np.ndarray | None:
-        same = (self.pattern is not None and np.array_equal(self.pattern[0], A.indptr)
-                and np.array_equal(self.pattern[1], A.indices))
-        phases = ([23] if same else []) + [13]
-        for phase in phases:
-            if phase == 13 and self.pattern is not None:
-                self.release()
+    def same_pattern(self, A: sp.csr_matrix) -> bool:
+        """Whether ``A`` has the pattern of the kept analysis."""
+        if self.pattern is None:
+            return False
+        ip, ix = self.pattern
+        return ((A.indptr is ip or np.array_equal(ip, A.indptr))
+                and (A.indices is ix or np.array_equal(ix, A.indices)))
+
+    def solve(self, A: sp.csr_matrix, b: np.ndarray, check=None, correction=None
+              ) -> np.ndarray | None:
+        """The answer of ``A x = b``, or None; ``check(x)`` (default: the relative
+        residual of ``A``) decides whether it is good.  A poor answer of a
+        reused analysis is first refined (at most :data:`REFINE_STEPS` times
+        ``x += A^-1 correction(x)``, phase 33, ``correction(x)`` by default
+        ``b - A x``), then a fresh analysis follows."""
+        good = check or (lambda x: _good(A, x, b))
+        correction = correction or (lambda x: b - A @ x)
+        for reuse in ([True] if self.same_pattern(A) else []) + [False]:
             try:
-                x = self._run(A, b, phase)
+                if not reuse:
+                    if self.pattern is not None:
+                        self.release()
+                    self._run(A, b, 11)  # the analysis alone (timed apart)
+                    # read-only index arrays (the model's cached pattern) are kept as they are
+                    self.pattern = tuple(a if not a.flags.writeable else a.copy()
+                                         for a in (A.indptr, A.indices))
+                x = self._run(A, b, 23)
             except Exception as exc:  # empty rows (ValueError), PyPardisoError
-                log.debug("pardiso phase %d failed (%s)", phase, exc)
+                log.debug("pardiso failed (%s)", exc)
                 self.release()
                 continue
-            if phase == 13:
-                self.pattern = (A.indptr.copy(), A.indices.copy())
-            if _good(A, x, b):
+            if good(x):
                 return x
-            log.debug("pardiso phase %d: residual too large", phase)
+            for _ in range(REFINE_STEPS if reuse else 0):
+                try:
+                    x = x + self._run(A, correction(x), 33)
+                except Exception:  # noqa: BLE001 (PyPardisoError): a fresh analysis follows
+                    break
+                if good(x):
+                    return x
+            log.debug("pardiso (%s analysis): residual too large", "kept" if reuse else "new")
         self.release()
         return None
+
+
+def pardiso_solver(mtype: int = 11) -> _Pardiso:
+    """The process's PARDISO instance of matrix type ``mtype`` (11 or -2), with its
+    counters ``analyses``, ``factorizations``, ``solves`` (ImportError without pypardiso)."""
+    if mtype not in _pardiso_solvers:
+        _pardiso_solvers[mtype] = _Pardiso(mtype)
+    return _pardiso_solvers[mtype]
+
+
+class _Symmetrized(NamedTuple):
+    """Where the entries of the multiplier rows and their transposes lie in a
+    pattern, and its upper triangle (:func:`symmetrize`)."""
+
+    indptr: np.ndarray
+    indices: np.ndarray
+    ent: np.ndarray      # positions of the multiplier rows' entries
+    row: np.ndarray      # their row
+    tpos: np.ndarray     # position of the transposed entry (col, row)
+    diag: np.ndarray     # whether the entry is on the diagonal
+    upper: np.ndarray    # positions of the upper triangle (col >= row), in CSR order
+    u_indptr: np.ndarray
+    u_indices: np.ndarray
+
+
+_SYM_CACHE: dict = {}
+
+
+def _symmetrized_pattern(A: sp.csr_matrix, mult: np.ndarray) -> _Symmetrized | None:
+    """The positions :func:`symmetrize` needs, cached per pattern and multiplier
+    rows; None if the multiplier rows are not structurally symmetric."""
+    key = _SYM_CACHE.get("key")
+    if (key is not None and (key[0] is A.indptr or np.array_equal(key[0], A.indptr))
+            and (key[1] is A.indices or np.array_equal(key[1], A.indices))
+            and np.array_equal(key[2], mult)):
+        return _SYM_CACHE["value"]
+    n = A.shape[0]
+    counts = np.diff(A.indptr)
+    rows = np.repeat(np.arange(n, dtype=np.int64), counts)
+    cols = A.indices.astype(np.int64)
+    ent = np.flatnonzero(mult[rows])
+    r, c = rows[ent], cols[ent]
+    keys = rows * n + cols  # sorted (canonical csr)
+    t = r + c * n
+    tpos = np.minimum(np.searchsorted(keys, t), keys.size - 1)
+    value = None
+    if np.array_equal(keys[tpos], t):
+        upper = np.flatnonzero(cols >= rows)
+        u_indptr = np.zeros(n + 1, dtype=A.indptr.dtype)
+        np.cumsum(np.bincount(rows[upper], minlength=n), out=u_indptr[1:])
+        value = _Symmetrized(A.indptr, A.indices, ent, r, tpos, r == c, upper,
+                             u_indptr, A.indices[upper])
+    _SYM_CACHE.update(key=(A.indptr, A.indices, mult.copy()), value=value)
+    return value
+
+
+#: relative mismatch of a multiplier row against its column above which the
+#: system is not taken as symmetrizable (the row is c s G, the column -G^T:
+#: equal up to round-off of the product)
+SYMMETRY_RTOL = 1e-12
+
+
+def symmetrize(A: sp.csr_matrix, b: np.ndarray, mult: np.ndarray
+               ) -> tuple[sp.csr_matrix, np.ndarray, Callable] | None:
+    """The symmetric form of a saddle-point system, as its upper triangle.
+
+    The multiplier rows ``r`` (``mult``) of the Newton system are of two kinds:
+    an *active* row is ``f_r`` times the transpose of its column (``c s G_r``
+    against ``-G_r^T``), and is scaled by ``f_r = (row . col) / (row . row)``
+    (refused unless ``|f_r row - col| <= SYMMETRY_RTOL |col|``); an *inactive* row
+    is ``s lam_r`` alone (no off-diagonal value), so its unknown
+    ``x_r = b_r / A_rr`` is known: its column times ``x_r`` moves to the right-hand
+    side, the column's values become explicit zeros and the row ``x_r = b_r``
+    (diagonal 1).  The pattern is kept, so the symmetric analysis survives
+    active-set changes.  Returns ``(U, b', transform)`` with ``U`` the upper
+    triangle of the symmetrized matrix (csr), ``transform`` the same change of
+    another right-hand side (for iterative refinement), or None when the multiplier rows are not
+    structurally or numerically symmetric to their columns.
+    """
+    sym = _symmetrized_pattern(A, mult)
+    if sym is None:
+        return None
+    n = A.shape[0]
+    data = A.data.copy()
+    b = np.array(b, dtype=float)
+    v_row, v_col = data[sym.ent], data[sym.tpos]
+    off = ~sym.diag
+    offsum = np.bincount(sym.row[off], weights=np.abs(v_row[off]), minlength=n)
+    inactive = mult & (offsum == 0)
+    ina_e = inactive[sym.row]
+    # inactive rows: the known unknown, its column to the right-hand side
+    d = np.zeros(n)
+    d[sym.row[sym.diag]] = v_row[sym.diag]
+    if np.any(d[inactive] == 0):
+        return None
+    x_known = np.zeros(n)
+    x_known[inactive] = b[inactive] / d[inactive]
+    move = ina_e & off
+    cols_e = A.indices[sym.ent].astype(np.int64)
+    np.subtract.at(b, cols_e[move], v_col[move] * x_known[sym.row[move]])
+    data[sym.tpos[move]] = 0.0
+    data[sym.ent[ina_e & sym.diag]] = 1.0
+    b[inactive] = x_known[inactive]
+    # active rows: scale to the column
+    act_e = ~ina_e & off
+    rr = np.bincount(sym.row[act_e], weights=v_row[act_e] ** 2, minlength=n)
+    rc = np.bincount(sym.row[act_e], weights=v_row[act_e] * v_col[act_e], minlength=n)
+    active = mult & ~inactive
+    f = np.ones(n)
+    f[active] = rc[active] / np.where(rr[active] > 0, rr[active], 1.0)
+    mis = np.abs(f[sym.row[act_e]] * v_row[act_e] - v_col[act_e])
+    scale = np.zeros(n)
+    np.maximum.at(scale, sym.row[act_e], np.abs(v_col[act_e]))
+    if np.any(mis > SYMMETRY_RTOL * scale[sym.row[act_e]] + 0.0) or np.any(rr[active] == 0):
+        return None
+    data[sym.ent[~ina_e]] *= f[sym.row[~ina_e]]
+    b[active] *= f[active]
+    U = sp.csr_matrix((data[sym.upper], sym.u_indices, sym.u_indptr), shape=(n, n))
+    U.has_sorted_indices = True
+    cm, rm, vm = cols_e[move], sym.row[move], v_col[move]
+
+    def transform(r: np.ndarray) -> np.ndarray:
+        """The same change of a right-hand side ``r`` (linear in ``r``)."""
+        r = np.array(r, dtype=float)
+        known = np.zeros(n)
+        known[inactive] = r[inactive] / d[inactive]
+        np.subtract.at(r, cm, vm * known[rm])
+        r[inactive] = known[inactive]
+        r[active] *= f[active]
+        return r
+    return U, b, transform
 
 
 def _good(A: sp.spmatrix, x: np.ndarray, b: np.ndarray) -> bool:
@@ -205,15 +427,26 @@ def _good(A: sp.spmatrix, x: np.ndarray, b: np.ndarray) -> bool:
     return float(np.linalg.norm(A @ x - b)) <= PARDISO_RTOL * max(bn, np.finfo(float).tiny)
 
 
-def _pardiso(K: sp.spmatrix, b: np.ndarray) -> np.ndarray | None:
-    """PARDISO's answer, or None when it fails or its residual is too large."""
-    global _pardiso_solver
-    if _pardiso_solver is None:
-        _pardiso_solver = _Pardiso()
-    A = sp.csr_matrix(K, dtype=float)
+def _pardiso(K: sp.spmatrix, b: np.ndarray, mult: np.ndarray | None = None
+             ) -> np.ndarray | None:
+    """PARDISO's answer, or None when it fails or its residual is too large.
+    With ``mult`` (the multiplier rows of a symmetrizable system) and
+    :data:`SYMMETRIC` on, the symmetric indefinite factorization of the
+    symmetrized system first (:func:`symmetrize`), else (or if that fails) the
+    unsymmetric one."""
+    A = K if sp.isspmatrix_csr(K) and K.dtype == float else sp.csr_matrix(K, dtype=float)
     if not A.has_sorted_indices:
         A = A.sorted_indices()  # (pypardiso would sort the caller's arrays in place)
-    x = _pardiso_solver.solve(A, b)
+    if mult is not None and SYMMETRIC:
+        sym = symmetrize(A, b, mult)
+        if sym is not None:
+            U, bs, transform = sym
+            x = pardiso_solver(-2).solve(U, bs, check=lambda x: _good(A, x, b),
+                                         correction=lambda x: transform(b - A @ x))
+            if x is not None:
+                return x
+            log.debug("symmetric pardiso gave no acceptable answer; unsymmetric retries")
+    x = pardiso_solver(11).solve(A, b)
     if x is None:
         log.debug("pardiso gave no acceptable answer; SuperLU retries")
     return x

@@ -181,6 +181,7 @@ def newton(model: Model, z: np.ndarray, load_factor: float, free: np.ndarray,
     z0, lf0 = (z.copy(), load_factor) if start is None else start
     ref = tol = 0.0
     floor = np.zeros(free.size)
+    symmetric = model.symmetrizable  # symmetric but for the multiplier rows
     last: tuple[np.ndarray, float] | None = None  # the last update (dz_f, alpha)
     for it in range(opt.max_iter + 1):
         try:
@@ -226,7 +227,8 @@ def newton(model: Model, z: np.ndarray, load_factor: float, free: np.ndarray,
             return report
         t0 = time.perf_counter()
         try:
-            dzf = solve_linear(K[free][:, free], -Rf)
+            dzf = solve_linear(model.free_block(K, free), -Rf,
+                               multipliers=(free >= model.n_u) if symmetric else None)
         except InversionError as exc:
             report.reason = str(exc)
             report.iterations = it
