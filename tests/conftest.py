@@ -15,7 +15,8 @@ _RECORD = os.environ.get("SKFEM_MORTAR_RECORD")
 _CURRENT: dict = {"iterations": [], "cuts": 0}
 
 #: ``SKFEM_MORTAR_REQUIRE_EXTRAS=1`` (CI's second step, after installing
-#: ``[fast,distributed]``): a test skipped for a missing extra is a failure
+#: ``[distributed]``; pypardiso comes with the default install): a test skipped
+#: for a missing extra is a failure
 _REQUIRE_EXTRAS = bool(os.environ.get("SKFEM_MORTAR_REQUIRE_EXTRAS"))
 
 

@@ -35,7 +35,7 @@ def test_solves_saddle_point(backend):
     np.testing.assert_allclose(x, x_dense, rtol=1e-9, atol=1e-12)
 
 
-@pytest.mark.skipif(not HAS_PARDISO, reason="pypardiso not installed (extra 'fast')")
+@pytest.mark.skipif(not HAS_PARDISO, reason="pypardiso not installed (a default dependency on x86-64 Linux and Windows)")
 def test_backends_agree_on_a_model_tangent():
     """The block Newton system of a real contact scene, both backends."""
     from skfem_mortar.app.runner import build_scene
@@ -81,7 +81,7 @@ def test_unknown_backend():
         solve_linear(sp.eye(2, format="csr"), np.ones(2), backend="lapack")
 
 
-@pytest.mark.skipif(not HAS_PARDISO, reason="pypardiso not installed (extra 'fast')")
+@pytest.mark.skipif(not HAS_PARDISO, reason="pypardiso not installed (a default dependency on x86-64 Linux and Windows)")
 def test_pardiso_falls_back_when_its_answer_is_bad(monkeypatch):
     """A PARDISO answer with a large residual is replaced by SuperLU's."""
     A, b = saddle_point(seed=2)
@@ -98,7 +98,7 @@ def test_superlu_does_not_change_the_input():
     assert (A != A0).nnz == 0 and np.array_equal(b, b0)
 
 
-@pytest.mark.skipif(not HAS_PARDISO, reason="pypardiso not installed (extra 'fast')")
+@pytest.mark.skipif(not HAS_PARDISO, reason="pypardiso not installed (a default dependency on x86-64 Linux and Windows)")
 def test_pardiso_reuses_the_analysis_of_a_repeated_pattern():
     """Same pattern, new values (a Newton iteration without active set change): the
     analysis is reused and the answer is still right; a new pattern starts afresh."""

@@ -20,7 +20,7 @@ from skfem_mortar.solver.newton import NewtonOptions
 from skfem_mortar.solver.stepping import solve
 
 HAS_PARDISO = "pardiso" in available_backends()
-needs_pardiso = pytest.mark.skipif(not HAS_PARDISO, reason="pypardiso not installed (extra 'fast')")
+needs_pardiso = pytest.mark.skipif(not HAS_PARDISO, reason="pypardiso not installed (a default dependency on x86-64 Linux and Windows)")
 
 
 def contact_system(n=40, m=6, seed=0, inactive=(4, 5)):
