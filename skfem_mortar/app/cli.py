@@ -175,15 +175,20 @@ def _cmd_demo(args: argparse.Namespace) -> int:
 
 def _cmd_study(args: argparse.Namespace) -> int:
     from ..output.outdir import output_lock
-    from .study import run_study
+    from .study import check_repeat, check_tolerances, plan_study, run_study
 
+    options = dict(methods=args.method or None, sets=args.sets, steps=args.steps,
+                   solvers=args.solver, metric=args.metric, quick=args.quick)
+    plan = plan_study(args.scene, **options)  # every refusal before --out is made
+    check_repeat(args.repeat, len(plan.runs))
+    check_tolerances(args.tolerance)
     with output_lock(args.out, "study"):
-        rows = run_study(args.scene, args.out, methods=args.method or None,
-                         sets=args.sets, steps=args.steps, quick=args.quick,
+        rows = run_study(args.scene, args.out, **options, repeat=args.repeat,
                          tolerance=args.tolerance, resume=args.resume, workers=args.workers,
                          scheduler=args.scheduler, progress=not args.no_progress)
     failed = sum(r.get("status") != "ok" for r in rows)
-    print(f"{len(rows)} runs ({failed} failed): {args.out}/results.csv, pareto.png, report.md")
+    print(f"{len(rows)} runs ({failed} failed): {args.out}/results.csv, pareto.png, report.md, "
+          "recommendations.csv")
     return 0
 
 
@@ -250,9 +255,19 @@ def build_parser() -> argparse.ArgumentParser:
                    help="an axis of the grid: a scene parameter and its values")
     p.add_argument("--steps", type=_steps_list, default=None,
                    help="load step counts to compare, e.g. 5,10,20 (each >= 1)")
+    p.add_argument("--solver", action="append", default=None, metavar="BACKEND",
+                   help="solver backends to compare (repeatable; one of those installed, "
+                        "default: the default backend only)")
+    p.add_argument("--metric", action="append", default=None, metavar="NAME",
+                   help="the plotted error measure (default: the scene's first; repeatable "
+                        "for several scenes: each plots the first it has)")
+    p.add_argument("--repeat", type=_int_at_least(1), default=None,
+                   help="timed runs per setting, the median reported (>= 1; default 3 "
+                        "for a grid of at most 12 points, else 1)")
     p.add_argument("--quick", action="store_true", help="a small grid (for CI)")
-    p.add_argument("--tolerance", type=_positive_float, default=1e-2,
-                   help="report the cheapest setting within this relative error (> 0)")
+    p.add_argument("--tolerance", type=_positive_float, action="append", default=None,
+                   help="a relative error to recommend the cheapest setting for (in (0, 1); "
+                        "repeatable; default 0.1, 0.03, 0.01, 0.003)")
     p.add_argument("--out", type=_out_dir, default="skfem-mortar-study")
     p.add_argument("--resume", action="store_true", help="skip rows already in results.csv")
     p.add_argument("--workers", type=_int_at_least(0), default=0,

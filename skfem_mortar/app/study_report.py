@@ -1,12 +1,16 @@
-"""What a study shows: the Pareto plot (error against wall time) and report.md."""
+"""What a study shows: the Pareto plot (an error measure against wall time), the
+cheapest setting per error measure and tolerance (``report.md`` and
+``recommendations.csv``)."""
 from __future__ import annotations
 
+import csv
+import io as _io
 from pathlib import Path
-from typing import Sequence
+from typing import Mapping, Sequence
 
 import numpy as np
 
-__all__ = ["pareto_front", "pareto_plot", "write_report"]
+__all__ = ["pareto_front", "pareto_figure", "pareto_plot", "recommend", "write_report"]
 
 _MARKERS = {"nts": "s", "mortar": "o", "mortar-dual": "^", "": "D"}
 
@@ -17,6 +21,11 @@ def _num(v) -> float:
     except (TypeError, ValueError):
         return float("nan")
     return f
+
+
+def _flag(v) -> bool:
+    """A boolean column, as written (True) or read back from the CSV ("True")."""
+    return v is True or str(v).strip().lower() in ("true", "1")
 
 
 def pareto_front(times: np.ndarray, errors: np.ndarray) -> np.ndarray:
@@ -30,70 +39,211 @@ def pareto_front(times: np.ndarray, errors: np.ndarray) -> np.ndarray:
     return order[keep]
 
 
-def _settings(row: dict) -> str:
-    parts = [f"{k[6:]}={v}" for k, v in row.items() if k.startswith("param.") and v != ""]
+def _params(row: Mapping) -> str:
+    return ", ".join(f"{k[6:]}={v}" for k, v in row.items()
+                     if k.startswith("param.") and v not in ("", None))
+
+
+def _steps(row: Mapping) -> str:
+    """The load steps of a row: the requested count, or the steps the scene's
+    default took (a one-step scene: 1, more if a step was cut)."""
     if row.get("steps") not in ("", None):
-        parts.append(f"steps={row['steps']}")
+        return str(row["steps"])
+    n = row.get("n_steps")
+    return f"{int(_num(n))} (scene default)" if np.isfinite(_num(n)) else "scene default"
+
+
+def _settings(row: Mapping) -> str:
+    """Parameters, load steps and solver of a row, as one line."""
+    parts = [p for p in (_params(row),) if p] + [f"load steps {_steps(row)}"]
+    if row.get("solver"):
+        parts.append(f"solver {row['solver']}")
     return ", ".join(parts)
 
 
-def pareto_plot(rows: Sequence[dict], path: str | Path) -> Path:
-    """Error against wall time on log axes, one panel per scene, a marker per method."""
+def _plotted_metric(rows: Sequence[Mapping], scene: str,
+                    plotted: Mapping[str, str | None] | None) -> str:
+    if plotted and plotted.get(scene):
+        return str(plotted[scene])
+    names = [r.get("error_metric") for r in rows if r["scene"] == scene and r.get("error_metric")]
+    return names[0] if names else "error"
+
+
+def _measures_of(rows: Sequence[Mapping], scene: str, first: str,
+                 measures: Mapping[str, Sequence[str]] | None) -> list[str]:
+    """The error measure columns of a scene, the plotted one first: the declared
+    ones, else every ``*_error`` column its rows fill."""
+    names = list(measures.get(scene, ())) if measures else []
+    if not names:
+        names = list(dict.fromkeys(k for r in rows if r["scene"] == scene for k, v in r.items()
+                                   if k.endswith("_error") and v not in ("", None)))
+    return list(dict.fromkeys(([first] if first != "error" else []) + names)) or ["error"]
+
+
+def pareto_figure(rows: Sequence[Mapping], plotted: Mapping[str, str | None] | None = None):
+    """The figure of :func:`pareto_plot` (not saved): one panel per scene, its
+    plotted measure against the median wall time, a marker per method (open:
+    ``timing_unsteady``), the Pareto front dashed. The y label and the title name
+    the measure."""
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from ..output.plot import _save
-
     scenes = list(dict.fromkeys(r["scene"] for r in rows)) or ["(no runs)"]
     fig, axes = plt.subplots(1, len(scenes), figsize=(5 * len(scenes), 4), squeeze=False)
     for ax, scene in zip(axes[0], scenes):
+        metric = _plotted_metric(rows, scene, plotted)
         sub = [r for r in rows if r["scene"] == scene and r.get("status") == "ok"]
         t = np.array([_num(r.get("wall_time_s")) for r in sub])
-        e = np.array([_num(r.get("error")) for r in sub])
+        e = np.array([_num(r.get(metric)) for r in sub])
         e = np.where(e > 0, e, 1e-16)  # an exact answer is drawn at round-off
-        for method in dict.fromkeys(r["method"] for r in sub):
-            sel = np.array([r["method"] == method for r in sub])
-            ax.loglog(t[sel], e[sel], _MARKERS.get(method, "x"), label=method or "-",
-                      alpha=0.8)
+        unsteady = np.array([_flag(r.get("timing_unsteady")) for r in sub], dtype=bool)
+        groups = list(dict.fromkeys((r["method"], r.get("solver", "")) for r in sub))
+        several = len({g[1] for g in groups}) > 1
+        for method, solver in groups:
+            sel = np.array([(r["method"], r.get("solver", "")) == (method, solver)
+                            for r in sub], dtype=bool)
+            label = (method or "-") + (f" ({solver})" if several else "")
+            line, = ax.loglog(t[sel & ~unsteady], e[sel & ~unsteady],
+                              _MARKERS.get(method, "x"), label=label, alpha=0.8)
+            if (sel & unsteady).any():
+                ax.loglog(t[sel & unsteady], e[sel & unsteady], _MARKERS.get(method, "x"),
+                          mfc="none", color=line.get_color(), alpha=0.8)
+        if unsteady.any():  # one legend entry for the open markers
+            ax.plot([], [], "o", mfc="none", color="grey",
+                    label="timing spread > 20 %")
         front = pareto_front(t, e)
         if front.size:
             ax.loglog(t[front], e[front], "k--", lw=1, label="Pareto front")
-        ax.set_title(scene)
-        ax.set_xlabel("wall time (s)")
-        ax.set_ylabel("relative error")
+        ax.set_title(f"{scene}: {metric}")
+        ax.set_xlabel("wall time (s), median of the runs")
+        ax.set_ylabel(f"{metric} (relative)")
         ax.grid(alpha=0.3, which="both")
         ax.legend(fontsize=8)
     fig.tight_layout()
-    return _save(fig, path)
+    return fig
 
 
-def write_report(rows: Sequence[dict], path: str | Path, tolerance: float) -> Path:
-    """A Markdown table of all runs and, per scene, the cheapest setting within tolerance."""
+def pareto_plot(rows: Sequence[Mapping], path: str | Path,
+                plotted: Mapping[str, str | None] | None = None) -> Path:
+    """Write :func:`pareto_figure` to ``path`` (PNG)."""
+    from ..output.plot import _save
+
+    return _save(pareto_figure(rows, plotted), path)
+
+
+def recommend(rows: Sequence[Mapping], metric: str, tolerances: Sequence[float]
+              ) -> list[tuple[float, Mapping | None]]:
+    """Per tolerance, the cheapest row that meets it on ``metric``.
+
+    The cheapest is the ok row of least median wall time ``wall_time_s`` whose
+    ``metric`` is at most the tolerance (the first such row on a tie); None when
+    no row meets it.
+    """
+    out: list[tuple[float, Mapping | None]] = []
+    for tol in tolerances:
+        ok = [r for r in rows if r.get("status") == "ok" and _num(r.get(metric)) <= tol
+              and np.isfinite(_num(r.get("wall_time_s")))]
+        out.append((tol, min(ok, key=lambda r: _num(r["wall_time_s"])) if ok else None))
+    return out
+
+
+def _pct(tol: float) -> str:
+    return f"{100 * tol:g} %"
+
+
+def _timing_mark(row: Mapping) -> str:
+    return " ⚠" if _flag(row.get("timing_unsteady")) else ""
+
+
+def write_report(rows: Sequence[Mapping], path: str | Path,
+                 tolerance: float | Sequence[float],
+                 plotted: Mapping[str, str | None] | None = None,
+                 measures: Mapping[str, Sequence[str]] | None = None,
+                 repeat: int | None = None, csv_path: str | Path | None = None) -> Path:
+    """``report.md``: per scene, the cheapest setting (method, parameters, load
+    steps, solver) per error measure and tolerance, then every run; and, with
+    ``csv_path``, the same recommendations as CSV (one row per scene, measure
+    and tolerance; empty settings where no run meets it)."""
     from ..output.io import atomic_path
 
+    tolerances = [tolerance] if isinstance(tolerance, (int, float)) else list(tolerance)
+    timed = (f"the median of {repeat} runs per setting, interleaved across settings"
+             if repeat and repeat > 1 else "one run per setting")
     lines = ["# Speed-accuracy study", "",
-             f"Tolerance: relative error <= {tolerance:g}.", ""]
+             f"Tolerances (relative error): {', '.join(_pct(t) for t in tolerances)}. "
+             f"Wall time: {timed}; its spread is (max - min) / median, and ⚠ marks a "
+             "spread above 20 % (`timing_unsteady`): such a time is not reliable to "
+             "that level.", ""]
+    recs: list[dict] = []
     for scene in dict.fromkeys(r["scene"] for r in rows):
         sub = [r for r in rows if r["scene"] == scene]
-        lines += [f"## {scene}", "",
-                  "| method | settings | dofs | Newton its | wall time (s) | error | status |",
-                  "|---|---|---|---|---|---|---|"]
+        first = _plotted_metric(rows, scene, plotted)
+        names = _measures_of(rows, scene, first, measures)
+        lines += [f"## {scene}", "", f"Plotted error measure: `{first}`.", ""]
+        for tol, best in recommend(sub, first, tolerances):
+            if best is None:
+                lines.append(f"No setting reached tolerance {_pct(tol)} on `{first}`.")
+            else:
+                lines.append(f"Cheapest within tolerance {_pct(tol)} on `{first}`: "
+                             f"**{best['method'] or '-'}**, {_settings(best)}: error "
+                             f"{_num(best[first]):.3g} in {_num(best['wall_time_s']):.3g} s"
+                             f"{_timing_mark(best)}.")
+        lines += ["", "### Cheapest setting per error measure and tolerance", "",
+                  "| error measure | tolerance | method | parameters | load steps | solver | "
+                  "wall time (s) | error |", "|---|---|---|---|---|---|---|---|"]
+        for metric in names:
+            for tol, best in recommend(sub, metric, tolerances):
+                rec = {"scene": scene, "error_metric": metric, "tolerance": tol}
+                if best is None:
+                    lines.append(f"| {metric} | {_pct(tol)} | none of the runs | | | | | |")
+                    recs.append({**rec, "status": "not reached"})
+                    continue
+                lines.append(f"| {metric} | {_pct(tol)} | {best['method'] or '-'} | "
+                             f"{_params(best) or '-'} | {_steps(best)} | "
+                             f"{best.get('solver', '') or '-'} | "
+                             f"{_num(best['wall_time_s']):.3g}{_timing_mark(best)} | "
+                             f"{_num(best[metric]):.3g} |")
+                recs.append({**rec, "status": "ok", "method": best["method"],
+                             "parameters": _params(best), "steps": _steps(best),
+                             "solver": best.get("solver", ""),
+                             "wall_time_s": best["wall_time_s"],
+                             "timing_unsteady": _flag(best.get("timing_unsteady")),
+                             "error": best[metric], "key": best["key"]})
+        lines += ["", "### Runs", "",
+                  "| method | parameters | load steps | solver | dofs | Newton its | "
+                  "wall time (s) | spread | " + " | ".join(names) + " | status |",
+                  "|---" * (9 + len(names)) + "|"]
         for r in sub:
-            lines.append(f"| {r['method'] or '-'} | {_settings(r)} | {r.get('n_dofs', '')} | "
-                         f"{r.get('newton_iterations', '')} | {_num(r.get('wall_time_s')):.3g} | "
-                         f"{_num(r.get('error')):.3g} | {r.get('status', '')} |")
-        ok = [r for r in sub if r.get("status") == "ok" and _num(r.get("error")) <= tolerance]
-        lines.append("")
-        if ok:
-            best = min(ok, key=lambda r: _num(r.get("wall_time_s")))
-            lines.append(f"Cheapest within tolerance: **{best['method'] or '-'}**, "
-                         f"{_settings(best)}: error {_num(best['error']):.3g} in "
-                         f"{_num(best['wall_time_s']):.3g} s.")
-        else:
-            lines.append("No setting reached the tolerance.")
+            spread = _num(r.get("wall_time_spread"))
+            lines.append(
+                f"| {r['method'] or '-'} | {_params(r) or '-'} | "
+                f"{_steps(r) if r.get('status') == 'ok' else r.get('steps', '')} | "
+                f"{r.get('solver', '') or '-'} | {r.get('n_dofs', '')} | "
+                f"{r.get('newton_iterations', '')} | {_num(r.get('wall_time_s')):.3g} | "
+                + (f"{100 * spread:.0f} %{_timing_mark(r)}" if np.isfinite(spread) else "-")
+                + " | " + " | ".join(f"{_num(r.get(m)):.3g}" for m in names)
+                + f" | {r.get('status', '')} |")
         lines.append("")
     with atomic_path(path) as tmp:
         tmp.write_text("\n".join(lines) + "\n")
+    if csv_path is not None:
+        _write_recommendations(Path(csv_path), recs)
     return Path(path)
+
+
+_REC_COLUMNS = ("scene", "error_metric", "tolerance", "status", "method", "parameters",
+                "steps", "solver", "wall_time_s", "timing_unsteady", "error", "key")
+
+
+def _write_recommendations(path: Path, recs: list[dict]) -> None:
+    from ..output.io import atomic_path
+
+    buf = _io.StringIO()
+    w = csv.DictWriter(buf, fieldnames=list(_REC_COLUMNS))
+    w.writeheader()
+    for r in recs:
+        w.writerow({k: ("" if r.get(k) is None else r.get(k, "")) for k in _REC_COLUMNS})
+    with atomic_path(path) as tmp:
+        tmp.write_text(buf.getvalue())
