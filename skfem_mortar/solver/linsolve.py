@@ -52,7 +52,7 @@ import scipy.sparse.linalg as spla
 from ..core.errors import InversionError
 
 __all__ = ["solve_linear", "available_backends", "default_backend", "BACKENDS",
-           "pardiso_solver", "symmetrize", "SYMMETRIC"]
+           "pardiso_solver", "forget_analyses", "symmetrize", "SYMMETRIC"]
 
 log = logging.getLogger(__name__)
 
@@ -287,6 +287,18 @@ class _Pardiso:
             log.debug("pardiso (%s analysis): residual too large", "kept" if reuse else "new")
         self.release()
         return None
+
+
+def forget_analyses() -> None:
+    """Drop the symbolic analyses the PARDISO instances keep: the next solve
+    analyses afresh.  :func:`~skfem_mortar.solver.stepping.solve` calls it at the
+    start of every attempt of a load step, so that a step's solves depend on that
+    step alone (the analysis, and the weighted matching computed with it, come
+    from the step's first matrix): a resumed run then repeats them to the last
+    bit, and a run does not depend on what the process solved before it.  Costs
+    one analysis per step (none more for a one-step run)."""
+    for s in _pardiso_solvers.values():
+        s.pattern = None
 
 
 def pardiso_solver(mtype: int = 11) -> _Pardiso:

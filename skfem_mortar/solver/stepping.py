@@ -28,6 +28,7 @@ import numpy as np
 from ..contact import preflight as _preflight  # noqa: F401 (registers its checks: solve runs them)
 from ..core.errors import ConvergenceError
 from ..core.model import Item, Model, Output
+from .linsolve import forget_analyses
 from .newton import NewtonOptions, NewtonReport
 from .newton import newton as newton_step
 from .observers import Callback, ContactCsv, Observer, ProgressBar, SeriesObserver, replay
@@ -452,6 +453,7 @@ def _attempt(model: Model, z: np.ndarray, lf: float, target: float, opts: Newton
     for item in model.items:
         item.set_fixed(fixed)  # e.g. contact pairs drop pinned slave nodes
         item.begin_step(trial, target)
+    forget_analyses()  # the step's solves depend on the step alone (resume to the bit)
     rep = newton_step(model, trial, target, free, fixed, dz_fixed, opts, start=(z, lf))
     return trial, rep
 
