@@ -17,8 +17,13 @@ checks on the artists:
 - supports (``Dirichlet`` items) are marked at their nodes by triangles
   (filled: both components held; open, pointing along the held component:
   one; squares: a prescribed non-zero displacement), loads (items of phase
-  ``"loads"``: tractions, follower pressures, point loads) by arrows at the
-  loaded nodes, along the nodal load at the state drawn.
+  ``"loads"``: tractions, follower pressures, point loads) by arrows of one
+  length at the loaded nodes, along the nodal load at the state drawn, outside
+  the body; rigid contact surfaces as grey lines;
+- both panels have coordinate axes with ticks, at one scale.
+
+``_prepare_offscreen`` (pyvista) is no longer called by the figure; it stays
+for whoever renders with pyvista.
 
 All heavy imports happen inside the functions, so importing this module is cheap.
 """
@@ -187,9 +192,8 @@ def _shapes(points: np.ndarray, cells: list) -> tuple[list, list, list[int]]:
     return polys, lines, where
 
 
-def _body_field(item, z1) -> tuple[str | None, list]:
-    """The colouring field of a body at ``z1`` and its values per cell block."""
-    _, cells, cdata = _positions(item, z1)
+def _body_field(cdata: dict) -> tuple[str | None, list]:
+    """The colouring field among a body's cell data and its values per cell block."""
     field = next((f for f in _COLOUR_BY if f in cdata), None)
     if field is None:
         return None, []
@@ -383,6 +387,13 @@ def render(bodies: Sequence, z0: np.ndarray, z1: np.ndarray, *, contact=None,
     load_factor : float
         The load factor of ``z1`` (the loads of both panels are drawn at it).
 
+    Raises
+    ------
+    ValueError
+        For a ``window_size`` below 200 pixels or too small for the panels, a
+        non-finite ``load_factor``, a ``contact`` that is not a callable or a
+        contact pair, or a cell type that cannot be drawn.
+
     Returns
     -------
     matplotlib.figure.Figure
@@ -390,15 +401,18 @@ def render(bodies: Sequence, z0: np.ndarray, z1: np.ndarray, *, contact=None,
         key's title as label), the support markers gid ``"supports"``, the load
         arrows gid ``"loads"``, each body's collection its name.
     """
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
 
     bodies = list(bodies)
     if len(window_size) != 2 or min(window_size) < 200:
         raise ValueError(f"window_size must be (width, height) in pixels, each >= 200, "
                          f"got {window_size!r}")
+    if not np.isfinite(load_factor):
+        raise ValueError(f"load_factor must be finite, got {load_factor!r}")
     dpi = 120.0
-    shapes = [(_positions(b, z0)[0], _positions(b, z1)[0], b.output_mesh()[1])
-              for b in bodies]
+    first, last = [_positions(b, z0) for b in bodies], [_positions(b, z1) for b in bodies]
+    shapes = [(a[0], b[0], b[1]) for a, b in zip(first, last)]
     supports = _supports(items, load_factor)
     loads = [it for it in items if getattr(it, "phase", None) == "loads"
              and getattr(it, "body", None) is not None]
@@ -407,13 +421,13 @@ def render(bodies: Sequence, z0: np.ndarray, z1: np.ndarray, *, contact=None,
 
     # the colour keys: one per body with a field, one per contact pair in contact
     keys: list[dict] = []
-    for b in bodies:
-        field, values = _body_field(b, z1)
+    for b, (_, _, cdata) in zip(bodies, last):
+        field, values = _body_field(cdata)
         if field is not None and sum(v.size for v in values):
             v = _flat(values)
-            keys.append({"body": b.name, "field": field, "values": values,
+            keys.append({"field": field, "values": values,
                          "title": _titled(b.name, FIELD_WORDS.get(field, field)),
-                         "lo": float(v.min()), "hi": float(v.max()),
+                         "lo": float(np.nanmin(v)), "hi": float(np.nanmax(v)),
                          "constant": relative_spread(v) < CONSTANT_SPREAD})
         else:
             keys.append(None)
@@ -438,6 +452,7 @@ def render(bodies: Sequence, z0: np.ndarray, z1: np.ndarray, *, contact=None,
     W = window_size[0] / dpi
     H = window_size[1] / dpi + _KEY_ROW * max(0, n_rows - 1)
     fig = Figure(figsize=(W, H), dpi=dpi)
+    FigureCanvasAgg(fig)  # off-screen; its renderer measures the artists
     top, legend_h, under, left, right, gap = 0.45, 0.35, 0.55, 0.75, 0.3, 0.75
     base = 0.1 + _KEY_ROW * n_rows + under
     ph = H - top - legend_h - 0.3 - base
@@ -477,14 +492,13 @@ def render(bodies: Sequence, z0: np.ndarray, z1: np.ndarray, *, contact=None,
                    fontsize=_KEY_FONT, bbox_to_anchor=(0.5, 1 - top / H))
 
     # the keys, row by row under the panels
-    mappables = {id(k): k.get("artist") for k in key_list}
     cols = min(_KEYS_PER_ROW, max(1, len(key_list)))
     kw = (W - left - right - _KEY_GAP * (cols - 1)) / cols
     for i, k in enumerate(key_list):
         row, c = divmod(i, _KEYS_PER_ROW)
         y = 0.1 + _KEY_ROW * (n_rows - 1 - row) + 0.4
         cax = fig.add_axes([(left + c * (kw + _KEY_GAP)) / W, y / H, kw / W, _KEY_BAR / H])
-        _draw_key(fig, cax, k, mappables[id(k)], width_in=kw)
+        _draw_key(fig, cax, k, k.get("artist"), width_in=kw)
     return fig
 
 
