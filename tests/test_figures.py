@@ -129,7 +129,7 @@ def test_a_constant_field_is_one_colour_with_its_value(scene):
     texts = [t.get_text() for k in _keys(fig) for t in k.texts if t.get_gid() == "constant value"]
     assert len(texts) == 2  # the tension and the pressure
     assert texts[0].startswith(f"{_value(float(np.mean(tension)))} everywhere")
-    assert texts[1].startswith("5 everywhere")
+    assert texts[1].startswith("5.000 everywhere")
     # the sheared block is not constant: a colour map with ticks
     (block,) = [c for c in deformed.collections if c.get_gid() == "block"]
     assert block.get_array() is not None and len(_keys(fig)[0].get_xticks()) >= 2

@@ -158,7 +158,7 @@ def _value(v: float) -> str:
     tell), fixed-point for ``1e-3 <= |v| < 1e5``."""
     if v != 0.0 and 1e-3 <= abs(v) < 1e5:
         return np.format_float_positional(v, precision=4, unique=False, fractional=False,
-                                          trim="-")
+                                          trim="k").rstrip(".")  # "16.10": its 4 digits
     return f"{v:.4g}"
 
 
