@@ -154,8 +154,16 @@ def run_bench(out: str | Path, scenes: Sequence[str] = ("hertz", "seed"),
     return report
 
 
+#: the phases in words (legend of bench.png)
+PHASE_WORDS = {"bulk": "bulk assembly", "search": "contact search",
+               "contact_assembly": "contact assembly (without search)",
+               "solve": "linear solve", "output": "output (files)"}
+
+
 def plot_bench(report: dict, path: str | Path) -> Path:
-    """Time per Newton iteration against dofs (log-log), one line per phase."""
+    """Time per Newton iteration against dofs (log-log), one line per phase (the
+    same colour in every panel), its fitted slope in the legend under the panel;
+    a scene's failed sizes are counted in its title."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -164,21 +172,31 @@ def plot_bench(report: dict, path: str | Path) -> Path:
     from ..output.plot import _save
 
     scenes = list(report["scenes"])
-    fig, axes = plt.subplots(1, max(1, len(scenes)), figsize=(5.5 * max(1, len(scenes)), 4),
-                             squeeze=False)
+    fig, axes = plt.subplots(1, max(1, len(scenes)), figsize=(5.5 * max(1, len(scenes)), 5.0),
+                             squeeze=False, layout="constrained")
+    colours = dict(zip(PHASES, plt.get_cmap("tab10").colors))
     for ax, scene in zip(axes[0], scenes):
-        ok = [r for r in report["scenes"][scene]["rows"] if r.get("status") == "ok"]
+        rows = report["scenes"][scene]["rows"]
+        ok = [r for r in rows if r.get("status") == "ok"]
+        failed = len(rows) - len(ok)
         slopes = report["scenes"][scene]["slopes"]
         n = [r["n_dofs"] for r in ok]
         for ph in PHASES:
             t = [r["time_per_iteration_s"][ph] for r in ok]
-            if max(t) > 1e-6:  # a phase that did not run (e.g. no output) is left out
-                label = f"{ph} (slope {slopes[ph]:.2f})" if ph in slopes else ph
-                ax.loglog(n, np.maximum(t, 1e-7), "o-", label=label)
-        ax.set_title(f"{scene} ({report['method']})")
+            if t and max(t) > 1e-6:  # a phase that did not run (e.g. no output) is left out
+                words = PHASE_WORDS.get(ph, ph)
+                label = f"{words} (slope {slopes[ph]:.2f})" if ph in slopes else words
+                ax.loglog(n, np.maximum(t, 1e-7), "o-", color=colours[ph], label=label)
+        title = f"{scene} ({report['method']})"
+        if failed:
+            title += f"\n{failed} of {len(rows)} sizes failed (not drawn)"
+        ax.set_title(title, fontsize=11)
         ax.set_xlabel("displacement dofs")
         ax.set_ylabel("time per Newton iteration (s)")
         ax.grid(alpha=0.3, which="both")
-        ax.legend(fontsize=8)
-    fig.tight_layout()
+        if ok:
+            ax.legend(fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.15), ncol=2,
+                      frameon=False)
+        else:
+            ax.text(0.5, 0.5, "no size ran", transform=ax.transAxes, ha="center")
     return _save(fig, path)

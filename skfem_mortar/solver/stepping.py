@@ -251,14 +251,15 @@ class Result:
         return out
 
     def plot(self, path: str | os.PathLike, title: str = "") -> Path:
-        """The initial and the final configuration side by side, as a PNG
-        (see :func:`skfem_mortar.output.plot.figure`)."""
+        """The initial and the final configuration side by side, as a PNG, with
+        every contact pair's pressure and the model's supports and loads
+        (see :func:`skfem_mortar.output.plot.draw`)."""
         from ..output.plot import draw
 
-        tables = self.model.contact_tables()
         return draw([it for it in self.model.items if isinstance(it, Output)],
                     self.states[0], self.z, path, title=title,
-                    contact=tables[0].contact_data if tables else None)
+                    contact=self.model.contact_tables(), items=self.model.items,
+                    load_factor=float(self.load_factors[-1]))
 
     def residual(self, k: int = -1) -> np.ndarray:
         """Global residual at state ``k`` (reactions at prescribed dofs)."""
