@@ -20,7 +20,7 @@ from typing import Any, Iterator, Sequence
 
 import numpy as np
 
-__all__ = ["atomic_path", "write_json", "write_contact_csv", "SeriesWriter", "read_series",
+__all__ = ["atomic_path", "write_json", "write_contact_csv", "SeriesWriter", "read_series", "frame_mesh",
            "Checkpoint", "write_checkpoint", "read_checkpoint", "clear_checkpoint",
            "prune_checkpoint"]
 
@@ -101,6 +101,18 @@ def _vectors3(arr: np.ndarray) -> np.ndarray:
     return arr
 
 
+def frame_mesh(points: np.ndarray, cells: list, point_data: dict, cell_data: dict):
+    """One frame as a ``meshio.Mesh``: points in 3D (z = 0) and 2D vector point
+    fields with a zero z component (ParaView's Warp By Vector and pyvista take
+    3-component vectors); what the series files hold and
+    :func:`~skfem_mortar.output.plot.to_pyvista` shows."""
+    import meshio  # lazily: the command line starts fast
+
+    return meshio.Mesh(_points3(points), cells,
+                       point_data={k: _vectors3(v) for k, v in point_data.items()},
+                       cell_data=cell_data)
+
+
 def _check_finite_fields(point_data: dict, cell_data: dict, t: float) -> None:
     for name, arr in list(point_data.items()) + [(k, a) for k, v in cell_data.items()
                                                  for a in v]:
@@ -176,10 +188,7 @@ class SeriesWriter:
         index = len(self.frames) if index is None else index
         del self.frames[index:]
         rel = f"{self.name}/{self.name}_{index:04d}.vtu"
-        # ParaView's Warp By Vector takes 3-component vectors: 2D vectors get z = 0
-        point_data = {k: _vectors3(v) for k, v in point_data.items()}
-        mesh = meshio.Mesh(self.points, self.cells, point_data=point_data,
-                           cell_data=cell_data)
+        mesh = frame_mesh(self.points, self.cells, point_data, cell_data)
         with atomic_path(self.directory / rel, suffix=".vtu") as tmp:
             meshio.write(tmp, mesh, file_format="vtu")
         self.frames.append((float(t), rel))

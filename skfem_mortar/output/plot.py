@@ -38,7 +38,7 @@ import numpy as np
 
 __all__ = ["figure", "draw", "render", "plot_pressure", "plot_newton",
            "relative_spread", "colour_ticks", "tick_labels", "CONSTANT_SPREAD",
-           "FIELD_WORDS", "PRESSURE_WORDS"]
+           "FIELD_WORDS", "PRESSURE_WORDS", "to_pyvista"]
 
 #: preferred colouring field, in order
 _COLOUR_BY = ("von_mises", "tension")
@@ -768,3 +768,26 @@ def _save(fig, path) -> Path:
 
     plt.close(fig)
     return path
+
+
+def to_pyvista(outputs: Sequence, z: np.ndarray, deformed: bool = True):
+    """The outputs (bodies, contact surfaces: :class:`~skfem_mortar.core.model.Output`)
+    at the unknowns ``z`` as a ``pyvista.MultiBlock``, one block per output with its
+    point and cell fields, for interactive views in a notebook (``.plot()``) or
+    anything else pyvista does.  ``deformed``: the points moved by their
+    ``displacement`` field (else the reference configuration).  The same frames
+    the series files hold (:func:`skfem_mortar.output.io.frame_mesh`)."""
+    import pyvista as pv
+
+    from .io import frame_mesh
+
+    blocks = pv.MultiBlock()
+    for o in outputs:
+        points, cells = o.output_mesh()
+        point_data, cell_data = o.output_data(z)
+        grid = pv.from_meshio(frame_mesh(points, cells, point_data, cell_data))
+        if deformed and "displacement" in grid.point_data:
+            grid.points = grid.points + np.asarray(grid.point_data["displacement"])
+        blocks[o.name] = grid
+    return blocks
+
