@@ -1,9 +1,11 @@
-# %% [markdown]
-# # Add contact to a scikit-fem model: a cable inflated into a cushion
-#
-# The cushion is an ordinary scikit-fem mesh; skfem-mortar adds the cable, the
-# follower pressure, and mortar contact between the cable and the cushion's
-# bottom face. Run it as a script, or cell by cell in Jupyter / VS Code.
+"""
+Add contact to a scikit-fem model: a cable inflated into a cushion
+==================================================================
+
+The cushion is an ordinary scikit-fem mesh; skfem-mortar adds the cable, the
+follower pressure, and mortar contact between the cable and the cushion's
+bottom face. Run it as a script, or cell by cell in Jupyter / VS Code.
+"""
 
 # %%
 import numpy as np
@@ -13,18 +15,21 @@ from skfem_mortar import (Cable, ContactPair, Dirichlet, FollowerPressure, Model
                           NeoHooke, Solid, solve)
 from skfem_mortar.contact.surfaces import ContactSurface
 
-# %% the cushion: a scikit-fem mesh with named boundaries
+# %%
+# The cushion: a scikit-fem mesh with named boundaries.
 mesh = (skfem.MeshTri.init_tensor(np.linspace(-1.5, 1.5, 49), np.linspace(0.65, 1.4, 13))
         .with_boundaries({"bottom": lambda x: np.isclose(x[1], 0.65),
                           "top": lambda x: np.isclose(x[1], 1.4)}))
 cushion = Solid(mesh, NeoHooke(E=20.0, nu=0.3), element="tri1", name="cushion")
 
-# %% the cable: pinned at (-1, 0) and (1, 0), stress-free arc of length 2.4
+# %%
+# The cable: pinned at (-1, 0) and (1, 0), stress-free arc of length 2.4.
 cable = Cable.between((-1.0, 0.0), (1.0, 0.0), 2.4, 48, bulge="left", EA=50.0, law="svk",
                       name="cable")
 pressure = FollowerPressure(cable, 20.0, side="left", name="pressure")
 
-# %% contact: the cable's upper side (slave) against the cushion's bottom (master)
+# %%
+# Contact: the cable's upper side (slave) against the cushion's bottom (master).
 pair = ContactPair(ContactSurface.from_cable(cable, side="left"),
                    ContactSurface.from_solid(cushion, "bottom"), method="mortar",
                    name="contact")
@@ -32,7 +37,8 @@ model = Model([cable, cushion, pressure, pair,
                Dirichlet(cable, cable.support_dofs(), name="supports"),
                Dirichlet(cushion, cushion.dofs_on("top"), name="clamp")])
 
-# %% solve in 10 load steps (block Newton over displacements and multipliers)
+# %%
+# Solve in 10 load steps (block Newton over displacements and multipliers).
 result = solve(model, n_steps=10)
 z = result.z
 contact = pair.contact_data(z)
@@ -41,11 +47,13 @@ print("active nodes:", int(pair.active.sum()),
       " peak pressure: %.3f" % contact["pressure"].max(),
       " contact force:", np.round(pair.total_force(z), 4))
 
-# %% the contact forces on both sides balance (action and reaction)
+# %%
+# The contact forces on both sides balance (action and reaction).
 f_cable, f_cushion = pair.forces(z)
 print("action + reaction:", f_cable.sum(axis=1) + f_cushion.sum(axis=1))
 
-# %% save the result series (ParaView: open cable.pvd, cushion.pvd, contact.pvd) and a picture
+# %%
+# Save the result series (ParaView: open cable.pvd, cushion.pvd, contact.pvd) and a picture.
 import tempfile  # noqa: E402
 
 out = tempfile.mkdtemp(prefix="cable_cushion_")

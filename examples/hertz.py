@@ -1,8 +1,11 @@
-# %% [markdown]
-# # Hertz line contact (benchmarks section 6)
-#
-# A cylinder of radius 8 pressed by a line load onto a rigid plane; compare the
-# computed peak pressure and contact half-width with Hertz' formulas.
+"""
+Hertz line contact
+==================
+
+A cylinder of radius 8 pressed by a line load onto a rigid plane; compare the
+computed peak pressure and contact half-width with Hertz' formulas (reference
+problem 6, ``docs/reference_problems.rst``).
+"""
 
 # %%
 from skfem_mortar import run_scene

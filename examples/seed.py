@@ -1,8 +1,10 @@
-# %% [markdown]
-# # The paper's scene with the scene API
-#
-# `run_scene` builds the scene `seed` (cable inflated into a cushion), solves it
-# and returns the summary that `skfem-mortar run seed --json` prints.
+"""
+The paper's scene with the scene API
+====================================
+
+``run_scene`` builds the scene ``seed`` (cable inflated into a cushion), solves it
+and returns the summary that ``skfem-mortar run seed --json`` prints.
+"""
 
 # %%
 from skfem_mortar import run_scene

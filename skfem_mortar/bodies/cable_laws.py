@@ -1,5 +1,6 @@
 """Axial laws of cables: ``N(lambda)`` and ``dN/dlambda`` by name, and the Newton
-tolerance a cable's residual can reach (benchmarks.md: linear, svk, hencky)."""
+tolerance a cable's residual can reach (linear, svk, hencky:
+``docs/reference_problems.rst``, cable laws)."""
 from __future__ import annotations
 
 from dataclasses import dataclass

@@ -1,7 +1,7 @@
 """The result of a contact discretization: gaps and their derivatives.
 
 The kernel of a contact discretization (NTS, mortar) is a pure function of
-the current coordinates of a slave and a master surface,
+the current coordinates of a slave and a master surface::
 
     evaluate(xs, seg_s, xm, seg_m, lam=None, tangent=True, **options) -> ContactEval,
 

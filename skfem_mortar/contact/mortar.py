@@ -275,7 +275,9 @@ def mortar_integrals(K, xi: np.ndarray, s: np.ndarray, dgamma: np.ndarray, norma
 # --------------------------------------------------------- step 7: weighted gap
 def weighted_gap(n_AB: np.ndarray, n_AC: np.ndarray, x_B: np.ndarray, x_C: np.ndarray
                  ) -> np.ndarray:
-    """Step 7: ``g_A = - sum_B n_AB . x_B + sum_C n_AC . x_C``.
+    """Step 7: the weighted gap of each slave node.
+
+    ``g_A = - sum_B n_AB . x_B + sum_C n_AC . x_C``.
 
     Parameters
     ----------

@@ -29,7 +29,7 @@ Step 2, projections along this field
   ``x_s(xi) + alpha n~(xi)`` where ``(x_m(s) - x_s) x n~ = 0``, linear in ``s``.
 
 Step 3, mortar segments (:func:`segment`, :func:`segment_end_points`)
---------------------------------------------------------------------
+---------------------------------------------------------------------
 For a candidate pair (slave element e, master element m) whose unit normals
 face each other (``nu_e . nu_m < 0``), the two master nodes project to
 ``p_1, p_2`` on e; the mortar segment is ``[xi_a, xi_b] = [max(-1, min p),

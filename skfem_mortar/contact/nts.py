@@ -1,6 +1,6 @@
 """Node-to-segment (NTS) contact: closest-point projection, normal gap and its derivatives.
 
-For a slave node ``x`` and the master segment ``(x_1, x_2)`` it projects on,
+For a slave node ``x`` and the master segment ``(x_1, x_2)`` it projects on::
 
     t  = x_2 - x_1,   l = |t|,   e = t / l,   n = (t_y, -t_x) / l   (outward master normal)
     xi = (x - x_1) . t / l^2                                      (closest-point parameter)

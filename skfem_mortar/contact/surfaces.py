@@ -3,7 +3,7 @@
 A :class:`ContactSurface` holds ``n`` surface nodes and ``segments`` (n_seg, 2)
 indices into them, ordered along one chain (open or closed) and oriented so
 that the OUTWARD unit normal of a segment with tangent ``t = x_2 - x_1`` is its
-right-hand normal
+right-hand normal::
 
     n = (t_y, -t_x) / |t| .
 

@@ -4,7 +4,9 @@ Every module in this package that defines ``SCENE`` (a :class:`Scene`) is a
 scene of the command line (``skfem-mortar scenes`` lists them). A scene's
 ``build(params, method)`` returns a :class:`Setup`: the model, how to compute
 its metrics from a result, which items write output, and (for contact scenes)
-the contact data for ``contact.csv``.
+the contact data for ``contact.csv``.  "Reference problem N" in a scene's
+docstring and summary is section N of ``docs/reference_problems.rst``: the
+problem, its analytic answer and what the scene checks.
 
 Before anything is built, :meth:`Scene.resolve` refuses (ValueError, one line
 naming the user's parameter and its allowed range):

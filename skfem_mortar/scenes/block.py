@@ -1,4 +1,4 @@
-"""Scene ``block``: a homogeneous block in uniaxial stretch (benchmarks section 1).
+"""Scene ``block``: a homogeneous block in uniaxial stretch (reference problem 1).
 
 The unit square ``[0, 1]^2`` rests on frictionless supports (``u_x = 0`` on
 the left, ``u_y = 0`` on the bottom); the right face is moved to
@@ -223,7 +223,7 @@ SCENE = Scene(
     name="block",
     summary="Block in uniaxial stretch on frictionless supports (plane strain or stress, "
             "finite or small strain): homogeneous, exact to round-off on any mesh "
-            "(benchmarks section 1).",
+            "(reference problem 1).",
     params=(
         Param("E", 1.0, "Young's modulus", float, low=0.0, low_inclusive=False),
         Param("nu", 0.3, "Poisson's ratio", float, low=-1.0, high=0.5,

@@ -1,4 +1,4 @@
-"""Scene ``cable_arc``: a pinned cable inflated freely by a follower pressure (benchmarks section 3).
+"""Scene ``cable_arc``: a pinned cable inflated freely by a follower pressure (reference problem 3).
 
 A cable of reference length ``L0`` pinned at ``(-a, 0)`` and ``(a, 0)``, pressure
 ``p`` pushing to ``+y``.  The continuum solution is a circular arc of radius
@@ -145,7 +145,7 @@ def derived(params: dict) -> list:
 SCENE = Scene(
     name="cable_arc",
     summary="Cable pinned at (-a, 0), (a, 0) inflated by a follower pressure into a "
-            "circular arc (benchmarks section 3).",
+            "circular arc (reference problem 3).",
     params=(
         Param("half_span", 1.0, "half the distance a between the supports", float,
               low=0.0, low_inclusive=False),

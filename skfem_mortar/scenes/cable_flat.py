@@ -1,5 +1,5 @@
 """Scene ``cable_flat``: a pinned cable pressed by a follower pressure against a rigid plane
-(benchmarks section 4).
+(reference problem 4).
 
 A cable of reference length ``L0`` pinned at ``(-a, 0)`` and ``(a, 0)``, pressure
 ``p`` pushing to ``+y``, the rigid plane ``y = d`` in the way.  Frictionless
@@ -136,7 +136,7 @@ def derived(params: dict) -> list:
 SCENE = Scene(
     name="cable_flat",
     summary="Cable pinned at (-a, 0), (a, 0) pressed by a follower pressure against the "
-            "rigid plane y = d (benchmarks section 4).",
+            "rigid plane y = d (reference problem 4).",
     params=(
         Param("half_span", 1.0, "half the distance a between the supports", float,
               low=0.0, low_inclusive=False),

@@ -1,4 +1,4 @@
-"""Scene ``hertz``: Hertz line contact of a cylinder on a flat body (benchmarks section 6).
+"""Scene ``hertz``: Hertz line contact of a cylinder on a flat body (reference problem 6).
 
 A half cylinder of radius ``R`` (axis on ``x = 0``, centre ``(0, R)``, touching
 ``y = 0`` at the origin) is pressed by the line load ``P`` (per unit thickness,
@@ -369,7 +369,7 @@ def one_step(params: dict, method: str | None) -> bool:
 SCENE = Scene(
     name="hertz",
     summary="Hertz line contact: a half cylinder pressed by a line load on an elastic "
-            "block or a rigid plane, symmetric half model (benchmarks section 6).",
+            "block or a rigid plane, symmetric half model (reference problem 6).",
     params=(
         Param("radius", 8.0, "cylinder radius R", float, low=0.0, low_inclusive=False),
         Param("load", 3.2032, "line load P per unit thickness (the full cylinder's, also "

@@ -1,6 +1,6 @@
 """Scene ``ironing``: a stiff half-ring die pressed into a soft block, then slid.
 
-Finite sliding (benchmarks section 7; Puso and Laursen 2004; Yastrebov 2013,
+Finite sliding (reference problem 7; Puso and Laursen 2004; Yastrebov 2013,
 "shallow ironing"):
 a neo-Hookean block ``[0, W] x [0, H]`` (``W = 9``, ``H = 3``, ``E = 1``,
 ``nu = 0.3``) clamped on its bottom, and a deformable die, the lower half of a
@@ -32,11 +32,13 @@ Metrics
 ``normal_force_mean``, ``normal_force_variation`` : over the sliding steps
     after the first quarter of the slide (the start-up transient): the mean,
     and ``(max - min) / mean``.
-``tangential_force_mean`` : likewise.
+``tangential_force_mean`` :
+    likewise.
 ``normal_force_roughness`` : ``max |F_{k+1} - 2 F_k + F_{k-1}| / mean`` over the
     same window, the largest second difference of the history: for a smooth
     history it is O(dt^2), a step of size ``s`` gives at least ``s / mean``.
-``max_newton_iterations``, ``step_cuts`` : Newton effort.
+``max_newton_iterations``, ``step_cuts`` :
+    Newton effort.
 ``max_penetration`` : the largest penetration (negative gap, as a length) of
     an active slave node at the end, over the die's outer radius.
 """
@@ -212,7 +214,7 @@ def derived(params: dict) -> list:
 SCENE = Scene(
     name="ironing",
     summary="Ironing: a stiff half-ring die pressed 1.4 into a soft neo-Hookean block, "
-            "then slid along it (finite sliding, benchmarks section 7).",
+            "then slid along it (finite sliding, reference problem 7).",
     params=(
         Param("press", 1.4, "depth the die's inner arc is pressed down", float,
               low=0.0, low_inclusive=False, high=2.5),

@@ -1,4 +1,4 @@
-"""Scene ``patch``: the contact patch test (benchmarks section 5).
+"""Scene ``patch``: the contact patch test (reference problem 5).
 
 Two elastic blocks of width 1 and height 0.5 stacked on the flat interface
 ``y = 0.5`` (Crisfield 2000), the lower one on frictionless supports
@@ -38,7 +38,7 @@ slave node whose multiplier support meets the overlap carries ``lam_A = q``
 (the ``Phi_A`` sum to one there, for standard and dual multipliers), including
 the outer node of a partially overlapped slave element; slave nodes without a
 master partner carry no load.  The defaults (``offset = 0``,
-``top_width = 1``) are the aligned test of benchmarks section 5.
+``top_width = 1``) are the aligned test of reference problem 5.
 ``segmentation`` (mortar only) rebuilds the mortar segments every Newton
 iteration or once per load step; nothing slides here, so both give the same.
 
@@ -209,7 +209,7 @@ def derived(params: dict) -> list:
 SCENE = Scene(
     name="patch",
     summary="Contact patch test: two stacked blocks under a uniform pressure, exact "
-            "contact pressure q everywhere (benchmarks section 5).",
+            "contact pressure q everywhere (reference problem 5).",
     params=(
         Param("pressure", 1e4, "Cauchy pressure q on the top face", float,
               low=0.0, low_inclusive=False),

@@ -1,4 +1,4 @@
-"""Scene ``ring``: a closed cable ring under internal follower pressure (benchmarks section 2).
+"""Scene ``ring``: a closed cable ring under internal follower pressure (reference problem 2).
 
 Reference nodes on the circle of radius ``R0 = radius0``; internal pressure
 ``p`` normal to the deformed cable.  The continuum ring has tension
@@ -122,7 +122,7 @@ def derived(params: dict) -> list:
 SCENE = Scene(
     name="ring",
     summary="Closed cable ring inflated by a follower pressure: discrete radius exact "
-            "to round-off, second order to the continuum (benchmarks section 2).",
+            "to round-off, second order to the continuum (reference problem 2).",
     params=(
         Param("radius0", 1.0, "reference radius R0 of the node circle", float,
               low=0.0, low_inclusive=False),
