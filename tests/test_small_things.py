@@ -242,12 +242,20 @@ def test_in_notebook_reads_the_ipython_shell(monkeypatch):
     class TerminalInteractiveShell:
         pass
 
+    class ColabShell(ZMQInteractiveShell):
+        pass
+
     fake = type(sys)("IPython")
-    for shell, expected in ((ZMQInteractiveShell(), True), (TerminalInteractiveShell(), False),
-                            (None, False)):
+    monkeypatch.setitem(sys.modules, "IPython", fake)
+    for k in [k for k in os.environ if k == "QT_API" or k.startswith("SPYDER")]:
+        monkeypatch.delenv(k)
+    for shell, expected in ((ZMQInteractiveShell(), True), (ColabShell(), True),
+                            (TerminalInteractiveShell(), False), (None, False)):
         fake.get_ipython = lambda shell=shell: shell
-        monkeypatch.setitem(sys.modules, "IPython", fake)
         assert observers.in_notebook() is expected
+    fake.get_ipython = ZMQInteractiveShell
+    monkeypatch.setenv("QT_API", "pyqt5")  # Qt Console shows no widgets
+    assert observers.in_notebook() is False
 
 
 def test_a_solve_with_progress_warns_nothing(capsys):

@@ -63,12 +63,15 @@ class Callback(Observer):
 
 
 def in_notebook() -> bool:
-    """Whether this process is a Jupyter kernel (IPython's ZMQ shell), without
-    importing IPython where it is not loaded already."""
+    """Whether this process is a Jupyter kernel that shows widgets: IPython's
+    ZMQ shell (or a subclass, e.g. Colab's), but not under Qt Console or Spyder
+    (the tests of ``tqdm.autonotebook``); IPython is not imported for it."""
     ipython = sys.modules.get("IPython")
     get = getattr(ipython, "get_ipython", None)
     shell = get() if callable(get) else None
-    return type(shell).__name__ == "ZMQInteractiveShell"
+    if not any(c.__name__ == "ZMQInteractiveShell" for c in type(shell).__mro__):
+        return False
+    return not any(k == "QT_API" or k.startswith("SPYDER") for k in os.environ)
 
 
 def progress_class() -> type:
