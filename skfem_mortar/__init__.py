@@ -9,7 +9,7 @@ from __future__ import annotations
 from importlib import import_module
 from typing import Any
 
-__version__ = "0.1.0"
+__version__ = "0.1.0"  # the one source of the version (pyproject.toml reads it)
 
 # public name -> module; resolved lazily so that `import skfem_mortar` and the
 # command line start fast and a module that has not landed yet breaks nothing else

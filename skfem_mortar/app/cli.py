@@ -154,10 +154,16 @@ def _cmd_run(args: argparse.Namespace) -> int:
               f"{summary['n_dofs']} dofs, {summary['n_multipliers']} multipliers, "
               f"{len(summary['steps'])} steps, {summary['wall_time_s']:.2f} s")
         for k, v in summary["metrics"].items():
-            print(f"  {k} = {v}")
+            print(f"  {k} = {_number_text(v)}")
         if args.out:
             print(f"results written to {args.out}")
     return 0
+
+
+def _number_text(v: object) -> str:
+    """A value on the console: floats to 12 significant digits (the summary's
+    load factors are rounded so already), everything else as it is."""
+    return f"{v:.12g}" if isinstance(v, float) else str(v)
 
 
 def _cmd_demo(args: argparse.Namespace) -> int:
@@ -281,7 +287,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--method", choices=BUILTIN_METHODS, default="mortar")
     p.add_argument("--quick", action="store_true", help="small sizes only (for CI)")
     p.add_argument("--max-dofs", type=_int_at_least(1), default=None,
-                   help="stop a scene after this size (>= 1)")
+                   help="run no size with more displacement dofs than this (>= 1)")
     p.add_argument("--steps", type=steps, default=None, help="load steps per run (>= 1)")
     p.add_argument("--out", type=_out_dir, default="skfem-mortar-bench")
     p.add_argument("--no-progress", action="store_true")

@@ -53,6 +53,25 @@ def _clean(obj: Any) -> Any:
     return obj
 
 
+#: significant digits of the load factors in the summary (JSON and console); the
+#: checkpoints keep the full precision a resumed run restarts from
+LOAD_FACTOR_DIGITS = 12
+
+
+def load_factor_value(lf: float) -> float:
+    """``lf`` rounded to :data:`LOAD_FACTOR_DIGITS` significant digits (``0.1 + 0.2``
+    is written ``0.3``, not ``0.30000000000000004``)."""
+    return float(f"{float(lf):.{LOAD_FACTOR_DIGITS}g}")
+
+
+def _step_entry(record: StepRecord) -> dict:
+    """A step of the summary: :meth:`StepRecord.as_dict`, its load factor and
+    increment at :data:`LOAD_FACTOR_DIGITS` digits."""
+    d = record.as_dict()
+    return {**d, "load_factor": load_factor_value(d["load_factor"]),
+            "increment": load_factor_value(d["increment"])}
+
+
 def run_scene(name: str, params: dict[str, Any] | None = None, method: str | None = None,
               steps: int | None = None, out: str | Path | None = None,
               progress: bool = False, resume: bool = False, replace: bool = False,
@@ -181,7 +200,7 @@ def _summary(name: str, method: str | None, values: dict, setup: Setup, t0: floa
                           "contact": timers.get("contact", 0.0),
                           "search": TIMERS.get("search", 0.0),
                           "solve": solve_time, "output": t_out},
-        "steps": [s.as_dict() for s in steps],
+        "steps": [_step_entry(s) for s in steps],
         "metrics": metrics,
     }
     if error is not None:

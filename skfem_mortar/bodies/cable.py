@@ -343,6 +343,13 @@ class Cable(Item):
         return ({"displacement": self.u(z).T.copy()},
                 {"tension": [self._force(stretch)[0]], "stretch": [stretch]})
 
+    def __repr__(self) -> str:
+        """One line: name, law, open or closed, sizes."""
+        kind = "closed" if self.closed else "open"
+        slack = ", tension only" if self.tension_only else ""
+        return (f"Cable({self.name!r}, law {self.law.name}{slack}, {kind}: {self.n_nodes} nodes, "
+                f"{len(self.elements)} elements, {self.n_dofs} dofs)")
+
 
 # -- start geometries ---------------------------------------------------------
 def _arc_points(p0, p1, radius, half_angle, n, sign):

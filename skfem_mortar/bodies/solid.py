@@ -416,3 +416,10 @@ class Solid(Item):
         if self.plane == "stress":  # the thickness change (the loaded area keeps H)
             cells["stretch_zz"] = [avg(self.material.stretch_zz(F))]
         return {"displacement": u}, cells
+
+    def __repr__(self) -> str:
+        """One line: class, name, material, element, kinematics, plane and sizes."""
+        kin = "" if self.kinematics == "finite" else f", {self.kinematics} strain"
+        return (f"{type(self).__name__}({self.name!r}, {self.material!r}, {self.element}"
+                f"{kin}, plane {self.plane}: {self.n_nodes} nodes, "
+                f"{self.mesh.nelements} elements, {self.n_dofs} dofs)")

@@ -665,7 +665,11 @@ class ContactPair(Item):
     def contact_data(self, z: np.ndarray) -> dict[str, np.ndarray]:
         """Per slave node: ``x, y`` (current), ``gap`` (length) and ``pressure`` (traction).
 
-        NTS: ``pressure = lam / tributary length``; mortar: ``pressure = lam`` and
+        The rows follow the slave surface: chain order, an open chain from its
+        end with the smaller reference ``x`` (then ``y``), a closed one from the
+        start of its first segment; ``node`` is the surface node of each row
+        (``pair.active[d["node"]]``, ``pair.slave.X[:, d["node"]]`` line up
+        with the rows).  NTS: ``pressure = lam / tributary length``; mortar: ``pressure = lam`` and
         ``gap = weighted gap / tributary length``.  ``has_master`` marks the
         nodes that face a master segment; elsewhere ``gap`` is NaN (undefined)
         and ``distance`` holds the node's distance to the master surface, a
@@ -686,8 +690,28 @@ class ContactPair(Item):
         if not ev.mask.all():
             far = ~ev.mask
             dist[far] = distance_to_polyline(x[:, far], self.master.x(z), self.master.segments)
-        return {"x": x[0].copy(), "y": x[1].copy(), "gap": g, "pressure": p,
-                "has_master": ev.mask.copy(), "distance": dist}
+        data = {"x": x[0], "y": x[1], "gap": g, "pressure": p, "has_master": ev.mask,
+                "distance": dist}
+        k = self._along_surface()
+        return {**{name: v[k] for name, v in data.items()}, "node": k}
+
+    def _along_surface(self) -> np.ndarray:
+        """Surface node indices in the order of :meth:`contact_data`'s rows."""
+        s = self.slave
+        order = chain_order(s.segments, s.closed, s.n_nodes)
+        if order is None:  # not one chain through every node: the surface's order
+            return np.arange(s.n_nodes)
+        a, b = s.X[:, order[0]], s.X[:, order[-1]]
+        if not s.closed and (a[0], a[1]) > (b[0], b[1]):
+            order = order[::-1]
+        return np.ascontiguousarray(order, dtype=np.int64)
+
+    def __repr__(self) -> str:
+        """One line: name, method, the two surfaces and the active nodes."""
+        def side(s: Any) -> str:
+            return f"{getattr(s, 'name', type(s).__name__)!r} ({s.n_nodes} nodes)"
+        return (f"ContactPair({self.name!r}, {self.method}: slave {side(self.slave)} on "
+                f"master {side(self.master)}, {int(np.sum(self.active))} active)")
 
     def forces(self, z: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Contact forces ``(2, n)`` on the slave and on the master nodes: ``H G^T lam``

@@ -269,6 +269,13 @@ class TiePair(Item):
         """The slave surface with the interface traction (:class:`TieOutput`)."""
         return [TieOutput(self)]
 
+    def __repr__(self) -> str:
+        """One line: name, multipliers, the two surfaces, the tied slave nodes."""
+        kind = "dual" if self.dual else "standard"
+        return (f"TiePair({self.name!r}, {kind}: slave {self.slave.name!r} "
+                f"({self.slave.n_nodes} nodes) on master {self.master.name!r} "
+                f"({self.master.n_nodes} nodes), {int(np.sum(self.tied))} tied)")
+
     # -- results -------------------------------------------------------------------
     def traction(self, z: np.ndarray) -> np.ndarray:
         """The multipliers ``lam_A`` as (2, n_s): the traction the master exerts on the

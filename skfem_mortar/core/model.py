@@ -615,6 +615,15 @@ class Model:
     def zeros(self) -> np.ndarray:
         return np.zeros(self.n)
 
+    def __repr__(self) -> str:
+        """One line: the items by kind and the unknowns ``n = n_u + n_lam``."""
+        kinds = [it.dof_kind for it in self.items]
+        counts = {"u": kinds.count("u"), "lam": kinds.count("lam"), None: kinds.count(None)}
+        tail = "" if self.thickness == 1.0 else f", thickness {self.thickness:g}"
+        return (f"Model({len(self.items)} items: {counts['u']} with displacements, "
+                f"{counts['lam']} with multipliers, {counts[None]} loads and constraints; "
+                f"{self.n} unknowns = {self.n_u} displacements + {self.n_lam} multipliers{tail})")
+
     # -- checks --------------------------------------------------------------
     def preflight(self, z: np.ndarray, load_factor: float, fixed: np.ndarray) -> None:
         """Refuse, before the first load step, a model that cannot work (ValueError

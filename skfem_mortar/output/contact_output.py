@@ -36,6 +36,9 @@ class ContactOutput:  # an Output (skfem_mortar.core.model) for the output layer
     def output_data(self, z: np.ndarray):
         s = self.pair.slave
         data = self.pair.contact_data(z)
+        if "node" in data:  # rows along the surface: back to the surface's node order
+            back = np.argsort(data["node"])
+            data = {k: np.asarray(v)[back] for k, v in data.items()}
         return ({"displacement": (s.x(z) - s.X).T.copy(),
                  "pressure": np.asarray(data["pressure"], dtype=float),
                  "gap": output_gap(data),

@@ -299,7 +299,9 @@ def build(params: dict, method: str | None = None) -> Setup:
     def metrics(result) -> dict:
         d = pair.contact_data(result.z)
         x, p = d["x"], d["pressure"]
-        out = linearized_metrics(pair, result.z, p, a, ex["peak_pressure"])
+        # linearized_metrics reads p in the surface's node order
+        out = linearized_metrics(pair, result.z, p[np.argsort(d["node"])], a,
+                                 ex["peak_pressure"])
         order = np.argsort(x)
         x, p = x[order], p[order]
         comp = np.flatnonzero(p > 1e-8 * max(p.max(), 0.0))  # inactive: lam = 0 up to round-off

@@ -149,7 +149,7 @@ def build(params: dict, method: str | None = None) -> Setup:
             out["normal_force_roughness"] = float(np.max(np.abs(np.diff(w, 2))) / abs(mean))
             out["tangential_force_mean"] = float(np.mean(ft[slide_steps]))
         d = pair.contact_data(result.z)
-        act = pair.active
+        act = pair.active[d["node"]]  # the rows of d follow the surface
         gap = np.where(np.isfinite(d["gap"]), d["gap"], 0.0)
         out["max_penetration"] = float(max(0.0, -gap[act].min(initial=0.0)) / RADIUS)
         out["n_active"] = int(act.sum())

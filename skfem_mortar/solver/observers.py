@@ -18,6 +18,7 @@ directory).  The output layer reads items only through the output protocol
 from __future__ import annotations
 
 import os
+import sys
 import uuid
 from pathlib import Path
 from typing import TYPE_CHECKING, Callable, Iterable, Sequence
@@ -61,15 +62,44 @@ class Callback(Observer):
         self.fn(record, z)
 
 
+def in_notebook() -> bool:
+    """Whether this process is a Jupyter kernel that shows widgets: IPython's
+    ZMQ shell (or a subclass, e.g. Colab's), but not under Qt Console or Spyder
+    (the tests of ``tqdm.autonotebook``); IPython is not imported for it."""
+    ipython = sys.modules.get("IPython")
+    get = getattr(ipython, "get_ipython", None)
+    shell = get() if callable(get) else None
+    if not any(c.__name__ == "ZMQInteractiveShell" for c in type(shell).__mro__):
+        return False
+    return not any(k == "QT_API" or k.startswith("SPYDER") for k in os.environ)
+
+
+def progress_class() -> type:
+    """The tqdm class of :class:`ProgressBar`: the notebook widget
+    (``tqdm.notebook.tqdm``) in a Jupyter kernel where ipywidgets is installed,
+    the text bar (``tqdm.std.tqdm``, on stderr) everywhere else.
+
+    Chosen here rather than by ``tqdm.auto``, which warns in a notebook without
+    ipywidgets ("IProgress not found"): neither form warns.
+    """
+    from importlib.util import find_spec
+
+    if in_notebook() and find_spec("ipywidgets") is not None:
+        from tqdm.notebook import tqdm
+    else:
+        from tqdm.std import tqdm
+    return tqdm
+
+
 class ProgressBar(Observer):
-    """A tqdm progress bar of the load steps on stderr (``solve(progress=True)``)."""
+    """A tqdm progress bar of the load steps (``solve(progress=True)``): a widget
+    in Jupyter with ipywidgets, else text on stderr (:func:`progress_class`)."""
 
     def __init__(self):
         self.bar = None
 
     def on_start(self, model, z, load_factor) -> None:
-        from tqdm.auto import tqdm  # imported lazily: the command line starts fast
-
+        tqdm = progress_class()  # imported lazily: the command line starts fast
         self.bar = tqdm(desc="load steps", unit="step", leave=False)
 
     def on_step(self, record, z) -> None:

@@ -267,6 +267,43 @@ class Result:
         R, _, _ = self.model.assemble(self.states[k], lf, tangent=False)
         return R
 
+    #: the steps the HTML table lists at each end of a longer result
+    HTML_ROWS = 10
+
+    def _headline(self) -> str:
+        """``converged, 10 steps, 52 Newton iterations, load factor 1, ...``."""
+        its = sum(s.newton_iterations for s in self.steps)
+        cuts = sum(s.cuts for s in self.steps)
+        lf = self.steps[-1].load_factor if self.steps else 0.0
+        return (f"{'converged' if self.converged else 'not converged'}, {len(self.steps)} steps, "
+                f"{its} Newton iterations{f', {cuts} cuts' if cuts else ''}, load factor {lf:.12g}, "
+                f"{self.model.n} unknowns, {self.wall_time:.3g} s")
+
+    def __repr__(self) -> str:
+        """One line (the states and records stay out of it): :meth:`_headline`."""
+        return f"Result({self._headline()})"
+
+    def _repr_html_(self) -> str:
+        """The headline and a table of the steps (load factor, Newton iterations,
+        final residual, active nodes, active-set changes, cuts); a result of more
+        than ``2 HTML_ROWS`` steps lists the first and the last ``HTML_ROWS``."""
+        from html import escape
+
+        head = ("step", "load factor", "Newton iterations", "final residual",
+                "active nodes", "active-set changes", "cuts")
+        rows = [(k + 1, f"{s.load_factor:.12g}", s.newton_iterations,
+                 f"{s.residual_norms[-1]:.2e}" if s.residual_norms else "",
+                 s.n_active, s.active_set_changes, s.cuts) for k, s in enumerate(self.steps)]
+        n = self.HTML_ROWS
+        if len(rows) > 2 * n:
+            rows = rows[:n] + [("\u2026",) * len(head)] + rows[-n:]
+        cell = "".join
+        body = cell(f"<tr>{cell(f'<td>{escape(str(v))}</td>' for v in r)}</tr>" for r in rows)
+        return (f"<div><p><b>Result</b>: {escape(self._headline())}; linear solves "
+                f"{self.solve_time:.3g} s</p><table><thead><tr>"
+                f"{cell(f'<th>{h}</th>' for h in head)}</tr></thead><tbody>{body}</tbody>"
+                f"</table></div>")
+
 
 #: the largest number of nominal load steps a solve accepts (a 1e6-step run of
 #: the smallest scene would take days; more is a typo)
