@@ -167,10 +167,14 @@ def test_console_metrics_have_12_digits(capsys):
 _DRAW = r"""
 import numpy as np
 from skfem_mortar import Cable
-from skfem_mortar.output.plot import draw
+from skfem_mortar.output import plot
 cable = Cable.between((0.0, 0.0), (1.0, 0.0), 1.2, 8, name="cable")
 z = np.zeros(cable.n_dofs)
-draw([cable], z, z, "fig.png", window_size=(200, 120))
+plot._prepare_offscreen()  # what the package does before a pyvista render
+import pyvista as pv
+p = pv.Plotter(off_screen=True, window_size=(200, 120))
+p.add_mesh(plot.to_pyvista([cable], z)["cable"])
+p.screenshot("fig.png")
 print("drawn")
 """
 
