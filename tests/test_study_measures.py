@@ -270,3 +270,16 @@ def test_cli_refusals_exit_2_before_any_run(argv, says, tmp_path, capsys, monkey
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and says in err[0], err
     assert not calls and not out.exists()
+
+
+def test_each_point_of_the_pareto_plot_names_its_setting():
+    """Every drawn point carries its setting (parameters, load steps, solver)."""
+    rows = [{"scene": "hertz", "method": m, "status": "ok", "wall_time_s": str(t),
+             "peak_pressure_error": str(e), "error_metric": "peak_pressure_error",
+             "param.refine": str(r), "steps": s, "solver": "superlu"}
+            for m, t, e, r, s in (("mortar", 0.5, 0.02, -1, "1"), ("mortar", 1.1, 0.01, 0, "1"),
+                                  ("nts", 0.3, 0.03, -1, ""))]
+    ax = pareto_figure(rows).axes[0]
+    texts = sorted(t.get_text() for t in ax.texts)
+    assert texts == sorted(["refine=-1 steps=1 superlu", "refine=0 steps=1 superlu",
+                            "refine=-1 superlu"])

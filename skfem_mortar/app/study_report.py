@@ -44,6 +44,18 @@ def _params(row: Mapping) -> str:
                      if k.startswith("param.") and v not in ("", None))
 
 
+def _point_label(row: Mapping) -> str:
+    """A grid point's setting in short, as written beside its marker: the
+    parameters and, where the study set them, the load steps and the solver."""
+    parts = [f"{k[6:]}={v}" for k, v in row.items()
+             if k.startswith("param.") and v not in ("", None)]
+    if row.get("steps") not in ("", None):
+        parts.append(f"steps={row['steps']}")
+    if row.get("solver"):
+        parts.append(str(row["solver"]))
+    return " ".join(parts) or "defaults"
+
+
 def _steps(row: Mapping) -> str:
     """The load steps of a row: the requested count, or the steps the scene's
     default took (a one-step scene: 1, more if a step was cut)."""
@@ -113,6 +125,10 @@ def pareto_figure(rows: Sequence[Mapping], plotted: Mapping[str, str | None] | N
         if unsteady.any():  # one legend entry for the open markers
             ax.plot([], [], "o", mfc="none", color="grey",
                     label="timing spread > 20 %")
+        for r, ti, ei in zip(sub, t, e):  # each point names its setting
+            if np.isfinite(ti) and np.isfinite(ei):
+                ax.annotate(_point_label(r), (ti, ei), xytext=(3, 3),
+                            textcoords="offset points", fontsize=6, alpha=0.8)
         front = pareto_front(t, e)
         if front.size:
             ax.loglog(t[front], e[front], "k--", lw=1, label="Pareto front")
