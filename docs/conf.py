@@ -26,6 +26,23 @@ os.environ.setdefault("PYVISTA_OFF_SCREEN", "true")
 
 import skfem_mortar  # noqa: E402
 
+
+def _demo_pictures() -> None:
+    """``docs/figure.png`` and ``docs/pressure.png`` (the README's and the index
+    page's pictures), drawn anew by the demo at every build."""
+    import shutil
+    import tempfile
+
+    from skfem_mortar.app.demo import run_demo
+
+    with tempfile.TemporaryDirectory() as tmp:
+        run_demo(Path(tmp) / "demo", progress=False)
+        for name in ("figure.png", "pressure.png"):
+            shutil.copyfile(Path(tmp) / "demo" / name, DOCS / name)
+
+
+_demo_pictures()
+
 project = "skfem-mortar"
 author = "the skfem-mortar developers"
 copyright = "the skfem-mortar developers"

@@ -175,3 +175,16 @@ def test_example_starts_with_a_titled_docstring(path):
     assert doc, f"{_rel(path)} has no module docstring (the gallery needs one)"
     title, underline = doc.split("\n")[:2]
     assert title.strip() and set(underline) == {"="} and len(underline) >= len(title), _rel(path)
+
+
+def test_the_notebooks_are_stored_with_their_outputs():
+    """A reader sees the notebooks as they ran (the README's test command runs
+    them again, with --nbmake): every code cell that ran has an execution count,
+    and each notebook shows something."""
+    import json
+
+    for path in sorted((ROOT / "notebooks").glob("*.ipynb")):
+        nb = json.loads(path.read_text())
+        code = [c for c in nb["cells"] if c["cell_type"] == "code" and "".join(c["source"]).strip()]
+        assert code and all(c.get("execution_count") for c in code), path.name
+        assert any(c.get("outputs") for c in code), path.name
