@@ -24,3 +24,13 @@ def test_readme_install_command_is_what_ci_runs():
     cmd = re.search(r"Install and run the demo.*?\n\n\s+(.+?)\n", README.read_text(), re.S).group(1)
     assert "pip install" in cmd
     assert cmd.strip() in ci
+
+
+def test_readme_docs_commands_are_what_ci_runs():
+    """The docs install and build commands the README gives, verbatim in CI."""
+    ci = (README.parent / ".ci" / "run").read_text()
+    text = " ".join(README.read_text().split())
+    cmds = re.search(r"builds with `(.+?)` and `(.+?)`", text).groups()
+    assert cmds[0].startswith("pip install") and cmds[1].startswith("python -m sphinx")
+    for cmd in cmds:
+        assert cmd in ci.splitlines(), cmd
