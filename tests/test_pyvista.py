@@ -1,9 +1,9 @@
-"""The outputs as pyvista data (output.plot.to_pyvista): what a notebook views."""
+"""The outputs as pyvista data (output.views.to_pyvista): what a notebook views."""
 import numpy as np
 import pytest
 
 from skfem_mortar.app.runner import run_scene
-from skfem_mortar.output.plot import to_pyvista
+from skfem_mortar.output.views import to_pyvista
 
 pv = pytest.importorskip("pyvista")
 

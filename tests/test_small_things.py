@@ -19,7 +19,7 @@ import skfem_mortar
 from skfem_mortar.app import bench
 from skfem_mortar.app.cli import main
 from skfem_mortar.app.runner import build_scene, load_factor_value, run_scene
-from skfem_mortar.output import plot
+from skfem_mortar.output import views
 from skfem_mortar.output.contact_output import ContactOutput
 from skfem_mortar.output.io import read_checkpoint
 from skfem_mortar.solver import observers
@@ -167,13 +167,13 @@ def test_console_metrics_have_12_digits(capsys):
 _DRAW = r"""
 import numpy as np
 from skfem_mortar import Cable
-from skfem_mortar.output import plot
+from skfem_mortar.output import views
 cable = Cable.between((0.0, 0.0), (1.0, 0.0), 1.2, 8, name="cable")
 z = np.zeros(cable.n_dofs)
-plot._prepare_offscreen()  # what the package does before a pyvista render
+views.prepare_offscreen()  # what the package does before a pyvista render
 import pyvista as pv
 p = pv.Plotter(off_screen=True, window_size=(200, 120))
-p.add_mesh(plot.to_pyvista([cable], z)["cable"])
+p.add_mesh(views.to_pyvista([cable], z)["cable"])
 p.screenshot("fig.png")
 print("drawn")
 """
@@ -188,7 +188,7 @@ def test_off_screen_picture_prints_no_vtk_warning(tmp_path):
     # the child imports this package (it runs in tmp_path: a relative path would not)
     root = str(Path(skfem_mortar.__file__).resolve().parents[1])
     env["PYTHONPATH"] = os.pathsep.join([root] + [p for p in [env.get("PYTHONPATH")] if p])
-    if sys.platform.startswith("linux") and plot._headless_window(env) is None:
+    if sys.platform.startswith("linux") and views._headless_window(env) is None:
         pytest.skip("neither EGL nor OSMesa is installed: VTK cannot draw off screen here")
     proc = subprocess.run([sys.executable, "-c", _DRAW], cwd=tmp_path, env=env,
                           capture_output=True, text=True, timeout=300)
@@ -198,7 +198,7 @@ def test_off_screen_picture_prints_no_vtk_warning(tmp_path):
 
 
 def test_headless_window_only_where_no_display_and_no_user_choice():
-    pick = plot._headless_window
+    pick = views._headless_window
     assert pick({"DISPLAY": ":0"}) is None
     assert pick({"WAYLAND_DISPLAY": "wayland-0"}) is None
     assert pick({"VTK_DEFAULT_OPENGL_WINDOW": "vtkXOpenGLRenderWindow"}) is None

@@ -105,7 +105,7 @@ def frame_mesh(points: np.ndarray, cells: list, point_data: dict, cell_data: dic
     """One frame as a ``meshio.Mesh``: points in 3D (z = 0) and 2D vector point
     fields with a zero z component (ParaView's Warp By Vector and pyvista take
     3-component vectors); what the series files hold and
-    :func:`~skfem_mortar.output.plot.to_pyvista` shows."""
+    :func:`~skfem_mortar.output.views.to_pyvista` shows."""
     import meshio  # lazily: the command line starts fast
 
     return meshio.Mesh(_points3(points), cells,
