@@ -534,8 +534,12 @@ class _Pool:
         import logging
 
         # the scheduler runs in this process: a point that kills its worker is
-        # given up (KilledWorker) after KILL_RETRIES retries on fresh workers
-        with dask.config.set({"distributed.scheduler.allowed-failures": KILL_RETRIES}):
+        # given up (KilledWorker) after KILL_RETRIES retries on fresh workers.
+        # worker-saturation 1: a worker holds only the point it runs (dask's
+        # default 1.1 queues a second one on a one-thread worker, which then
+        # dies with it and is counted against that innocent point)
+        with dask.config.set({"distributed.scheduler.allowed-failures": KILL_RETRIES,
+                              "distributed.scheduler.worker-saturation": 1.0}):
             self.cluster = LocalCluster(n_workers=self.workers, threads_per_worker=1,
                                         processes=True, dashboard_address=None,
                                         silence_logs=logging.CRITICAL)
