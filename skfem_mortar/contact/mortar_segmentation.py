@@ -72,6 +72,7 @@ from .jets import Jet, _outer, _val, at_gauss, constant_like, cross, inv, normal
 __all__ = ["Jet", "Segmentation", "segment", "nodal_normals", "SlaveElement",
            "slave_element", "project_point_on_slave", "project_on_slave",
            "MasterProjection", "project_on_master", "normal_length", "segment_end_points",
+           "clip_to_slave",
            "XI_TOL", "LEN_TOL"]
 
 XI_TOL = 1e-10
@@ -343,6 +344,25 @@ def _side(p, ok, dsa, dsb, dab):
     return np.where(inside, p, far), inside | decided | ok
 
 
+def clip_to_slave(p1: np.ndarray, p2: np.ndarray, keep: np.ndarray
+                  ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Step 3: the mortar segment ``[max(-1, min p), min(1, max p)]`` of each pair.
+
+    ``p1, p2``: the slave parameters of the two master nodes (``+-inf`` beyond
+    an end, see :func:`_side`); ``keep``: the pairs that may have a segment.
+    Returns the pairs kept (``keep`` and longer than ``XI_TOL``), their end
+    points ``xi`` (n, 2) and where these come from, ``src`` (n, 2): -1 a slave
+    end, 0 or 1 the first or second master node.
+    """
+    lo = np.maximum(-1.0, np.minimum(p1, p2))
+    hi = np.minimum(1.0, np.maximum(p1, p2))
+    src_lo = np.where(lo == -1.0, -1, np.where(p1 <= p2, 0, 1))
+    src_hi = np.where(hi == 1.0, -1, np.where(p1 <= p2, 1, 0))
+    keep = keep & (hi - lo > XI_TOL)
+    return (keep, np.stack([lo[keep], hi[keep]], axis=1),
+            np.stack([src_lo[keep], src_hi[keep]], axis=1))
+
+
 def segment(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarray,
             pairs: tuple[np.ndarray, np.ndarray] | None = None, margin: float | None = None,
             frozen: bool = True, reach: float = 0.0) -> Segmentation:
@@ -420,14 +440,8 @@ def segment(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarray
         dab = sb - sa
         p1, ok1 = _side(p1, ok1, 0.0 - sa, 0.0 - sb, dab)
         p2, ok2 = _side(p2, ok2, 1.0 - sa, 1.0 - sb, dab)
-    lo = np.maximum(-1.0, np.minimum(p1, p2))
-    hi = np.minimum(1.0, np.maximum(p1, p2))
-    src_lo = np.where(lo == -1.0, -1, np.where(p1 <= p2, 0, 1))
-    src_hi = np.where(hi == 1.0, -1, np.where(p1 <= p2, 1, 0))
-    keep = facing & ok1 & ok2 & (hi - lo > XI_TOL)
+    keep, xi, src = clip_to_slave(p1, p2, facing & ok1 & ok2)
     e_s, e_m = i_s[keep], i_m[keep]
-    xi = np.stack([lo[keep], hi[keep]], axis=1)
-    src = np.stack([src_lo[keep], src_hi[keep]], axis=1)
 
     # projectable part of each slave element: extreme end points of its segments
     n_es = seg_s.shape[0]

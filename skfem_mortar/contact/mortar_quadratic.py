@@ -1,0 +1,586 @@
+"""Mortar contact kernel on curved 3-node segments: weighted gaps and their exact derivatives.
+
+Frictionless mortar contact in 2D where the slave or the master surface (or
+both) has 3-node segments ``(start, end, mid)`` (the P2 traces of tri2 and
+quad2 bodies); the other may have 2-node segments.  Same signature and result
+as :func:`skfem_mortar.contact.mortar.evaluate`; the geometry (steps 1 to 3:
+normal field, projections, segmentation) is
+:mod:`skfem_mortar.contact.mortar_quadratic_segmentation`.
+
+Every slave node (vertices and mid nodes) carries a multiplier ``lam_A`` with
+the shape function ``Phi_A``; the contact work is ``sum_A lam_A g_A`` with the
+weighted gap
+
+    g_A = int_Gc Phi_A(xi) (x_m(eta(xi)) - x_s(xi)) . n(xi) dGamma,
+    dGamma = |dx_s/dxi| dxi,   n = n~/|n~|,   n~ = sum_B N_B(xi) n_B,
+
+``eta(xi)`` the master point on the slave normal line (``x_s + alpha n~`` on
+the master curve), so ``g_A > 0`` is open.
+
+Steps (each vectorized over mortar segments and Gauss points, in jets)
+-----------------------------------------------------------------------
+1. slave normal field, 2. projections, 3. mortar segments: see
+   :mod:`~skfem_mortar.contact.mortar_quadratic_segmentation`;
+4. the Gauss rule of ``n_gauss`` points on every mortar segment
+   ``[xi_a, xi_b]``: ``xi_k = (1 - eta_k)/2 xi_a + (1 + eta_k)/2 xi_b``,
+   ``dGamma_k = |x_s'(xi_k)| (xi_b - xi_a)/2 w_k``.  The default 3 points are
+   exact (degree 5) for the integrands of straight segments with centred mid
+   nodes: ``Phi_A N_B``, ``Phi_A N_C`` and ``Phi_A g_n`` with a linear gap are
+   products of two quadratics (``D``, ``M``) or of degree 3 (``g_A``); on curved
+   segments ``|x_s'|`` is the square root of a quadratic and more points add
+   accuracy (the tangent is exact for any rule);
+5. the Gauss points projected onto the curved master along ``n~``
+   (:func:`~skfem_mortar.contact.mortar_quadratic_segmentation.project_on_master`,
+   Newton on values, then two Newton steps in jets);
+6. multiplier functions ``Phi_A`` (:func:`merge_matrix`, :func:`dual_coefficients`);
+7. ``g_A`` and ``sum_A lam_A g_A`` as one integrand ``int Phi_A g_n dGamma``
+   with ``g_n = (x_m - x_s) . n~/|n~|``, in jets, so ``G = dg/dx`` and
+   ``H = sum_A lam_A d^2 g_A/dx^2`` are exact: the derivatives of the nodal
+   normals, of the segment end points, of the curved slave Jacobian, of the
+   Gauss-point projections and of the dual coefficients are all included.
+
+Local variables of a mortar segment (slave element e, master element m): the
+slave nodes that enter e's normal field (:func:`~skfem_mortar.contact.
+mortar_quadratic_segmentation.slave_slots`: for 3-node segments e's start,
+end and mid, the previous element's start and mid, the next element's end and
+mid; for 2-node segments the previous and next node), the nodes of m and, for
+dual multipliers on a partly projectable slave element, the two master
+vertices bounding its projectable part: up to 2 (7 + 3 + 2) = 24 variables.
+
+Multipliers (step 6)
+--------------------
+Standard: ``Phi_A = N_A``, quadratic on 3-node slave segments.  Dual:
+``Phi_A = sum_B a_AB N_B`` with ``A_e = D_e M_e^{-1}``, ``D_e = diag(int N_A
+dGamma)``, ``M_e = int N_A N_B dGamma`` over the projectable part ``[l, h]`` of
+the slave element (the hull of its mortar segments), with the current slave
+Jacobian, evaluated in jets (:func:`dual_coefficients`; the rule has
+``n_gauss_element`` points, exact on straight elements, and the dual
+functions are biorthogonal for that rule: ``int Phi_A N_B = delta_AB
+int N_A``).
+
+Crosspoints and boundary nodes (Popp, Wohlmuth, Gee, Wall 2012; Wohlmuth 2001,
+*Discretization methods and iterative solvers based on domain decomposition*,
+sect. on the modification at the boundary of the contact zone): a slave node
+that is pinned (``crosspoints``) or whose mortar support is at most
+``MASK_TOL`` of its tributary weight (it hangs off the master, or the support
+is negative, see below) has no multiplier.  On each of its elements its shape
+function is handed to a neighbour on that element, ``N~ = T N``
+(:func:`merge_matrix`): a vertex's to the element's mid node (the next node
+along the chain, as the linear kernel merges into the neighbour), or to the
+other vertex if the mid node is merged too; a mid node's half to each kept
+vertex.  So ``sum_A N~_A = sum_B N_B = 1`` on the element (constants are still
+reproduced: the patch test holds), the multipliers are ``Phi = N~``
+(standard) or the dual basis of the modified functions, ``A~ = D~ M~^{-1}``
+with ``D~ = diag(int N~_A)``, ``M~ = int N~_A N~_B``, which is biorthogonal to
+``N~`` on the element and sums to one as well.  An element with both
+vertices merged keeps one multiplier (its mid node, ``N~ = 1``).
+
+Why 3D's zero-weight problem does not arise on 3-node lines
+------------------------------------------------------------
+The dual basis needs ``D_e = diag(int N_A dGamma)`` invertible.  For the
+quadratic 3D facets it is not: the vertex functions of tri6 integrate to zero
+and those of quad8 to a negative value, so Popp, Wohlmuth, Gee and Wall (2012)
+transform the basis first.  On a 3-node line ``int N_A dGamma = L/6, L/6,
+2L/3`` on a straight segment of length ``L``, all positive, so ``D_e`` is
+invertible and the dual basis exists on every fully projectable element
+without a transformation (on curved elements the vertex weights stay positive
+while the Jacobian on one half of the element is below 5 times that on the
+other, i.e. for any reasonably placed mid node).  What remains is the
+contact-zone boundary: on a partly projectable element ``[l, 1]`` the far
+vertex's weight ``int_l^1 N_1 = (l - 1)^2 (2 l + 1)/12 (L/2)`` is negative for
+``l > -1/2``.  A node whose total support is not positive is masked and
+merged as above, so every multiplier kept has a positive ``D_AA`` (summed over
+its elements).
+
+Active set on weighted gaps of quadratic segments
+-------------------------------------------------
+Hueber, Mair and Wohlmuth (2005) point out that with standard quadratic
+multipliers the nodal conditions ``g_A >= 0``, ``lam_A >= 0`` are conditions on
+weighted quantities (the vertex weights are a sixth of the mid node's, and
+``Phi_A`` changes sign inside the element), not pointwise statements on the
+gap or the pressure between nodes.  The contact pair applies the nodal
+complementarity ``lam_A - max(0, lam_A - c g_A) = 0`` to the weighted gaps in
+both cases.  With the dual basis ``lam_A`` are the nodal values of a
+biorthogonal traction field, ``lam_A D_AA`` is the nodal force of that node
+alone, so the condition is a nodal traction condition that can be checked
+pointwise (what ``tail_signal`` reads); with the standard basis the condition
+is the one of the discrete problem on the weighted gaps ``g_A``, and the
+pair's release signal reads the normal nodal forces ``G^T lam``.
+"""
+from __future__ import annotations
+
+from typing import Any, NamedTuple
+
+import numpy as np
+import scipy.sparse as sp
+
+from .contact_eval import ContactEval
+from .jets import Jet, at_gauss, constant_like, value, where
+from .mortar import MASK_TOL, gauss_rule
+from .mortar_quadratic_segmentation import (Segmentation, SlaveSlots, curve, element_normals,
+                                            element_polynomial, order_of, project_on_master,
+                                            project_on_master_jet, project_on_slave_jet,
+                                            segment, shape_values, slave_slots, tangent)
+
+__all__ = ["evaluate", "segment", "Segmentation", "merge_matrix", "dual_coefficients",
+           "tributary_weights", "multiplier_support", "N_GAUSS", "N_GAUSS_ELEMENT", "MASK_TOL"]
+
+N_GAUSS = 3
+"""Default Gauss points per mortar segment (exact to degree 5, see the module doc)."""
+N_GAUSS_ELEMENT = 5
+"""Default Gauss points of the element rule of ``D_e``, ``M_e`` (dual basis) and of
+the tributary weights (exact to degree 9; the integrands of a straight element
+have degree 4)."""
+_CHUNK_ENTRIES = 200_000  # Hessian entries per block of segments
+
+
+def _check_rule(name: str, n: Any) -> int:
+    if not isinstance(n, (int, np.integer)) or not 1 <= n <= 10:
+        raise ValueError(f"{name} must be an integer in [1, 10], got {n!r}")
+    return int(n)
+
+
+def _as_arrays(xs, seg_s, xm, seg_m):
+    xs = np.asarray(xs, dtype=float).reshape(2, -1)
+    xm = np.asarray(xm, dtype=float).reshape(2, -1)
+    seg_s = np.asarray(seg_s, dtype=np.int64)
+    seg_m = np.asarray(seg_m, dtype=np.int64)
+    for name, seg in (("seg_s", seg_s), ("seg_m", seg_m)):
+        if seg.ndim != 2 or seg.shape[1] not in (2, 3):
+            raise ValueError(f"{name} must have shape (n, 2) or (n, 3) (start, end[, mid]), "
+                             f"got {seg.shape}")
+    return xs, seg_s, xm, seg_m
+
+
+def _expand(C: list) -> list:
+    """Per-segment coefficients ``(n,)`` with a Gauss-point axis ``(n, 1)``."""
+    return [None if c is None else (at_gauss(c[0]), at_gauss(c[1])) for c in C]
+
+
+def _segment_points(lo, hi, eta: np.ndarray):
+    """``xi_k = (1 - eta_k)/2 lo + (1 + eta_k)/2 hi`` (n, n_points) and ``(hi - lo)/2`` (n, 1)."""
+    return (at_gauss(lo) * ((1.0 - eta) * 0.5) + at_gauss(hi) * ((1.0 + eta) * 0.5),
+            at_gauss((hi - lo) * 0.5))
+
+
+def _jacobian(P: list, xi):
+    tx, ty = tangent(P, xi)
+    j2 = tx * tx + ty * ty
+    return j2.sqrt() if isinstance(j2, Jet) else np.sqrt(j2)
+
+
+# ------------------------------------------------------------ supports and weights
+def tributary_weights(xs: np.ndarray, seg: np.ndarray, n_gauss: int = N_GAUSS_ELEMENT
+                      ) -> np.ndarray:
+    """``area_A = int N_A dGamma`` over the whole (curved) slave surface, (n_s,).
+
+    On a straight 3-node segment of length ``L`` with a centred mid node
+    ``L/6, L/6, 2L/3`` (start, end, mid); ``L/2`` each for 2-node segments.
+    """
+    xs = np.asarray(xs, dtype=float)
+    seg = np.asarray(seg, dtype=np.int64)
+    k = seg.shape[1]
+    eta, w = gauss_rule(n_gauss)
+    P = _expand(element_polynomial([(xs[0, seg[:, a]], xs[1, seg[:, a]]) for a in range(k)], k))
+    xi = np.broadcast_to(eta, (seg.shape[0], eta.size))
+    dG = _jacobian(P, xi) * w
+    out = np.zeros(xs.shape[1])
+    for a, N in enumerate(shape_values(k, xi)):
+        np.add.at(out, seg[:, a], (N * dG).sum(1))
+    return out
+
+
+def multiplier_support(xs: np.ndarray, seg_s: np.ndarray, sg: Segmentation,
+                       n_gauss: int = N_GAUSS) -> np.ndarray:
+    """Mortar support ``int N_A dGamma`` of each slave node over its mortar segments
+    (the rule of :func:`evaluate`), (n_s,); negative for a far vertex of a partly
+    covered 3-node element (module doc)."""
+    k = seg_s.shape[1]
+    e = sg.e_s
+    eta, w = gauss_rule(n_gauss)
+    P = _expand(element_polynomial([(xs[0, seg_s[e, a]], xs[1, seg_s[e, a]]) for a in range(k)],
+                                   k))
+    xi, half = _segment_points(sg.xi[:, 0], sg.xi[:, 1], eta)
+    dG = _jacobian(P, xi) * half * w
+    out = np.zeros(xs.shape[1])
+    for a, N in enumerate(shape_values(k, xi)):
+        np.add.at(out, seg_s[e, a], (N * dG).sum(1))
+    return out
+
+
+# ------------------------------------------------ step 6: multiplier shape functions
+def merge_matrix(merged: np.ndarray) -> np.ndarray:
+    """The crosspoint/boundary modification ``N~_A = sum_B T_AB N_B`` per element.
+
+    ``merged`` (n, k) bool: the element's nodes without a multiplier (column
+    order start, end[, mid]).  Kept nodes keep their function; a merged vertex's
+    is added to the mid node if that is kept, else to the other vertex if kept;
+    a merged mid node's is split in halves onto the kept vertices (all of it onto
+    the one kept).  Merged rows are zero.  ``sum_A T_AB = 1`` for every ``B``
+    unless the whole element is merged, so ``sum_A N~_A = 1``.
+
+    Returns
+    -------
+    T : ndarray (n, k, k)
+    """
+    merged = np.asarray(merged, dtype=bool)
+    n, k = merged.shape
+    keep = ~merged
+    T = np.zeros((n, k, k))
+    for a in range(k):
+        T[:, a, a] = keep[:, a]
+    if k == 2:
+        T[:, 1, 0] += merged[:, 0] & keep[:, 1]
+        T[:, 0, 1] += merged[:, 1] & keep[:, 0]
+        return T
+    for v, o in ((0, 1), (1, 0)):        # a merged vertex: to the mid, else the other vertex
+        to_mid = merged[:, v] & keep[:, 2]
+        T[:, 2, v] += to_mid
+        T[:, o, v] += merged[:, v] & ~to_mid & keep[:, o]
+    both = keep[:, 0] & keep[:, 1]
+    for v in (0, 1):                     # a merged mid node: halves to the kept vertices
+        T[:, v, 2] += merged[:, 2] * np.where(both, 0.5, keep[:, v] * 1.0)
+    return T
+
+
+def _modified(T: np.ndarray | None, N: list, k: int) -> list:
+    """``N~_A = sum_B T_AB N_B`` (T per segment, constants); ``T`` None: unmodified."""
+    if T is None:
+        return N
+    out = []
+    for a in range(k):
+        acc = None
+        for b in range(k):
+            t = T[:, a, b]
+            if not t.any():
+                continue
+            term = N[b] * at_gauss(t)
+            acc = term if acc is None else acc + term
+        out.append(acc if acc is not None else N[0] * 0.0)
+    return out
+
+
+def _sym_inverse(M: dict, k: int) -> dict:
+    """Inverse of the symmetric ``k x k`` matrix ``M[(a, b)]`` (a <= b) by cofactors."""
+    if k == 2:
+        a, b, d = M[0, 0], M[0, 1], M[1, 1]
+        r = (a * d - b * b).inv() if isinstance(a, Jet) else 1.0 / (a * d - b * b)
+        return {(0, 0): d * r, (0, 1): -(b * r), (1, 1): a * r}
+    a, b, c, d, e, f = M[0, 0], M[0, 1], M[0, 2], M[1, 1], M[1, 2], M[2, 2]
+    C = {(0, 0): d * f - e * e, (0, 1): c * e - b * f, (0, 2): b * e - c * d,
+         (1, 1): a * f - c * c, (1, 2): b * c - a * e, (2, 2): a * d - b * b}
+    det = a * C[0, 0] + b * C[0, 1] + c * C[0, 2]
+    r = det.inv() if isinstance(det, Jet) else 1.0 / det
+    return {key: v * r for key, v in C.items()}
+
+
+def dual_coefficients(P: list, lo, hi, k: int, T: np.ndarray | None = None,
+                      n_gauss: int = N_GAUSS_ELEMENT) -> dict:
+    """Step 6: dual coefficients ``A~ = D~ M~^{-1}`` on the projectable part ``[lo, hi]``.
+
+    ``D~ = diag(int N~_A dGamma)``, ``M~_AB = int N~_A N~_B dGamma`` over
+    ``xi in [lo, hi]`` with ``dGamma = |x_s'(xi)| dxi`` (the current Jacobian of
+    the element with coefficients ``P``, :func:`~skfem_mortar.contact.
+    mortar_quadratic_segmentation.element_polynomial`), ``N~ = T N``
+    (:func:`merge_matrix`; a zero row gets ``M~_AA = 1``, ``D~_AA = 0``), by an
+    ``n_gauss``-point rule; arrays or jets.  ``Phi_A = sum_B A~_AB N~_B`` then
+    satisfies ``int Phi_A N~_B dGamma = delta_AB int N~_A dGamma`` for that rule.
+
+    Returns
+    -------
+    dict ``(A, B) -> A~_AB``, each of shape (n,).
+    """
+    eta, w = gauss_rule(n_gauss)
+    xi, half = _segment_points(lo, hi, eta)
+    dG = _jacobian(_expand(P), xi) * half * w
+    Nt = _modified(T, shape_values(k, xi), k)
+    wN = [N * dG for N in Nt]
+    D = [x.sum(1) for x in wN]
+    M = {(a, b): (wN[a] * Nt[b]).sum(1) for a in range(k) for b in range(a, k)}
+    if T is not None:
+        dead = ~T.any(axis=2)                              # merged rows
+        for a in range(k):
+            if dead[:, a].any():
+                M[a, a] = M[a, a] + dead[:, a] * 1.0
+    Mi = _sym_inverse(M, k)
+    return {(a, b): D[a] * Mi[min(a, b), max(a, b)] for a in range(k) for b in range(k)}
+
+
+# -------------------------------------------------------------- one block of segments
+class _Problem(NamedTuple):
+    """A surface pair prepared for the blocks."""
+
+    xs: np.ndarray
+    seg_s: np.ndarray
+    xm: np.ndarray
+    seg_m: np.ndarray
+    sg: Segmentation
+    slots: SlaveSlots
+    mask: np.ndarray
+    area: np.ndarray
+    T: np.ndarray                  # (n_el_s, k, k) modification of every slave element
+    merged_any: np.ndarray         # (n_el_s,) whether T is not the identity
+    rule: tuple
+    n_gauss_element: int
+
+    @property
+    def n_slots(self) -> int:
+        return 3 * self.slots.k - 2
+
+    def nv(self, partial: bool) -> int:
+        return 2 * (self.n_slots + self.seg_m.shape[1]) + (4 if partial else 0)
+
+
+def _prepare(xs, seg_s, xm, seg_m, segmentation, pairs, margin, reach, crosspoints,
+             n_gauss, n_gauss_element) -> _Problem:
+    xs, seg_s, xm, seg_m = _as_arrays(xs, seg_s, xm, seg_m)
+    n_s = xs.shape[1]
+    sg = segmentation if segmentation is not None else segment(
+        xs, seg_s, xm, seg_m, pairs=pairs, margin=margin, frozen=False, reach=reach)
+    cp = np.isin(np.arange(n_s), [] if crosspoints is None else crosspoints)
+    support = multiplier_support(xs, seg_s, sg, n_gauss)
+    trib = tributary_weights(xs, seg_s, n_gauss_element)
+    mask = (support > MASK_TOL * trib) & ~cp
+    merged = ~mask[seg_s]
+    return _Problem(xs, seg_s, xm, seg_m, sg, slave_slots(xs, seg_s), mask, support,
+                    merge_matrix(merged), merged.any(axis=1), gauss_rule(n_gauss),
+                    n_gauss_element)
+
+
+class _Block(NamedTuple):
+    g: list             # Jets (n,), first order: g_A of the element's nodes
+    q: Jet | None       # sum_A lam_A g_A to second order
+    D: np.ndarray       # (n, k_s, k_s) int Phi_A N_B dGamma
+    M: np.ndarray       # (n, k_s, k_m) int Phi_A N_C dGamma
+
+
+def _block(P: _Problem, sl: np.ndarray, nv: int, second: bool, dual: bool,
+           lam: np.ndarray | None) -> _Block:
+    """Steps 1 to 7 on the mortar segments ``sl`` in jets of ``nv`` local variables
+    (0: values only)."""
+    sg, k, km = P.sg, P.slots.k, P.seg_m.shape[1]
+    e, m = sg.e_s[sl], sg.e_m[sl]
+    ns = P.n_slots
+    pos = [P.slots.pos[:, e, j] for j in range(ns)]
+    pos += [P.xm[:, P.seg_m[m, a]] for a in range(km)]
+    lo_node, hi_node = sg.elem_node[e, 0], sg.elem_node[e, 1]
+    partial = nv > P.nv(False)
+    if partial:
+        pos += [P.xm[:, np.maximum(lo_node, 0)], P.xm[:, np.maximum(hi_node, 0)]]
+    V = [tuple(Jet.variable(xk[i], 2 * j + i, nv, second) if 2 * j + 1 < nv
+               else Jet.constant(xk[i], nv, second) for i in (0, 1))
+         for j, xk in enumerate(pos)]
+    like = V[0][0]
+    const = lambda v: constant_like(np.asarray(v, dtype=float), like)  # noqa: E731
+    # 1. the slave normal field
+    nrm = element_normals(V[:ns], k, P.slots.wp[e], P.slots.wn[e])
+    Pc, Qc = element_polynomial(V[:k], k), element_polynomial(nrm, k)
+    R = element_polynomial(V[ns:ns + km], km)
+    # 2, 3. end points of the mortar segments: the master vertices projected onto e
+    n = e.size
+    if sg.frozen:
+        lo, hi = const(sg.xi[sl, 0]), const(sg.xi[sl, 1])
+    else:
+        src = sg.src[sl]
+        ends = []
+        for c in (0, 1):
+            start = np.where(src[:, 0] == c, sg.xi[sl, 0], np.where(src[:, 1] == c, sg.xi[sl, 1], 0.0))
+            with np.errstate(divide="ignore", invalid="ignore"):
+                ends.append(project_on_slave_jet(Pc, Qc, V[ns + c], start))
+        lo = where(src[:, 0] == -1, const(-np.ones(n)), where(src[:, 0] == 0, ends[0], ends[1]))
+        hi = where(src[:, 1] == -1, const(np.ones(n)), where(src[:, 1] == 0, ends[0], ends[1]))
+    # 6. multiplier functions (dual: on the projectable part of e)
+    T = P.T[e] if P.merged_any[e].any() else None
+    A = None
+    if dual:
+        exi = sg.elem_xi[e]
+        if partial:
+            b = ns + km
+            with np.errstate(divide="ignore", invalid="ignore"):
+                pl = project_on_slave_jet(Pc, Qc, V[b], np.where(lo_node >= 0, exi[:, 0], 0.0))
+                ph = project_on_slave_jet(Pc, Qc, V[b + 1], np.where(hi_node >= 0, exi[:, 1], 0.0))
+            part = (where(lo_node >= 0, pl, const(-np.ones(n))),
+                    where(hi_node >= 0, ph, const(np.ones(n))))
+        else:
+            part = const(exi[:, 0]), const(exi[:, 1])
+        A = dual_coefficients(Pc, *part, k, T, P.n_gauss_element)
+    # 4. Gauss points on the mortar segments, 5. their projections onto the master
+    eta_r, w = P.rule
+    xi, half = _segment_points(lo, hi, eta_r)
+    PE, QE, RE = _expand(Pc), _expand(Qc), _expand(R)
+    X = curve(PE, xi)
+    Nn = curve(QE, xi)
+    dG = _jacobian(PE, xi) * half * w
+    Rv = [None if r is None else (value(r[0]), value(r[1])) for r in RE]
+    eta0, _ = project_on_master(Rv, (value(X[0]), value(X[1])), (value(Nn[0]), value(Nn[1])))
+    eta0 = np.nan_to_num(eta0)
+    eta = project_on_master_jet(RE, X, Nn, eta0)
+    xm_g = curve(RE, eta)
+    nl2 = Nn[0] * Nn[0] + Nn[1] * Nn[1]
+    nl = nl2.sqrt() if isinstance(nl2, Jet) else np.sqrt(nl2)
+    gn = ((xm_g[0] - X[0]) * Nn[0] + (xm_g[1] - X[1]) * Nn[1]) / nl
+    f = gn * dG                                       # g_n dGamma
+    # 6. Phi_A at the Gauss points
+    Nt = _modified(T, shape_values(k, xi), k)
+    if A is not None:
+        Phi = []
+        for a in range(k):
+            acc = None
+            for b in range(k):
+                term = Nt[b] * at_gauss(A[a, b])
+                acc = term if acc is None else acc + term
+            Phi.append(acc)
+    else:
+        Phi = Nt
+    # 7. g_A (first order) and sum_A lam_A g_A (second order)
+    f1 = f.first() if isinstance(f, Jet) else f
+    g = [((ph.first() if isinstance(ph, Jet) else ph) * f1).sum(1) for ph in Phi]
+    q = None
+    if second and lam is not None:
+        lam_e = lam[P.seg_s[e]]                       # (n, k)
+        phl = None
+        for a in range(k):
+            term = Phi[a] * at_gauss(lam_e[:, a])
+            phl = term if phl is None else phl + term
+        q = (phl * f).sum(1)
+    # values: D_AB = int Phi_A N_B dGamma, M_AC = int Phi_A N_C dGamma
+    xv, dGv = value(xi), value(dG)
+    Nb = shape_values(k, xv)
+    Nc = shape_values(km, value(eta))
+    ph_v = [value(ph) * dGv for ph in Phi]
+    D = np.stack([np.stack([(p * N).sum(1) for N in Nb], 1) for p in ph_v], 1)
+    M = np.stack([np.stack([(p * N).sum(1) for N in Nc], 1) for p in ph_v], 1)
+    return _Block(g=g, q=q, D=D, M=M)
+
+
+def _blocks(P: _Problem, nv_on: bool, dual: bool, second: bool):
+    """Index blocks of mortar segments with their number of local variables
+    (dual multipliers on partly projectable slave elements: 4 more)."""
+    sg = P.sg
+    if not nv_on:
+        groups = [(np.arange(sg.n), 0)]
+    elif dual and not sg.frozen:
+        node = sg.elem_node[sg.e_s]
+        partial = (node[:, 0] >= 0) | (node[:, 1] >= 0)
+        groups = [(np.flatnonzero(~partial), P.nv(False)), (np.flatnonzero(partial), P.nv(True))]
+    else:
+        groups = [(np.arange(sg.n), P.nv(False))]
+    n_g = P.rule[0].size + (P.n_gauss_element if dual else 0)
+    for idx, nv in groups:
+        chunk = max(1, _CHUNK_ENTRIES // (n_g * max(nv, 1) ** (2 if second else 1)))
+        for start in range(0, idx.size, chunk):
+            yield idx[start:start + chunk], nv
+
+
+def _local_dofs(P: _Problem, sl: np.ndarray, nv: int) -> np.ndarray:
+    """Pair dofs of the local variables of the segments ``sl`` (n, nv)."""
+    sg = P.sg
+    e, m = sg.e_s[sl], sg.e_m[sl]
+    n_s = P.xs.shape[1]
+    nodes = [2 * P.slots.nodes[e]] + [2 * n_s + 2 * P.seg_m[m]]
+    if nv > P.nv(False):
+        en = sg.elem_node[e]
+        nodes.append(2 * n_s + 2 * np.where(en >= 0, en, P.seg_m[m, :1]))
+    base = np.concatenate(nodes, axis=1)
+    return (base[:, :, None] + np.arange(2)).reshape(base.shape[0], -1)[:, :nv]
+
+
+def evaluate(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarray,
+             lam: np.ndarray | None = None, tangent: bool = True, dual: bool = False,
+             n_gauss: int = N_GAUSS, segmentation: Segmentation | None = None,
+             pairs: tuple[np.ndarray, np.ndarray] | None = None, margin: float | None = None,
+             crosspoints: np.ndarray | None = None, reach: float = 0.0,
+             n_gauss_element: int = N_GAUSS_ELEMENT, **options: Any) -> ContactEval:
+    """Mortar weighted gaps ``g``, ``G = dg/dx`` and ``H = sum_A lam_A d^2 g_A/dx^2``
+    on curved 3-node (or 2-node) segments.
+
+    Parameters
+    ----------
+    xs, xm : ndarray (2, n_s), (2, n_m)
+        Current slave and master node coordinates (all surface nodes: vertices and mids).
+    seg_s, seg_m : int ndarray (n, 3) or (n, 2)
+        Slave and master segments, columns (start, end[, mid]), outward
+        right-hand normals from start to end.
+    lam : ndarray (n_s,), optional
+        Multipliers; with ``tangent`` the Hessian ``H`` is returned.
+    tangent : bool
+        Compute ``G`` (and ``H`` if ``lam``).
+    dual : bool
+        Dual multipliers (:func:`dual_coefficients`) instead of ``Phi_A = N_A``.
+    n_gauss : int in [1, 10]
+        Gauss points per mortar segment (default :data:`N_GAUSS`, module doc).
+    segmentation : Segmentation, optional
+        Reuse these mortar segments (:func:`segment`); frozen (policy ``step``):
+        the pair list, the end points ``xi_a, xi_b`` and the projectable parts
+        are held fixed, and ``G``, ``H`` are the exact derivatives of that
+        frozen ``g`` (the normals, the slave Jacobian, the dual coefficients'
+        Jacobian and the Gauss-point projections still move).
+    pairs, margin, reach
+        Candidate pairs and the search margin, as :func:`skfem_mortar.contact.mortar.evaluate`.
+    crosspoints : int array, optional
+        Slave nodes without a multiplier (pinned); their shape functions are
+        merged into their elements' other nodes (:func:`merge_matrix`).
+    n_gauss_element : int in [1, 10]
+        Points of the element rule of the dual basis and the tributary weights.
+
+    Returns
+    -------
+    ContactEval
+        ``area`` is the mortar support ``int N_A dGamma``, ``mask`` the nodes whose
+        support is above ``MASK_TOL`` of their tributary weight (and not
+        crosspoints); ``info`` holds ``D`` (n_s, n_s), ``M`` (n_s, n_m) csr
+        (``int Phi_A N_B dGamma``, ``int Phi_A N_C dGamma``), ``segmentation``
+        and ``n_segments``.
+    """
+    if options:
+        raise TypeError(f"unknown options for mortar_quadratic.evaluate: {sorted(options)}")
+    _check_rule("n_gauss", n_gauss)
+    _check_rule("n_gauss_element", n_gauss_element)
+    P = _prepare(xs, seg_s, xm, seg_m, segmentation, pairs, margin, reach, crosspoints,
+                 n_gauss, n_gauss_element)
+    n_s, n_m = P.xs.shape[1], P.xm.shape[1]
+    k, km = P.slots.k, P.seg_m.shape[1]
+    ndof = 2 * n_s + 2 * n_m
+    second = tangent and lam is not None
+    lamv = None if lam is None else np.asarray(lam, dtype=float)
+    g = np.zeros(n_s)
+    Gr, Gc, Gv, Hr, Hc, Hv, Dv, Dr, Dc, Mv, Mr, Mc = ([] for _ in range(12))
+    for sl, nv in _blocks(P, tangent, dual, second):
+        if sl.size == 0:
+            continue
+        blk = _block(P, sl, nv, second, dual, lamv)
+        rows = P.seg_s[P.sg.e_s[sl]]                   # (n, k)
+        for a in range(k):
+            np.add.at(g, rows[:, a], value(blk.g[a]))
+        Dv.append(blk.D.ravel())
+        Dr.append(np.repeat(rows, k, axis=1).ravel())
+        Dc.append(np.tile(rows, (1, k)).ravel())
+        Mv.append(blk.M.ravel())
+        Mr.append(np.repeat(rows, km, axis=1).ravel())
+        Mc.append(np.tile(P.seg_m[P.sg.e_m[sl]], (1, k)).ravel())
+        if tangent:
+            dl = _local_dofs(P, sl, nv)
+            for a in range(k):
+                Gr.append(np.repeat(rows[:, a], nv))
+                Gc.append(dl.ravel())
+                Gv.append(blk.g[a].g.T.ravel())
+            if second:
+                Hr.append(np.repeat(dl, nv, axis=1).ravel())
+                Hc.append(np.tile(dl, (1, nv)).ravel())
+                Hv.append(blk.q.hessian().transpose(2, 0, 1).ravel())
+
+    def cat(L, dtype=float):
+        return np.concatenate(L) if L else np.zeros(0, dtype=dtype)
+    G = H = None
+    if tangent:
+        G = sp.coo_matrix((cat(Gv), (cat(Gr, np.int64), cat(Gc, np.int64))),
+                          shape=(n_s, ndof)).tocsr()
+        if second:
+            H = sp.coo_matrix((cat(Hv), (cat(Hr, np.int64), cat(Hc, np.int64))),
+                              shape=(ndof, ndof)).tocsr()
+    D = sp.coo_matrix((cat(Dv), (cat(Dr, np.int64), cat(Dc, np.int64))),
+                      shape=(n_s, n_s)).tocsr()
+    M = sp.coo_matrix((cat(Mv), (cat(Mr, np.int64), cat(Mc, np.int64))),
+                      shape=(n_s, n_m)).tocsr()
+    return ContactEval(g=g, G=G, H=H, area=P.area, mask=P.mask,
+                       info={"D": D, "M": M, "segmentation": P.sg, "n_segments": P.sg.n})

@@ -1,0 +1,484 @@
+"""Mortar geometry of curved 3-node segments: normal field, projections, mortar segments.
+
+Steps 1 to 3 of the quadratic mortar kernel
+(:mod:`skfem_mortar.contact.mortar_quadratic` holds steps 4 to 8), for surfaces
+of 3-node segments ``(start, end, mid)`` (order 2) against surfaces of either
+order; a 2-node surface is handled by the same code with its shape functions.
+Every function is vectorized over elements (or candidate pairs, or mortar
+segments and Gauss points) and works on plain arrays and on the forward-mode
+jets of :mod:`skfem_mortar.contact.jets`.  Points and vectors are pairs ``(x, y)``.
+
+Geometry of a segment (``xi`` in [-1, 1])
+-----------------------------------------
+``x(xi) = sum_A N_A(xi) x_A`` with, for 3 nodes (start, end, mid),
+``N_1 = xi (xi - 1)/2``, ``N_2 = xi (xi + 1)/2``, ``N_3 = 1 - xi^2``, and for 2
+nodes ``N_1 = (1 - xi)/2``, ``N_2 = (1 + xi)/2``.  In monomials
+``x(xi) = P_0 + P_1 xi + P_2 xi^2`` (:func:`element_polynomial`; for 3 nodes
+``P_0 = x_3``, ``P_1 = (x_2 - x_1)/2``, ``P_2 = (x_1 + x_2)/2 - x_3``).  The
+tangent is ``t = dx/dxi = P_1 + 2 P_2 xi`` and the outward unit normal its
+right-hand normal ``nu = (t_y, -t_x)/|t|`` (start -> end, as for 2-node segments).
+
+Step 1, slave normal field (:func:`element_normals`)
+----------------------------------------------------
+The nodal normal of a vertex is the normalized sum of the unit normals of its
+(one or two) slave elements at that end, ``n_A = normalize(nu_prev(+1) +
+nu_next(-1))``; a mid node takes its element's own normal ``n_3 = nu(0)``
+(which depends on the two vertices only, ``t(0) = P_1``).  The field is
+interpolated with the element's shape functions and not normalized,
+``n~(xi) = sum_A N_A(xi) n_A``, ``n = n~/|n~|``.  A slave element's normal
+field therefore depends on its own nodes and on the nodes of its neighbours
+(:func:`slave_slots`): for 3-node segments the previous element's start and
+mid node and the next element's end and mid node (7 nodes); for 2-node
+segments the previous and the next node (4 nodes, as the linear kernel).
+
+Step 2, projections along the slave normal field
+------------------------------------------------
+* :func:`project_on_slave`: a point ``x_C`` (a master vertex) onto the curved
+  slave element, the ``xi`` solving ``f(xi) = (x_s(xi) - x_C) x n~(xi) = 0``
+  (``x`` the 2D cross product; a quartic for 3 nodes), by Newton's method from
+  the orthogonal projection onto the chord.
+* :func:`project_on_master`: a point ``x_0`` along a direction ``d`` onto the
+  curved master element, ``F(eta) = (x_m(eta) - x_0) x d = 0`` (a quadratic in
+  ``eta``), by Newton's method from ``-F_0/F_1``; used for the slave element
+  ends (along their nodal normals, to decide on which side of the slave element
+  a master vertex lies) and for the Gauss points (along ``n~(xi)``).
+* With jets, :func:`newton_jet` takes two Newton steps in jet arithmetic from
+  the converged value (a constant): the first leaves an error O(|dq|^2) in the
+  local variables ``q``, the second O(|dq|^4), so the value, the gradient and
+  the Hessian of the root are exact.
+
+Step 3, mortar segments (:func:`segment`)
+-----------------------------------------
+For a candidate pair (slave element e, master element m) whose chords face
+each other, the two master vertices project to ``p_1, p_2`` on e and the
+mortar segment is ``[max(-1, min p), min(1, max p)]`` on the slave parameter,
+one per overlapping pair.  As for 2-node segments
+(:mod:`skfem_mortar.contact.mortar_segmentation`), a master vertex beyond an
+end of e (its master parameter past that of the slave end projected onto the
+master curve along its nodal normal) counts as ``+-inf`` and is clipped, which
+also decides far vertices whose quartic has no root or spurious ones; segments
+shorter than ``XI_TOL`` in ``xi`` and degenerate elements (chord below
+``LEN_TOL`` times the mean) are dropped.  The mid nodes of the master never
+bound a mortar segment: a master element is one curve from its start to its end.
+"""
+from __future__ import annotations
+
+from typing import Any, NamedTuple
+
+import numpy as np
+
+from ..core.chain import segments_at_nodes
+from .jets import constant_like, inv, sqrt, value
+from .mortar_segmentation import LEN_TOL, Segmentation, _side, clip_to_slave
+from .search import box_pairs
+
+__all__ = ["SHAPE", "shape_values", "element_polynomial", "poly", "poly_derivative",
+           "element_normals", "slave_slots", "SlaveSlots", "nodal_normals",
+           "project_on_slave", "project_on_master", "newton_jet", "candidate_pairs",
+           "segment", "Segmentation", "chord_lengths", "order_of"]
+
+#: monomial coefficients of the shape functions: ``N_A(xi) = sum_p SHAPE[k][A, p] xi^p``
+#: for ``k`` nodes (columns start, end[, mid])
+SHAPE = {2: np.array([[0.5, -0.5, 0.0], [0.5, 0.5, 0.0]]),
+         3: np.array([[0.0, -0.5, 0.5], [0.0, 0.5, 0.5], [1.0, 0.0, -1.0]])}
+
+_NEWTON = 12  # Newton iterations on values (quadratic convergence from the chord estimate)
+
+
+def order_of(seg: np.ndarray) -> int:
+    """Geometric order of a surface's segments: 1 for (n, 2), 2 for (n, 3)."""
+    k = np.asarray(seg).shape[1] if np.ndim(seg) == 2 else 2
+    if k not in (2, 3):
+        raise ValueError(f"segments must have 2 or 3 columns (start, end[, mid]), got {k}")
+    return k - 1
+
+
+def chord_lengths(x: np.ndarray, seg: np.ndarray) -> np.ndarray:
+    """``|x_end - x_start|`` of each segment (the chord of a curved one)."""
+    return np.hypot(*(x[:, seg[:, 1]] - x[:, seg[:, 0]]))
+
+
+def shape_values(k: int, xi):
+    """``N_A(xi)`` for ``k`` nodes, a list of ``k`` arrays or jets of the shape of ``xi``."""
+    C = SHAPE[k]
+    return [poly([C[a, 0], C[a, 1], C[a, 2] if k == 3 else None], xi) for a in range(k)]
+
+
+def poly(c: list, xi):
+    """``c_0 + c_1 xi + c_2 xi^2`` by Horner (``c_2`` None: linear); ``c_p`` scalars,
+    arrays or jets broadcasting against ``xi``."""
+    if c[2] is None:
+        return xi * c[1] + c[0]
+    return (xi * c[2] + c[1]) * xi + c[0]
+
+
+def poly_derivative(c: list, xi):
+    """``c_1 + 2 c_2 xi``."""
+    if c[2] is None:
+        return c[1]
+    return xi * (c[2] * 2.0) + c[1]
+
+
+def element_polynomial(nodes: list, k: int) -> list:
+    """Monomial coefficients ``[P_0, P_1, P_2]`` of ``x(xi) = sum_A N_A x_A``.
+
+    ``nodes``: the ``k`` node positions (pairs) in column order (start, end[, mid]);
+    ``P_2`` is None for ``k = 2``.  Each ``P_p`` is a pair.
+    """
+    (sx, sy), (ex, ey) = nodes[0], nodes[1]
+    if k == 2:
+        return [((sx + ex) * 0.5, (sy + ey) * 0.5), ((ex - sx) * 0.5, (ey - sy) * 0.5), None]
+    mx, my = nodes[2]
+    return [(mx, my), ((ex - sx) * 0.5, (ey - sy) * 0.5),
+            ((sx + ex) * 0.5 - mx, (sy + ey) * 0.5 - my)]
+
+
+def _components(P: list, i: int) -> list:
+    return [None if p is None else p[i] for p in P]
+
+
+def curve(P: list, xi):
+    """``x(xi)`` as a pair from the coefficients of :func:`element_polynomial`."""
+    return poly(_components(P, 0), xi), poly(_components(P, 1), xi)
+
+
+def tangent(P: list, xi):
+    """``dx/dxi`` as a pair."""
+    return poly_derivative(_components(P, 0), xi), poly_derivative(_components(P, 1), xi)
+
+
+def _tangent_at(nodes: list, k: int, xi: float):
+    """``dx/dxi`` at a fixed ``xi`` as the combination ``sum_A N_A'(xi) x_A``."""
+    C = SHAPE[k]
+    d = C[:, 1] + 2.0 * C[:, 2] * xi
+    tx = sum(nodes[a][0] * d[a] for a in range(k))
+    ty = sum(nodes[a][1] * d[a] for a in range(k))
+    return tx, ty
+
+
+def normalize(x, y):
+    """``(x, y) / |(x, y)|`` for jets or arrays."""
+    r = inv(sqrt(x * x + y * y))
+    return x * r, y * r
+
+
+def _unit_normal(t):
+    """Right-hand unit normal ``(t_y, -t_x)/|t|``."""
+    return normalize(t[1], -t[0])
+
+
+# ------------------------------------------------------ step 1: slave normal field
+class SlaveSlots(NamedTuple):
+    """Local slave nodes of each slave element (step 1).
+
+    Attributes
+    ----------
+    nodes : int ndarray (n_el, 3 k - 2)
+        Own nodes (start, end[, mid]), then the previous element's start[, mid],
+        then the next element's end[, mid]; where a neighbour is missing (chain
+        end or degenerate) its slots hold the own start (resp. end) node.
+    pos : ndarray (2, n_el, 3 k - 2)
+        Positions of the slots; a missing neighbour gets dummy positions along
+        ``x`` (its end tangent is nonzero, its weight zero).
+    wp, wn : ndarray (n_el,)
+        1.0 where the previous (next) element takes part in the vertex normal, else 0.0.
+    k : int
+        Nodes per element.
+    """
+
+    nodes: np.ndarray
+    pos: np.ndarray
+    wp: np.ndarray
+    wn: np.ndarray
+    k: int
+
+
+def slave_slots(xs: np.ndarray, seg: np.ndarray) -> SlaveSlots:
+    """The local slave nodes of every slave element and their positions (values)."""
+    k = seg.shape[1]
+    n_s = xs.shape[1]
+    ending, starting = segments_at_nodes(seg[:, :2], n_s)
+    length = chord_lengths(xs, seg)
+    good = length > LEN_TOL * (length.mean() if length.size else 0.0)
+    pe, ne = ending[seg[:, 0]], starting[seg[:, 1]]
+    has_p = (pe >= 0) & good[np.maximum(pe, 0)]
+    has_n = (ne >= 0) & good[np.maximum(ne, 0)]
+    pe, ne = np.maximum(pe, 0), np.maximum(ne, 0)
+    s, t = seg[:, 0], seg[:, 1]
+    if k == 3:
+        prev = [seg[pe, 0], seg[pe, 2]]       # start, mid of the previous element
+        nxt = [seg[ne, 1], seg[ne, 2]]        # end, mid of the next element
+        dprev, dnext = (-2.0, -1.0), (2.0, 1.0)
+    else:
+        prev, nxt = [seg[pe, 0]], [seg[ne, 1]]
+        dprev, dnext = (-1.0,), (1.0,)
+    cols = [seg[:, a] for a in range(k)]
+    cols += [np.where(has_p, q, s) for q in prev] + [np.where(has_n, q, t) for q in nxt]
+    nodes = np.stack(cols, 1)
+    pos = xs[:, nodes].copy()
+    ex = np.array([1.0, 0.0])[:, None]
+    for j, d in enumerate(dprev):   # dummy: tangent at the end of the missing element is e_x
+        pos[:, ~has_p, k + j] = xs[:, s[~has_p]] + d * ex
+    for j, d in enumerate(dnext):
+        pos[:, ~has_n, 2 * k - 1 + j] = xs[:, t[~has_n]] + d * ex
+    return SlaveSlots(nodes, pos, has_p * 1.0, has_n * 1.0, k)
+
+
+def element_normals(slot_pos: list, k: int, wp, wn) -> list:
+    """Step 1: the nodal normals of an element's own nodes, in column order.
+
+    ``slot_pos``: the ``3 k - 2`` slot positions of :class:`SlaveSlots` (pairs of
+    arrays or jets).  Vertices: ``normalize(wp nu_prev(+1) + nu(-1))`` and
+    ``normalize(nu(+1) + wn nu_next(-1))``; mid node: ``nu(0)``.
+
+    Returns
+    -------
+    list of ``k`` pairs.
+    """
+    own = slot_pos[:k]
+    if k == 3:
+        prev = [slot_pos[3], own[0], slot_pos[4]]      # (start, end, mid) of the previous
+        nxt = [own[1], slot_pos[5], slot_pos[6]]
+    else:
+        prev, nxt = [slot_pos[2], own[0]], [own[1], slot_pos[3]]
+    nu_p = _unit_normal(_tangent_at(prev, k, 1.0))
+    nu_n = _unit_normal(_tangent_at(nxt, k, -1.0))
+    nu_a = _unit_normal(_tangent_at(own, k, -1.0))
+    nu_b = _unit_normal(_tangent_at(own, k, 1.0))
+    n_a = normalize(nu_p[0] * wp + nu_a[0], nu_p[1] * wp + nu_a[1])
+    n_b = normalize(nu_b[0] + nu_n[0] * wn, nu_b[1] + nu_n[1] * wn)
+    if k == 2:
+        return [n_a, n_b]
+    return [n_a, n_b, _unit_normal(_tangent_at(own, k, 0.0))]
+
+
+def _slot_pairs(pos: np.ndarray) -> list:
+    return [(pos[0, :, j], pos[1, :, j]) for j in range(pos.shape[2])]
+
+
+def nodal_normals(xs: np.ndarray, seg: np.ndarray) -> np.ndarray:
+    """Step 1 (values): the nodal normal of every slave node, (2, n_s).
+
+    Vertices: the normalized sum of the adjacent elements' unit normals at that
+    vertex; mid nodes: their element's normal at ``xi = 0``.
+    """
+    xs = np.asarray(xs, dtype=float)
+    seg = np.asarray(seg, dtype=np.int64)
+    sl = slave_slots(xs, seg)
+    nrm = element_normals(_slot_pairs(sl.pos), sl.k, sl.wp, sl.wn)
+    out = np.zeros((2, xs.shape[1]))
+    for a in range(sl.k):
+        out[0, seg[:, a]] = value(nrm[a][0])
+        out[1, seg[:, a]] = value(nrm[a][1])
+    return out
+
+
+# ------------------------------------------------------------ step 2: projections
+def _slave_residual(P, Q, xc, xi):
+    """``f = (x_s(xi) - x_c) x n~(xi)`` and ``f'`` (arrays or jets)."""
+    xx, xy = curve(P, xi)
+    tx, ty = tangent(P, xi)
+    nx, ny = curve(Q, xi)
+    dnx, dny = tangent(Q, xi)
+    rx, ry = xx - xc[0], xy - xc[1]
+    f = rx * ny - ry * nx
+    df = tx * ny - ty * nx + rx * dny - ry * dnx
+    return f, df
+
+
+def newton_jet(residual, x0: np.ndarray, like) -> Any:
+    """Two Newton steps in jets from the converged value ``x0`` (a constant).
+
+    ``residual(x) -> (F, F')`` evaluated in jets.  After the first step the
+    error is O(|dq|^2) in the local variables, after the second O(|dq|^4): the
+    value, the gradient and the Hessian of the root are exact.
+    """
+    x = constant_like(x0, like)
+    for _ in range(2):
+        f, df = residual(x)
+        x = x - f / df
+    return x
+
+
+def project_on_slave(P: list, Q: list, xc, xi0=None, n_newton: int = _NEWTON):
+    """Step 2: slave parameter of the projection of ``x_c`` along ``n~`` (values).
+
+    Newton on ``f(xi) = (x_s(xi) - x_c) x n~(xi) = 0`` from ``xi0`` (default:
+    the orthogonal projection onto the chord).
+
+    Returns
+    -------
+    xi : ndarray
+    ok : bool ndarray, a finite root with ``|f| <= 1e-10`` of its scale.
+    """
+    if xi0 is None:
+        sx, sy = curve(P, -1.0)
+        ex, ey = curve(P, 1.0)
+        dx, dy = ex - sx, ey - sy
+        xi0 = 2.0 * ((xc[0] - sx) * dx + (xc[1] - sy) * dy) / (dx * dx + dy * dy) - 1.0
+    xi = np.clip(np.asarray(xi0, dtype=float), -2.0, 2.0)
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        for _ in range(n_newton):
+            f, df = _slave_residual(P, Q, xc, xi)
+            xi = xi - f / df
+        f, _ = _slave_residual(P, Q, xc, xi)
+        sx, sy = curve(P, 0.0)
+        reach = (np.hypot(sx - xc[0], sy - xc[1]) + sum(np.hypot(*p) for p in P[1:] if p is not None))
+        scale = reach * sum(np.hypot(*q) for q in Q if q is not None)
+        ok = np.isfinite(xi) & (np.abs(f) <= 1e-10 * scale + 1e-300)
+    return np.where(ok, xi, 0.0), ok
+
+
+def project_on_slave_jet(P: list, Q: list, xc, xi: np.ndarray):
+    """Step 2 in jets: :func:`project_on_slave`'s root ``xi`` (values) with its exact
+    first and second derivatives (:func:`newton_jet`)."""
+    return newton_jet(lambda x: _slave_residual(P, Q, xc, x), xi, P[0][0])
+
+
+def _master_residual(R, x0, d, eta):
+    mx, my = curve(R, eta)
+    tx, ty = tangent(R, eta)
+    return (mx - x0[0]) * d[1] - (my - x0[1]) * d[0], tx * d[1] - ty * d[0]
+
+
+def project_on_master(R: list, x0, d, n_newton: int = _NEWTON):
+    """Step 2: master parameter ``eta`` where ``x_0 + alpha d`` meets the master curve (values).
+
+    Newton on ``F(eta) = (x_m(eta) - x_0) x d`` (quadratic in ``eta``, linear
+    for a 2-node master) from ``-F(0)/F'(0)``.
+
+    Returns
+    -------
+    eta : ndarray
+        NaN where there is no root.
+    ok : bool ndarray, a finite root.
+    """
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        f, df = _master_residual(R, x0, d, 0.0)
+        eta = np.clip(-f / df, -3.0, 3.0)
+        for _ in range(n_newton if R[2] is not None else 0):
+            f, df = _master_residual(R, x0, d, eta)
+            eta = eta - f / df
+        f, df = _master_residual(R, x0, d, eta)
+        scale = (np.hypot(*R[1]) + (0.0 if R[2] is None else np.hypot(*R[2]))) * np.hypot(*d)
+        ok = np.isfinite(eta) & (np.abs(f) <= 1e-10 * scale + 1e-300)
+    return np.where(ok, eta, np.nan), ok
+
+
+def project_on_master_jet(R: list, x0, d, eta: np.ndarray):
+    """Step 2 in jets: the root ``eta`` (values) with exact derivatives; for a
+    2-node master the root ``-F_0 / F_1`` directly."""
+    if R[2] is None:
+        f, df = _master_residual(R, x0, d, 0.0)
+        return -(f / df)
+    return newton_jet(lambda e: _master_residual(R, x0, d, e), eta, R[0][0])
+
+
+# ------------------------------------------------------- step 3: mortar segments
+def candidate_pairs(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarray,
+                    margin: float | None = None, reach: float = 0.0, widen: float = 0.0
+                    ) -> tuple[np.ndarray, np.ndarray]:
+    """Candidate element pairs: bounding boxes of all element nodes (ends and mids).
+
+    Global ``margin``: boxes within ``margin + widen``; default local, within
+    ``l_i + l_j + reach + widen`` (``l`` the chord lengths), as
+    :func:`~skfem_mortar.contact.search.segment_pairs` for 2-node segments.
+    """
+    def boxes(x, seg):
+        p = x[:, seg]                      # (2, n_el, k)
+        return p.min(axis=2), p.max(axis=2)
+    lo_s, hi_s = boxes(xs, seg_s)
+    lo_m, hi_m = boxes(xm, seg_m)
+    if margin is not None:
+        return box_pairs(lo_s, hi_s, lo_m, hi_m, float(margin) + widen)
+    ls, lm = chord_lengths(xs, seg_s), chord_lengths(xm, seg_m)
+    return box_pairs(lo_s - ls, hi_s + ls, lo_m - lm, hi_m + lm, float(reach) + widen)
+
+
+def _hull(e_s, xi, node_lo, node_hi, n_es):
+    """Projectable part of each slave element: the extreme end points of its segments
+    and the master nodes giving them (-1 a slave end)."""
+    elem_xi = np.tile(np.array([1.0, -1.0]), (n_es, 1))
+    elem_node = np.full((n_es, 2), -1, dtype=np.int64)
+    np.minimum.at(elem_xi[:, 0], e_s, xi[:, 0])
+    np.maximum.at(elem_xi[:, 1], e_s, xi[:, 1])
+    at_lo = xi[:, 0] == elem_xi[e_s, 0]
+    at_hi = xi[:, 1] == elem_xi[e_s, 1]
+    elem_node[e_s[at_lo], 0] = node_lo[at_lo]
+    elem_node[e_s[at_hi], 1] = node_hi[at_hi]
+    return elem_xi, elem_node
+
+
+def element_fields(xs: np.ndarray, seg_s: np.ndarray) -> tuple[list, list]:
+    """Position and normal-field coefficients ``P``, ``Q`` of every slave element (values)."""
+    k = seg_s.shape[1]
+    sl = slave_slots(xs, seg_s)
+    pos = _slot_pairs(sl.pos)
+    nrm = element_normals(pos, k, sl.wp, sl.wn)
+    return (element_polynomial(pos[:k], k),
+            element_polynomial([(value(n[0]), value(n[1])) for n in nrm], k))
+
+
+def _take(C: list, idx) -> list:
+    return [None if c is None else (c[0][idx], c[1][idx]) for c in C]
+
+
+def segment(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarray,
+            pairs: tuple[np.ndarray, np.ndarray] | None = None, margin: float | None = None,
+            frozen: bool = True, reach: float = 0.0) -> Segmentation:
+    """Step 3: the mortar segments of curved (or straight) slave and master elements.
+
+    Parameters as :func:`skfem_mortar.contact.mortar_segmentation.segment`;
+    ``seg_s``, ``seg_m`` of 2 or 3 columns (start, end[, mid]).  The end points
+    ``xi`` are the projections of the master vertices onto the curved slave
+    elements along the slave normal field (``src`` 0 or 1: the master element's
+    start or end vertex), clipped to [-1, 1].
+
+    Returns
+    -------
+    Segmentation
+    """
+    xs = np.asarray(xs, dtype=float).reshape(2, -1)
+    xm = np.asarray(xm, dtype=float).reshape(2, -1)
+    seg_s = np.asarray(seg_s, dtype=np.int64)
+    seg_m = np.asarray(seg_m, dtype=np.int64)
+    order_of(seg_s), order_of(seg_m)
+    km = seg_m.shape[1]
+    if pairs is None:
+        pairs = candidate_pairs(xs, seg_s, xm, seg_m, margin, reach)
+    i_s = np.asarray(pairs[0], dtype=np.int64)
+    i_m = np.asarray(pairs[1], dtype=np.int64)
+    ls, lm = chord_lengths(xs, seg_s), chord_lengths(xm, seg_m)
+    good_s = ls > LEN_TOL * max(ls.mean() if ls.size else 0.0, 1e-300)
+    good_m = lm > LEN_TOL * max(lm.mean() if lm.size else 0.0, 1e-300)
+    keep = good_s[i_s] & good_m[i_m]
+    i_s, i_m = i_s[keep], i_m[keep]
+
+    Pe, Qe = element_fields(xs, seg_s)
+    P, Q = _take(Pe, i_s), _take(Qe, i_s)
+    R = element_polynomial([(xm[0, seg_m[i_m, a]], xm[1, seg_m[i_m, a]]) for a in range(km)], km)
+    c1 = (xm[0, seg_m[i_m, 0]], xm[1, seg_m[i_m, 0]])
+    c2 = (xm[0, seg_m[i_m, 1]], xm[1, seg_m[i_m, 1]])
+    ts = xs[:, seg_s[i_s, 1]] - xs[:, seg_s[i_s, 0]]
+    tm = xm[:, seg_m[i_m, 1]] - xm[:, seg_m[i_m, 0]]
+    facing = (ts[0] * tm[0] + ts[1] * tm[1]) < 0.0
+    p1, ok1 = project_on_slave(P, Q, c1)
+    p2, ok2 = project_on_slave(P, Q, c2)
+    # sides: the slave ends projected along their nodal normals onto the master
+    # curve (eta_a, eta_b); a master vertex (eta = -1 or +1) past eta_b is beyond
+    # the slave end b, past eta_a beyond a (see mortar_segmentation._side)
+    xa, xb = curve(P, -1.0), curve(P, 1.0)
+    na, nb = curve(Q, -1.0), curve(Q, 1.0)
+    eta_a, _ = project_on_master(R, xa, na)
+    eta_b, _ = project_on_master(R, xb, nb)
+    with np.errstate(invalid="ignore"):
+        dab = eta_b - eta_a
+        p1, ok1 = _side(p1, ok1, -1.0 - eta_a, -1.0 - eta_b, dab)
+        p2, ok2 = _side(p2, ok2, 1.0 - eta_a, 1.0 - eta_b, dab)
+    keep, xi, src = clip_to_slave(p1, p2, facing & ok1 & ok2)
+    e_s, e_m = i_s[keep], i_m[keep]
+    node_lo = np.where(src[:, 0] >= 0, seg_m[e_m, np.maximum(src[:, 0], 0)], -1)
+    node_hi = np.where(src[:, 1] >= 0, seg_m[e_m, np.maximum(src[:, 1], 0)], -1)
+    elem_xi, elem_node = _hull(e_s, xi, node_lo, node_hi, seg_s.shape[0])
+    return Segmentation(e_s=e_s, e_m=e_m, xi=xi, src=src, elem_xi=elem_xi,
+                        elem_node=elem_node, frozen=frozen)
