@@ -6,6 +6,10 @@ the kernel is :mod:`skfem_mortar.contact.mortar`, the segmentation
 :mod:`skfem_mortar.contact.mortar_segmentation`; this class holds what the kernel is
 told from one call to the next (the segmentation policy and a frozen
 segmentation, the search reach, the crosspoints, the reserved pattern).
+Where either surface has 3-node segments (order 2) every call goes to the
+curved kernel :mod:`skfem_mortar.contact.mortar_quadratic` and its
+segmentation :mod:`skfem_mortar.contact.mortar_quadratic_segmentation`
+instead; 2-node surfaces on both sides take the linear kernel as before.
 """
 from __future__ import annotations
 
@@ -14,22 +18,31 @@ from typing import Any
 import numpy as np
 import scipy.sparse as sp
 
-from . import mortar
+from . import mortar, mortar_quadratic
 from .active_set import normal_nodal_force
 from .contact_eval import ContactEval
 from .discretization import (ContactDiscretization, OptionTable, check_options, covers,
                              pattern_matrix, reserved_keys)
+from .mortar_quadratic_segmentation import candidate_pairs, order_of
+from .mortar_quadratic_segmentation import segment as segment_curved
 from .mortar_segmentation import Segmentation, segment
 from .search import segment_pairs
 from .surfaces import segment_lengths, segments_at_nodes
 
-__all__ = ["Mortar", "RESERVE_LENGTHS"]
+__all__ = ["Mortar", "RESERVE_LENGTHS", "surface_order"]
 
 #: the reserved pattern (:meth:`Mortar.pattern`) holds the element pairs of the
 #: search with its margin widened by this many element lengths (the larger of
 #: the median slave and master lengths): the surfaces may slide that far
 #: against each other before the search finds a new pair
 RESERVE_LENGTHS = 1.0
+
+
+def surface_order(surface: Any) -> int:
+    """A surface's geometric order: its ``order`` (1 or 2), else from its
+    segments' columns (2: straight, 3: curved 3-node segments)."""
+    order = getattr(surface, "order", None)
+    return int(order) if order is not None else order_of(surface.segments)
 
 
 class Mortar(ContactDiscretization):
@@ -57,6 +70,12 @@ class Mortar(ContactDiscretization):
     is still paired.  Pinned slave nodes (:meth:`set_pinned`) are crosspoints:
     their multiplier is merged into the neighbour's, so the multipliers still
     sum to one on their elements.
+
+    Curved surfaces: when the slave or the master has 3-node segments
+    (:func:`surface_order` 2) the kernel is
+    :func:`skfem_mortar.contact.mortar_quadratic.evaluate` (both policies;
+    ``n_gauss`` default 3 there), the reserved pattern holds the 3-node
+    elements' couplings (:meth:`pattern`).
     """
 
     multiplier_kind = "traction"
@@ -77,6 +96,10 @@ class Mortar(ContactDiscretization):
             raise ValueError(f"segmentation must be 'iteration' or 'step', got {segmentation!r}")
         self.slave, self.master, self.pair_name = slave, master, pair_name
         self.dual = bool(dual)
+        #: the curved kernel (either surface of order 2) or the linear one
+        self.curved = surface_order(slave) == 2 or surface_order(master) == 2
+        self._kernel = mortar_quadratic.evaluate if self.curved else mortar.evaluate
+        self._segment = segment_curved if self.curved else segment
         self.segmentation = segmentation
         self.options = dict(options)
         self._kernel_options = {"dual": self.dual, **options}
@@ -97,8 +120,8 @@ class Mortar(ContactDiscretization):
         """Policy ``step``: segment the step's start positions, frozen."""
         if self.segmentation == "step":
             self._sg = None
-            self._sg = segment(xs, self.slave.segments, xm, self.master.segments,
-                               margin=self.options.get("margin"), frozen=True)
+            self._sg = self._segment(xs, self.slave.segments, xm, self.master.segments,
+                                     margin=self.options.get("margin"), frozen=True)
 
     def _pairs(self, xs: np.ndarray, xm: np.ndarray, widen: float = 0.0) -> np.ndarray:
         """The candidate element pairs of the search :meth:`evaluate` runs at these
@@ -108,7 +131,11 @@ class Mortar(ContactDiscretization):
         if self._sg is not None and widen == 0.0:
             return np.unique(self._sg.e_s * len(seg_m) + self._sg.e_m)
         margin = self.options.get("margin")
-        if margin is not None:
+        if self.curved:
+            reach = (self.reach(xs, xm) if "margin" not in self.options and self._x0 is not None
+                     else 0.0)
+            i_s, i_m = candidate_pairs(xs, seg_s, xm, seg_m, margin, reach, widen)
+        elif margin is not None:
             i_s, i_m = segment_pairs(xs, seg_s, xm, seg_m, margin + widen)
         else:
             reach = (self.reach(xs, xm) if "margin" not in self.options and self._x0 is not None
@@ -132,6 +159,8 @@ class Mortar(ContactDiscretization):
     def _pattern_of(self, held: np.ndarray) -> sp.csr_matrix:
         """Row ``A``: its own dofs, and for each slave element at ``A`` with a held
         pair its nodes ``p, a, b, n`` and the nodes of its held master elements."""
+        if self.curved:
+            return self._pattern_curved(held)
         seg_s, seg_m = self.slave.segments, self.master.segments
         n_s = self.slave.n_nodes
         e_s, e_m = held // len(seg_m), held % len(seg_m)
@@ -149,6 +178,30 @@ class Mortar(ContactDiscretization):
         sc = (2 * snodes[:, :, None] + two).reshape(-1, 8)
         mc = (2 * n_s + 2 * seg_m[e_m][:, :, None] + two).reshape(-1, 4)
         cols = np.concatenate([np.tile(sc, (1, 2)).ravel(), np.tile(mc, (1, 2)).ravel(),
+                               2 * own, 2 * own + 1])
+        return pattern_matrix(rows, cols, (n_s, 2 * n_s + 2 * self.master.n_nodes))
+
+    def _pattern_curved(self, held: np.ndarray) -> sp.csr_matrix:
+        """:meth:`_pattern_of` for the curved kernel: row ``A`` holds, for each slave
+        element at ``A`` with a held pair, the nodes of that element and of its
+        previous and next elements (the nodal normals of its vertices reach into
+        them), and the nodes of its held master elements."""
+        seg_s, seg_m = self.slave.segments, self.master.segments
+        n_s = self.slave.n_nodes
+        e_s, e_m = held // len(seg_m), held % len(seg_m)
+        ending, starting = segments_at_nodes(seg_s[:, :2], n_s)
+        el = np.unique(e_s)
+        prev, nxt = ending[seg_s[el, 0]], starting[seg_s[el, 1]]
+        snodes = np.concatenate([seg_s[el], np.where(prev[:, None] >= 0, seg_s[np.maximum(prev, 0)],
+                                                      seg_s[el, :1]),
+                                 np.where(nxt[:, None] >= 0, seg_s[np.maximum(nxt, 0)],
+                                          seg_s[el, 1:2])], axis=1)
+        k, km, two, own = seg_s.shape[1], seg_m.shape[1], np.arange(2), np.arange(n_s)
+        sc = (2 * snodes[:, :, None] + two).reshape(el.size, -1)
+        mc = (2 * n_s + 2 * seg_m[e_m][:, :, None] + two).reshape(e_m.size, -1)
+        rows = np.concatenate([np.repeat(seg_s[el], sc.shape[1], axis=1).ravel(),
+                               np.repeat(seg_s[e_s], 2 * km, axis=1).ravel(), own, own])
+        cols = np.concatenate([np.tile(sc, (1, k)).ravel(), np.tile(mc, (1, k)).ravel(),
                                2 * own, 2 * own + 1])
         return pattern_matrix(rows, cols, (n_s, 2 * n_s + 2 * self.master.n_nodes))
 
@@ -195,8 +248,8 @@ class Mortar(ContactDiscretization):
         pinned = self._pinned is not None and self._pinned.any()
         if pinned:
             extra["crosspoints"] = np.flatnonzero(self._pinned)
-        ev = mortar.evaluate(xs, self.slave.segments, xm, self.master.segments, lam=lam,
-                             tangent=tangent, **extra, **self._kernel_options)
+        ev = self._kernel(xs, self.slave.segments, xm, self.master.segments, lam=lam,
+                          tangent=tangent, **extra, **self._kernel_options)
         if pinned:
             ev.mask = ev.mask & ~self._pinned
         return ev
