@@ -42,10 +42,14 @@ Step 2, projections along the slave normal field
   ``eta``), by Newton's method from ``-F_0/F_1``; used for the slave element
   ends (along their nodal normals, to decide on which side of the slave element
   a master vertex lies) and for the Gauss points (along ``n~(xi)``).
-* With jets, :func:`newton_jet` takes two Newton steps in jet arithmetic from
-  the converged value (a constant): the first leaves an error O(|dq|^2) in the
-  local variables ``q``, the second O(|dq|^4), so the value, the gradient and
-  the Hessian of the root are exact.
+* With jets, :func:`newton_jet` takes one Newton step in jet arithmetic from
+  the converged value ``x_0`` (a constant), which leaves an error O(|dq|^2) in
+  the local variables ``q`` (value and gradient exact), and adds the
+  second-order implicit-function term: with ``d = x - x_0``,
+  ``0 = F + F' d + F''/2 d^2 + O(d^3)`` gives
+  ``x = x_1 - F''/(2 F') d^2``, whose Hessian is ``-(F''/F') g g^T`` (``g`` the
+  gradient of the root), so the Hessian is exact too.  This is what a second
+  Newton step in jets gives (error O(|dq|^4)), at the cost of one outer product.
 
 Step 3, mortar segments (:func:`segment`)
 -----------------------------------------
@@ -68,7 +72,7 @@ from typing import Any, NamedTuple
 import numpy as np
 
 from ..core.chain import segments_at_nodes
-from .jets import constant_like, inv, sqrt, value
+from .jets import Jet, _outer, constant_like, inv, sqrt, value
 from .mortar_segmentation import LEN_TOL, Segmentation, _side, clip_to_slave
 from .search import box_pairs
 
@@ -286,17 +290,21 @@ def _slave_residual(P, Q, xc, xi):
     return f, df
 
 
-def newton_jet(residual, x0: np.ndarray, like) -> Any:
-    """Two Newton steps in jets from the converged value ``x0`` (a constant).
+def newton_jet(residual, x0: np.ndarray, like, curvature: np.ndarray) -> Any:
+    """The root of ``F(x; q) = 0`` with exact derivatives, from the converged value ``x0``.
 
-    ``residual(x) -> (F, F')`` evaluated in jets.  After the first step the
-    error is O(|dq|^2) in the local variables, after the second O(|dq|^4): the
-    value, the gradient and the Hessian of the root are exact.
+    ``residual(x) -> (F, F')`` in jets; ``curvature``: the value ``F''(x0)``.
+    One Newton step in jets from the constant ``x0`` (exact value and gradient
+    ``g``) plus the implicit-function term ``-(F''/F') g g^T`` in the Hessian
+    (module doc).
     """
     x = constant_like(x0, like)
-    for _ in range(2):
-        f, df = residual(x)
-        x = x - f / df
+    f, df = residual(x)
+    x = x - f / df
+    if x.h is not None:
+        with np.errstate(divide="ignore", invalid="ignore"):
+            corr = np.nan_to_num(-curvature / df.v)
+        x = Jet(x.v, x.g, x.h + _outer(x.g, x.g * corr))
     return x
 
 
@@ -332,7 +340,20 @@ def project_on_slave(P: list, Q: list, xc, xi0=None, n_newton: int = _NEWTON):
 def project_on_slave_jet(P: list, Q: list, xc, xi: np.ndarray):
     """Step 2 in jets: :func:`project_on_slave`'s root ``xi`` (values) with its exact
     first and second derivatives (:func:`newton_jet`)."""
-    return newton_jet(lambda x: _slave_residual(P, Q, xc, x), xi, P[0][0])
+    Pv, Qv = _values(P), _values(Q)
+    xv = (value(xc[0]), value(xc[1]))
+    (x0, y0), (t0, t1), (m0, m1) = curve(Pv, xi), tangent(Pv, xi), curve(Qv, xi)
+    d0, d1 = tangent(Qv, xi)
+    f2 = 2.0 * (t0 * d1 - t1 * d0)           # f'' = X'' x n~ + 2 X' x n~' + (X - x_c) x n~''
+    if Pv[2] is not None:
+        f2 = f2 + 2.0 * (Pv[2][0] * m1 - Pv[2][1] * m0)
+    if Qv[2] is not None:
+        f2 = f2 + 2.0 * ((x0 - xv[0]) * Qv[2][1] - (y0 - xv[1]) * Qv[2][0])
+    return newton_jet(lambda x: _slave_residual(P, Q, xc, x), xi, P[0][0], f2)
+
+
+def _values(C: list) -> list:
+    return [None if c is None else (value(c[0]), value(c[1])) for c in C]
 
 
 def _master_residual(R, x0, d, eta):
@@ -371,7 +392,8 @@ def project_on_master_jet(R: list, x0, d, eta: np.ndarray):
     if R[2] is None:
         f, df = _master_residual(R, x0, d, 0.0)
         return -(f / df)
-    return newton_jet(lambda e: _master_residual(R, x0, d, e), eta, R[0][0])
+    f2 = 2.0 * (value(R[2][0]) * value(d[1]) - value(R[2][1]) * value(d[0]))
+    return newton_jet(lambda e: _master_residual(R, x0, d, e), eta, R[0][0], f2)
 
 
 # ------------------------------------------------------- step 3: mortar segments
