@@ -31,7 +31,7 @@ Steps (each vectorized over mortar segments and Gauss points, in jets)
    accuracy (the tangent is exact for any rule);
 5. the Gauss points projected onto the curved master along ``n~``
    (:func:`~skfem_mortar.contact.mortar_quadratic_segmentation.project_on_master`,
-   Newton on values, then two Newton steps in jets);
+   Newton on values, then one Newton step in jets with the exact second-order term);
 6. multiplier functions ``Phi_A`` (:func:`merge_matrix`, :func:`dual_coefficients`);
 7. ``g_A`` and ``sum_A lam_A g_A`` as one integrand ``int Phi_A g_n dGamma``
    with ``g_n = (x_m - x_s) . n~/|n~|``, in jets, so ``G = dg/dx`` and
