@@ -37,6 +37,7 @@ from typing import Callable
 import numpy as np
 import scipy.sparse as sp
 
+from ..core.chain import polyline
 from .search import node_segment_pairs
 
 __all__ = ["ActiveSet", "chain_order", "extrapolated_release", "normal_nodal_force",
@@ -51,7 +52,9 @@ def chain_order(segments: np.ndarray, closed: bool, n_nodes: int) -> np.ndarray 
     seg = np.asarray(segments)
     if seg.size == 0:
         return None
-    order = seg[:, 0] if closed else np.r_[seg[:, 0], seg[-1, 1]]
+    # 3-node segments (start, end, mid): start, mid, start, mid, ..., end
+    first = seg[:, [0, 2]].ravel() if seg.shape[1] == 3 else seg[:, 0]
+    order = first if closed else np.r_[first, seg[-1, 1]]
     if order.size != n_nodes or np.unique(order).size != order.size:
         return None
     return order
@@ -87,8 +90,10 @@ def touching_nodes(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.
     two of its nodes has positive gaps at both nodes.  Bool ``(n_s,)``.
     """
     xs, xm = np.asarray(xs, dtype=float), np.asarray(xm, dtype=float)
-    seg_s = np.asarray(seg_s, dtype=np.int64).reshape(-1, 2)
-    seg_m = np.asarray(seg_m, dtype=np.int64).reshape(-1, 2)
+    # 3-node segments: their chords through the mid node (the touch tolerance is
+    # far above the sag of a segment that can touch flat)
+    seg_s = polyline(np.asarray(seg_s, dtype=np.int64).reshape(len(seg_s), -1))
+    seg_m = polyline(np.asarray(seg_m, dtype=np.int64).reshape(len(seg_m), -1))
     out = np.zeros(xs.shape[1], dtype=bool)
     if not (seg_s.size and seg_m.size):
         return out

@@ -25,6 +25,7 @@ from __future__ import annotations
 import numpy as np
 from scipy.spatial import cKDTree
 
+from ..core.chain import polyline
 from ..core.timing import timed
 
 __all__ = ["segment_pairs", "node_segment_pairs", "box_pairs", "segment_boxes"]
@@ -39,18 +40,27 @@ def segment_boxes(x: np.ndarray, seg: np.ndarray) -> tuple[np.ndarray, np.ndarra
     ----------
     x : ndarray (2, n)
         Node coordinates.
-    seg : int ndarray (n_seg, 2)
-        End nodes of each segment.
+    seg : int ndarray (n_seg, 2) or (n_seg, 3)
+        End nodes of each segment (and the mid node of a 3-node one).
 
     Returns
     -------
     lo, hi : ndarray (2, n_seg)
-        ``lo = min(x[:, seg[:, 0]], x[:, seg[:, 1]])`` and the max likewise.
+        ``lo = min(x[:, seg[:, 0]], x[:, seg[:, 1]])`` and the max likewise; for a
+        3-node segment also over its Bezier control point ``2 x_mid - (x_start +
+        x_end)/2``: the curve lies in the hull of its control polygon, so the box
+        holds the whole curve.
     """
     x = np.asarray(x, dtype=float)
-    seg = np.asarray(seg, dtype=np.int64).reshape(-1, 2)
+    seg = np.asarray(seg, dtype=np.int64)
+    if seg.ndim != 2 or seg.shape[1] not in (2, 3):
+        seg = seg.reshape(-1, 2)
     a, b = x[:, seg[:, 0]], x[:, seg[:, 1]]
-    return np.minimum(a, b), np.maximum(a, b)
+    lo, hi = np.minimum(a, b), np.maximum(a, b)
+    if seg.shape[1] == 3:
+        c = 2.0 * x[:, seg[:, 2]] - 0.5 * (a + b)
+        lo, hi = np.minimum(lo, c), np.maximum(hi, c)
+    return lo, hi
 
 
 def _check_margin(margin: float) -> float:
@@ -209,7 +219,8 @@ _DIST_BATCH = 256
 
 def distance_to_polyline(p: np.ndarray, x: np.ndarray, seg: np.ndarray) -> np.ndarray:
     """Euclidean distance of each point ``p (2, n)`` to the segments ``seg`` of the
-    nodes ``x (2, m)``: ``min_e |p - (x_1 + t (x_2 - x_1))|``, ``t`` clipped to [0, 1].
+    nodes ``x (2, m)``: ``min_e |p - (x_1 + t (x_2 - x_1))|``, ``t`` clipped to [0, 1]
+    (3-node segments: to their chords through the mid node, :func:`~skfem_mortar.core.chain.polyline`).
 
     The nearest vertex (a k-d tree) bounds each distance by ``d_v``; the closest
     segment then lies in its box inflated by ``d_v``, so the points, in batches
@@ -220,6 +231,7 @@ def distance_to_polyline(p: np.ndarray, x: np.ndarray, seg: np.ndarray) -> np.nd
     out = np.empty(p.shape[1])
     if p.shape[1] == 0:
         return out
+    seg = polyline(np.asarray(seg, dtype=np.int64))  # 3-node segments: their two chords
     d_v, _ = cKDTree(x.T).query(p.T)
     order = np.argsort(d_v)
     lo, hi = segment_boxes(x, seg)

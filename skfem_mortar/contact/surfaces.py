@@ -12,8 +12,13 @@ built from a :class:`~skfem_mortar.bodies.solid.Solid`'s tagged boundary facets
 (:meth:`ContactSurface.from_solid`), from a cable
 (:meth:`ContactSurface.from_cable`, the side chosen by the user), or are rigid
 (:class:`RigidPlane`, :class:`RigidCircle`: fixed coordinates, no unknowns).
-Only the vertices of a solid's facets are used (straight segments), so a
-solid surface needs linear elements.
+Quadratic solids (tri2, quad2) give 3-node segments ``(start, end, mid)``
+(``segments`` of shape ``(n_seg, 3)``, :attr:`ContactSurface.order` 2): the
+facet's mid node (its P2 facet dofs) is a surface node too, and the segment is
+the curve ``x(xi) = N_1 x_start + N_2 x_end + N_3 x_mid``, ``xi in [-1, 1]``,
+``N_1 = xi (xi - 1)/2``, ``N_2 = xi (xi + 1)/2``, ``N_3 = 1 - xi^2``, its outward
+normal the right-hand normal of ``dx/dxi``.  Columns 0 and 1 are the two ends in
+either case, so what walks the chain reads ``segments[:, :2]``.
 """
 from __future__ import annotations
 
@@ -28,11 +33,13 @@ from ..core.chain import segment_lengths, segment_normals, segments_at_nodes, tr
 
 __all__ = ["ContactSurface", "RigidPlane", "RigidCircle", "chain_segments",
            "segment_lengths", "segment_normals", "tributary_lengths", "segments_at_nodes",
-           "LINEAR_TRACE"]
+           "LINEAR_TRACE", "QUADRATIC_TRACE"]
 
 #: solid elements whose boundary trace is linear between facet vertices: tri1,
 #: quad1 and the mixed "mini" triangle (P1 + bubble, the bubble vanishes on facets)
 LINEAR_TRACE = ("tri1", "quad1", "mini")
+#: solid elements whose boundary trace is the 3-node Lagrange line (P2 on the facet)
+QUADRATIC_TRACE = ("tri2", "quad2")
 
 
 def chain_segments(seg: np.ndarray, n_nodes: int | None = None) -> tuple[np.ndarray, bool]:
@@ -102,7 +109,8 @@ def chain_segments(seg: np.ndarray, n_nodes: int | None = None) -> tuple[np.ndar
 
 
 class ContactSurface:
-    """An oriented chain of straight segments on a body (or rigid).
+    """An oriented chain of segments on a body (or rigid): straight 2-node segments,
+    or curved 3-node ones (``segments`` with a third column, the mid node).
 
     Parameters
     ----------
@@ -110,19 +118,29 @@ class ContactSurface:
         The body owning the nodes (with ``x(z)``, ``node_dofs``, ``offset``),
         or None for a rigid surface.
     nodes : int ndarray (n,)
-        Body node index of each surface node (ignored for a rigid surface).
-    segments : int ndarray (n_seg, 2)
-        Indices into the surface nodes; reordered into chain order.
+        Body node index of each surface node (ignored for a rigid surface); with
+        ``local_dofs``, -1 marks a node that is not a body vertex (a facet's mid node).
+    segments : int ndarray (n_seg, 2) or (n_seg, 3)
+        Indices into the surface nodes, ``(start, end[, mid])``; reordered into
+        chain order (by the ends).
     X : ndarray (2, n), optional
-        Fixed coordinates of a rigid surface.
+        Fixed coordinates of a rigid surface; with ``local_dofs``, the reference
+        coordinates of the surface nodes of a body.
     name : str
+    local_dofs : int ndarray (2, n), optional
+        The x and y dofs of each surface node in the body's block (default
+        ``body.node_dofs[:, nodes]``: the vertices'), for surfaces with nodes
+        that are not vertices (:meth:`from_solid` of a quadratic solid).
     """
 
     def __init__(self, body: Any, nodes: np.ndarray | None, segments: np.ndarray,
-                 X: np.ndarray | None = None, name: str = "surface"):
+                 X: np.ndarray | None = None, name: str = "surface",
+                 local_dofs: np.ndarray | None = None):
         self.body = body
         self.name = name
-        segments = np.asarray(segments, dtype=np.int64).reshape(-1, 2)
+        segments = np.asarray(segments, dtype=np.int64)
+        if segments.ndim != 2 or segments.shape[1] not in (2, 3):
+            segments = segments.reshape(-1, 2)
         if body is None:
             if X is None:
                 raise ValueError("X (2, n) is required for a rigid surface")
@@ -133,15 +151,23 @@ class ContactSurface:
                 raise ValueError("X (the rigid surface's coordinates) must be finite")
             n = self._X.shape[1]
             self.nodes = None
+            self._local = None
+            self._vertices = False
         else:
             self.nodes = np.asarray(nodes, dtype=np.int64).ravel()
             n = self.nodes.size
-            if n and (self.nodes.min() < 0 or self.nodes.max() >= body.n_nodes):
-                raise ValueError(f"nodes must lie in [0, {body.n_nodes})")
-            self._X = np.asarray(body.X, dtype=float)[:, self.nodes]
+            self._vertices = local_dofs is None
+            if local_dofs is None:
+                if n and (self.nodes.min() < 0 or self.nodes.max() >= body.n_nodes):
+                    raise ValueError(f"nodes must lie in [0, {body.n_nodes})")
+                self._local = np.asarray(body.node_dofs)[:, self.nodes]
+                self._X = np.asarray(body.X, dtype=float)[:, self.nodes]
+            else:
+                self._local = np.asarray(local_dofs, dtype=np.int64).reshape(2, n)
+                self._X = np.asarray(X, dtype=float).reshape(2, n)
         if segments.size and (segments.min() < 0 or segments.max() >= n):
             raise ValueError(f"segments must index surface nodes in [0, {n})")
-        order, self.closed = chain_segments(segments, n)
+        order, self.closed = chain_segments(segments[:, :2], n)
         self.segments = segments[order]
         if np.any(segment_lengths(self._X, self.segments) <= 0):
             raise ValueError("surface has a segment of zero length")
@@ -150,6 +176,11 @@ class ContactSurface:
     @property
     def n_nodes(self) -> int:
         return int(self._X.shape[1])
+
+    @property
+    def order(self) -> int:
+        """1 for straight 2-node segments, 2 for curved 3-node ones."""
+        return int(self.segments.shape[1]) - 1
 
     @property
     def rigid(self) -> bool:
@@ -164,16 +195,20 @@ class ContactSurface:
         """Current coordinates ``(2, n)`` of the surface nodes."""
         if self.body is None:
             return self._X
-        return self.body.x(z)[:, self.nodes]
+        if self._vertices:
+            return self.body.x(z)[:, self.nodes]
+        return self._X + np.asarray(z)[self.body.offset + self._local]
 
     def dofs(self) -> np.ndarray | None:
         """Global indices ``(2, n)`` into z of the x/y unknowns, or None (rigid)."""
         if self.body is None:
             return None
-        return self.body.offset + np.asarray(self.body.node_dofs)[:, self.nodes]
+        return self.body.offset + self._local
 
     def normals(self, z: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """Outward unit normals (2, n_seg) and lengths (n_seg,) in the current configuration."""
+        """Outward unit normals (2, n_seg) and lengths (n_seg,) in the current
+        configuration (3-node segments: the normal at the mid node, ``xi = 0``, and
+        the curve's length)."""
         return segment_normals(self.x(z), self.segments)
 
     # -- construction --------------------------------------------------------
@@ -184,6 +219,12 @@ class ContactSurface:
         Each facet is oriented so that its right-hand normal points away from
         the element it bounds (outward), then the facets are chained.
 
+        Linear elements (tri1, quad1, MINI) give 2-node segments between the facet
+        vertices; quadratic ones (tri2, quad2) 3-node segments ``(start, end, mid)``
+        whose mid node is the facet's P2 node (``nodes`` -1 there: it is not a
+        vertex), so that the surface is the facet trace of the body's
+        displacement field.
+
         Parameters
         ----------
         solid : Solid
@@ -192,10 +233,10 @@ class ContactSurface:
         """
         mesh = solid.mesh
         element = getattr(solid, "element", "tri1")
-        if element not in LINEAR_TRACE:
-            raise ValueError(f"contact surfaces need elements whose boundary trace is linear "
-                             f"{LINEAR_TRACE}: the segments join facet vertices only, got "
-                             f"element {element!r}")
+        if element not in LINEAR_TRACE + QUADRATIC_TRACE:
+            raise ValueError(f"contact surfaces need elements whose boundary trace is a "
+                             f"Lagrange line, linear {LINEAR_TRACE} or quadratic "
+                             f"{QUADRATIC_TRACE}, got element {element!r}")
         facets = boundary_facets(mesh, boundary,
                                  "boundary must be one of the mesh tags {known}, got {tag!r}")
         if facets.size == 0:
@@ -214,7 +255,19 @@ class ContactSurface:
         flip = np.sum(nrm * (mid - centroid), axis=0) < 0
         ends[flip] = ends[flip][:, ::-1]
         nodes, local = np.unique(ends, return_inverse=True)
-        return cls(solid, nodes, local.reshape(-1, 2), name=name or f"{solid.name}_{boundary if isinstance(boundary, str) else 'surface'}")
+        name = name or f"{solid.name}_{boundary if isinstance(boundary, str) else 'surface'}"
+        if element in LINEAR_TRACE:
+            return cls(solid, nodes, local.reshape(-1, 2), name=name)
+        # 3-node segments: the vertices, then one mid node per facet (its P2 facet
+        # dofs, at the basis' dof location: on the curve of an isoparametric mesh)
+        mid_dofs = np.asarray(solid.basis.facet_dofs)[:, facets]          # (2, n_f)
+        n_v, n_f = nodes.size, facets.size
+        segments = np.column_stack([local.reshape(-1, 2), n_v + np.arange(n_f)])
+        X = np.hstack([np.asarray(solid.X, dtype=float)[:, nodes],
+                       np.asarray(solid.basis.doflocs, dtype=float)[:, mid_dofs[0]]])
+        local_dofs = np.hstack([np.asarray(solid.node_dofs)[:, nodes], mid_dofs])
+        return cls(solid, np.r_[nodes, np.full(n_f, -1)], segments, X=X, name=name,
+                   local_dofs=local_dofs)
 
     @classmethod
     def from_cable(cls, cable: Any, side: str = "left", name: str = "") -> "ContactSurface":

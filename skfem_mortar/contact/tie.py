@@ -65,7 +65,7 @@ the interface (the row of ``c_A`` would fix master dofs or be empty).
 """
 from __future__ import annotations
 
-from typing import Any
+from typing import Any, NamedTuple
 
 import numpy as np
 import scipy.sparse as sp
@@ -76,6 +76,29 @@ from .preflight import nodal_normals
 from .surfaces import ContactSurface
 
 __all__ = ["TiePair", "TieOutput"]
+
+
+class _Integrals(NamedTuple):
+    D: sp.csr_matrix
+    M: sp.csr_matrix
+    mask: np.ndarray
+
+
+def _integrals(s: ContactSurface, m: ContactSurface, dual: bool, n_gauss: int,
+               crosspoints: np.ndarray | None) -> _Integrals:
+    """``D``, ``M`` and the mask on the reference configuration: the linear kernel's
+    :func:`~skfem_mortar.contact.mortar.integrals` for two 2-node surfaces, the curved
+    kernel's (:func:`~skfem_mortar.contact.mortar_quadratic.evaluate`, values only) when
+    either has 3-node segments (its Gauss rule: at least 3 points, exact for the
+    products of two quadratics on straight segments)."""
+    if s.segments.shape[1] == 2 and m.segments.shape[1] == 2:
+        ints = mortar.integrals(s.X, s.segments, m.X, m.segments, dual=dual,
+                                n_gauss=n_gauss, crosspoints=crosspoints)
+        return _Integrals(ints.D, ints.M, ints.mask)
+    from . import mortar_quadratic
+    ev = mortar_quadratic.evaluate(s.X, s.segments, m.X, m.segments, tangent=False, dual=dual,
+                                   n_gauss=max(n_gauss, 3), crosspoints=crosspoints)
+    return _Integrals(ev.info["D"], ev.info["M"], ev.mask)
 
 
 class TiePair(Item):
@@ -163,8 +186,7 @@ class TiePair(Item):
         """``D``, ``M``, the tied mask and the constant triplets of ``B`` (reference)."""
         s, m = self.slave, self.master
         cp = np.flatnonzero(self._merged)
-        ints = mortar.integrals(s.X, s.segments, m.X, m.segments, dual=self.dual,
-                                n_gauss=self.n_gauss, crosspoints=cp if cp.size else None)
+        ints = _integrals(s, m, self.dual, self.n_gauss, cp if cp.size else None)
         tied = np.asarray(ints.mask, dtype=bool)
         keep = sp.diags(tied.astype(float))
         D = (keep @ ints.D).tocoo()
@@ -303,7 +325,12 @@ class TiePair(Item):
         ``sum_B D_AB``: the weak displacement jump, a length) and ``tied``."""
         x = self.slave.x(z)
         lam = self.traction(z)
-        n = nodal_normals(x, self.slave.segments)
+        seg = self.slave.segments
+        if seg.shape[1] == 3:  # vertices: averaged; mid nodes: their segment's normal
+            from .mortar_quadratic_segmentation import nodal_normals as curved_normals
+            n = curved_normals(x, seg)
+        else:
+            n = nodal_normals(x, seg)
         w = np.where(self._weight != 0, self._weight, 1.0)
         return {"x": x[0].copy(), "y": x[1].copy(), "traction": lam,
                 "normal": np.sum(lam * n, axis=0),
@@ -322,7 +349,8 @@ class TieOutput:  # an Output (skfem_mortar.core.model) for the output layer
 
     def output_mesh(self) -> tuple[np.ndarray, list[tuple[str, np.ndarray]]]:
         s = self.tie.slave
-        return s.X.T.copy(), [("line", np.asarray(s.segments))]
+        seg = np.asarray(s.segments)  # 3-node segments (start, end, mid): VTK's quadratic edge
+        return s.X.T.copy(), [("line3" if seg.shape[1] == 3 else "line", seg)]
 
     def output_data(self, z: np.ndarray) -> tuple[dict, dict]:
         s = self.tie.slave
