@@ -25,6 +25,14 @@ bisected from the origin (:func:`split_corner`): left single, it made the node
 carrying the peak pressure too stiff (+1.2 % in the peak at h = a/30 with NTS
 and dual multipliers, +2.0 % with standard ones).
 
+``element`` picks the bodies' element on these meshes: ``tri1`` (default),
+``tri2`` (the same triangles, quadratic and isoparametric: the mid nodes of the
+arc's facets lie on the circle, :func:`graded_quarter_disk`), ``quad1`` and
+``quad2`` (each triangle of a mesh graded to ``2 h0`` split into three
+quadrilaterals, :func:`triangles_to_quads`, so element edges are again about
+``h0``), or ``mini``.  The quadratic ones give 3-node contact segments (the slave
+surface's mid nodes carry multipliers too).
+
 Accuracy: the peak nodal pressure lies ~1 % above ``p0`` at the default load
 however fine the mesh: the model deviates from linear Hertz theory by O(a/R)
 (measured at the interior nodes 0.2 a < x < 0.5 a, ``pressure_offset``:
@@ -68,9 +76,11 @@ the reference reading of linear theory, ``peak_pressure_ref`` (with
 from __future__ import annotations
 
 import math
+from dataclasses import replace
+from functools import partial
 
 import numpy as np
-from skfem import MeshTri
+from skfem import MeshQuad, MeshQuad2, MeshTri, MeshTri2
 
 from ..contact.pair import ContactPair
 from ..bodies.materials import NeoHooke
@@ -80,7 +90,12 @@ from ..contact.surfaces import ContactSurface, tributary_lengths
 from ..loads.traction import Traction
 from . import METHODS, Param, Scene, Setup, lame_quantities, positive, ratio
 
-__all__ = ["SCENE", "build", "hertz_exact", "graded_quarter_disk", "graded_block"]
+__all__ = ["SCENE", "build", "hertz_exact", "graded_quarter_disk", "graded_block",
+           "triangles_to_quads", "ELEMENTS"]
+
+#: the bodies' elements: linear and quadratic triangles and quadrilaterals
+#: (quadratic ones isoparametric: the arc's mid nodes on the circle), and MINI
+ELEMENTS = ("tri1", "tri2", "quad1", "quad2", "mini")
 
 FINE_ZONE = 1.2   # in units of a: uniform fine elements in this radius
 GRADING = 0.3     # element size growth per unit distance beyond it
@@ -148,9 +163,69 @@ def split_corner(mesh: MeshTri) -> MeshTri:
                    np.ascontiguousarray(np.hstack([t[:, keep], np.array(new).T])))
 
 
-def graded_quarter_disk(R: float, h0: float, fine: float) -> MeshTri:
+def triangles_to_quads(mesh: MeshTri) -> MeshQuad:
+    """Split every triangle into three quadrilaterals (its vertices, edge midpoints
+    and centroid: ``(v_k, m_k,k+1, c, m_k-1,k)``), counter-clockwise; the element
+    size halves.  Any triangle mesh gives a valid quadrilateral mesh this way."""
+    p, t = mesh.p, mesh.t.copy()
+    area = ((p[0, t[1]] - p[0, t[0]]) * (p[1, t[2]] - p[1, t[0]])
+            - (p[0, t[2]] - p[0, t[0]]) * (p[1, t[1]] - p[1, t[0]]))
+    t[1:, area < 0] = t[1:, area < 0][::-1]           # counter-clockwise triangles
+    edges = np.sort(np.stack([t, np.roll(t, -1, axis=0)]), axis=0)  # (2, 3, n_t): edge k = (v_k, v_k+1)
+    keys = edges[0] * p.shape[1] + edges[1]
+    uniq, inv = np.unique(keys.ravel(), return_inverse=True)
+    inv = inv.reshape(3, -1)
+    a, b = uniq // p.shape[1], uniq % p.shape[1]
+    n_p, n_e = p.shape[1], uniq.size
+    P = np.hstack([p, 0.5 * (p[:, a] + p[:, b]), p[:, t].mean(axis=1)])
+    mid = n_p + inv                                    # mid[k]: midpoint of edge (v_k, v_k+1)
+    c = n_p + n_e + np.arange(t.shape[1])
+    quads = [np.stack([t[k], mid[k], c, mid[(k - 1) % 3]]) for k in range(3)]
+    return MeshQuad(P, np.ascontiguousarray(np.hstack(quads)))
+
+
+def _on_circle(p: np.ndarray, R: float, tol: float, nodes: np.ndarray) -> np.ndarray:
+    """``p`` with the points ``nodes`` of the arc (``x > 0``, ``y < R``) moved radially onto
+    the circle of radius ``R`` about ``(0, R)``."""
+    p = p.copy()
+    on = nodes[(p[0, nodes] > tol) & (p[1, nodes] < R - tol)]
+    v = p[:, on] - np.array([[0.0], [R]])
+    p[:, on] = np.array([[0.0], [R]]) + R * v / np.hypot(v[0], v[1])
+    return p
+
+
+def _quadratic(mesh, R: float | None, tol: float):
+    """The isoparametric quadratic mesh (MeshTri2 / MeshQuad2) of a linear one, its
+    boundary mid nodes on the circle of radius ``R`` (None: straight facets)."""
+    M = (MeshTri2 if isinstance(mesh, MeshTri) else MeshQuad2).from_mesh(mesh)
+    if R is None:
+        return M
+    mids = M.dofs.get_facet_dofs(M.boundary_facets()).flatten()
+    return replace(M, doflocs=_on_circle(M.doflocs, R, tol, mids))
+
+
+def _with_element(mesh: MeshTri, element: str, R: float | None, tol: float):
+    """The linear triangle mesh as the ``element``'s mesh: quadrilaterals (each triangle
+    split in three, arc vertices back on the circle) and/or quadratic."""
+    if element.startswith("quad"):
+        q = triangles_to_quads(mesh)
+        p = q.p if R is None else _on_circle(q.p, R, tol, q.boundary_nodes())
+        mesh = MeshQuad(p, q.t)
+    if element.endswith("2"):
+        mesh = _quadratic(mesh, R, tol)
+    return mesh
+
+
+def _coarser(h0: float, element: str) -> float:
+    """The triangle size to grade: quadrilaterals halve it (:func:`triangles_to_quads`)."""
+    return 2.0 * h0 if element.startswith("quad") else h0
+
+
+def graded_quarter_disk(R: float, h0: float, fine: float, element: str = "tri1"):
     """Quarter disk ``x >= 0, y <= R`` of the circle of radius ``R`` centred at
-    ``(0, R)``, graded towards the origin; boundaries ``axis``, ``top``, ``arc``."""
+    ``(0, R)``, graded towards the origin (element edges about ``h0`` there);
+    boundaries ``axis``, ``top``, ``arc``.  ``element`` (:data:`ELEMENTS`) picks
+    triangles or quadrilaterals, linear or quadratic (mid nodes on the circle)."""
     n = 6
     th = np.linspace(-np.pi / 2, 0.0, n + 1)
     r = R * np.arange(1, n + 1) / n
@@ -166,25 +241,23 @@ def graded_quarter_disk(R: float, h0: float, fine: float) -> MeshTri:
     tol = 1e-9 * R
 
     def project(m: MeshTri) -> np.ndarray:
-        p = m.p.copy()
-        bn = m.boundary_nodes()
-        on = bn[(p[0, bn] > tol) & (p[1, bn] < R - tol)]
-        v = p[:, on] - np.array([[0.0], [R]])
-        p[:, on] = np.array([[0.0], [R]]) + R * v / np.hypot(v[0], v[1])
-        return p
+        return _on_circle(m.p, R, tol, m.boundary_nodes())
 
-    mesh = split_corner(_refine_graded(mesh, h0, fine, project))
+    mesh = split_corner(_refine_graded(mesh, _coarser(h0, element), fine, project))
+    mesh = _with_element(mesh, element, R, tol)
     return mesh.with_boundaries({
         "axis": lambda x: x[0] < tol,
         "top": lambda x: x[1] > R - tol,
         "arc": lambda x: (x[0] > tol) & (x[1] < R - tol)})
 
 
-def graded_block(W: float, h0: float, fine: float) -> MeshTri:
+def graded_block(W: float, h0: float, fine: float, element: str = "tri1"):
     """Block ``[0, W] x [-W, 0]`` graded towards the origin; boundaries
-    ``axis`` (x = 0), ``top``, ``bottom``, ``right``."""
+    ``axis`` (x = 0), ``top``, ``bottom``, ``right``; ``element`` as in
+    :func:`graded_quarter_disk` (straight facets)."""
     mesh = MeshTri.init_tensor(np.linspace(0, W, 4), np.linspace(-W, 0, 4))
-    mesh = split_corner(_refine_graded(mesh, h0, fine))
+    mesh = split_corner(_refine_graded(mesh, _coarser(h0, element), fine))
+    mesh = _with_element(mesh, element, None, 1e-9 * W)
     tol = 1e-9 * W
     return mesh.with_boundaries({
         "axis": lambda x: x[0] < tol, "top": lambda x: x[1] > -tol,
@@ -254,11 +327,11 @@ def linearized_metrics(pair: ContactPair, z: np.ndarray, p: np.ndarray, a: float
 
 
 def _body_class(element: str):
-    """``Solid`` (linear triangles) or the mixed ``MixedSolid`` (MINI, for nu -> 0.5)."""
+    """``Solid`` of the element, or the mixed ``MixedSolid`` (MINI, for nu -> 0.5)."""
     if element == "mini":
         from ..bodies.mixed import MixedSolid
         return MixedSolid
-    return Solid
+    return partial(Solid, element=element)
 
 
 def build(params: dict, method: str | None = None) -> Setup:
@@ -274,9 +347,11 @@ def build(params: dict, method: str | None = None) -> Setup:
         raise ValueError(f"load must keep the contact half-width a = {a:.4g} below 0.2 radius "
                          f"(Hertz theory needs a << R); lower load or raise E")
     h0 = a / 30.0 * 2.0 ** (-int(params["refine"]))
-    body = _body_class(params.get("element", "tri1"))
+    element = params.get("element", "tri1")
+    body = _body_class(element)
     kin = {"kinematics": params.get("kinematics", "finite")}
-    cyl = body(graded_quarter_disk(R, h0, FINE_ZONE * a), NeoHooke(E=E, nu=nu),
+    mesh_element = "tri1" if element == "mini" else element
+    cyl = body(graded_quarter_disk(R, h0, FINE_ZONE * a, mesh_element), NeoHooke(E=E, nu=nu),
                name="cylinder", **kin)
     items = [cyl,
              Traction(cyl, "top", (0.0, -P / (2 * R)), name="load"),
@@ -286,7 +361,7 @@ def build(params: dict, method: str | None = None) -> Setup:
         master = rigid_plane(3.0 * a, h0)
     else:
         W = 30.0 * a
-        base = body(graded_block(W, h0, FINE_ZONE * a), NeoHooke(E=Eb, nu=nub), name="base",
+        base = body(graded_block(W, h0, FINE_ZONE * a, mesh_element), NeoHooke(E=Eb, nu=nub), name="base",
                     **kin)
         master = ContactSurface.from_solid(base, "top", name="base_top")
         items += [base, Dirichlet(base, base.dofs_on("bottom"), 0.0, name="base_bottom"),
@@ -388,9 +463,11 @@ SCENE = Scene(
               choices=("rigid", "elastic")),
         Param("refine", 0, "mesh level: element size (a/30) 2^-refine in the contact zone",
               int, low=-3, high=3),
-        Param("element", "tri1", "bodies' element: linear triangles, or MINI mixed u-p "
-              "triangles (P1 + bubble / P1 pressure) that do not lock as nu -> 0.5", str,
-              choices=("tri1", "mini")),
+        Param("element", "tri1", "bodies' element: linear or quadratic triangles (tri1, tri2) "
+              "or quadrilaterals (quad1, quad2; each graded triangle split in three), the "
+              "quadratic ones isoparametric with the arc's mid nodes on the circle; or MINI "
+              "mixed u-p triangles (P1 + bubble / P1 pressure) that do not lock as nu -> 0.5",
+              str, choices=ELEMENTS),
         Param("segmentation", "iteration", "mortar only: rebuild the mortar segments every "
               "Newton iteration, or once per load step (frozen during the step)", str,
               choices=("iteration", "step")),

@@ -79,7 +79,7 @@ def _block(x0: float, width: float, y0: float, nx: int, element: str, E: float, 
     ny = max(1, (nx + 1) // 2)
     xs = np.linspace(x0, x0 + width, nx + 1)
     ys = np.linspace(y0, y0 + HEIGHT, ny + 1)
-    mesh_cls = MeshTri if element == "tri1" else MeshQuad
+    mesh_cls = MeshTri if element.startswith("tri") else MeshQuad
     mesh = mesh_cls.init_tensor(xs, ys).with_defaults()
     return Solid(mesh, NeoHooke(E=E, nu=nu), element=element, name=name,
                  kinematics=kinematics)
@@ -90,34 +90,51 @@ def _corner(body: Solid, x: float, y: float) -> int:
     return int(np.argmin(d))
 
 
+#: ``int N_k dxi`` from -1 to ``xi`` of the facet shape functions (linear: the two
+#: ends; quadratic: the ends and the mid node), in the order (left, right[, mid])
+_PRIMITIVES = {
+    1: (lambda x: (2 * x - x * x) / 4.0 + 0.75, lambda x: (2 * x + x * x) / 4.0 + 0.25),
+    2: (lambda x: x ** 3 / 6.0 - x * x / 4.0 + 5.0 / 12.0,
+        lambda x: x ** 3 / 6.0 + x * x / 4.0 - 1.0 / 12.0,
+        lambda x: x - x ** 3 / 3.0 + 2.0 / 3.0)}
+
+
 def uncovered_load(body: Solid, boundary: str, lo: float, hi: float, traction: float,
                    name: str) -> PointLoad | None:
     """Consistent nodal forces of the uniform traction ``(0, traction)`` on the part of a
     horizontal face outside ``[lo, hi]`` (None if the face lies inside).
 
-    For a linear facet ``[x0, x1]`` and a loaded piece ``[c0, c1]`` of it,
-    ``f_1 = t int_c0^c1 (x - x0) / (x1 - x0) dx`` and ``f_0 = t (c1 - c0) - f_1``,
-    integrated exactly (a facet cut by ``lo`` or ``hi`` gets its loaded part only).
+    For a straight facet ``[x0, x1]`` with ``x = x0 + (1 + xi) (x1 - x0) / 2`` and a loaded
+    piece ``[c0, c1]`` of it, ``f_k = t (x1 - x0) / 2 int_xi(c0)^xi(c1) N_k dxi`` with the
+    facet's shape functions (linear: ``(1 - xi)/2, (1 + xi)/2``; quadratic:
+    ``xi (xi - 1)/2, xi (xi + 1)/2, 1 - xi^2`` on the ends and the mid node), integrated
+    exactly (a facet cut by ``lo`` or ``hi`` gets its loaded part only).
     """
     mesh = body.mesh
-    ends = mesh.facets[:, mesh.boundaries[boundary]]            # (2, n_f)
+    facets = mesh.boundaries[boundary]
+    ends = mesh.facets[:, facets]                                # (2, n_f)
     x = mesh.p[0, ends]
     swap = x[0] > x[1]
     ends = np.where(swap, ends[::-1], ends)
     x0, x1 = np.minimum(*x), np.maximum(*x)
-    f0, f1 = np.zeros(x0.size), np.zeros(x0.size)
+    quadratic = body.element.endswith("2")
+    prims = _PRIMITIVES[2 if quadratic else 1]
+    dofs = [body.node_dofs[1, ends[0]], body.node_dofs[1, ends[1]]]
+    if quadratic:
+        dofs.append(body.basis.facet_dofs[1, facets])
+    f = np.zeros((len(prims), x0.size))
     for c0, c1 in ((x0, np.minimum(x1, lo)), (np.maximum(x0, hi), x1)):  # two pieces per facet
         c1 = np.maximum(c0, c1)
-        m1 = ((c1 - x0) ** 2 - (c0 - x0) ** 2) / (2.0 * (x1 - x0))
-        f1 += traction * m1
-        f0 += traction * ((c1 - c0) - m1)
-    f = np.zeros(mesh.p.shape[1])
-    np.add.at(f, ends[0], f0)
-    np.add.at(f, ends[1], f1)
-    nodes = np.flatnonzero(f)
-    if nodes.size == 0:
+        xi0, xi1 = (2.0 * (c - x0) / (x1 - x0) - 1.0 for c in (c0, c1))
+        for k, prim in enumerate(prims):
+            f[k] += traction * 0.5 * (x1 - x0) * (prim(xi1) - prim(xi0))
+    total = np.zeros(body.n_dofs)
+    for k, d in enumerate(dofs):
+        np.add.at(total, d, f[k])
+    loaded = np.flatnonzero(total)
+    if loaded.size == 0:
         return None
-    return PointLoad(body, body.node_dofs[1, nodes], f[nodes], name=name)
+    return PointLoad(body, loaded, total[loaded], name=name)
 
 
 def build(params: dict, method: str | None = None) -> Setup:
@@ -187,7 +204,8 @@ def build(params: dict, method: str | None = None) -> Setup:
 
 def estimate_dofs(params: dict) -> int:
     """Dofs of both blocks' tensor meshes (``n x max(1, (n + 1) // 2)`` elements each)."""
-    return sum(grid_dofs(n, max(1, (n + 1) // 2))
+    order = 2 if params["element"].endswith("2") else 1
+    return sum(grid_dofs(n, max(1, (n + 1) // 2), order)
                for n in (int(params["n_top"]), int(params["n_bottom"])))
 
 
@@ -223,8 +241,9 @@ SCENE = Scene(
               high=100_000),
         Param("n_bottom", 4, "elements along the width of the lower (master) block", int,
               low=1, high=100_000),
-        Param("element", "quad1", "linear element (straight contact segments)", str,
-              choices=("tri1", "quad1")),
+        Param("element", "quad1", "element of both blocks: linear (straight 2-node contact "
+              "segments) or quadratic (3-node segments, the facets' mid nodes in contact)", str,
+              choices=("tri1", "quad1", "tri2", "quad2")),
         Param("offset", 0.0, "x of the upper block's left edge (the lower block spans "
               "[0, 1]); != 0 shifts the slave against the master", float,
               low=-WIDTH, high=WIDTH, low_inclusive=False, high_inclusive=False),
