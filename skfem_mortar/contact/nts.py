@@ -57,6 +57,7 @@ from .contact_eval import ContactEval
 from .discretization import (ContactDiscretization, OptionTable, check_entries, check_options,
                              covers, pattern_matrix, reserved_keys)
 from .search import node_segment_pairs
+from ..core.chain import polyline
 from ..core.coo import element_coo
 from .surfaces import segment_lengths, segment_normals, segments_at_nodes, tributary_lengths
 
@@ -82,7 +83,9 @@ def _check(x: np.ndarray, seg: np.ndarray, what: str) -> tuple[np.ndarray, np.nd
     x = np.asarray(x, dtype=float)
     if x.ndim != 2 or x.shape[0] != 2:
         raise ValueError(f"{what} coordinates must have shape (2, n), got {x.shape}")
-    seg = np.asarray(seg, dtype=np.int64).reshape(-1, 2)
+    seg = np.asarray(seg, dtype=np.int64)
+    if seg.ndim != 2 or seg.shape[1] not in (2, 3):
+        seg = seg.reshape(-1, 2)
     if seg.size and (seg.min() < 0 or seg.max() >= x.shape[1]):
         raise ValueError(f"{what} segments must index nodes in [0, {x.shape[1]})")
     return x, seg
@@ -217,8 +220,10 @@ def evaluate(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarra
 
     Parameters
     ----------
-    xs, seg_s : slave coordinates (2, n_s) and segments (n_seg_s, 2)
-    xm, seg_m : master coordinates (2, n_m) and segments (n_seg_m, 2)
+    xs, seg_s : slave coordinates (2, n_s) and segments (n_seg_s, 2) or 3-node (n_seg_s, 3)
+        (the segments set the tributary weights ``area = int N_A dGamma``)
+    xm, seg_m : master coordinates (2, n_m) and segments (n_seg_m, 2); 3-node
+        segments (n_seg_m, 3) go to :func:`skfem_mortar.contact.nts_quadratic.evaluate`
     lam : ndarray (n_s,), optional
         Nodal contact forces (multipliers); needed for ``H``.
     tangent : bool
@@ -234,6 +239,10 @@ def evaluate(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarra
     """
     xs, seg_s = _check(xs, seg_s, "slave")
     xm, seg_m = _check(xm, seg_m, "master")
+    if seg_m.shape[1] == 3:  # curved master segments: closest point on the curve
+        from . import nts_quadratic
+        return nts_quadratic.evaluate(xs, seg_s, xm, seg_m, lam, tangent, margin,
+                                      end_tolerance, prefer, stick, lock)
     n_s, n_m = xs.shape[1], xm.shape[1]
     if lam is not None:
         lam = np.asarray(lam, dtype=float).ravel()
@@ -328,10 +337,11 @@ def failure_hints(slave, master, name: str = "contact") -> str:
     hints = []
     ls = _lengths(slave)
     if master.body is not None:
-        near, pr = nearest_nodes(slave.X, slave.segments, master.X, master.segments, band=2.0)
+        seg_s = polyline(slave.segments)  # 3-node segments: their chords
+        near, pr = nearest_nodes(slave.X, seg_s, master.X, polyline(master.segments), band=2.0)
         if near.any():
             h = np.zeros(slave.n_nodes)
-            np.maximum.at(h, slave.segments.ravel(), np.repeat(ls, 2))
+            np.maximum.at(h, seg_s[:, :2].ravel(), np.repeat(segment_lengths(slave.X, seg_s), 2))
             hs, hm = float(np.median(h[near])), float(np.median(pr["l"][near]))
             if hs > COARSE_RATIO * hm:
                 hints.append(f"{name}: the NTS slave surface is coarser than the master "
@@ -440,8 +450,9 @@ class NTS(ContactDiscretization):
         n_s, n_seg = self.slave.n_nodes, len(seg_m)
         k, e = held // n_seg, held % n_seg
         own = np.arange(n_s)
-        rows = np.concatenate([np.repeat(k, 4), own, own])
-        mdofs = (2 * n_s + 2 * seg_m[e][:, :, None] + np.arange(2)).reshape(-1, 4)
+        nm = 2 * seg_m.shape[1]                      # master dofs of a segment: 4, or 6 (3-node)
+        rows = np.concatenate([np.repeat(k, nm), own, own])
+        mdofs = (2 * n_s + 2 * seg_m[e][:, :, None] + np.arange(2)).reshape(-1, nm)
         cols = np.concatenate([mdofs.ravel(), 2 * own, 2 * own + 1])
         return pattern_matrix(rows, cols, (n_s, 2 * n_s + 2 * self.master.n_nodes))
 

@@ -55,6 +55,7 @@ import scipy.sparse as sp
 
 from ..bodies.cable import Cable
 from ..bodies.solid import Solid
+from ..core.chain import polyline
 from ..core.model import Dirichlet, register_check
 from . import nts
 from .surfaces import RigidCircle, RigidPlane, segment_normals, tributary_lengths
@@ -111,7 +112,7 @@ def check_surface(surface: Any) -> None:
     mesh = _solid_mesh(surface)
     if mesh is None:
         return
-    ends = surface.nodes[surface.segments]                     # body vertex indices
+    ends = surface.nodes[surface.segments[:, :2]]              # body vertex indices
     nv = mesh.p.shape[1]
     fac = np.sort(mesh.facets[:2], axis=0)
     fkeys = fac[0].astype(np.int64) * nv + fac[1]
@@ -133,8 +134,14 @@ def check_surface(surface: Any) -> None:
             f"contact surface {surface.name!r} of body {surface.body.name!r}: its normals "
             f"point into the body ({int(inward.sum())} of {int(found.sum())} segments; the "
             f"outward normal is the right-hand normal of each segment, so a boundary must "
-            f"run counter-clockwise): reverse its segments (segments[:, ::-1]) or build it "
+            f"run counter-clockwise): reverse its segments ({_reversed(surface)}) or build it "
             f"with ContactSurface.from_solid(body, tag), which orients the facets outward")
+
+
+def _reversed(surface: Any) -> str:
+    """The segments of ``surface`` run the other way, as an expression."""
+    return ("surface.reversed(), i.e. segments[:, [1, 0, 2]]" if surface.segments.shape[1] == 3
+            else "surface.reversed(), i.e. segments[:, ::-1]")
 
 
 def nodal_normals(x: np.ndarray, seg: np.ndarray) -> np.ndarray:
@@ -158,9 +165,10 @@ class _Facing:
 
 def _facing(pair: Any, z: np.ndarray) -> _Facing:
     xs, xm = pair.slave.x(z), pair.master.x(z)
-    near, pr = nts.nearest_nodes(xs, pair.slave.segments, xm, pair.master.segments, band=1.0)
-    cos = np.sum(nodal_normals(xs, pair.slave.segments) * pr["n"], axis=0)
-    return _Facing(near, pr, cos, tributary_lengths(xs, pair.slave.segments))
+    seg_s, seg_m = polyline(pair.slave.segments), polyline(pair.master.segments)
+    near, pr = nts.nearest_nodes(xs, seg_s, xm, seg_m, band=1.0)
+    cos = np.sum(nodal_normals(xs, seg_s) * pr["n"], axis=0)
+    return _Facing(near, pr, cos, tributary_lengths(xs, seg_s))
 
 
 def check_orientation(pair: Any, z: np.ndarray) -> None:
@@ -252,7 +260,7 @@ def _turn(pair: Any, which: str) -> str:
         other = "right" if side == "left" else "left"
         return head + (f"take the cable's other side, ContactSurface.from_cable(cable, "
                        f"side={other!r}) instead of side={side!r}")
-    return head + "reverse its segments (segments[:, ::-1])"
+    return head + f"reverse its segments ({_reversed(s)})"
 
 
 def _cable_side(surface: Any) -> str | None:
@@ -338,7 +346,9 @@ def _touching_rows(pair: Any, z: np.ndarray, load_factor: float, n: int) -> _Tou
     glen = pair.gap_length(ev)
     touch = pair.initial_active(z, load_factor) & ev.mask
     xs, xm = pair.slave.x(z), pair.master.x(z)
-    nv = nts.evaluate(xs, pair.slave.segments, xm, pair.master.segments, tangent=True)
+    # on the chords of 3-node segments (polyline): a check's normal rows, not the gap
+    nv = nts.evaluate(xs, polyline(pair.slave.segments), xm, polyline(pair.master.segments),
+                      tangent=True)
     on = touch & nv.mask
     G = nv.G[np.flatnonzero(on)].tocoo()
     gd = pair.global_dofs()
@@ -346,7 +356,7 @@ def _touching_rows(pair: Any, z: np.ndarray, load_factor: float, n: int) -> _Tou
     C = sp.csr_matrix((G.data[keep], (G.row[keep], gd[G.col[keep]])), shape=(G.shape[0], n))
     norm = np.sqrt(np.asarray(C.multiply(C).sum(axis=1)).ravel())
     C = sp.diags(1.0 / np.where(norm > 0, norm, 1.0)) @ C
-    _, ls = segment_normals(xs, pair.slave.segments)
+    _, ls = segment_normals(xs, polyline(pair.slave.segments))
     return _Touch(C.tocsr(), nv.info["normal"][:, on],
                   float(np.min(glen[ev.mask], initial=np.inf)), float(pair.touch_distance),
                   float(np.mean(ls)))

@@ -211,6 +211,16 @@ class ContactSurface:
         the curve's length)."""
         return segment_normals(self.x(z), self.segments)
 
+    def reversed(self, name: str = "") -> "ContactSurface":
+        """The same surface run the other way (its normals flipped): segments
+        ``(end, start[, mid])``, the same nodes and dofs."""
+        seg = self.segments[:, [1, 0, 2]] if self.order == 2 else self.segments[:, ::-1]
+        out = ContactSurface.__new__(ContactSurface)
+        out.__dict__.update(self.__dict__)
+        out.name = name or self.name
+        out.segments = np.ascontiguousarray(seg[::-1])
+        return out
+
     # -- construction --------------------------------------------------------
     @classmethod
     def from_solid(cls, solid: Any, boundary: str | np.ndarray, name: str = "") -> "ContactSurface":
