@@ -29,7 +29,10 @@ of agreement), and ``g`` composed from them is exact to second order.
 The partner search, the choice among candidate segments (smallest distance to
 the clipped projection, then the smaller overshoot), the hysteresis ``stick``
 (a fraction of the segment, ``2 stick`` in ``xi``), the locks and the free ends
-are those of :func:`skfem_mortar.contact.nts.project`, with ``xi`` mapped from
+are those of :func:`skfem_mortar.contact.nts.project` (except at a free end: a
+node that keeps its segment by the hysteresis keeps it up to ``stick`` beyond
+the end, where the linear kernel drops it beyond ``end_tolerance``; a slave end
+over the master end otherwise toggles in and out), with ``xi`` mapped from
 ``[-1, 1]`` to the linear kernel's ``[0, 1]`` in what it reports
 (``info["xi"]``), so the NTS method's segment memory works unchanged.  A
 slave surface of 3-node segments makes every node (vertices and mid nodes) a
@@ -155,7 +158,14 @@ def project(xs: np.ndarray, xm: np.ndarray, seg_m: np.ndarray, margin: float | N
     is_last = seg_of_start[seg_m[:, 1]] < 0
     es = np.where(mask, segment, 0)
     u_all = 0.5 * (1.0 + xi_all)
-    off = (is_first[es] & (u_all < -end_tolerance)) | (is_last[es] & (u_all > 1 + end_tolerance))
+    # a node that kept its segment (the hysteresis ``prefer``) stays on it within
+    # ``stick`` beyond a free end too: sliding off by round-off-sized amounts (a
+    # slave end over the master end) would toggle it on and off every iteration
+    kept = np.zeros(n_s, dtype=bool)
+    if prefer is not None:
+        kept = mask & (segment == prefer)
+    tol = np.where(kept, max(stick, end_tolerance), end_tolerance)
+    off = (is_first[es] & (u_all < -tol)) | (is_last[es] & (u_all > 1 + tol))
     mask &= ~off
     Pk = tuple((xm[0, seg_m[es, a]], xm[1, seg_m[es, a]]) for a in range(3))
     x, t, _ = _curve(Pk, xi_all)
