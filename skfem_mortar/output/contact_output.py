@@ -3,7 +3,9 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["ContactOutput", "output_gap"]
+from ..core.chain import curve_points, segment_lengths
+
+__all__ = ["ContactOutput", "output_gap", "pressure_profile"]
 
 
 def output_gap(data: dict) -> np.ndarray:
@@ -31,7 +33,8 @@ class ContactOutput:  # an Output (skfem_mortar.core.model) for the output layer
 
     def output_mesh(self):
         s = self.pair.slave
-        return s.X.T.copy(), [("line", np.asarray(s.segments))]
+        seg = np.asarray(s.segments)  # 3-node segments (start, end, mid): VTK's quadratic edge
+        return s.X.T.copy(), [("line3" if seg.shape[1] == 3 else "line", seg)]
 
     def output_data(self, z: np.ndarray):
         s = self.pair.slave
@@ -43,3 +46,37 @@ class ContactOutput:  # an Output (skfem_mortar.core.model) for the output layer
                  "pressure": np.asarray(data["pressure"], dtype=float),
                  "gap": output_gap(data),
                  "has_master": np.asarray(data["has_master"], dtype=float)}, {})
+
+
+def pressure_profile(pair, z: np.ndarray, n_per_segment: int = 8) -> dict[str, np.ndarray]:
+    """The contact pressure as a continuous profile along the current slave surface.
+
+    On each slave segment ``p(xi) = sum_A N_A(xi) p_A`` with the segment's own shape
+    functions (2-node: linear; 3-node: quadratic, so the profile follows the
+    curved trace) and the nodal pressures ``p_A`` of :meth:`ContactPair.contact_data`
+    -- for standard mortar multipliers exactly the discrete traction
+    ``lam_h = sum_A N_A lam_A``, for NTS and dual multipliers the interpolant of the
+    nodal values.  Sampled at ``n_per_segment`` equal steps of ``xi`` per segment.
+
+    Returns
+    -------
+    dict with ``s`` (arc length along the slave, chain order, from its first node),
+    ``x``, ``y`` (current positions) and ``pressure``, each ``(n_seg n_per_segment + 1,)``.
+    """
+    n_per_segment = int(n_per_segment)
+    if n_per_segment < 1:
+        raise ValueError(f"n_per_segment must be an integer >= 1, got {n_per_segment}")
+    s = pair.slave
+    data = pair.contact_data(z)
+    p = np.zeros(s.n_nodes)
+    p[data["node"]] = data["pressure"]
+    x = s.x(z)
+    seg = np.asarray(s.segments)
+    xi = np.linspace(-1.0, 1.0, n_per_segment + 1)[:-1]
+    pts = curve_points(x, seg, xi)                                  # (2, n_seg, k)
+    ps = curve_points(p[None, :], seg, xi)[0]                       # (n_seg, k)
+    last = seg[-1, 1]
+    X = np.hstack([pts.reshape(2, -1), x[:, [last]]])
+    P = np.r_[ps.ravel(), p[last]]
+    d = np.hypot(*np.diff(X, axis=1))
+    return {"s": np.r_[0.0, np.cumsum(d)], "x": X[0], "y": X[1], "pressure": P}

@@ -61,6 +61,10 @@ _POLYGON = {"triangle": [0, 1, 2], "quad": [0, 1, 2, 3],
             "triangle6": [0, 3, 1, 4, 2, 5], "quad8": [0, 4, 1, 5, 2, 6, 3, 7],
             "quad9": [0, 4, 1, 5, 2, 6, 3, 7]}
 _LINE = {"line": [0, 1], "line3": [0, 2, 1]}
+#: shape functions (start, end, mid) of a 3-node line at 9 points along it: curved
+#: traces are drawn through these, not as chords
+_XI = np.linspace(-1.0, 1.0, 9)
+_LINE3_SAMPLES = np.stack([0.5 * _XI * (_XI - 1), 0.5 * _XI * (_XI + 1), 1 - _XI ** 2])
 #: markers and arrows are thinned so that no two are closer than this (inches
 #: on the picture): they would pile up where the mesh is fine
 _SUPPORT_SPACING = 0.11
@@ -184,6 +188,9 @@ def _shapes(points: np.ndarray, cells: list) -> tuple[list, list, list[int]]:
         if kind in _POLYGON:
             polys.append(points[c[:, _POLYGON[kind]]])
             where.append(0)
+        elif kind == "line3":  # the curved trace (start, end, mid), sampled
+            lines.append(np.einsum("ekd,kq->eqd", points[c], _LINE3_SAMPLES))
+            where.append(1)
         elif kind in _LINE:
             lines.append(points[c[:, _LINE[kind]]])
             where.append(1)
@@ -705,7 +712,10 @@ def plot_pressure(curves: Sequence[dict], path: str | os.PathLike,
     ----------
     curves : sequence of dict
         Each with ``method``, ``label`` (e.g. the load factor), ``x`` and
-        ``pressure`` arrays.
+        ``pressure`` arrays (the nodes), and optionally ``profile``: a
+        :func:`~skfem_mortar.output.contact_output.pressure_profile` dict, drawn as
+        the continuous line (for 3-node segments, the quadratic profile) with the
+        nodes as markers.
     """
     import matplotlib
 
@@ -718,8 +728,14 @@ def plot_pressure(curves: Sequence[dict], path: str | os.PathLike,
     for ax, m in zip(axes[0], methods):
         for c in (c for c in curves if c["method"] == m):
             order = np.argsort(c["x"])
-            ax.plot(np.asarray(c["x"])[order], np.asarray(c["pressure"])[order],
-                    ".-", label=c["label"])
+            prof = c.get("profile")
+            if prof is None:
+                ax.plot(np.asarray(c["x"])[order], np.asarray(c["pressure"])[order],
+                        ".-", label=c["label"])
+            else:
+                (ln,) = ax.plot(prof["x"], prof["pressure"], "-", label=c["label"])
+                ax.plot(np.asarray(c["x"])[order], np.asarray(c["pressure"])[order], ".",
+                        color=ln.get_color())
         ax.set_title(m)
         ax.set_xlabel("x (current position of the slave node)")
         ax.grid(alpha=0.3)
