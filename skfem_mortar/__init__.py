@@ -25,6 +25,7 @@ _EXPORTS = {
     "FollowerPressure": "loads.pressure",
     "ContactPair": "contact.pair", "TiePair": "contact.tie",
     "ContactSurface": "contact.surfaces", "RigidPlane": "contact.surfaces", "RigidCircle": "contact.surfaces",
+    "pressure_profile": "output.contact_output",
     "run_scene": "app.runner", "build_scene": "app.runner",
 }
 

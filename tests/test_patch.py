@@ -62,7 +62,7 @@ def test_bad_parameter():
     with pytest.raises(ValueError, match="n_top"):
         run_scene("patch", params={"n_top": 0})
     with pytest.raises(ValueError, match="element"):
-        run_scene("patch", params={"element": "tri2"})
+        run_scene("patch", params={"element": "tri3"})
 
 
 def test_units_do_not_matter():

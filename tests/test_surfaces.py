@@ -73,8 +73,9 @@ def test_bad_parameters():
         ContactSurface.from_solid(_solid(), "nope")
 
 
-def test_quadratic_elements_are_refused():
+def test_quadratic_elements_give_three_node_segments():
+    # (their geometry: tests/test_quadratic_surfaces.py)
     m = MeshTri.init_tensor(np.linspace(0, 1, 3), np.linspace(0, 1, 3)).with_defaults()
     s = Solid(m, NeoHooke(E=1.0, nu=0.3), element="tri2")
-    with pytest.raises(ValueError, match="boundary trace is linear"):
-        ContactSurface.from_solid(s, "top")
+    surface = ContactSurface.from_solid(s, "top")
+    assert surface.order == 2 and surface.segments.shape == (2, 3)

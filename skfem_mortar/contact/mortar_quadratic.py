@@ -9,7 +9,7 @@ normal field, projections, segmentation) is
 
 Every slave node (vertices and mid nodes) carries a multiplier ``lam_A`` with
 the shape function ``Phi_A``; the contact work is ``sum_A lam_A g_A`` with the
-weighted gap
+weighted gap::
 
     g_A = int_Gc Phi_A(xi) (x_m(eta(xi)) - x_s(xi)) . n(xi) dGamma,
     dGamma = |dx_s/dxi| dxi,   n = n~/|n~|,   n~ = sum_B N_B(xi) n_B,
@@ -19,8 +19,9 @@ the master curve), so ``g_A > 0`` is open.
 
 Steps (each vectorized over mortar segments and Gauss points, in jets)
 -----------------------------------------------------------------------
-1. slave normal field, 2. projections, 3. mortar segments: see
-   :mod:`~skfem_mortar.contact.mortar_quadratic_segmentation`;
+- steps 1 to 3, the slave normal field, the projections and the mortar
+  segments: see :mod:`~skfem_mortar.contact.mortar_quadratic_segmentation`;
+
 4. the Gauss rule of ``n_gauss`` points on every mortar segment
    ``[xi_a, xi_b]``: ``xi_k = (1 - eta_k)/2 xi_a + (1 + eta_k)/2 xi_b``,
    ``dGamma_k = |x_s'(xi_k)| (xi_b - xi_a)/2 w_k``.  The default 3 points are

@@ -43,13 +43,13 @@ Step 2, projections along the slave normal field
   ends (along their nodal normals, to decide on which side of the slave element
   a master vertex lies) and for the Gauss points (along ``n~(xi)``).
 * With jets, :func:`newton_jet` takes one Newton step in jet arithmetic from
-  the converged value ``x_0`` (a constant), which leaves an error O(|dq|^2) in
+  the converged value ``x_0`` (a constant), which leaves an error ``O(|dq|^2)`` in
   the local variables ``q`` (value and gradient exact), and adds the
   second-order implicit-function term: with ``d = x - x_0``,
   ``0 = F + F' d + F''/2 d^2 + O(d^3)`` gives
   ``x = x_1 - F''/(2 F') d^2``, whose Hessian is ``-(F''/F') g g^T`` (``g`` the
   gradient of the root), so the Hessian is exact too.  This is what a second
-  Newton step in jets gives (error O(|dq|^4)), at the cost of one outer product.
+  Newton step in jets gives (error ``O(|dq|^4)``), at the cost of one outer product.
 
 Step 3, mortar segments (:func:`segment`)
 -----------------------------------------

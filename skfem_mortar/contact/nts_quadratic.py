@@ -7,7 +7,7 @@ A 3-node master segment ``(x_1, x_2, x_3)`` = (start, end, mid) is the curve
 
 with tangent ``t = x'(xi)``, ``x'' = x_1 + x_2 - 2 x_3`` and the outward normal
 ``n = (t_y, -t_x) / |t|``.  A slave node ``x_s`` projects on it by the
-closest-point condition
+closest-point condition::
 
     f(xi) = (x_s - x(xi)) . x'(xi) = 0,   f'(xi) = -|x'|^2 + (x_s - x(xi)) . x'',
 
