@@ -86,7 +86,8 @@ __all__ = ["evaluate", "segment", "Segmentation", "dual_coefficients", "MASK_TOL
            "segment_end_points", "gauss_rule", "Quadrature", "segment_quadrature",
            "multiplier_coefficients", "multiplier_shape_functions", "MortarIntegrals",
            "mortar_integrals", "weighted_gap", "gap_jets", "assemble_local",
-           "multiplier_support", "integrals", "SurfaceIntegrals"]
+           "multiplier_support", "integrals", "SurfaceIntegrals", "nodal_tangents",
+           "tangential_jets", "tangential_evaluate"]
 
 MASK_TOL = 1e-6
 """Slave nodes whose mortar support is below this fraction of their tributary length
@@ -323,6 +324,58 @@ def gap_jets(K, gn: Jet, quad: Quadrature, lam_ab=None):
     return ga, gb, q
 
 
+# ------------------------------------------------- friction: the tangential offset
+def nodal_tangents(xs: np.ndarray, seg: np.ndarray, second: bool = True, nv: int = 6):
+    """The nodal tangents ``tau_A = (n_y, -n_x)`` of the slave nodes, as jets.
+
+    ``n_A`` the averaged nodal normal (:func:`nodal_normals`, same local
+    variables ``(x_p, y_p, x_A, y_A, x_n, y_n)``) turned by -90 degrees: for a
+    slave facing a master, ``tau_A`` runs along the master's segments (against
+    the slave chain), the direction of NTS's master tangent ``e``.
+
+    Returns
+    -------
+    (tx, ty) : Jet (n_s,)
+    pnode, nnode : int ndarray (n_s,), as :func:`nodal_normals`.
+    """
+    (nx, ny), pnode, nnode = nodal_normals(xs, seg, second, nv)
+    return (ny, -nx), pnode, nnode
+
+
+def tangential_jets(K, alpha: Jet, el, quad: Quadrature, ta: tuple, tb: tuple, lam_ab=None):
+    """Jets of the tangential offset ``r_A = tau_A . int Phi_A (x_m - x_s) dGamma``
+    over each mortar segment, ``A`` in ``(a, b)``.
+
+    ``x_m - x_s = alpha n~`` at the Gauss points (the projection along the
+    slave normal field, :class:`MasterProjection`), so
+    ``r_A = int Phi_A alpha (n~ . tau_A) dGamma``; ``tau_A`` is the nodal tangent
+    (:func:`nodal_tangents`), one vector per node.  Summed over segments,
+    ``r_A = tau_A . (sum_C M_AC x_C - sum_B D_AB x_B)``: zero on flat surfaces,
+    where ``n~`` is normal to ``tau_A``.
+
+    Returns
+    -------
+    r_a, r_b : Jet (n,), first order (rows of ``G``).
+    q : Jet (n,) or None
+        ``lam_a r_a + lam_b r_b`` to second order, when ``lam_ab`` is given.
+    """
+    E = at_gauss
+    ka0, ka1, kb0, kb1 = K
+    nt = tuple(E(c) + E(d) * quad.xi for c, d in zip(el.n0, el.dn))   # n~ at the Gauss points
+    f = quad.dgamma(alpha)                                               # alpha dGamma
+    fa = f * (nt[0] * E(ta[0]) + nt[1] * E(ta[1]))
+    fb = f * (nt[0] * E(tb[0]) + nt[1] * E(tb[1]))
+    x1 = quad.xi.first()
+    ra = ((E(ka0.first()) + E(ka1.first()) * x1) * fa.first()).sum(1)
+    rb = ((E(kb0.first()) + E(kb1.first()) * x1) * fb.first()).sum(1)
+    q = None
+    if lam_ab is not None:
+        la, lb = lam_ab
+        q = ((E(ka0 * la) + E(ka1 * la) * quad.xi) * fa
+             + (E(kb0 * lb) + E(kb1 * lb) * quad.xi) * fb).sum(1)
+    return ra, rb, q
+
+
 # -------------------------------------------------------------- one block of segments
 class _Local(NamedTuple):
     """Nodes of each mortar segment: slave p, a, b, n; master m1, m2; lo, hi
@@ -372,15 +425,21 @@ class _Block(NamedTuple):
     q: Jet | None                  # ... and lam_a g_a + lam_b g_b to second order
 
 
-def _block(xs, xm, loc: _Local, sg: Segmentation, sl, nv: int, second: bool, dual: bool,
-           merged: np.ndarray, rule, nrm, lam_ab=None, vector: bool = False) -> _Block:
-    """Steps 1 to 8 on the mortar segments ``sl`` in jets of ``nv`` local variables.
+class _Fields(NamedTuple):
+    """Steps 1 to 5 on a block of mortar segments (jets): what steps 6 to 8 integrate."""
 
-    Local variables: ``x`` and ``y`` of the slave nodes p, a, b, n, the master
-    nodes m1, m2 and (``nv = 16``) the two master nodes bounding the projectable
-    part of the slave element; ``nv = 0``: values only.  ``vector``: also the
-    vector integrals ``n_AB``, ``n_AC`` and the weighted gaps from them (step 7).
-    """
+    na: tuple                      # nodal normals of a and b (jets)
+    nb: tuple
+    el: Any                        # SlaveElement
+    K: tuple                       # multiplier shape functions
+    quad: Quadrature               # Gauss points
+    proj: Any                      # MasterProjection of the Gauss points
+
+
+def _segment_fields(xs, xm, loc: _Local, sg: Segmentation, sl, nv: int, second: bool,
+                    dual: bool, merged: np.ndarray, rule, nrm) -> _Fields:
+    """Steps 1 to 5 (and the projections of step 2) on the mortar segments ``sl``
+    in jets of ``nv`` local variables (see :func:`_block`)."""
     p, a, b, n, m1, m2, lo_node, hi_node = loc
     e = sg.e_s[sl]
     pos = [xs[:, p], xs[:, a], xs[:, b], xs[:, n], xm[:, m1], xm[:, m2]]
@@ -413,6 +472,21 @@ def _block(xs, xm, loc: _Local, sg: Segmentation, sl, nv: int, second: bool, dua
     # 4. Gauss points; 2. their projections onto the master element
     quad = segment_quadrature(el, lo, hi, *rule)
     proj = project_on_master(el, M1, M2)
+    return _Fields(na=na, nb=nb, el=el, K=K, quad=quad, proj=proj)
+
+
+def _block(xs, xm, loc: _Local, sg: Segmentation, sl, nv: int, second: bool, dual: bool,
+           merged: np.ndarray, rule, nrm, lam_ab=None, vector: bool = False) -> _Block:
+    """Steps 1 to 8 on the mortar segments ``sl`` in jets of ``nv`` local variables.
+
+    Local variables: ``x`` and ``y`` of the slave nodes p, a, b, n, the master
+    nodes m1, m2 and (``nv = 16``) the two master nodes bounding the projectable
+    part of the slave element; ``nv = 0``: values only.  ``vector``: also the
+    vector integrals ``n_AB``, ``n_AC`` and the weighted gaps from them (step 7).
+    """
+    _, a, b, _, m1, m2, _, _ = loc
+    f = _segment_fields(xs, xm, loc, sg, sl, nv, second, dual, merged, rule, nrm)
+    el, K, quad, proj = f.el, f.K, f.quad, f.proj
     # 8. g_n = alpha |n~| = (x_m - x_s) . n and the weighted gaps with their derivatives
     gn = proj.alpha(quad.xi) * normal_length(el, quad.xi)
     ga, gb, q = gap_jets(K, gn, quad, lam_ab if second else None)
@@ -430,6 +504,21 @@ def _block(xs, xm, loc: _Local, sg: Segmentation, sl, nv: int, second: bool, dua
         g = weighted_gap(ints.n_AB, ints.n_AC, np.stack([xs[:, a].T, xs[:, b].T], 1),
                          np.stack([xm[:, m1].T, xm[:, m2].T], 1))
     return _Block(ints=ints, g=g, ga=ga, gb=gb, q=q)
+
+
+def _tangential_block(xs, xm, loc: _Local, sg: Segmentation, sl, nv: int, second: bool,
+                      dual: bool, merged: np.ndarray, rule, nrm, tau, lam_ab=None) -> _Block:
+    """:func:`tangential_jets` on the mortar segments ``sl`` (as :func:`_block`;
+    ``tau`` the nodal tangent jets), with the mortar integrals (values)."""
+    _, a, b, _, _, _, _, _ = loc
+    f = _segment_fields(xs, xm, loc, sg, sl, nv, second, dual, merged, rule, nrm)
+    ta = (_embed(tau[0], a, 0, nv), _embed(tau[1], a, 0, nv))
+    tb = (_embed(tau[0], b, 2, nv), _embed(tau[1], b, 2, nv))
+    ra, rb, q = tangential_jets(f.K, f.proj.alpha(f.quad.xi), f.el, f.quad, ta, tb,
+                                lam_ab if second else None)
+    xv = f.quad.xi.v
+    ints = mortar_integrals(f.K, xv, f.proj.s(xv), f.quad.weights())
+    return _Block(ints=ints, g=None, ga=ra, gb=rb, q=q)
 
 
 # -------------------------------------------------------------------- evaluate
@@ -562,6 +651,57 @@ class _Problem(NamedTuple):
             area=area)
 
 
+def _jet_rows(P: "_Problem", tangent: bool, dual: bool, n_gauss: int, lam, block
+              ) -> tuple[np.ndarray, Any, Any, "MortarIntegrals"]:
+    """Per-node rows summed over the mortar segments of ``P``, block by block.
+
+    ``block(ls, sl, nv, lam_ab)`` returns a :class:`_Block` whose ``ga``, ``gb``
+    are the jets of the rows of the nodes a, b of each segment and ``q`` their
+    ``lam``-weighted sum to second order.  Returns the values (n_s,), their
+    first derivatives ``G`` (csr, local dofs), ``sum_A lam_A`` times their
+    second derivatives ``H`` (csr, or None) and the assembled integrals.
+    """
+    n_s, sg, loc, second = P.n_s, P.sg, P.loc, P.second
+    ndof = 2 * n_s + 2 * P.n_m
+    nv = (16 if (dual and not sg.frozen) else 12) if tangent else 0
+    lamv = None if lam is None else np.asarray(lam, dtype=float)
+    itype = np.int32 if ndof < 2**31 - 1 else np.int64   # halves the COO index memory
+    # local dofs of each segment: nodes p, a, b, n (slave), m1, m2, lo, hi (master)
+    nodes = [2 * loc.p, 2 * loc.a, 2 * loc.b, 2 * loc.n, 2 * n_s + 2 * loc.m1,
+             2 * n_s + 2 * loc.m2, 2 * n_s + 2 * np.where(loc.lo >= 0, loc.lo, loc.m1),
+             2 * n_s + 2 * np.where(loc.hi >= 0, loc.hi, loc.m1)]
+    dofs = np.stack([d + k for d in nodes for k in (0, 1)], 1)[:, :nv].astype(itype)
+
+    g = np.zeros(n_s)
+    Gr, Gc, Gv, Hr, Hc, Hv, out, order = [], [], [], [], [], [], [], []
+    for sl, nv_g in _blocks(sg.n, nv, n_gauss, second, loc):
+        order.append(sl)
+        ls = loc.take(sl)
+        aa, bb = ls.a, ls.b
+        lam_ab = None if lamv is None else (lamv[aa], lamv[bb])
+        blk = block(ls, sl, nv_g, lam_ab)
+        out.append(blk.ints)
+        np.add.at(g, aa, blk.ga.v)
+        np.add.at(g, bb, blk.gb.v)
+        if tangent:
+            dl = dofs[sl, :nv_g]
+            Gr += [np.repeat(aa.astype(itype), nv_g), np.repeat(bb.astype(itype), nv_g)]
+            Gc += [dl.ravel(), dl.ravel()]
+            Gv += [blk.ga.g.T.ravel(), blk.gb.g.T.ravel()]
+            if second:
+                Hr.append(np.repeat(dl, nv_g, axis=1).ravel())
+                Hc.append(np.tile(dl, (1, nv_g)).ravel())
+                Hv.append(blk.q.hessian().transpose(2, 0, 1).ravel())
+    G = H = None
+    if tangent:
+        G = sp.coo_matrix((_cat(Gv, sg.n), (_cat(Gr, sg.n, itype), _cat(Gc, sg.n, itype))),
+                          shape=(n_s, ndof)).tocsr()
+        if second:
+            H = sp.coo_matrix((_cat(Hv, sg.n), (_cat(Hr, sg.n, itype), _cat(Hc, sg.n, itype))),
+                              shape=(ndof, ndof)).tocsr()
+    return g, G, H, P.assemble(order, out)
+
+
 def evaluate(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarray,
              lam: np.ndarray | None = None, tangent: bool = True, dual: bool = False,
              n_gauss: int = 2, segmentation: Segmentation | None = None,
@@ -641,47 +781,48 @@ def evaluate(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarra
         raise TypeError(f"unknown options for mortar.evaluate: {sorted(options)}")
     P = _Problem.of(xs, seg_s, xm, seg_m, segmentation, pairs, margin, reach, crosspoints,
                     n_gauss, nodal_jets=(6 if tangent else 0), second=tangent and lam is not None)
-    n_s, sg, loc, second = P.n_s, P.sg, P.loc, P.second
-    ndof = 2 * n_s + 2 * P.n_m
-    nv = (16 if (dual and not sg.frozen) else 12) if tangent else 0
-    lamv = None if lam is None else np.asarray(lam, dtype=float)
-    itype = np.int32 if ndof < 2**31 - 1 else np.int64   # halves the COO index memory
-    # local dofs of each segment: nodes p, a, b, n (slave), m1, m2, lo, hi (master)
-    nodes = [2 * loc.p, 2 * loc.a, 2 * loc.b, 2 * loc.n, 2 * n_s + 2 * loc.m1,
-             2 * n_s + 2 * loc.m2, 2 * n_s + 2 * np.where(loc.lo >= 0, loc.lo, loc.m1),
-             2 * n_s + 2 * np.where(loc.hi >= 0, loc.hi, loc.m1)]
-    dofs = np.stack([d + k for d in nodes for k in (0, 1)], 1)[:, :nv].astype(itype)
-
-    g = np.zeros(n_s)
-    Gr, Gc, Gv, Hr, Hc, Hv, out, order = [], [], [], [], [], [], [], []
-    for sl, nv_g in _blocks(sg.n, nv, n_gauss, second, loc):
-        order.append(sl)
-        ls = loc.take(sl)
-        aa, bb = ls.a, ls.b
-        lam_ab = None if lamv is None else (lamv[aa], lamv[bb])
-        blk = P.block(ls, sl, nv_g, dual, lam_ab)
-        out.append(blk.ints)
-        np.add.at(g, aa, blk.ga.v)
-        np.add.at(g, bb, blk.gb.v)
-        if tangent:
-            dl = dofs[sl, :nv_g]
-            Gr += [np.repeat(aa.astype(itype), nv_g), np.repeat(bb.astype(itype), nv_g)]
-            Gc += [dl.ravel(), dl.ravel()]
-            Gv += [blk.ga.g.T.ravel(), blk.gb.g.T.ravel()]
-            if second:
-                Hr.append(np.repeat(dl, nv_g, axis=1).ravel())
-                Hc.append(np.tile(dl, (1, nv_g)).ravel())
-                Hv.append(blk.q.hessian().transpose(2, 0, 1).ravel())
-    G = H = None
-    if tangent:
-        G = sp.coo_matrix((_cat(Gv, sg.n), (_cat(Gr, sg.n, itype), _cat(Gc, sg.n, itype))),
-                          shape=(n_s, ndof)).tocsr()
-        if second:
-            H = sp.coo_matrix((_cat(Hv, sg.n), (_cat(Hr, sg.n, itype), _cat(Hc, sg.n, itype))),
-                              shape=(ndof, ndof)).tocsr()
-    A = P.assemble(order, out)
+    g, G, H, A = _jet_rows(P, tangent, dual, n_gauss, lam,
+                           lambda ls, sl, nv_g, lam_ab: P.block(ls, sl, nv_g, dual, lam_ab))
+    sg = P.sg
     return ContactEval(g=g, G=G, H=H, area=A.area, mask=P.mask,
                        info={"D": A.D, "M": A.M, "segmentation": sg, "n_segments": sg.n})
+
+
+def tangential_evaluate(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarray,
+                        lam: np.ndarray | None = None, tangent: bool = True, dual: bool = False,
+                        n_gauss: int = 2, segmentation: Segmentation | None = None,
+                        pairs: tuple[np.ndarray, np.ndarray] | None = None,
+                        margin: float | None = None, crosspoints: np.ndarray | None = None,
+                        reach: float = 0.0) -> ContactEval:
+    """The tangential offsets ``r_A = tau_A . (sum_C M_AC x_C - sum_B D_AB x_B)``,
+    ``G = dr/dx`` and ``H = sum_A lam_A d^2 r_A/dx^2``, exact.
+
+    The same mortar segments, multiplier functions and mask as :func:`evaluate`
+    (same parameters; ``lam`` here the tangential multipliers), the integrand
+    of :func:`tangential_jets` instead of the weighted gap's, and the nodal
+    tangents ``tau_A = (n_y, -n_x)`` (:func:`nodal_tangents`).  This is the
+    configuration-dependent part of the objective slip of
+    :func:`skfem_mortar.contact.slip.mortar_slip`.
+
+    Returns
+    -------
+    ContactEval
+        ``g`` holds ``r_A``; ``info`` the current ``D``, ``M`` (csr, as
+        :func:`evaluate`'s), ``tangent`` (2, n_s) the values ``tau_A`` and
+        ``segmentation``.
+    """
+    second = tangent and lam is not None
+    P = _Problem.of(xs, seg_s, xm, seg_m, segmentation, pairs, margin, reach, crosspoints,
+                    n_gauss, nodal_jets=(6 if tangent else 0), second=second)
+    tau = (P.nrm[1], -P.nrm[0])        # nodal_tangents, from the normals P holds
+
+    def block(ls, sl, nv_g, lam_ab):
+        return _tangential_block(P.xs, P.xm, ls, P.sg, sl, nv_g, P.second, dual, P.merged,
+                                 P.rule, P.nrm, tau, lam_ab)
+    r, G, H, A = _jet_rows(P, tangent, dual, n_gauss, lam, block)
+    return ContactEval(g=r, G=G, H=H, area=A.area, mask=P.mask,
+                       info={"D": A.D, "M": A.M, "tangent": np.stack([tau[0].v, tau[1].v]),
+                             "segmentation": P.sg, "n_segments": P.sg.n})
 
 
 class SurfaceIntegrals(NamedTuple):

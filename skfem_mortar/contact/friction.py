@@ -1,0 +1,263 @@
+"""Friction laws and the nonlinear complementarity function of stick and slip, node by node.
+
+Signs (those of :class:`~skfem_mortar.contact.pair.ContactPair`)
+----------------------------------------------------------------
+The pair adds ``-G^T lam`` to the body rows, so the contact force on the slave
+is ``+G^T lam``.  The normal multiplier ``lam_n >= 0`` is the pressure (a
+nodal force for NTS, a traction for mortar), the gap ``g_n > 0`` is open
+(NTS: the nodal gap; mortar: the weighted gap), and the normal row is
+
+    C_n = lam_n - max(0, lam_n - c_n g_n)
+
+(active where ``lam_n - c_n g_n >= 0``).  The slip ``u_t`` of
+:mod:`skfem_mortar.contact.slip` is the motion of the slave relative to the
+master within the load step along the tangent ``tau`` of the slave node
+(NTS: the current master segment's direction ``e``; mortar: the rotated
+nodal normal ``tau_A = (n_y, -n_x)``, the same direction for facing surfaces)
+and its derivative with respect to the slave node is about ``+tau`` (times
+``D_AA`` for mortar).  With the same rows ``-G_t^T lam_t`` in the body, the
+tangential multiplier ``lam_t`` is then the tangential traction (force) on
+the slave along ``tau``, and friction opposes the slip: ``lam_t u_t <= 0``.
+
+The complementarity function
+----------------------------
+Hueber, Stadler, Wohlmuth (2008) and Gitterle, Popp, Gee, Wall (2010) write,
+with their multiplier ``z_t = -lam_t`` (minus the slave traction),
+``C_t = max(Xi, |z_t + c_t u_t|) z_t - Xi (z_t + c_t u_t)``.  In the pair's
+sign (``lam_t = -z_t``, the function times -1, which changes none of its
+zeros):
+
+    s   = lam_t - c_t u_t                                (augmented tangential multiplier)
+    C_t = max(Xi, |s|) lam_t - Xi s,
+    Xi  = mu (lam_n - c_n g_n)         Coulomb  (the brief's ``mu (lam_n + c_n g_n)``
+                                                 with ``g > 0`` open)
+    Xi  = bound * w                    Tresca   (``w`` the nodal weight, see :class:`Tresca`)
+
+on the nodes whose normal row is active; elsewhere (open) ``C_t = lam_t``.
+Per node, with the status chosen as
+
+* **open**: normal inactive, or ``Xi <= 0``:  ``C_t = lam_t`` (``lam_t = 0``);
+* **stick**: ``|s| < Xi``:  ``C_t = Xi c_t u_t`` (zero iff ``u_t = 0``);
+* **slip**: ``|s| >= Xi > 0``:  ``C_t = |s| lam_t - Xi s`` (zero iff
+  ``lam_t = Xi sign(s)``, i.e. ``|lam_t| = Xi`` and ``lam_t = -Xi sign(u_t)``
+  where ``u_t != 0``),
+
+the derivatives (exact on each branch) are
+
+    stick:  dC/dlam_t = 0,                         dC/du_t = c_t Xi,
+            dC/dXi    = c_t u_t
+    slip:   dC/dlam_t = |s| - Xi + sign(s) lam_t,  dC/du_t = c_t (Xi - sign(s) lam_t),
+            dC/dXi    = -s
+    open:   dC/dlam_t = 1,  all others 0
+
+and ``dXi/dlam_n = mu``, ``dXi/dg_n = -mu c_n`` (Coulomb), 0 (Tresca), so
+``dC/dlam_n = dC/dXi dXi/dlam_n`` and ``dC/dg_n = dC/dXi dXi/dg_n``.
+
+Kinks, without regularization: ``|s|`` is never differentiated at ``s = 0``,
+because a slip node has ``|s| >= Xi > 0`` and ``s = 0`` lies inside the stick
+branch; at the tie ``|s| = Xi`` the slip branch's derivative is taken (both
+branches have the same value there, ``C_t = Xi (lam_t - s)``); at ``Xi = 0``
+(normal active on its boundary ``lam_n = c_n g_n``) the node is open, the
+same choice the normal row makes at ``lam_n - c_n g_n = 0`` the other way
+round.  ``C_t`` is piecewise smooth (piecewise polynomial in ``lam``, ``u_t``,
+``g_n``) and every one-sided choice above is an element of its B-subdifferential
+(the derivative of an active smooth piece), so ``C_t`` is semismooth and the
+semi-smooth Newton method with these derivatives converges locally
+superlinearly, quadratically once the statuses settle (Qi and Sun 1993;
+Hintermueller, Ito, Kunisch 2003 for ``max``; Hueber, Stadler, Wohlmuth 2008).
+
+Second-order terms
+------------------
+``C_t`` rows need only first derivatives: their Jacobian is
+``dC/dlam_n``, ``dC/dlam_t`` (diagonal) and ``dC/du_t G_t + dC/dg_n G_n``
+(``G_t = du_t/dx`` from :mod:`~skfem_mortar.contact.slip`, ``G_n = dg_n/dx``).
+The body rows ``-G_n^T lam_n - G_t^T lam_t`` need
+``H_n = sum lam_n d2 g_n/dx2`` and ``H_t = sum lam_t d2 u_t/dx2`` (``K_uu -= H_n + H_t``);
+there are no second derivatives of the friction law itself.
+
+Units: ``C_t`` is a multiplier squared (``Xi c_t u_t``); the pair scales the
+rows by a fixed pressure of the step (see ``docs/friction.md``).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Union
+
+import numpy as np
+
+__all__ = ["Coulomb", "Tresca", "FrictionLaw", "FrictionRows", "OPEN", "STICK", "SLIP",
+           "STATUS_NAMES", "complementarity"]
+
+#: node status codes of :func:`complementarity`
+OPEN, STICK, SLIP = 0, 1, 2
+STATUS_NAMES = ("open", "stick", "slip")
+
+
+def _finite(name: str, value: float, low: float, strict: bool) -> float:
+    """``value`` as a float, ValueError naming ``name`` unless finite and above ``low``."""
+    try:
+        v = float(value)
+    except (TypeError, ValueError):
+        v = float("nan")
+    ok = np.isfinite(v) and (v > low if strict else v >= low)
+    if not ok:
+        raise ValueError(f"{name} must be a finite number {'>' if strict else '>='} {low:g}, "
+                         f"got {value!r}")
+    return v
+
+
+@dataclass(frozen=True)
+class Coulomb:
+    """Coulomb friction: ``|lam_t| <= mu lam_n``.
+
+    Parameters
+    ----------
+    mu : float
+        Friction coefficient, finite and ``>= 0`` (``mu = 0``: every active node
+        is open tangentially, ``lam_t = 0``).
+    """
+
+    mu: float
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "mu", _finite("mu", self.mu, 0.0, strict=False))
+
+    def slip_bound(self, lam_n: np.ndarray, g_n: np.ndarray, c_n: float,
+                   weight: np.ndarray | float = 1.0
+                   ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """The slip bound ``Xi = mu (lam_n - c_n g_n)`` and ``dXi/dlam_n = mu``,
+        ``dXi/dg_n = -mu c_n`` (``weight`` unused: ``mu lam_n`` has the multiplier's units)."""
+        lam_n, g_n = np.asarray(lam_n, float), np.asarray(g_n, float)
+        xi = self.mu * (lam_n - c_n * g_n)
+        return xi, np.full(xi.shape, self.mu), np.full(xi.shape, -self.mu * c_n)
+
+
+@dataclass(frozen=True)
+class Tresca:
+    """Tresca friction: ``|t_t| <= bound``, a fixed bound on the tangential traction.
+
+    Parameters
+    ----------
+    bound : float
+        The bound, a traction per unit thickness (force / length^2 in plane
+        problems of unit thickness), finite and ``> 0``.
+
+    Notes
+    -----
+    The nodal bound is ``bound * weight``, in the units of the tangential
+    multiplier: NTS multipliers are nodal forces, so ``weight`` is the
+    tributary length ``a_A``; mortar multipliers are tractions, so
+    ``weight = 1``, which is the ``D_AA``-weighted condition
+    ``|sum_B D_AB lam_t,B| <= D_AA bound`` for dual multipliers
+    (``D`` diagonal), and its nodal (collocated) form for standard ones.
+    """
+
+    bound: float
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "bound", _finite("bound", self.bound, 0.0, strict=True))
+
+    def slip_bound(self, lam_n: np.ndarray, g_n: np.ndarray, c_n: float,
+                   weight: np.ndarray | float = 1.0
+                   ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """The slip bound ``Xi = bound * weight`` and its derivatives (zero)."""
+        shape = np.broadcast_shapes(np.shape(lam_n), np.shape(weight))
+        xi = np.broadcast_to(self.bound * np.asarray(weight, float), shape).copy()
+        return xi, np.zeros(shape), np.zeros(shape)
+
+
+FrictionLaw = Union[Coulomb, Tresca]
+
+
+@dataclass
+class FrictionRows:
+    """The tangential complementarity rows of the slave nodes and their derivatives.
+
+    Attributes
+    ----------
+    C : ndarray (n,)
+        ``C_t`` per node (see the module doc).
+    status : int ndarray (n,)
+        :data:`OPEN`, :data:`STICK` or :data:`SLIP`.
+    d_lam_n, d_lam_t, d_g, d_u : ndarray (n,)
+        ``dC_t/dlam_n``, ``dC_t/dlam_t``, ``dC_t/dg_n``, ``dC_t/du_t`` (the branch
+        of ``status``; the rows' Jacobian is diagonal in these).
+    bound : ndarray (n,)
+        The slip bound ``Xi`` (0 on open nodes).
+    s : ndarray (n,)
+        The augmented tangential multiplier ``lam_t - c_t u_t``.
+    """
+
+    C: np.ndarray
+    status: np.ndarray
+    d_lam_n: np.ndarray
+    d_lam_t: np.ndarray
+    d_g: np.ndarray
+    d_u: np.ndarray
+    bound: np.ndarray
+    s: np.ndarray
+
+    def where(self, code: int) -> np.ndarray:
+        """The nodes of one status (bool per node)."""
+        return self.status == code
+
+
+def complementarity(law: FrictionLaw, lam_n: np.ndarray, lam_t: np.ndarray, g_n: np.ndarray,
+                    u_t: np.ndarray, c_n: float, c_t: float, active: np.ndarray | None = None,
+                    weight: np.ndarray | float = 1.0) -> FrictionRows:
+    """``C_t = max(Xi, |s|) lam_t - Xi s``, ``s = lam_t - c_t u_t``, per slave node, with its
+    status and exact derivatives (module doc).
+
+    Parameters
+    ----------
+    law : Coulomb or Tresca
+    lam_n, lam_t : ndarray (n,)
+        Normal and tangential multipliers (the pair's signs, module doc).
+    g_n : ndarray (n,)
+        Gaps (``> 0`` open; mortar: weighted).
+    u_t : ndarray (n,)
+        Slips within the step (:mod:`~skfem_mortar.contact.slip`).
+    c_n, c_t : float
+        Complementarity parameters (finite, ``> 0``): ``c_n`` the pair's normal one,
+        ``c_t`` the tangential one (the pair takes ``c_t = c_n``: the slip has the
+        units of the gap, so the same stiffness makes the row unit-free).
+    active : bool ndarray (n,), optional
+        The normal active set (the pair's, after its guards); default
+        ``lam_n - c_n g_n >= 0``.  Inactive nodes are open.
+    weight : float or ndarray (n,)
+        The nodal weight of a :class:`Tresca` bound (NTS: the tributary length,
+        mortar: 1); unused by :class:`Coulomb`.
+
+    Returns
+    -------
+    FrictionRows
+    """
+    if not isinstance(law, (Coulomb, Tresca)):
+        raise ValueError(f"law must be a Coulomb or Tresca friction law, got {law!r}")
+    c_n = _finite("c_n", c_n, 0.0, strict=True)
+    c_t = _finite("c_t", c_t, 0.0, strict=True)
+    lam_n = np.asarray(lam_n, float)
+    n = lam_n.shape
+    arrays = {"lam_t": lam_t, "g_n": g_n, "u_t": u_t}
+    for name, a in arrays.items():
+        if np.shape(a) != n:
+            raise ValueError(f"{name} must have the shape of lam_n {n}, got {np.shape(a)}")
+    lam_t, g_n, u_t = (np.asarray(a, float) for a in arrays.values())
+    if active is None:
+        active = lam_n - c_n * g_n >= 0
+    active = np.asarray(active, dtype=bool)
+    if active.shape != n:
+        raise ValueError(f"active must have the shape of lam_n {n}, got {active.shape}")
+    xi, dxi_dl, dxi_dg = law.slip_bound(lam_n, g_n, c_n, weight)
+    s = lam_t - c_t * u_t
+    a = np.abs(s)
+    st = np.where(~active | (xi <= 0), OPEN, np.where(a < xi, STICK, SLIP))
+    stick, slip, opened = st == STICK, st == SLIP, st == OPEN
+    sg = np.sign(s)
+    C = np.where(opened, lam_t, np.where(stick, xi * c_t * u_t, a * lam_t - xi * s))
+    d_lt = np.where(opened, 1.0, np.where(stick, 0.0, a - xi + sg * lam_t))
+    d_u = np.where(stick, c_t * xi, np.where(slip, c_t * (xi - sg * lam_t), 0.0))
+    d_xi = np.where(stick, c_t * u_t, np.where(slip, -s, 0.0))
+    return FrictionRows(C=C, status=st.astype(np.int8), d_lam_n=d_xi * dxi_dl,
+                        d_lam_t=d_lt, d_g=d_xi * dxi_dg, d_u=d_u,
+                        bound=np.where(opened, 0.0, xi), s=s)
