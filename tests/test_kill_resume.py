@@ -29,6 +29,10 @@ for _m in ("nts", "mortar", "mortar-dual"):
               ("ironing", _m, {"n_block": 6, "n_die": 8, "slide": 1.0}, 8),
               ("patch", _m, {"n_top": 2, "n_bottom": 2}, 3),
               ("seed", _m, {"n_cable": 8, "refine_cushion": 0}, 6)]
+# 3-node contact segments (quadratic bodies): curved NTS, curved mortar
+CASES += [("hertz", "nts", {"refine": -3, "element": "tri2"}, 3),
+          ("hertz", "mortar-dual", {"refine": -3, "element": "quad2"}, 3),
+          ("patch", "mortar", {"n_top": 3, "n_bottom": 2, "element": "tri2"}, 3)]
 
 
 def _run(case, out, resume=False):
@@ -44,7 +48,9 @@ def _moments(log: list[tuple[str, int]], seed: int) -> list[int]:
     return [int(rng.choice(ckpt)), int(rng.choice(frames)), int(rng.integers(1, len(log) + 1))]
 
 
-@pytest.mark.parametrize("case", CASES, ids=[f"{c[0]}-{c[1] or 'bulk'}" for c in CASES])
+@pytest.mark.parametrize("case", CASES, ids=[f"{c[0]}-{c[1] or 'bulk'}"
+                                             + (f"-{c[2]['element']}" if "element" in c[2] else "")
+                                             for c in CASES])
 def test_killed_anywhere_resumes_to_the_same_frames_and_metrics(case, tmp_path):
     with renames() as log:
         ref = _run(case, tmp_path / "ref")
