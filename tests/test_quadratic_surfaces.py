@@ -100,3 +100,39 @@ def test_an_element_without_a_lagrange_trace_is_refused():
     body.element = "tri3"  # an element contact does not know
     with pytest.raises(ValueError, match="Lagrange line"):
         ContactSurface.from_solid(body, "top")
+
+
+def test_pictures_draw_three_node_traces_as_curves():
+    from skfem_mortar.output.plot import _shapes
+    X = np.array([[0.0, 1.0, 0.5], [0.0, 0.0, 0.3]]).T            # start, end, mid
+    _, lines, where = _shapes(X, [("line3", np.array([[0, 1, 2]]))])
+    assert where == [1]
+    pts = lines[0][0]                                              # (9, 2) along the curve
+    assert pts.shape == (9, 2)
+    # on the parabola through the three nodes, y = 1.2 x (1 - x), not on the chords
+    np.testing.assert_allclose(pts[:, 1], 1.2 * pts[:, 0] * (1 - pts[:, 0]), atol=1e-15)
+
+
+def test_pressure_profile_follows_the_curve_and_interpolates_the_nodes():
+    """On the quadratic patch (mortar, uniform pressure 1e4) the profile is 1e4
+    everywhere (round-off of the solve, 1e-9 relative); its arc length is the
+    surface's length; at the nodes it equals contact_data."""
+    from skfem_mortar import pressure_profile, solve
+    from skfem_mortar.app.runner import build_scene
+    setup, _, _ = build_scene("patch", {"element": "quad2"}, "mortar")
+    res = solve(setup.model, 1)
+    pair = setup.model.item("contact")
+    prof = pressure_profile(pair, res.z, n_per_segment=4)
+    n_seg = len(pair.slave.segments)
+    assert prof["pressure"].shape == (4 * n_seg + 1,)
+    np.testing.assert_allclose(prof["pressure"], 1e4, rtol=1e-9)
+    length = segment_lengths(pair.slave.x(res.z), pair.slave.segments).sum()
+    assert prof["s"][-1] == pytest.approx(length, rel=1e-12)
+    d = pair.contact_data(res.z)
+    # every 4th sample is a segment start: the nodal value
+    starts = pair.slave.segments[:, 0]
+    order = {int(k): i for i, k in enumerate(d["node"])}
+    np.testing.assert_allclose(prof["pressure"][:-1:4], d["pressure"][[order[int(k)] for k in starts]],
+                               rtol=1e-14)
+    with pytest.raises(ValueError, match="n_per_segment"):
+        pressure_profile(pair, res.z, n_per_segment=0)
