@@ -25,7 +25,7 @@ Hueber, Stadler, Wohlmuth (2008) and Gitterle, Popp, Gee, Wall (2010) write,
 with their multiplier ``z_t = -lam_t`` (minus the slave traction),
 ``C_t = max(Xi, |z_t + c_t u_t|) z_t - Xi (z_t + c_t u_t)``.  In the pair's
 sign (``lam_t = -z_t``, the function times -1, which changes none of its
-zeros):
+zeros)::
 
     s   = lam_t - c_t u_t                                (augmented tangential multiplier)
     C_t = max(Xi, |s|) lam_t - Xi s,
@@ -42,7 +42,7 @@ Per node, with the status chosen as
   ``lam_t = Xi sign(s)``, i.e. ``|lam_t| = Xi`` and ``lam_t = -Xi sign(u_t)``
   where ``u_t != 0``),
 
-the derivatives (exact on each branch) are
+the derivatives (exact on each branch) are::
 
     stick:  dC/dlam_t = 0,                         dC/du_t = c_t Xi,
             dC/dXi    = c_t u_t

@@ -343,7 +343,7 @@ def nodal_tangents(xs: np.ndarray, seg: np.ndarray, second: bool = True, nv: int
 
 
 def tangential_jets(K, alpha: Jet, el, quad: Quadrature, ta: tuple, tb: tuple, lam_ab=None):
-    """Jets of the tangential offset ``r_A = tau_A . int Phi_A (x_m - x_s) dGamma``
+    """Jets of the tangential offset ``r_A = tau_A * int Phi_A (x_m - x_s) dGamma`` (a dot product)
     over each mortar segment, ``A`` in ``(a, b)``.
 
     ``x_m - x_s = alpha n~`` at the Gauss points (the projection along the
@@ -794,7 +794,7 @@ def tangential_evaluate(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m
                         pairs: tuple[np.ndarray, np.ndarray] | None = None,
                         margin: float | None = None, crosspoints: np.ndarray | None = None,
                         reach: float = 0.0) -> ContactEval:
-    """The tangential offsets ``r_A = tau_A . (sum_C M_AC x_C - sum_B D_AB x_B)``,
+    """The tangential offsets ``r_A = tau_A * (sum_C M_AC x_C - sum_B D_AB x_B)`` (a dot product),
     ``G = dr/dx`` and ``H = sum_A lam_A d^2 r_A/dx^2``, exact.
 
     The same mortar segments, multiplier functions and mask as :func:`evaluate`
