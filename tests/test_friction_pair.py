@@ -289,3 +289,22 @@ def test_complementarity_imposed_status():
     with pytest.raises(ValueError, match="status"):
         complementarity(Coulomb(0.5), np.ones(2), np.zeros(2), np.zeros(2), np.zeros(2),
                         1.0, 1.0, status=np.array([5, 1]))
+
+
+@pytest.mark.parametrize("method", METHODS)
+def test_tresca_sliding_force_is_the_bound_times_the_contact_length(method):
+    """Gross sliding under Tresca: the tangential resultant is ``bound`` times the
+    contact length, the reference one for NTS (its nodal bound weighs the
+    reference tributary lengths), the current one for mortar (traction
+    multipliers on the current mortar integrals); to Newton's tolerance."""
+    bound = 1e-3
+    b, pair, model, tx, ty = _on_plane(method, friction=Tresca(bound), slide=0.05)
+    res = solve(model, 8)
+    d = pair.contact_data(res.z)
+    act = pair.active
+    assert np.all(d["status"][pair.active[d["node"]]] == "slip")
+    ev = pair.evaluate(res.z, tangent=False, with_lam=False)
+    length = (pair._area0 if method == "nts" else ev.area)[act].sum()
+    # measured 4e-13 (NTS), 1e-16 (mortar); the block expands laterally by 0.6 %,
+    # so the other length would miss by that much
+    np.testing.assert_allclose(-pair.total_force(res.z)[0], bound * length, rtol=1e-10)

@@ -75,7 +75,8 @@ class ContactDiscretization(Protocol):
         is a gap times a length, and the pair scales ``c`` and the multiplier
         rows by the mean tributary length).
     multipliers_per_node : int
-        Multipliers per slave node (1: the normal; friction will need 2).
+        Multipliers per slave node the method's gaps need (1: the normal; a
+        pair with friction adds the tangential one itself).
     symmetric : bool
         Whether ``H`` of :meth:`evaluate` is symmetric (a second derivative of
         the gaps: True for the built-ins).

@@ -1,4 +1,4 @@
-"""A contact pair: one Lagrange multiplier per slave node, active set by semi-smooth Newton.
+"""A contact pair: Lagrange multipliers per slave node, active set by semi-smooth Newton.
 
 The pair adds to the potential energy the term ``-lam . g(x)`` (``g`` the gaps
 of the slave nodes from a contact discretization, ``lam >= 0`` compression), so
@@ -29,6 +29,13 @@ first iteration uses as it is.
 The active set through the iterations of a step (extrapolated release of a
 too-wide zone, cycling guard) is :class:`~skfem_mortar.contact.active_set.ActiveSet`'s.
 
+With a friction law (``friction=Coulomb(mu)`` or ``Tresca(bound)``) every
+slave node also carries a tangential multiplier, after the normal ones, with
+the semi-smooth stick/slip rows of :mod:`skfem_mortar.contact.friction` on the
+slip of :mod:`skfem_mortar.contact.slip`; the statuses through a step are
+:class:`~skfem_mortar.contact.active_set.StatusSet`'s (docs/friction.md).
+Without one the pair is frictionless and runs none of that.
+
 The gaps and their derivatives, and whatever state the method keeps for them,
 are the contact discretization's (:class:`~skfem_mortar.contact.discretization.ContactDiscretization`,
 looked up by ``method`` in the registry of :mod:`skfem_mortar.contact.discretization`);
@@ -47,7 +54,8 @@ from .contact_eval import ContactEval
 from . import BUILTIN_METHODS  # noqa: F401 (the former module offered the method names)
 from .discretization import (METHODS, FrictionDiscretization, PatternedDiscretization,
                              check_entries, make_method)  # METHODS: the registry's names
-from .friction import OPEN, SLIP, STATUS_NAMES, STICK, Coulomb, FrictionRows, Tresca, complementarity
+from .friction import (OPEN, SLIP, STATUS_NAMES, STICK, Coulomb, FrictionRows, Tresca,
+                       complementarity)
 from . import preflight as _preflight  # noqa: F401 (registers the checks Model.preflight runs)
 from ..core.model import Contribution, Item
 from ..output.contact_output import ContactOutput
@@ -67,6 +75,11 @@ log = logging.getLogger(__name__)
 #: discretization error of a gap is O(h^2 / R), 1e-4 h at h = R / 100).
 K_GAP = 1e-6
 K_LAM = 1e-6
+
+#: a failed step is put down to a tangential load above the friction bound
+#: (:meth:`ContactPair.failure_hint`) when every active node slides in the failed
+#: attempt or the last converged tangential force is this close to its bound
+NEAR_BOUND = 0.98
 
 #: the pair's own checkpoint entries (:meth:`ContactPair.state_dict`; the
 #: discretization's are beside them)
@@ -411,7 +424,7 @@ class ContactPair(Item):
             self._slip_history: dict[str, np.ndarray] | None = None
             self._p_ref: float | None = None
             self._reserved_t: tuple[Any, Any, FrictionReservation] | None = None
-            self._converged_t: tuple | None = None  # (xs, xm, lam_t, tangential_data)
+            self._converged_t: tuple | None = None  # (xs, xm, lam_t, data, history)
             #: times the slip's reserved pattern was widened (a slip across more
             #: master segments than reserved within a step; no error)
             self.slip_pattern_widenings = 0
@@ -594,13 +607,31 @@ class ContactPair(Item):
 
     # -- friction ----------------------------------------------------------------
     def _p_reference(self, ev: ContactEval, c: float) -> float:
-        """The tangential rows' fixed pressure ``p_ref = c h^k`` (``h`` the mean
-        tributary length, ``k = 1`` force multipliers, ``2`` traction ones: the
-        multiplier a gap of one element length would give), fixed with ``c``."""
+        """The tangential rows' pressure ``p_ref`` of the step (:meth:`_step_p_ref`;
+        before any: ``c h^k``, ``h`` the mean tributary length, ``k = 1`` force
+        multipliers, ``2`` traction ones: the multiplier a gap of one element
+        length would give)."""
         if self._p_ref is None:
             h = float(np.mean(ev.area[ev.area > 0])) if np.any(ev.area > 0) else 1.0
             self._p_ref = float(c * h ** (1 if self.multiplier_kind == "force" else 2))
         return self._p_ref
+
+    def _step_p_ref(self, z: np.ndarray) -> None:
+        """Fix ``p_ref`` for the step starting at ``z``: the largest slip bound
+        ``Xi`` there (the size of the tangential multipliers the step resolves,
+        so its rows ``s_t C_t`` weigh a multiplier error like the normal rows
+        do), or the default of :meth:`_p_reference` where no node carries a
+        bound yet.  Constant within the step: a row scale, it changes only when
+        Newton stops, never its iterates."""
+        if self.c is None:
+            return
+        lam = np.asarray(z)[self._normal]
+        weight = self._area0 if self.multiplier_kind == "force" else 1.0
+        xi, _, _ = self.friction.slip_bound(np.where(self.state.converged, lam, 0.0),
+                                            np.zeros_like(lam), self.c, weight)
+        xi = np.where(self.state.converged, xi, 0.0)
+        if xi.max(initial=0.0) > 0:
+            self._p_ref = float(xi.max())
 
     def _history(self, z: np.ndarray) -> dict[str, np.ndarray]:
         """The slip history of the last converged step (at the first step: of ``z``)."""
@@ -611,7 +642,8 @@ class ContactPair(Item):
         return self._slip_history
 
     def friction_rows(self, z: np.ndarray, tangent: bool = False, track: bool = False,
-                      ev: ContactEval | None = None, active: np.ndarray | None = None
+                      ev: ContactEval | None = None, active: np.ndarray | None = None,
+                      history: dict[str, np.ndarray] | None = None
                       ) -> tuple[ContactEval, Any, FrictionRows]:
         """The normal evaluation, the slip (:class:`~skfem_mortar.contact.slip.SlipEval`)
         and the tangential complementarity rows
@@ -622,7 +654,8 @@ class ContactPair(Item):
         ``bound`` times the tributary length for force multipliers, times 1
         for traction ones), ``c_t = c``; nodes outside the normal active set or
         the slip's ``mask`` are open.  ``track``: a Newton iteration (the
-        statuses are updated); ``active`` defaults to the current normal set.
+        statuses are updated); ``active`` defaults to the current normal set;
+        ``history`` to the slip history of the last converged step.
         """
         zz = np.asarray(z)
         lam, lam_t = zz[self._normal], zz[self._tangential]
@@ -631,8 +664,8 @@ class ContactPair(Item):
             ev = self.discretization.evaluate(xs, xm, lam if tangent else None, tangent)
         c = self._c(z, 1.0, ev) if self.c is None else self.c
         active = self.active if active is None else active
-        sl = self.discretization.slip(xs, xm, self._history(z), lam_t if tangent else None,
-                                      tangent, ev)
+        sl = self.discretization.slip(xs, xm, self._history(z) if history is None else history,
+                                      lam_t if tangent else None, tangent, ev)
         # Tresca's nodal bound: the traction bound times the reference tributary
         # length for force multipliers (a fixed weight: no derivative), 1 for tractions
         weight = self._area0 if self.multiplier_kind == "force" else 1.0
@@ -775,8 +808,31 @@ class ContactPair(Item):
     _gap_length = gap_length
 
     def failure_hint(self) -> str:
-        """A likely cause to add to a :class:`ConvergenceError` ("" if none known)."""
-        return self.discretization.failure_hint()
+        """A likely cause to add to a :class:`ConvergenceError` ("" if none known):
+        the discretization's, and with friction, when every active node slides in
+        the failed attempt, that the tangential load may exceed the friction bound."""
+        hint = self.discretization.failure_hint()
+        if self.friction is None:
+            return hint
+        act = self.active
+        st = self.statuses.status
+        near = False  # the last converged tangential force within 2 % of its bound
+        if self._converged_t is not None:
+            d = self._converged_t[3]
+            bound = float(np.sum(d["bound"] * self._area0))
+            near = bound > 0 and abs(float(np.sum(d["tangential_traction"] * self._area0))
+                                     ) >= NEAR_BOUND * bound
+        if act.any() and (near or np.all(st[act] == SLIP)):
+            law = (f"mu = {self.friction.mu:g} times the normal force"
+                   if isinstance(self.friction, Coulomb) else
+                   f"the Tresca bound {self.friction.bound:g} times the contact length")
+            more = (f"{self.name}: the contact slides as a whole (tangential force at the "
+                    f"friction bound): the tangential load exceeds the friction bound "
+                    f"({law}), which has no "
+                    f"equilibrium under load control; keep the tangential load below the "
+                    f"bound or prescribe the tangential displacement instead")
+            hint = "; ".join(h for h in (hint, more) if h)
+        return hint
 
     def settled(self) -> bool:
         """The normal active set (and with friction the statuses) did not change."""
@@ -817,6 +873,7 @@ class ContactPair(Item):
         if self.friction is not None:
             self.statuses.begin()
             self._history(z)  # the first step: measured from its start
+            self._step_p_ref(z)
 
     def pressure_and_gap(self, z: np.ndarray, ev: ContactEval | None = None
                          ) -> tuple[np.ndarray, np.ndarray, ContactEval]:
@@ -878,9 +935,8 @@ class ContactPair(Item):
         state the slip is measured from the last converged step and the
         statuses are the plain ones of :func:`~skfem_mortar.contact.friction.complementarity`."""
         lam_t = np.asarray(z)[self._tangential]
-        conv = self._converged_t
-        if conv is not None and all(np.array_equal(a, b) for a, b in zip(
-                conv[:3], (self.slave.x(z), self.master.x(z), lam_t))):
+        conv = self._at_converged(z)
+        if conv is not None:
             return {k: v.copy() for k, v in conv[3].items()}
         ev, sl, fr = self.friction_rows(z, tangent=False, track=False)
         area = np.where(ev.area > 0, ev.area, 1.0)
@@ -890,6 +946,16 @@ class ContactPair(Item):
             t, u, b = lam_t.copy(), sl.u / area, fr.bound.copy()
         return {"tangential_traction": t, "slip": np.where(sl.mask, u, 0.0), "bound": b,
                 "status": fr.status.copy(), "tangent": sl.tangent}
+
+    def _at_converged(self, z: np.ndarray) -> tuple | None:
+        """``(xs, xm, lam_t, tangential_data, history)`` of the last converged step
+        if ``z`` is its state (the history its slip was measured from), else None."""
+        conv = self._converged_t
+        if conv is not None and all(np.array_equal(a, b) for a, b in zip(
+                conv[:3], (self.slave.x(z), self.master.x(z),
+                           np.asarray(z)[self._tangential]))):
+            return conv
+        return None
 
     def _friction_violation(self, z: np.ndarray, ev: ContactEval, tol_g: float,
                             tol_p: float) -> tuple[dict, dict]:
@@ -926,7 +992,8 @@ class ContactPair(Item):
             # for the outputs of the converged state
             data = self.tangential_data(z)
             data["status"] = self.statuses.converged.copy()
-            self._converged_t = (self.slave.x(z), self.master.x(z), lam_t.copy(), data)
+            self._converged_t = (self.slave.x(z), self.master.x(z), lam_t.copy(), data,
+                                 self._slip_history)
             ev = self.evaluate(z, tangent=False, with_lam=False)
             self._slip_history = self.discretization.slip_history(
                 self.slave.x(z), self.master.x(z), ev)
@@ -1064,7 +1131,9 @@ class ContactPair(Item):
         ``has_master`` mask), so no file carries a NaN or a 0 that reads as
         touching; where ``has_master``, ``distance`` equals ``gap``.  Inactive multipliers of a
         converged state are exact zeros; a round-off tension within the KKT
-        tolerance (:meth:`violation`) is written as 0.
+        tolerance (:meth:`violation`) is written as 0.  With friction also
+        ``tangential_traction``, ``slip`` (a length) and ``status`` (``"open"``,
+        ``"stick"``, ``"slip"``) of :meth:`tangential_data`.
         """
         p, g, ev = self.pressure_and_gap(z)
         # round-off tension of a converged state (within the KKT tolerance) is
@@ -1112,8 +1181,10 @@ class ContactPair(Item):
         lam = np.asarray(z)[self._normal]
         ev = self.evaluate(z, tangent=True, with_lam=False)
         f = self.thickness * (ev.G.T @ lam)
-        if self.friction is not None:  # and the tangential part G_t^T lam_t
-            _, sl, _ = self.friction_rows(z, tangent=True, ev=ev)
+        if self.friction is not None:  # and the tangential part G_t^T lam_t of the step
+            conv = self._at_converged(z)
+            _, sl, _ = self.friction_rows(z, tangent=True, ev=ev,
+                                          history=None if conv is None else conv[4])
             f = f + self.thickness * (sl.G.T @ np.asarray(z)[self._tangential])
         n_s = self.slave.n_nodes
         return f[:2 * n_s].reshape(-1, 2).T, f[2 * n_s:].reshape(-1, 2).T
