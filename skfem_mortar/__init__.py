@@ -24,6 +24,7 @@ _EXPORTS = {
     "Cable": "bodies.cable",
     "FollowerPressure": "loads.pressure",
     "ContactPair": "contact.pair", "TiePair": "contact.tie",
+    "Coulomb": "contact.friction", "Tresca": "contact.friction",
     "ContactSurface": "contact.surfaces", "RigidPlane": "contact.surfaces", "RigidCircle": "contact.surfaces",
     "pressure_profile": "output.contact_output",
     "run_scene": "app.runner", "build_scene": "app.runner",

@@ -90,6 +90,9 @@ GRIDS: dict[str, dict[str, Any]] = {
     # max_penetration: the largest penetration of an active node over the die radius
     "ironing": {"reference": ["normal_force_mean"], "metrics": ["max_penetration"],
                 "grid": {}, "quick": {}},
+    # slide: the contact's tangential resultant against mu N (gross sliding at the end)
+    "slide": {"metrics": ["tangential_ratio_error"], "grid": {"n": [10, 20, 40]},
+              "quick": {"n": [10]}},
     "tied": {"metrics": ["tip_deflection_error", "energy_error", "traction_max_error",
                          "traction_error"],
              "grid": {"refine": [1, 2, 3, 4]}, "quick": {"refine": [1, 2]}},

@@ -40,7 +40,7 @@ import scipy.sparse as sp
 from ..core.chain import polyline
 from .search import node_segment_pairs
 
-__all__ = ["ActiveSet", "chain_order", "extrapolated_release", "normal_nodal_force",
+__all__ = ["ActiveSet", "StatusSet", "chain_order", "extrapolated_release", "normal_nodal_force",
            "touching_nodes"]
 
 log = logging.getLogger("skfem_mortar.contact.pair")
@@ -351,3 +351,122 @@ class ActiveSet:
                     self.name, len(cycle) - 1, int(frozen.sum()))
         self.frozen = frozen
         return frozen
+
+
+class StatusSet:
+    """The friction statuses (open, stick, slip) of a contact pair's slave nodes
+    through the iterations of a load step.
+
+    Each iteration the pair computes the plain statuses of
+    :func:`~skfem_mortar.contact.friction.complementarity` (open where the normal
+    row is inactive or the slip bound ``Xi <= 0``, stick where ``|s| < Xi``, slip
+    elsewhere) and :meth:`update` returns the statuses the Newton step uses:
+
+    * the first iteration of a step keeps the last converged stick/slip status
+      of every node that is in contact now and was then;
+    * **cycling guard** (as :class:`ActiveSet`'s): the status vectors of the
+      step's iterations are kept; when one repeats (other than the last), only
+      one node changes per iteration from then on (the least index), and should
+      a vector repeat even so, the statuses are frozen to that vector for the
+      rest of the step attempt (a frozen stick/slip node is still open when its
+      normal row is inactive).
+
+    A state whose statuses are those of its own plain update is a fixed point
+    of every rule here.
+
+    Parameters
+    ----------
+    n : int
+        Number of slave nodes.
+    name : str
+        The pair's name, in log messages.
+    cycle_guard : bool
+        Switch the cycling guard.
+
+    Attributes
+    ----------
+    status : int8 ndarray (n,)
+        The statuses of the last update.
+    converged : int8 ndarray (n,)
+        The statuses of the last converged step.
+    changed : bool
+        Whether the last tracked update changed a status.
+    changes, cycles : int
+        Status changes and cycling-guard actions in this step.
+    """
+
+    def __init__(self, n: int, name: str = "contact", cycle_guard: bool = True):
+        self.n, self.name, self.cycle_guard = int(n), name, bool(cycle_guard)
+        self.converged = np.zeros(self.n, dtype=np.int8)
+        self.begin()
+
+    def begin(self) -> None:
+        """Start (or retry) a step from the last converged statuses."""
+        self.status = self.converged.copy()
+        self.initial = True
+        self.history = [self.status.copy()]
+        self.single_flip = False
+        self.frozen: np.ndarray | None = None
+        self.changed = False
+        self.changes = 0
+        self.cycles = 0
+
+    def end(self) -> None:
+        """The step converged: its statuses start the next."""
+        self.converged = self.status.copy()
+
+    def update(self, plain: np.ndarray, track: bool) -> np.ndarray:
+        """The statuses to use (int8 per node) given the plain ones; ``track``
+        False (a trial evaluation) leaves the state unchanged."""
+        plain = np.asarray(plain, dtype=np.int8)
+        contact = plain != 0  # OPEN is 0: no contact or no slip bound, whatever is imposed
+        if self.frozen is not None:
+            new = np.where(contact, np.where(self.frozen != 0, self.frozen, plain), 0)
+            return self._take(new.astype(np.int8), track, guard=False)
+        if self.initial:
+            keep = contact & (self.converged != 0)
+            new = np.where(keep, self.converged, plain).astype(np.int8)
+            if track:
+                self.initial = False
+                self.status = new
+                self.changed = False
+                self.history = [new.copy()]
+            return new
+        new = plain
+        if track and self.single_flip:
+            diff = np.flatnonzero(new != self.status)
+            if diff.size:  # least-index rule
+                one = self.status.copy()
+                one[diff[0]] = new[diff[0]]
+                new = one
+        return self._take(new, track, guard=True)
+
+    def _take(self, new: np.ndarray, track: bool, guard: bool) -> np.ndarray:
+        if not track:
+            return new
+        n_flip = int(np.count_nonzero(new != self.status))
+        self.changes += n_flip
+        if n_flip and guard and self.cycle_guard:
+            new = self._guard(new)
+        self.changed = not np.array_equal(new, self.status)
+        self.history.append(new.copy())
+        self.status = new
+        return new
+
+    def _guard(self, new: np.ndarray) -> np.ndarray:
+        if not any(np.array_equal(a, new) for a in self.history[:-1]):
+            return new
+        self.cycles += 1
+        if not self.single_flip:
+            self.single_flip = True
+            log.info("%s: friction statuses cycling; from now on in this step change one "
+                     "node at a time (least-index rule)", self.name)
+            diff = np.flatnonzero(new != self.status)
+            one = self.status.copy()
+            one[diff[0]] = new[diff[0]]
+            self.history = [self.status.copy()]
+            return one
+        log.info("%s: friction statuses still cycling; frozen for the rest of the step",
+                 self.name)
+        self.frozen = new.copy()
+        return new

@@ -20,6 +20,14 @@ The pair calls exactly these hooks, in this order::
     d.step_info(), d.failure_hint(), d.state_dict(), d.load_state_dict(state)
     P = d.pattern(xs, xm)                 # optional (PatternedDiscretization): with a tangent
 
+A pair with friction (``ContactPair(..., friction=Coulomb(mu))``) also calls the
+hooks of :class:`FrictionDiscretization` (NTS and mortar have them)::
+
+    h = d.slip_history(xs, xm, ev)        # at the first step's start and each converged step
+    d.check_slip_history(h)               # a checkpoint's history (ValueError naming the entry)
+    sl = d.slip(xs, xm, h, lam_t, tangent, ev)   # every evaluation, after evaluate
+    E = d.slip_pattern(h)                 # columns the tangential rows add to the pattern
+
 The optional hook :meth:`PatternedDiscretization.pattern` reserves the
 tangent's sparsity: a superset of the local dofs each multiplier row can
 couple to, which stays the same object while the search finds no new
@@ -43,7 +51,7 @@ import scipy.sparse as sp
 from . import BUILTIN_METHODS
 from .contact_eval import ContactEval
 
-__all__ = ["ContactDiscretization", "PatternedDiscretization", "register_method", "unregister_method", "make_method",
+__all__ = ["ContactDiscretization", "PatternedDiscretization", "FrictionDiscretization", "register_method", "unregister_method", "make_method",
            "registered_methods", "check_options", "check_entries", "METHODS",
            "BUILTIN_METHODS"]
 
@@ -67,7 +75,8 @@ class ContactDiscretization(Protocol):
         is a gap times a length, and the pair scales ``c`` and the multiplier
         rows by the mean tributary length).
     multipliers_per_node : int
-        Multipliers per slave node (1: the normal; friction will need 2).
+        Multipliers per slave node the method's gaps need (1: the normal; a
+        pair with friction adds the tangential one itself).
     symmetric : bool
         Whether ``H`` of :meth:`evaluate` is symmetric (a second derivative of
         the gaps: True for the built-ins).
@@ -167,6 +176,48 @@ class PatternedDiscretization(Protocol):
         Called with the positions of a tangent evaluation, after :meth:`evaluate`;
         must not change what :meth:`evaluate` returns.
         """
+        ...
+
+
+@runtime_checkable
+class FrictionDiscretization(Protocol):
+    """The hooks of a :class:`ContactDiscretization` that friction needs.
+
+    The slip ``u_t`` of each slave node within the load step, relative to the
+    converged state of the last step (:mod:`skfem_mortar.contact.slip`), and
+    the history it is measured from.  Only a pair with a friction law calls
+    them, so a frictionless pair keeps none of this.
+
+    Attributes
+    ----------
+    slip_history_keys : tuple of str
+        The names of :meth:`slip_history`'s arrays.
+    """
+
+    slip_history_keys: tuple
+
+    def slip_history(self, xs: np.ndarray, xm: np.ndarray, ev: ContactEval
+                     ) -> dict[str, np.ndarray]:
+        """The history the slip of the next step is measured from, at a converged
+        state (``ev`` the evaluation there), as named arrays (NTS ``xi_prev``,
+        ``segment_prev``; mortar ``D_prev``, ``M_prev`` as COO triplets)."""
+        ...
+
+    def check_slip_history(self, history: dict[str, np.ndarray]) -> None:
+        """ValueError naming the entry of ``history`` that does not fit."""
+        ...
+
+    def slip(self, xs: np.ndarray, xm: np.ndarray, history: dict[str, np.ndarray],
+             lam_t: np.ndarray | None, tangent: bool, ev: ContactEval) -> Any:
+        """The :class:`~skfem_mortar.contact.slip.SlipEval` at these positions with
+        the same search results as ``ev`` (:meth:`ContactDiscretization.evaluate`'s
+        at the same positions); its ``mask`` holds the nodes whose slip is
+        defined.  Must not change the method's state."""
+        ...
+
+    def slip_pattern(self, history: dict[str, np.ndarray]) -> sp.csr_matrix:
+        """Local dofs (``n_s x n_local``) the slip of each node couples to beyond
+        the reserved normal row (:meth:`PatternedDiscretization.pattern`)."""
         ...
 
 

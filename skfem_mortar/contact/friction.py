@@ -204,7 +204,8 @@ class FrictionRows:
 
 def complementarity(law: FrictionLaw, lam_n: np.ndarray, lam_t: np.ndarray, g_n: np.ndarray,
                     u_t: np.ndarray, c_n: float, c_t: float, active: np.ndarray | None = None,
-                    weight: np.ndarray | float = 1.0) -> FrictionRows:
+                    weight: np.ndarray | float = 1.0,
+                    status: np.ndarray | None = None) -> FrictionRows:
     """``C_t = max(Xi, |s|) lam_t - Xi s``, ``s = lam_t - c_t u_t``, per slave node, with its
     status and exact derivatives (module doc).
 
@@ -227,6 +228,12 @@ def complementarity(law: FrictionLaw, lam_n: np.ndarray, lam_t: np.ndarray, g_n:
     weight : float or ndarray (n,)
         The nodal weight of a :class:`Tresca` bound (NTS: the tributary length,
         mortar: 1); unused by :class:`Coulomb`.
+    status : int ndarray (n,), optional
+        Impose these branches (:data:`STICK`, :data:`SLIP`) instead of choosing
+        them from ``|s|`` and ``Xi`` (the contact pair's first iteration of a
+        step and its cycling guard, :class:`~skfem_mortar.contact.active_set.StatusSet`);
+        a node whose normal row is inactive or whose ``Xi <= 0`` is open whatever
+        ``status`` says.  Default: the plain choice of the module doc.
 
     Returns
     -------
@@ -251,7 +258,14 @@ def complementarity(law: FrictionLaw, lam_n: np.ndarray, lam_t: np.ndarray, g_n:
     xi, dxi_dl, dxi_dg = law.slip_bound(lam_n, g_n, c_n, weight)
     s = lam_t - c_t * u_t
     a = np.abs(s)
-    st = np.where(~active | (xi <= 0), OPEN, np.where(a < xi, STICK, SLIP))
+    if status is None:
+        chosen = np.where(a < xi, STICK, SLIP)
+    else:
+        chosen = np.asarray(status)
+        if chosen.shape != n or not np.all(np.isin(chosen, (OPEN, STICK, SLIP))):
+            raise ValueError(f"status must hold OPEN, STICK or SLIP codes in the shape of "
+                             f"lam_n {n}")
+    st = np.where(~active | (xi <= 0) | (chosen == OPEN), OPEN, chosen)
     stick, slip, opened = st == STICK, st == SLIP, st == OPEN
     sg = np.sign(s)
     C = np.where(opened, lam_t, np.where(stick, xi * c_t * u_t, a * lam_t - xi * s))

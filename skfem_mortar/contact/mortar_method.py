@@ -80,6 +80,8 @@ class Mortar(ContactDiscretization):
 
     multiplier_kind = "traction"
     multipliers_per_node = 1
+    #: the names of :meth:`slip_history`'s arrays (a friction pair's checkpoint entries)
+    slip_history_keys = tuple(f"{m}_prev_{p}" for m in "DM" for p in ("rows", "cols", "vals"))
     symmetric = True
     has_history = True  # the reserved pattern (all else is rebuilt at each step)
 
@@ -238,8 +240,9 @@ class Mortar(ContactDiscretization):
         dm = np.abs(xm - xm0).max(initial=0.0)
         return float(np.sqrt(2.0) * (ds + dm))
 
-    def evaluate(self, xs: np.ndarray, xm: np.ndarray, lam: np.ndarray | None,
-                 tangent: bool) -> ContactEval:
+    def _extra(self, xs: np.ndarray, xm: np.ndarray) -> tuple[dict, bool]:
+        """The kernel's per-call options (frozen segmentation or reach,
+        crosspoints) and whether nodes are pinned."""
         extra: dict = {}
         if self._sg is not None:
             extra["segmentation"] = self._sg
@@ -248,11 +251,77 @@ class Mortar(ContactDiscretization):
         pinned = self._pinned is not None and self._pinned.any()
         if pinned:
             extra["crosspoints"] = np.flatnonzero(self._pinned)
+        return extra, pinned
+
+    def evaluate(self, xs: np.ndarray, xm: np.ndarray, lam: np.ndarray | None,
+                 tangent: bool) -> ContactEval:
+        extra, pinned = self._extra(xs, xm)
         ev = self._kernel(xs, self.slave.segments, xm, self.master.segments, lam=lam,
                           tangent=tangent, **extra, **self._kernel_options)
         if pinned:
             ev.mask = ev.mask & ~self._pinned
         return ev
+
+    # -- friction (FrictionDiscretization) ------------------------------------
+    def slip_history(self, xs: np.ndarray, xm: np.ndarray, ev: ContactEval
+                     ) -> dict[str, np.ndarray]:
+        """The converged mortar integrals ``D`` and ``M`` of ``ev`` as COO
+        triplets ``D_prev_rows``, ``D_prev_cols``, ``D_prev_vals`` (and ``M_prev_*``)."""
+        out = {}
+        for name in ("D", "M"):
+            C = sp.coo_matrix(ev.info[name])
+            C.sum_duplicates()
+            out.update({f"{name}_prev_rows": C.row.astype(np.int64),
+                        f"{name}_prev_cols": C.col.astype(np.int64),
+                        f"{name}_prev_vals": C.data.astype(float)})
+        return out
+
+    def _prev(self, history: dict[str, np.ndarray]) -> tuple[sp.csr_matrix, sp.csr_matrix]:
+        ns, nm = self.slave.n_nodes, self.master.n_nodes
+        return tuple(sp.csr_matrix((history[f"{k}_prev_vals"], (history[f"{k}_prev_rows"],
+                                                               history[f"{k}_prev_cols"])),
+                                   shape=(ns, n)) for k, n in (("D", ns), ("M", nm)))
+
+    def check_slip_history(self, history: dict[str, np.ndarray]) -> None:
+        ns, nm = self.slave.n_nodes, self.master.n_nodes
+        for k, n in (("D", ns), ("M", nm)):
+            r, c, v = (np.asarray(history[f"{k}_prev_{p}"]) for p in ("rows", "cols", "vals"))
+            if not (r.ndim == c.ndim == v.ndim == 1 and r.size == c.size == v.size):
+                raise ValueError(f"{self.pair_name}: checkpoint entries '{k}_prev_*' must be "
+                                 "three 1-d arrays of one length")
+            for what, a, hi in (("rows", r, ns), ("cols", c, n)):
+                if a.size and (not np.issubdtype(a.dtype, np.integer) or a.min() < 0
+                               or a.max() >= hi):
+                    raise ValueError(f"{self.pair_name}: checkpoint entry '{k}_prev_{what}' "
+                                     f"must be integers in [0, {hi})")
+            if not np.all(np.isfinite(v)):
+                raise ValueError(f"{self.pair_name}: checkpoint entry '{k}_prev_vals' is "
+                                 "not finite")
+
+    def slip(self, xs: np.ndarray, xm: np.ndarray, history: dict[str, np.ndarray],
+             lam_t: np.ndarray | None, tangent: bool, ev: ContactEval):
+        """:func:`~skfem_mortar.contact.slip.mortar_slip` from the converged ``D``,
+        ``M`` with the options :meth:`evaluate` passes its kernel (the same
+        segments, multiplier functions and mask)."""
+        from .slip import mortar_slip
+        if self.curved:
+            raise ValueError("friction is not supported on 3-node segments yet")
+        extra, pinned = self._extra(xs, xm)
+        D_prev, M_prev = self._prev(history)
+        sl = mortar_slip(xs, self.slave.segments, xm, self.master.segments, D_prev, M_prev,
+                         lam_t=lam_t, tangent=tangent, **extra, **self._kernel_options)
+        if pinned:
+            sl.mask = sl.mask & ~self._pinned
+        return sl
+
+    def slip_pattern(self, history: dict[str, np.ndarray]) -> sp.csr_matrix:
+        """Row ``A``: the dofs of the converged ``D`` and ``M`` rows of ``A`` (the
+        previous partners ``w_A`` couples to)."""
+        ns, nm = self.slave.n_nodes, self.master.n_nodes
+        r = np.concatenate([history["D_prev_rows"], history["M_prev_rows"]])
+        nodes = np.concatenate([history["D_prev_cols"], ns + history["M_prev_cols"]])
+        return pattern_matrix(np.repeat(r, 2), (2 * nodes[:, None] + np.arange(2)).ravel(),
+                              (ns, 2 * ns + 2 * nm))
 
     def state_dict(self) -> dict[str, np.ndarray]:
         """The reserved element pairs of :meth:`pattern` (``[]``: none yet)."""

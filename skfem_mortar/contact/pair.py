@@ -1,4 +1,4 @@
-"""A contact pair: one Lagrange multiplier per slave node, active set by semi-smooth Newton.
+"""A contact pair: Lagrange multipliers per slave node, active set by semi-smooth Newton.
 
 The pair adds to the potential energy the term ``-lam . g(x)`` (``g`` the gaps
 of the slave nodes from a contact discretization, ``lam >= 0`` compression), so
@@ -29,6 +29,13 @@ first iteration uses as it is.
 The active set through the iterations of a step (extrapolated release of a
 too-wide zone, cycling guard) is :class:`~skfem_mortar.contact.active_set.ActiveSet`'s.
 
+With a friction law (``friction=Coulomb(mu)`` or ``Tresca(bound)``) every
+slave node also carries a tangential multiplier, after the normal ones, with
+the semi-smooth stick/slip rows of :mod:`skfem_mortar.contact.friction` on the
+slip of :mod:`skfem_mortar.contact.slip`; the statuses through a step are
+:class:`~skfem_mortar.contact.active_set.StatusSet`'s (docs/friction.md).
+Without one the pair is frictionless and runs none of that.
+
 The gaps and their derivatives, and whatever state the method keeps for them,
 are the contact discretization's (:class:`~skfem_mortar.contact.discretization.ContactDiscretization`,
 looked up by ``method`` in the registry of :mod:`skfem_mortar.contact.discretization`);
@@ -42,16 +49,18 @@ from typing import Any
 import numpy as np
 import scipy.sparse as sp
 
-from .active_set import ActiveSet, chain_order, touching_nodes
+from .active_set import ActiveSet, StatusSet, chain_order, touching_nodes
 from .contact_eval import ContactEval
 from . import BUILTIN_METHODS  # noqa: F401 (the former module offered the method names)
-from .discretization import (METHODS, PatternedDiscretization, check_entries,  # METHODS: the
-                             make_method)  # registry's names
+from .discretization import (METHODS, FrictionDiscretization, PatternedDiscretization,
+                             check_entries, make_method)  # METHODS: the registry's names
+from .friction import (OPEN, SLIP, STATUS_NAMES, STICK, Coulomb, FrictionRows, Tresca,
+                       complementarity)
 from . import preflight as _preflight  # noqa: F401 (registers the checks Model.preflight runs)
 from ..core.model import Contribution, Item
 from ..output.contact_output import ContactOutput
 from .search import distance_to_polyline
-from .surfaces import segment_lengths
+from .surfaces import segment_lengths, tributary_lengths
 
 __all__ = ["ContactPair", "METHODS"]
 
@@ -67,9 +76,16 @@ log = logging.getLogger(__name__)
 K_GAP = 1e-6
 K_LAM = 1e-6
 
+#: a failed step is put down to a tangential load above the friction bound
+#: (:meth:`ContactPair.failure_hint`) when every active node slides in the failed
+#: attempt or the last converged tangential force is this close to its bound
+NEAR_BOUND = 0.98
+
 #: the pair's own checkpoint entries (:meth:`ContactPair.state_dict`; the
 #: discretization's are beside them)
 _PAIR_STATE = ("started", "active", "c", "row_scale", "x0_slave", "x0_master", "tol_p")
+#: ... and those of a pair with friction (beside the discretization's slip history)
+_FRICTION_STATE = ("friction_status", "friction_p_ref")
 
 # -- the tangent over a reserved pattern ---------------------------------------
 # A contact pair's tangent triplets over a reserved pattern (explicit zeros).
@@ -124,6 +140,23 @@ def _ones(M: sp.spmatrix) -> sp.csr_matrix:
     C.eliminate_zeros()
     C.data[:] = 1.0
     return C
+
+
+def _with_triplets(out: Contribution, kr: list, kc: list, kv: list, gd: np.ndarray,
+                   hessians: tuple) -> Contribution:
+    """``out`` with the triplets ``kr, kc, kv`` and ``-H`` of each local ``H`` in
+    ``hessians`` (None skipped; dofs of a rigid master, ``gd < 0``, dropped)."""
+    for H in hessians:
+        if H is not None:
+            H = H.tocoo()
+            ok = (gd[H.row] >= 0) & (gd[H.col] >= 0)
+            kr.append(gd[H.row[ok]])
+            kc.append(gd[H.col[ok]])
+            kv.append(-H.data[ok])
+    out.k_rows = np.concatenate(kr).astype(np.int64)
+    out.k_cols = np.concatenate(kc).astype(np.int64)
+    out.k_vals = np.concatenate(kv)
+    return out
 
 
 class Reservation:
@@ -192,9 +225,73 @@ class Reservation:
         extra = self.S if H is None else self.S + _ones(H)
         return Reservation(P, self.gd, self.offset, extra)
 
+    def blocks(self, G_col: sp.spmatrix, G_row: sp.spmatrix, diag: np.ndarray,
+               H: sp.spmatrix | None) -> np.ndarray | None:
+        """The tangent values at :attr:`rows`, :attr:`cols` of general blocks:
+        ``-G_col^T`` (columns), ``G_row`` (rows), ``diag`` on the multiplier
+        diagonal, ``-H``; None if an entry lies outside the reservation."""
+        Gc = _scatter(G_col, self.keys_g, self.n_loc)
+        Gr = _scatter(G_row, self.keys_g, self.n_loc)
+        Hd = _scatter(H, self.keys_h, self.n_loc)
+        if Gc is None or Gr is None or Hd is None:
+            return None
+        return np.concatenate([-Gc[self.keep_g], Gr[self.keep_g], diag, -Hd[self.keep_h]])
+
+
+class FrictionReservation:
+    """The tangent triplets of a contact pair with friction over reserved patterns.
+
+    The normal blocks are a :class:`Reservation` over the method's pattern
+    ``P_n``; the tangential ones a :class:`Reservation` over
+    ``P_t = P_n + E`` (``E`` the slip's further columns,
+    :meth:`~skfem_mortar.contact.discretization.FrictionDiscretization.slip_pattern`)
+    at the tangential multipliers, which holds ``K_u,lam_t = -G_t^T``,
+    ``K_lam_t,u = s_t (diag(dC/du) G_t + diag(dC/dg) G_n)`` (``G_n``'s rows
+    lie in ``P_n``), the diagonal ``s_t dC/dlam_t`` and ``K_uu = -H_t`` on
+    ``P_t^T P_t``; and the diagonal ``K_lam_t,lam_n = s_t dC/dlam_n``.
+
+    Parameters
+    ----------
+    normal : Reservation
+        The normal rows' (offset: the pair's).
+    P_t : sparse matrix (n_s, n_local)
+        The tangential rows' pattern.
+    extra_h : sparse matrix, optional
+        Further ``K_uu`` entries of the tangential part.
+    """
+
+    def __init__(self, normal: Reservation, P_t: sp.spmatrix,
+                 extra_h: sp.spmatrix | None = None):
+        self.normal = normal
+        n_s = normal.P.shape[0]
+        self.tangential = Reservation(_ones(P_t) + normal.P, normal.gd, normal.offset + n_s,
+                                      extra_h)
+        idx = np.arange(n_s, dtype=np.int64) + normal.offset
+        self.rows = np.concatenate([normal.rows, self.tangential.rows, idx + n_s])
+        self.cols = np.concatenate([normal.cols, self.tangential.cols, idx])
+
+    def values(self, G_n: sp.spmatrix, H_n: sp.spmatrix | None, G_t: sp.spmatrix,
+               B: sp.spmatrix, H_t: sp.spmatrix | None, active: np.ndarray, c: float,
+               row_scale: float, s_t: float, fr: FrictionRows) -> np.ndarray | None:
+        """The values at :attr:`rows`, :attr:`cols` (None if an entry of a matrix
+        lies outside its reservation)."""
+        vn = self.normal.values(G_n, H_n, active, c, row_scale)
+        vt = self.tangential.blocks(G_t, s_t * B, s_t * fr.d_lam_t, H_t)
+        if vn is None or vt is None:
+            return None
+        return np.concatenate([vn, vt, s_t * fr.d_lam_n])
+
+    def widened(self, G_n: sp.spmatrix, H_n: sp.spmatrix | None, G_t: sp.spmatrix,
+                H_t: sp.spmatrix | None) -> "FrictionReservation":
+        """The reservation that also holds every entry of the given matrices."""
+        t = self.tangential
+        extra = t.S if H_t is None else t.S + _ones(H_t)
+        return FrictionReservation(self.normal.widened(G_n, H_n), t.P + _ones(G_t), extra)
+
 
 class ContactPair(Item):
-    """Frictionless contact between a slave and a master surface with Lagrange multipliers.
+    """Contact between a slave and a master surface with Lagrange multipliers,
+    frictionless or with Coulomb or Tresca friction.
 
     Parameters
     ----------
@@ -230,6 +327,15 @@ class ContactPair(Item):
         multipliers extrapolates (default True; see
         :class:`~skfem_mortar.contact.active_set.ActiveSet`).  Steers only the path of
         the iteration.
+    friction : Coulomb or Tresca, optional
+        A friction law (:mod:`skfem_mortar.contact.friction`); None (default):
+        frictionless, exactly the pair without it.  With a law every slave node
+        gets a tangential multiplier (the tangential traction, NTS: force, on
+        the slave along the node's tangent) after the normal ones, the slip
+        within the load step (:mod:`skfem_mortar.contact.slip`) and the
+        semi-smooth stick/slip rows of
+        :func:`~skfem_mortar.contact.friction.complementarity` (docs/friction.md).
+        2-node segments only (ValueError on 3-node ones).
     **options
         The discretization's options (e.g. ``margin``), checked when it is built.
 
@@ -237,6 +343,8 @@ class ContactPair(Item):
     ----------
     discretization : ContactDiscretization
         The method's gaps, derivatives and state.
+    friction : Coulomb, Tresca or None
+        The friction law.
     """
 
     dof_kind = "lam"
@@ -248,7 +356,8 @@ class ContactPair(Item):
     def __init__(self, slave: Any, master: Any, method: str = "nts", name: str = "contact",
                  c: float | None = None, cycle_guard: bool = True,
                  touch_tolerance: float = 1e-2, segmentation: str = "iteration",
-                 accelerate: bool = True, **options: Any):
+                 accelerate: bool = True, friction: Coulomb | Tresca | None = None,
+                 **options: Any):
         if method not in METHODS:
             raise ValueError(f"method must be one of {', '.join(METHODS)}, got {method!r}")
         if slave.dofs() is None:
@@ -270,8 +379,23 @@ class ContactPair(Item):
             raise ValueError(f"touch_tolerance must be a finite number >= 0, got {touch_tolerance}")
         if segmentation != "iteration":
             options = {**options, "segmentation": segmentation}
+        if friction is not None and not isinstance(friction, (Coulomb, Tresca)):
+            raise ValueError(f"friction must be None, Coulomb(mu) or Tresca(bound), got "
+                             f"{friction!r}")
+        if friction is not None:
+            from .mortar_method import surface_order
+            for what, surf in (("slave", slave), ("master", master)):
+                if surface_order(surf) == 2:
+                    raise ValueError(f"friction is not supported on 3-node (quadratic) segments "
+                                     f"yet: the {what} surface {getattr(surf, 'name', '')!r} "
+                                     f"has them; use friction=None or 2-node segments")
         self.discretization = make_method(method, slave, master, pair_name=name, **options)
-        self.n_dofs = slave.n_nodes
+        if friction is not None and not isinstance(self.discretization, FrictionDiscretization):
+            raise ValueError(f"friction: method {method!r} has no slip hooks "
+                             f"(FrictionDiscretization); use friction=None")
+        #: the friction law (None: frictionless, one multiplier per slave node)
+        self.friction = friction
+        self.n_dofs = slave.n_nodes * (1 if friction is None else 2)
         self.c = c
         lengths = segment_lengths(slave.X, slave.segments)
         self._touch = float(touch_tolerance) * float(np.mean(lengths))
@@ -279,11 +403,13 @@ class ContactPair(Item):
         self._tol_p = 0.0  # pressure tolerance of the last converged check
         self._row_scale: float | None = None
         self._reference: tuple[np.ndarray, np.ndarray] | None = None  # converged_positions
-        clash = set(self.discretization.state_dict()) & set(_PAIR_STATE)
+        own = _PAIR_STATE if friction is None else (
+            _PAIR_STATE + _FRICTION_STATE + tuple(self.discretization.slip_history_keys))
+        clash = set(self.discretization.state_dict()) & set(own)
         if clash:
             raise ValueError(f"method {method!r} names its state {sorted(clash)}, which the "
                              f"pair's state uses; rename them")
-        self.state = ActiveSet(self.n_dofs, chain_order(slave.segments, slave.closed,
+        self.state = ActiveSet(slave.n_nodes, chain_order(slave.segments, slave.closed,
                                                         slave.n_nodes),
                                name, cycle_guard=cycle_guard, accelerate=accelerate)
         self._started = False
@@ -291,15 +417,45 @@ class ContactPair(Item):
         #: pattern missed an entry of G or H (:meth:`_widen`)
         self._reserved: tuple[Any, Reservation] | None = None
         self.pattern_misses = 0
+        if friction is not None:
+            #: stick/slip statuses through a step, the slip history of the last
+            #: converged step, the tangential rows' fixed pressure (docs/friction.md)
+            self.statuses = StatusSet(slave.n_nodes, name, cycle_guard=cycle_guard)
+            self._slip_history: dict[str, np.ndarray] | None = None
+            self._p_ref: float | None = None
+            self._reserved_t: tuple[Any, Any, FrictionReservation] | None = None
+            self._converged_t: tuple | None = None  # (xs, xm, lam_t, data, history)
+            #: times the slip's reserved pattern was widened (a slip across more
+            #: master segments than reserved within a step; no error)
+            self.slip_pattern_widenings = 0
+            self._area0 = tributary_lengths(slave.X, slave.segments)
 
     # -- helpers -------------------------------------------------------------
+    @property
+    def _normal(self) -> slice:
+        """Global slice of the normal multipliers (the first ``n_s`` of the pair's)."""
+        return slice(self.offset, self.offset + self.slave.n_nodes)
+
+    @property
+    def _tangential(self) -> slice:
+        """Global slice of the tangential multipliers (friction only: the last ``n_s``)."""
+        n = self.slave.n_nodes
+        return slice(self.offset + n, self.offset + 2 * n)
+
+    @property
+    def multipliers_per_node(self) -> int:
+        """1 (frictionless: the normal multiplier) or 2 (with friction: normal
+        multipliers at ``offset .. offset + n_s``, tangential ones after them)."""
+        return 1 if self.friction is None else 2
+
     @property
     def symmetrizable(self) -> bool:
         """Its multiplier rows can be scaled to a symmetric system (active rows
         ``c s G`` against the columns ``-G^T``, inactive rows the identity) when
         ``H`` is symmetric (the discretization's ``symmetric``) and its triplets
-        lie on a reserved pattern (the same structure for rows and columns)."""
-        return bool(self.discretization.symmetric
+        lie on a reserved pattern (the same structure for rows and columns).
+        Never with friction: the tangential rows are no multiple of their columns."""
+        return bool(self.friction is None and self.discretization.symmetric
                     and isinstance(self.discretization, PatternedDiscretization))
 
     def referenced_bodies(self) -> list:
@@ -344,7 +500,7 @@ class ContactPair(Item):
 
     def evaluate(self, z: np.ndarray, tangent: bool = True, with_lam: bool = True) -> ContactEval:
         """The discretization's :class:`ContactEval` at ``z``."""
-        lam = np.asarray(z)[self.dofs] if with_lam else None
+        lam = np.asarray(z)[self._normal] if with_lam else None
         return self.discretization.evaluate(self.slave.x(z), self.master.x(z), lam, tangent)
 
     def set_fixed(self, fixed: np.ndarray) -> None:
@@ -409,7 +565,9 @@ class ContactPair(Item):
 
     # -- assembly --------------------------------------------------------------
     def assemble(self, z: np.ndarray, load_factor: float, tangent: bool = True) -> Contribution:
-        lam = np.asarray(z)[self.dofs]
+        if self.friction is not None:
+            return self._assemble_friction(z, load_factor, tangent)
+        lam = np.asarray(z)[self._normal]
         ev = self.evaluate(z, tangent=True, with_lam=tangent)
         c = self._c(z, load_factor, ev)
         active = self._active_set(lam, ev, c, track=tangent)
@@ -445,16 +603,157 @@ class ContactPair(Item):
         kr.append(self.offset + inact)
         kc.append(self.offset + inact)
         kv.append(np.full(inact.size, rs))
-        if ev.H is not None:  # K_uu = -H
-            H = ev.H.tocoo()
-            ok = (gd[H.row] >= 0) & (gd[H.col] >= 0)
-            kr.append(gd[H.row[ok]])
-            kc.append(gd[H.col[ok]])
-            kv.append(-H.data[ok])
-        out.k_rows = np.concatenate(kr).astype(np.int64)
-        out.k_cols = np.concatenate(kc).astype(np.int64)
-        out.k_vals = np.concatenate(kv)
-        return out
+        return _with_triplets(out, kr, kc, kv, gd, (ev.H,))  # K_uu = -H
+
+    # -- friction ----------------------------------------------------------------
+    def _p_reference(self, ev: ContactEval, c: float) -> float:
+        """The tangential rows' pressure ``p_ref`` of the step (:meth:`_step_p_ref`;
+        before any: ``c h^k``, ``h`` the mean tributary length, ``k = 1`` force
+        multipliers, ``2`` traction ones: the multiplier a gap of one element
+        length would give)."""
+        if self._p_ref is None:
+            h = float(np.mean(ev.area[ev.area > 0])) if np.any(ev.area > 0) else 1.0
+            self._p_ref = float(c * h ** (1 if self.multiplier_kind == "force" else 2))
+        return self._p_ref
+
+    def _step_p_ref(self, z: np.ndarray) -> None:
+        """Fix ``p_ref`` for the step starting at ``z``: the largest slip bound
+        ``Xi`` there (the size of the tangential multipliers the step resolves,
+        so its rows ``s_t C_t`` weigh a multiplier error like the normal rows
+        do), or the default of :meth:`_p_reference` where no node carries a
+        bound yet.  Constant within the step: a row scale, it changes only when
+        Newton stops, never its iterates."""
+        if self.c is None:
+            return
+        lam = np.asarray(z)[self._normal]
+        weight = self._area0 if self.multiplier_kind == "force" else 1.0
+        xi, _, _ = self.friction.slip_bound(np.where(self.state.converged, lam, 0.0),
+                                            np.zeros_like(lam), self.c, weight)
+        xi = np.where(self.state.converged, xi, 0.0)
+        if xi.max(initial=0.0) > 0:
+            self._p_ref = float(xi.max())
+
+    def _history(self, z: np.ndarray) -> dict[str, np.ndarray]:
+        """The slip history of the last converged step (at the first step: of ``z``)."""
+        if self._slip_history is None:
+            ev = self.evaluate(z, tangent=False, with_lam=False)
+            self._slip_history = self.discretization.slip_history(
+                self.slave.x(z), self.master.x(z), ev)
+        return self._slip_history
+
+    def friction_rows(self, z: np.ndarray, tangent: bool = False, track: bool = False,
+                      ev: ContactEval | None = None, active: np.ndarray | None = None,
+                      history: dict[str, np.ndarray] | None = None
+                      ) -> tuple[ContactEval, Any, FrictionRows]:
+        """The normal evaluation, the slip (:class:`~skfem_mortar.contact.slip.SlipEval`)
+        and the tangential complementarity rows
+        (:func:`~skfem_mortar.contact.friction.complementarity`, with the
+        statuses of :class:`~skfem_mortar.contact.active_set.StatusSet`) at ``z``.
+
+        ``Xi`` is the law's slip bound (Coulomb ``mu (lam_n - c g_n)``, Tresca
+        ``bound`` times the tributary length for force multipliers, times 1
+        for traction ones), ``c_t = c``; nodes outside the normal active set or
+        the slip's ``mask`` are open.  ``track``: a Newton iteration (the
+        statuses are updated); ``active`` defaults to the current normal set;
+        ``history`` to the slip history of the last converged step.
+        """
+        zz = np.asarray(z)
+        lam, lam_t = zz[self._normal], zz[self._tangential]
+        xs, xm = self.slave.x(z), self.master.x(z)
+        if ev is None:
+            ev = self.discretization.evaluate(xs, xm, lam if tangent else None, tangent)
+        c = self._c(z, 1.0, ev) if self.c is None else self.c
+        active = self.active if active is None else active
+        sl = self.discretization.slip(xs, xm, self._history(z) if history is None else history,
+                                      lam_t if tangent else None, tangent, ev)
+        # Tresca's nodal bound: the traction bound times the reference tributary
+        # length for force multipliers (a fixed weight: no derivative), 1 for tractions
+        weight = self._area0 if self.multiplier_kind == "force" else 1.0
+        on = active & sl.mask
+        fr = complementarity(self.friction, lam, lam_t, ev.g, sl.u, c, c, on, weight)
+        st = self.statuses.update(fr.status, track)
+        if not np.array_equal(st, fr.status):
+            fr = complementarity(self.friction, lam, lam_t, ev.g, sl.u, c, c, on, weight,
+                                 status=st)
+        return ev, sl, fr
+
+    def _assemble_friction(self, z: np.ndarray, load_factor: float,
+                           tangent: bool) -> Contribution:
+        """:meth:`assemble` with friction (docs/friction.md): body rows
+        ``-G_n^T lam_n - G_t^T lam_t``, normal rows as without, tangential rows
+        ``s_t C_t`` (``s_t = row_scale / p_ref``); tangent ``K_u,lam_t = -G_t^T``,
+        ``K_uu = -(H_n + H_t)``, ``K_lam_t,u = s_t (diag(dC/du_t) G_t +
+        diag(dC/dg_n) G_n)``, ``s_t dC/dlam_t`` and ``s_t dC/dlam_n`` diagonal."""
+        zz = np.asarray(z)
+        lam, lam_t = zz[self._normal], zz[self._tangential]
+        xs, xm = self.slave.x(z), self.master.x(z)
+        ev = self.discretization.evaluate(xs, xm, lam if tangent else None, True)
+        c = self._c(z, load_factor, ev)
+        active = self._active_set(lam, ev, c, track=tangent)
+        ev, sl, fr = self.friction_rows(z, tangent=True, track=tangent, ev=ev, active=active)
+        if tangent:
+            self.discretization.after_iteration(ev)
+        gd = self.global_dofs()
+        n = self.slave.n_nodes
+        rs = self._row_scale
+        st = rs / self._p_reference(ev, c)
+        keep = gd >= 0
+        fu = ev.G.T @ lam + sl.G.T @ lam_t
+        idx = self.offset + np.arange(n)
+        out = Contribution(np.concatenate([gd[keep], idx, idx + n]),
+                           np.concatenate([-fu[keep], np.where(active, c * ev.g, lam) * rs,
+                                           st * fr.C]))
+        if not tangent:
+            return out
+        B = (sp.diags(fr.d_u) @ sl.G + sp.diags(fr.d_g) @ ev.G).tocsr()
+        res = self._friction_reservation(z, gd)
+        if res is not None:  # the triplets over the reserved patterns (explicit zeros)
+            args = (ev.G, ev.H, sl.G, B, sl.H, active, c, rs, st, fr)
+            kv = res.values(*args)
+            if kv is None and res.normal.values(ev.G, ev.H, active, c, rs) is None:
+                self._widen(ev)  # the method's pattern missed G_n or H_n: says so
+                res = self._friction_reservation(z, gd)
+                kv = res.values(*args)
+            if kv is None:  # e.g. NTS: a slip across more segments than reserved
+                res = res.widened(ev.G, ev.H, sl.G, sl.H)
+                self._reserved_t = (*self._reserved_t[:2], res)
+                self.slip_pattern_widenings += 1
+                log.debug("%s: the slip's pattern widened", self.name)
+                kv = res.values(*args)
+            out.k_rows, out.k_cols, out.k_vals = res.rows, res.cols, kv
+            out.reserved = True
+            return out
+
+        def glob(M: sp.spmatrix, row0: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+            C = M.tocoo()
+            ok = gd[C.col] >= 0
+            return row0 + C.row[ok], gd[C.col[ok]], C.data[ok]
+
+        rn, cn, vn = glob(ev.G, self.offset)
+        rt, ct, vt = glob(sl.G, self.offset + n)
+        rb, cb, vb = glob(B, self.offset + n)
+        act = active[rn - self.offset]
+        inact = np.flatnonzero(~active)
+        kr = [cn, ct, rn[act], self.offset + inact, rb, idx + n, idx + n]
+        kc = [rn, rt, cn[act], self.offset + inact, cb, idx + n, idx]
+        kv = [-vn, -vt, c * rs * vn[act], np.full(inact.size, rs), st * vb,
+              st * fr.d_lam_t, st * fr.d_lam_n]
+        return _with_triplets(out, kr, kc, kv, gd, (ev.H, sl.H))  # K_uu = -(H_n + H_t)
+
+    def _friction_reservation(self, z: np.ndarray, gd: np.ndarray
+                              ) -> FrictionReservation | None:
+        """The friction pair's triplets over the method's reserved pattern and the
+        slip's (:class:`FrictionReservation`), built anew when either changes
+        (the normal reservation, or the slip history at a new step)."""
+        res_n = self._reservation(z, gd)
+        if res_n is None:
+            return None
+        h = self._slip_history
+        if (self._reserved_t is None or self._reserved_t[0] is not res_n
+                or self._reserved_t[1] is not h):
+            self._reserved_t = (res_n, h, FrictionReservation(
+                res_n, self.discretization.slip_pattern(h)))
+        return self._reserved_t[2]
 
     def _reservation(self, z: np.ndarray, gd: np.ndarray) -> Reservation | None:
         """The tangent triplets over the discretization's reserved pattern
@@ -509,10 +808,36 @@ class ContactPair(Item):
     _gap_length = gap_length
 
     def failure_hint(self) -> str:
-        """A likely cause to add to a :class:`ConvergenceError` ("" if none known)."""
-        return self.discretization.failure_hint()
+        """A likely cause to add to a :class:`ConvergenceError` ("" if none known):
+        the discretization's, and with friction, when every active node slides in
+        the failed attempt, that the tangential load may exceed the friction bound."""
+        hint = self.discretization.failure_hint()
+        if self.friction is None:
+            return hint
+        act = self.active
+        st = self.statuses.status
+        near = False  # the last converged tangential force within 2 % of its bound
+        if self._converged_t is not None:
+            d = self._converged_t[3]
+            bound = float(np.sum(d["bound"] * self._area0))
+            near = bound > 0 and abs(float(np.sum(d["tangential_traction"] * self._area0))
+                                     ) >= NEAR_BOUND * bound
+        if act.any() and (near or np.all(st[act] == SLIP)):
+            law = (f"mu = {self.friction.mu:g} times the normal force"
+                   if isinstance(self.friction, Coulomb) else
+                   f"the Tresca bound {self.friction.bound:g} times the contact length")
+            more = (f"{self.name}: the contact slides as a whole (tangential force at the "
+                    f"friction bound): the tangential load exceeds the friction bound "
+                    f"({law}), which has no "
+                    f"equilibrium under load control; keep the tangential load below the "
+                    f"bound or prescribe the tangential displacement instead")
+            hint = "; ".join(h for h in (hint, more) if h)
+        return hint
 
     def settled(self) -> bool:
+        """The normal active set (and with friction the statuses) did not change."""
+        if self.friction is not None and self.statuses.changed:
+            return False
         return not self.state.changed
 
     def initial_active(self, z: np.ndarray, load_factor: float) -> np.ndarray:
@@ -527,7 +852,7 @@ class ContactPair(Item):
             return self.state.converged.copy()
         ev = self.evaluate(z, tangent=False, with_lam=False)
         c = self._c(z, load_factor, ev)
-        lam = np.asarray(z)[self.dofs]
+        lam = np.asarray(z)[self._normal]
         touch = touching_nodes(self.slave.x(z), self.slave.segments, self.master.x(z),
                                self.master.segments, self._touch)
         return ev.mask & ((lam - c * ev.g >= 0) | touch | (self.gap_length(ev) <= self._touch))
@@ -545,13 +870,17 @@ class ContactPair(Item):
             self.converged_positions = (xs, xm)
         self.state.begin()
         self.discretization.begin_step(xs, xm, first)
+        if self.friction is not None:
+            self.statuses.begin()
+            self._history(z)  # the first step: measured from its start
+            self._step_p_ref(z)
 
     def pressure_and_gap(self, z: np.ndarray, ev: ContactEval | None = None
                          ) -> tuple[np.ndarray, np.ndarray, ContactEval]:
         """Per slave node the pressure (traction) and the gap (length) in the
         method's own discrete form: NTS ``lam / a_A`` and the nodal gap; mortar
         ``lam`` and the weighted gap over ``D_AA`` (the tributary length)."""
-        lam = np.asarray(z)[self.dofs]
+        lam = np.asarray(z)[self._normal]
         if ev is None:
             ev = self.evaluate(z, tangent=False, with_lam=False)
         area = np.where(ev.area > 0, ev.area, 1.0)
@@ -577,22 +906,97 @@ class ContactPair(Item):
         bad = {"penetration": m & (g < -tol_g), "tension": p < -tol_p,
                "pressure on an open gap": m & (p > tol_p) & (np.abs(g) > tol_g),
                "pressure without a master": ~m & (np.abs(p) > tol_p)}
+        worst = {"penetration": -g, "tension": np.abs(p)}
+        if self.friction is not None:
+            more, size = self._friction_violation(z, ev, tol_g, tol_p)
+            bad.update(more)
+            worst.update(size)
         msgs = []
         for what, nodes in bad.items():
             if nodes.any():
                 k = np.flatnonzero(nodes)
-                worst = (-g if what == "penetration" else np.abs(g) if "gap" in what
-                         else np.abs(p))[k].max()
-                msgs.append(f"{what} at {k.size} node(s) (worst {worst:.3g}, e.g. node {k[0]})")
+                w = worst.get(what, np.abs(g) if "gap" in what else np.abs(p))[k].max()
+                msgs.append(f"{what} at {k.size} node(s) (worst {w:.3g}, e.g. node {k[0]})")
         if not msgs:
             return ""
         return (f"{self.name}: KKT violated ({'; '.join(msgs)}; tolerances: gap "
                 f"{tol_g:.3g}, pressure {tol_p:.3g})")
 
+    def tangential_data(self, z: np.ndarray) -> dict[str, np.ndarray]:
+        """Friction only: per slave node (surface order) the tangential
+        traction ``t_t`` (NTS ``lam_t / a_A``, mortar ``lam_t``; along the
+        node's tangent ``tau``, on the slave), the slip within the step as a
+        length (NTS ``u_t``, mortar ``u_t / area_A``), the slip bound as a
+        traction (``Xi`` over the same weight), the status codes
+        (:data:`~skfem_mortar.contact.friction.OPEN`, ``STICK``, ``SLIP``) and ``tangent``.
+
+        At the state of the last converged step these are that step's (its slip
+        from the step's start, the statuses it converged with); at any other
+        state the slip is measured from the last converged step and the
+        statuses are the plain ones of :func:`~skfem_mortar.contact.friction.complementarity`."""
+        lam_t = np.asarray(z)[self._tangential]
+        conv = self._at_converged(z)
+        if conv is not None:
+            return {k: v.copy() for k, v in conv[3].items()}
+        ev, sl, fr = self.friction_rows(z, tangent=False, track=False)
+        area = np.where(ev.area > 0, ev.area, 1.0)
+        if self.multiplier_kind == "force":
+            t, u, b = lam_t / area, sl.u, fr.bound / area
+        else:
+            t, u, b = lam_t.copy(), sl.u / area, fr.bound.copy()
+        return {"tangential_traction": t, "slip": np.where(sl.mask, u, 0.0), "bound": b,
+                "status": fr.status.copy(), "tangent": sl.tangent}
+
+    def _at_converged(self, z: np.ndarray) -> tuple | None:
+        """``(xs, xm, lam_t, tangential_data, history)`` of the last converged step
+        if ``z`` is its state (the history its slip was measured from), else None."""
+        conv = self._converged_t
+        if conv is not None and all(np.array_equal(a, b) for a, b in zip(
+                conv[:3], (self.slave.x(z), self.master.x(z),
+                           np.asarray(z)[self._tangential]))):
+            return conv
+        return None
+
+    def _friction_violation(self, z: np.ndarray, ev: ContactEval, tol_g: float,
+                            tol_p: float) -> tuple[dict, dict]:
+        """The friction conditions of a converged state (:meth:`violation`):
+        ``|t_t| <= Xi (1 + K_LAM) + tol_p`` everywhere; ``|u_t| <= tol_g`` on
+        stick nodes; on slip nodes that slip (``|u_t| > tol_g``)
+        ``t_t u_t <= 0`` and ``||t_t| - Xi| <= K_LAM Xi + tol_p``; ``|t_t| <= tol_p``
+        on open nodes (``t_t``, ``u_t``, ``Xi`` as :meth:`tangential_data`'s)."""
+        d = self.tangential_data(z)
+        t, u, b, stt = d["tangential_traction"], d["slip"], d["bound"], d["status"]
+        moving = (stt == SLIP) & (np.abs(u) > tol_g)
+        bad = {"tangential traction above the slip bound":
+               np.abs(t) > b * (1 + K_LAM) + tol_p,
+               "slip of a stick node": (stt == STICK) & (np.abs(u) > tol_g),
+               "slip along the tangential traction": moving & (t * u > 0),
+               "sliding below the slip bound": moving & (np.abs(np.abs(t) - b)
+                                                        > K_LAM * b + tol_p),
+               "tangential traction on an open node": (stt == OPEN) & (np.abs(t) > tol_p)}
+        size = {"tangential traction above the slip bound": np.abs(t) - b,
+                "slip of a stick node": np.abs(u), "slip along the tangential traction": t * u,
+                "sliding below the slip bound": np.abs(np.abs(t) - b),
+                "tangential traction on an open node": np.abs(t)}
+        return bad, size
+
     def end_step(self, z: np.ndarray, load_factor: float) -> None:
-        lam = z[self.dofs]  # a view: inactive multipliers are exactly zero from here
+        lam = z[self._normal]  # a view: inactive multipliers are exactly zero from here
         lam[~self.active] = 0.0
         self.state.end()
+        if self.friction is not None:
+            lam_t = z[self._tangential]
+            lam_t[self.statuses.status == OPEN] = 0.0
+            self.statuses.end()
+            # what the step did (its slip from the history it was measured from),
+            # for the outputs of the converged state
+            data = self.tangential_data(z)
+            data["status"] = self.statuses.converged.copy()
+            self._converged_t = (self.slave.x(z), self.master.x(z), lam_t.copy(), data,
+                                 self._slip_history)
+            ev = self.evaluate(z, tangent=False, with_lam=False)
+            self._slip_history = self.discretization.slip_history(
+                self.slave.x(z), self.master.x(z), ev)
         self.converged_positions = (self.slave.x(z), self.master.x(z))
         self.discretization.end_step(*self.converged_positions)
         if self.state.cycles:
@@ -616,7 +1020,19 @@ class ContactPair(Item):
                 "x0_slave": arr(None if x0 is None else x0[0]),
                 "x0_master": arr(None if x0 is None else x0[1]),
                 "tol_p": np.array(self._tol_p),
-                **self.discretization.state_dict()}
+                **self.discretization.state_dict(), **self._friction_state()}
+
+    def _friction_state(self) -> dict[str, np.ndarray]:
+        """Friction only: the converged statuses, ``p_ref`` and the slip history
+        (``[]`` entries before it is set)."""
+        if self.friction is None:
+            return {}
+        h = self._slip_history
+        keys = self.discretization.slip_history_keys
+        return {"friction_status": self.statuses.converged.copy(),
+                "friction_p_ref": (np.zeros(0) if self._p_ref is None
+                                   else np.array([self._p_ref])),
+                **{k: (np.zeros(0) if h is None else np.asarray(h[k]).copy()) for k in keys}}
 
     def load_state_dict(self, state: dict[str, np.ndarray]) -> None:
         """Restore :meth:`state_dict` (ValueError naming the entry that does not
@@ -636,8 +1052,17 @@ class ContactPair(Item):
                                  f"got {state[k][0]}")
         if not float(state["tol_p"]) >= 0:
             raise ValueError(f"{self.name}: checkpoint entry 'tol_p' must be >= 0")
+        own = set(_PAIR_STATE)
+        if self.friction is not None:
+            own |= set(_FRICTION_STATE) | set(self.discretization.slip_history_keys)
+            history = self._check_friction_state(state)
         # the discretization checks its entries before it takes any
-        self.discretization.load_state_dict({k: state[k] for k in need - set(_PAIR_STATE)})
+        self.discretization.load_state_dict({k: state[k] for k in need - own})
+        if self.friction is not None:
+            self.statuses.converged = np.asarray(state["friction_status"], dtype=np.int8).copy()
+            self._p_ref = (float(state["friction_p_ref"][0]) if state["friction_p_ref"].size
+                           else None)
+            self._slip_history = history
         self._started = bool(state["started"])
         self._tol_p = float(state["tol_p"])
         self.state.converged = np.asarray(state["active"], dtype=bool).copy()
@@ -647,6 +1072,25 @@ class ContactPair(Item):
                      np.array(state["x0_master"], dtype=float))
                     if state["x0_slave"].size else None)
 
+    def _check_friction_state(self, state: dict[str, np.ndarray]) -> dict | None:
+        """The friction entries of a checkpoint checked (ValueError naming the
+        entry); the slip history they hold (None if not set yet)."""
+        ns = self.slave.n_nodes
+        check_entries(self.name, state, {"friction_status": [(ns,)],
+                                         "friction_p_ref": [(0,), (1,)]})
+        st = np.asarray(state["friction_status"])
+        if not np.all(np.isin(st, (OPEN, STICK, SLIP))):
+            raise ValueError(f"{self.name}: checkpoint entry 'friction_status' must hold the "
+                             f"codes {OPEN}, {STICK}, {SLIP} ({', '.join(STATUS_NAMES)})")
+        if state["friction_p_ref"].size and not state["friction_p_ref"][0] > 0:
+            raise ValueError(f"{self.name}: checkpoint entry 'friction_p_ref' must be > 0")
+        keys = self.discretization.slip_history_keys
+        if all(np.asarray(state[k]).size == 0 for k in keys):
+            return None
+        history = {k: np.asarray(state[k]).copy() for k in keys}
+        self.discretization.check_slip_history(history)
+        return history
+
     def step_info(self) -> dict:
         """``n_active`` nodes, ``active_set_changes`` (node status flips summed over the
         step's iterations), ``active_set_cycles`` (times the cycling guard acted),
@@ -654,7 +1098,17 @@ class ContactPair(Item):
         method without) and what else the discretization counts."""
         return {"n_active": int(self.active.sum()), "active_set_changes": self.state.changes,
                 "active_set_cycles": self.state.cycles, "segment_locks": 0,
-                **self.discretization.step_info()}
+                **self.discretization.step_info(), **self._friction_info()}
+
+    def _friction_info(self) -> dict:
+        """Friction only: ``n_stick``, ``n_slip`` nodes, ``friction_status_changes``,
+        ``friction_status_cycles`` of the step."""
+        if self.friction is None:
+            return {}
+        st = self.statuses.status
+        return {"n_stick": int(np.sum(st == STICK)), "n_slip": int(np.sum(st == SLIP)),
+                "friction_status_changes": self.statuses.changes,
+                "friction_status_cycles": self.statuses.cycles}
 
     # -- results -----------------------------------------------------------------
     def outputs(self) -> list:
@@ -677,7 +1131,9 @@ class ContactPair(Item):
         ``has_master`` mask), so no file carries a NaN or a 0 that reads as
         touching; where ``has_master``, ``distance`` equals ``gap``.  Inactive multipliers of a
         converged state are exact zeros; a round-off tension within the KKT
-        tolerance (:meth:`violation`) is written as 0.
+        tolerance (:meth:`violation`) is written as 0.  With friction also
+        ``tangential_traction``, ``slip`` (a length) and ``status`` (``"open"``,
+        ``"stick"``, ``"slip"``) of :meth:`tangential_data`.
         """
         p, g, ev = self.pressure_and_gap(z)
         # round-off tension of a converged state (within the KKT tolerance) is
@@ -692,6 +1148,10 @@ class ContactPair(Item):
             dist[far] = distance_to_polyline(x[:, far], self.master.x(z), self.master.segments)
         data = {"x": x[0], "y": x[1], "gap": g, "pressure": p, "has_master": ev.mask,
                 "distance": dist}
+        if self.friction is not None:
+            t = self.tangential_data(z)
+            data.update({"tangential_traction": t["tangential_traction"], "slip": t["slip"],
+                         "status": np.asarray(STATUS_NAMES)[t["status"]]})
         k = self._along_surface()
         return {**{name: v[k] for name, v in data.items()}, "node": k}
 
@@ -718,9 +1178,14 @@ class ContactPair(Item):
         split into the two surfaces (the force the other body exerts; the residual
         term is its negative), totals over the model's thickness ``H``
         (:attr:`~skfem_mortar.core.model.Item.thickness`)."""
-        lam = np.asarray(z)[self.dofs]
+        lam = np.asarray(z)[self._normal]
         ev = self.evaluate(z, tangent=True, with_lam=False)
         f = self.thickness * (ev.G.T @ lam)
+        if self.friction is not None:  # and the tangential part G_t^T lam_t of the step
+            conv = self._at_converged(z)
+            _, sl, _ = self.friction_rows(z, tangent=True, ev=ev,
+                                          history=None if conv is None else conv[4])
+            f = f + self.thickness * (sl.G.T @ np.asarray(z)[self._tangential])
         n_s = self.slave.n_nodes
         return f[:2 * n_s].reshape(-1, 2).T, f[2 * n_s:].reshape(-1, 2).T
 

@@ -340,7 +340,7 @@ def _touching_rows(pair: Any, z: np.ndarray, load_factor: float, n: int) -> _Tou
     (:meth:`ContactPair.initial_active`; on a resumed run its converged set).  Row of node ``k`` projecting on
     master segment ``(1, 2)`` at ``xi``: ``n_m . (du_k - (1 - xi) du_1 - xi du_2)``
     (the NTS gap's derivative: what the frictionless normal holds), divided
-    by its norm.
+    by its norm; a pair with friction adds the same rows along the tangent.
     """
     ev = pair.evaluate(z, tangent=False, with_lam=False)
     glen = pair.gap_length(ev)
@@ -350,7 +350,13 @@ def _touching_rows(pair: Any, z: np.ndarray, load_factor: float, n: int) -> _Tou
     nv = nts.evaluate(xs, polyline(pair.slave.segments), xm, polyline(pair.master.segments),
                       tangent=True)
     on = touch & nv.mask
-    G = nv.G[np.flatnonzero(on)].tocoo()
+    G = nv.G[np.flatnonzero(on)]
+    if getattr(pair, "friction", None) is not None:
+        # friction also holds the tangential motion of the touching nodes: the
+        # rows turned from the normal n to the tangent e = (-n_y, n_x)
+        turn = sp.kron(sp.identity(G.shape[1] // 2), np.array([[0.0, 1.0], [-1.0, 0.0]]))
+        G = sp.vstack([G, G @ turn])
+    G = G.tocoo()
     gd = pair.global_dofs()
     keep = gd[G.col] >= 0
     C = sp.csr_matrix((G.data[keep], (G.row[keep], gd[G.col[keep]])), shape=(G.shape[0], n))
@@ -602,7 +608,7 @@ def warn_methods(model: Any) -> None:
     the solve rather than after a cascade of step cuts."""
     for pair in _contact_pairs(model):
         if pair.method == "nts":
-            hint = pair.failure_hint()  # nts.failure_hints, computed by the pair
+            hint = pair.discretization.failure_hint()  # nts.failure_hints (geometry only)
             if hint:
                 warnings.warn(hint, PreflightWarning, stacklevel=_user_stacklevel())
 

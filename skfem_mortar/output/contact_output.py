@@ -5,7 +5,12 @@ import numpy as np
 
 from ..core.chain import curve_points, segment_lengths
 
-__all__ = ["ContactOutput", "output_gap", "pressure_profile"]
+__all__ = ["ContactOutput", "output_gap", "pressure_profile", "STATUS_CODES"]
+
+#: the friction statuses of ``contact_data["status"]`` as the VTU series writes
+#: them (the codes of :mod:`skfem_mortar.contact.friction`, which this layer
+#: does not import)
+STATUS_CODES = {"open": 0, "stick": 1, "slip": 2}
 
 
 def output_gap(data: dict) -> np.ndarray:
@@ -24,7 +29,10 @@ class ContactOutput:  # an Output (skfem_mortar.core.model) for the output layer
       master segment, its distance to the master surface (a length, as in
       contact.csv: never a NaN, never a 0 that reads as touching unless the
       node sits on the master's end), and
-    - ``has_master``: 1 where the node faces a master segment, else 0.
+    - ``has_master``: 1 where the node faces a master segment, else 0;
+    - with friction also ``tangential_traction`` (along the node's tangent, on
+      the slave), ``slip`` (within the last step, a length) and ``status``
+      (0 open, 1 stick, 2 slip).
     """
 
     def __init__(self, pair, name: str | None = None):
@@ -42,10 +50,17 @@ class ContactOutput:  # an Output (skfem_mortar.core.model) for the output layer
         if "node" in data:  # rows along the surface: back to the surface's node order
             back = np.argsort(data["node"])
             data = {k: np.asarray(v)[back] for k, v in data.items()}
-        return ({"displacement": (s.x(z) - s.X).T.copy(),
+        point = {"displacement": (s.x(z) - s.X).T.copy(),
                  "pressure": np.asarray(data["pressure"], dtype=float),
                  "gap": output_gap(data),
-                 "has_master": np.asarray(data["has_master"], dtype=float)}, {})
+                 "has_master": np.asarray(data["has_master"], dtype=float)}
+        if "tangential_traction" in data:  # a pair with friction
+            point.update({
+                "tangential_traction": np.asarray(data["tangential_traction"], dtype=float),
+                "slip": np.asarray(data["slip"], dtype=float),
+                "status": np.array([STATUS_CODES[str(v)] for v in data["status"]],
+                                   dtype=float)})
+        return point, {}
 
 
 def pressure_profile(pair, z: np.ndarray, n_per_segment: int = 8) -> dict[str, np.ndarray]:

@@ -64,6 +64,11 @@ def write_json(path: str | os.PathLike, data: dict) -> None:
 def write_contact_csv(path: str | os.PathLike, data: dict[str, np.ndarray]) -> None:
     """Write ``x,y,gap,pressure,has_master`` (one row per slave node) atomically.
 
+    With friction (``data`` has ``tangential_traction``, ``slip`` and ``status``,
+    :meth:`~skfem_mortar.contact.pair.ContactPair.contact_data` of a friction
+    pair) three more columns ``tangential_traction,slip,status`` follow (the
+    status as ``open``, ``stick`` or ``slip``); a frictionless file is unchanged.
+
     ``has_master`` is 1 where the node faces a master segment. Elsewhere the
     gap is undefined and the ``gap`` column holds the node's distance to the
     master surface (``data["distance"]``, as in the VTU series): no NaN and no
@@ -81,6 +86,16 @@ def write_contact_csv(path: str | os.PathLike, data: dict[str, np.ndarray]) -> N
                          "data['distance']): refusing to write contact.csv")
     lines = ["x,y,gap,pressure,has_master"]
     lines += [",".join(f"{v:.12g}" for v in row[:4]) + f",{int(row[4])}" for row in arr]
+    if "tangential_traction" in data:  # a pair with friction: three more columns
+        t = np.asarray(data["tangential_traction"], dtype=float)
+        u = np.asarray(data["slip"], dtype=float)
+        if not (np.all(np.isfinite(t)) and np.all(np.isfinite(u))):
+            raise ValueError("non-finite tangential traction or slip: refusing to write "
+                             "contact.csv")
+        status = [str(v) for v in np.asarray(data["status"])]
+        lines[0] += ",tangential_traction,slip,status"
+        lines[1:] = [f"{line},{a:.12g},{b:.12g},{c}" for line, a, b, c in
+                     zip(lines[1:], t, u, status)]
     with atomic_path(path) as tmp:
         tmp.write_text("\n".join(lines) + "\n")
 
