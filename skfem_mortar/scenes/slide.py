@@ -30,14 +30,17 @@ Metrics
 ``contact_normal_force``, ``contact_tangential_force`` : the force the plane
     exerts on the block at the end (``F_y`` and ``-F_x``,
     :meth:`~skfem_mortar.contact.pair.ContactPair.total_force`).
-``tangential_ratio`` : ``contact_tangential_force / (mu N)``;
-``tangential_ratio_error`` : ``|contact_tangential_force - exact| / (mu N)``, the
-    exact force ``mu N`` (displacement control, sliding at the end) or the
-    applied load (load control);
-``max_tangential_ratio`` : the largest ``tangential_force / (mu N)`` of the steps.
-``n_stick``, ``n_slip`` : contact nodes sticking and sliding at the end;
-``stick_history``, ``slip_history`` : per step.
-``newton_iterations`` : per step.
+``tangential_ratio``
+    ``contact_tangential_force / (mu N)``.
+``tangential_ratio_error``
+    ``|contact_tangential_force - exact| / (mu N)``, the exact force ``mu N``
+    (displacement control, sliding at the end) or the applied load (load control).
+``max_tangential_ratio``
+    The largest ``tangential_force / (mu N)`` of the steps.
+``n_stick``, ``n_slip``
+    Contact nodes sticking and sliding at the end.
+``stick_history``, ``slip_history``, ``newton_iterations``
+    Per step.
 
 NTS on the flat plane gives ``mu N`` to round-off once sliding; mortar's
 traction acts along the slave's averaged nodal tangent, so where the slave
