@@ -38,8 +38,9 @@ Metrics
 ``max_tangential_ratio``
     The largest ``tangential_force / (mu N)`` of the steps.
 ``n_stick``, ``n_slip``
-    Contact nodes sticking and sliding at the end.
-``stick_history``, ``slip_history``, ``newton_iterations``
+    Contact nodes sticking and sliding at the end (per step: ``n_stick``,
+    ``n_slip`` in each step record's ``info``).
+``newton_iterations``
     Per step.
 
 NTS on the flat plane gives ``mu N`` to round-off once sliding; mortar's
@@ -54,7 +55,7 @@ from skfem import MeshTri
 
 from ..bodies.materials import LinearElastic
 from ..bodies.solid import Solid
-from ..contact.friction import Coulomb
+from ..contact.friction import SLIP, STICK, Coulomb
 from ..contact.pair import ContactPair
 from ..contact.surfaces import ContactSurface, RigidPlane
 from ..core.model import Dirichlet, Model
@@ -133,6 +134,7 @@ def build(params: dict, method: str | None = None) -> Setup:
         else:
             pushed = [float(params["Q"]) * push(float(lf)) for lf in t]
         F = pair.total_force(result.z)  # the converged state's contact resultant
+        status = pair.statuses.converged  # the last step's (checkpointed: also on resume)
         # the exact resultant at the end: mu N once sliding, the load below the bound
         exact = mu * N if control == "displacement" else min(pushed[-1], mu * N)
         steps = result.steps
@@ -142,10 +144,7 @@ def build(params: dict, method: str | None = None) -> Setup:
                 "tangential_ratio": float(-F[0] / (mu * N)),
                 "tangential_ratio_error": float(abs(-F[0] - exact) / (mu * N)),
                 "max_tangential_ratio": float(max(pushed) / (mu * N)),
-                "n_stick": int(steps[-1].info.get("n_stick", 0)) if steps else 0,
-                "n_slip": int(steps[-1].info.get("n_slip", 0)) if steps else 0,
-                "stick_history": [int(s.info.get("n_stick", 0)) for s in steps],
-                "slip_history": [int(s.info.get("n_slip", 0)) for s in steps],
+                "n_stick": int(np.sum(status == STICK)), "n_slip": int(np.sum(status == SLIP)),
                 "newton_iterations": [int(s.newton_iterations) for s in steps]}
 
     return Setup(model=model, metrics=metrics, n_steps=int(params["n_steps"]),
