@@ -114,7 +114,7 @@ def project(xs: np.ndarray, xm: np.ndarray, seg_m: np.ndarray, margin: float | N
     projection; ``l`` the segment's chord length), plus ``xi_curve`` (the
     parameter in ``[-1, 1]``).
     """
-    from .nts import LOCK_STICK, candidates
+    from .nts import candidates, choose_segments
     if not (np.isfinite(stick) and stick >= 0):
         raise ValueError(f"stick must be a finite number >= 0, got {stick}")
     if not (np.isfinite(end_tolerance) and end_tolerance >= 0):
@@ -132,22 +132,7 @@ def project(xs: np.ndarray, xm: np.ndarray, seg_m: np.ndarray, margin: float | N
     u = 0.5 * (1.0 + xi_c)                       # along the segment, [0, 1] inside
     (cx, cy), _, _ = _curve(P, np.clip(xi_c, -1.0, 1.0))
     dist = np.hypot(xq[0] - cx, xq[1] - cy)
-    over = np.maximum(np.maximum(-u, u - 1.0), 0.0)
-    if prefer is not None:
-        prefer = np.asarray(prefer, dtype=np.int64).ravel()
-        if prefer.shape != (n_s,):
-            raise ValueError(f"prefer must have shape ({n_s},), got {prefer.shape}")
-        inside = (u >= -stick) & (u <= 1.0 + stick)
-        if lock is not None:
-            lock = np.asarray(lock, dtype=bool).ravel()
-            if lock.shape != (n_s,):
-                raise ValueError(f"lock must have shape ({n_s},), got {lock.shape}")
-            inside |= lock[i_n] & (u >= -LOCK_STICK) & (u <= 1.0 + LOCK_STICK)
-        keep = (i_e == prefer[i_n]) & inside
-    else:
-        keep = np.zeros(i_n.shape, dtype=bool)
-    order = np.lexsort((over, dist, ~keep, i_n))
-    best = order[np.unique(i_n[order], return_index=True)[1]]
+    best = choose_segments(i_n, i_e, u, dist, n_s, prefer, stick, lock)
     k, e = i_n[best], i_e[best]
     segment = np.full(n_s, -1, dtype=np.int64)
     segment[k] = e
