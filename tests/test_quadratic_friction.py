@@ -1,0 +1,232 @@
+"""Friction on 3-node (quadratic) contact segments: the slip and the contact pair.
+
+Slip (contact/slip.py on curved segments): ``u_t``, ``G_t = du_t/dx`` and
+``H_t = sum lam_t d2 u_t/dx2`` against central differences on curved, sliding
+configurations (NTS on one curved master segment and across segments forward
+and backward; mortar standard and dual, 3-on-3, 3-on-2, 2-on-3), objectivity
+(a rigid rotation by 30 degrees and a translation give zero slip, the
+non-objective increment forms do not), the straight limits (the curved NTS
+slip is the linear one on a straight chain; pure mortar sliding gives the
+distance times the support).  The pair: friction on tri2 bodies, its whole
+tangent against central differences (stick and slip), and a tri2 block sliding
+on a rigid plane carries exactly ``mu N``.
+"""
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from skfem_mortar.contact import mortar_quadratic as mq, nts
+from skfem_mortar.contact.slip import mortar_history, mortar_slip, nts_slip
+from test_mortar_quadratic import configuration
+from test_nts_quadratic import _master, _slave
+from test_slip import fd_jacobian, rotate
+
+# Central differences with h = 1e-6 on unit-size geometry: truncation ~h^2 |u'''|
+# and round-off ~eps |u| / h ~ 1e-10.  G agrees to ~1e-10; H (a difference of G)
+# to ~1e-9 of its entries, except where the third derivatives are large (a mid
+# node of a slave over a 2-node master: the error there is 4.5e-5, 4.5e-7, 5e-9 at
+# h = 1e-5, 1e-6, 1e-7, falling as h^2, i.e. truncation); a missing chain-rule term
+# is off by the size of the entries (1e-2 .. 1).
+TOL_G = 1e-9
+TOL_H = 2e-7            # relative to max |H|
+
+
+def pack(xs, xm):
+    return np.concatenate([xs.T.ravel(), xm.T.ravel()])
+
+
+def unpack(z, n_s):
+    return z[:2 * n_s].reshape(-1, 2).T, z[2 * n_s:].reshape(-1, 2).T
+
+
+def fd_check(ev, z, lam):
+    """The largest |G - G_fd| and |H - H_fd| / max|H| of the slip evaluation ``ev(z, **kw)``."""
+    e = ev(z, lam_t=lam)
+    G, H = e.G.toarray(), e.H.toarray()
+    eg = np.abs(G - fd_jacobian(lambda q: ev(q, tangent=False).u, z)).max()
+    eh = np.abs(H - fd_jacobian(lambda q: ev(q).G.T @ lam, z)).max() / np.abs(H).max()
+    assert np.abs(H - H.T).max() <= 1e-14 * np.abs(H).max()        # a second derivative
+    return e, eg, eh
+
+
+# --------------------------------------------------------------------- NTS
+def _nts_case(slide, quadratic_slave=False, seed=1):
+    """The bent 3-node master of test_nts_quadratic (3 segments, chain right to
+    left, mid nodes off-centre), a slave projected on it (the history), then the
+    slave slid by ``slide`` along x and both perturbed."""
+    xm0, seg_m = _master()
+    xs0, seg_s, lam = _slave()
+    if quadratic_slave:          # 3-node slave segments: the mid nodes are contact points
+        seg_s, xs0, lam = np.array([[0, 2, 1], [2, 4, 3]]), xs0[:, :5], lam[:5]
+    ev0 = nts.evaluate(xs0, seg_s, xm0, seg_m, tangent=False)
+    rng = np.random.default_rng(seed)
+    xs = xs0 + [[slide], [0.0]] + 0.005 * rng.standard_normal(xs0.shape)
+    xm = xm0 + 0.005 * rng.standard_normal(xm0.shape)
+    return xs0, xm0, xs, xm, seg_s, seg_m, lam, ev0
+
+
+@pytest.mark.parametrize("slide,crossed", [(0.03, 0), (0.3, -1), (-0.3, 1)])
+@pytest.mark.parametrize("quadratic_slave", [False, True])
+def test_nts_curved_slip_derivatives(slide, crossed, quadratic_slave):
+    """On one curved segment (0.03), and across a segment boundary backward (+0.3
+    along x: the master chain runs right to left) and forward (-0.3)."""
+    _, _, xs, xm, seg_s, seg_m, lam, ev0 = _nts_case(slide, quadratic_slave)
+    n_s = xs.shape[1]
+    seg = nts.evaluate(xs, seg_s, xm, seg_m, tangent=False).info["segment"]
+
+    def ev(q, **kw):
+        a, b = unpack(q, n_s)
+        return nts_slip(a, b, seg_m, ev0.info["xi"], ev0.info["segment"], segment=seg, **kw)
+    e, eg, eh = fd_check(ev, pack(xs, xm), lam)
+    assert e.mask.sum() >= n_s - 1 and np.abs(e.u).max() > 0.5 * abs(slide)
+    assert crossed in e.info["crossed"][e.mask]           # the case it says it is
+    assert eg < TOL_G and eh < TOL_H
+
+
+def test_nts_slip_on_a_3_node_slave_over_a_2_node_master():
+    """3-on-2: the master is linear, the slave's mid nodes are contact points."""
+    xm0, seg_m = _master(bend=0.0)
+    xm0, seg_m = xm0[:, :4], seg_m[:, :2]
+    xs0, _, lam = _slave()
+    seg_s = np.array([[0, 2, 1], [2, 4, 3]])
+    xs0, lam = xs0[:, :5], lam[:5]
+    ev0 = nts.evaluate(xs0, seg_s, xm0, seg_m, tangent=False)
+    xs = xs0 + [[0.27], [0.01]]
+    seg = nts.evaluate(xs, seg_s, xm0, seg_m, tangent=False).info["segment"]
+
+    def ev(q, **kw):
+        a, b = unpack(q, 5)
+        return nts_slip(a, b, seg_m, ev0.info["xi"], ev0.info["segment"], segment=seg, **kw)
+    e, eg, eh = fd_check(ev, pack(xs, xm0), lam)
+    # a flat master: the slip is the slide along the tangent (-x), to round-off
+    assert e.mask.sum() == 5 and (e.info["crossed"] != 0).any()
+    np.testing.assert_allclose(e.u, -0.27, atol=1e-14)
+    assert eg < TOL_G and eh < TOL_H
+
+
+def test_nts_curved_slip_is_objective_and_the_increment_form_is_not():
+    """A rigid rotation by 30 degrees with a translation of the whole converged
+    configuration: zero slip at every node to round-off; the non-objective
+    ``e . (dx_s - dx^M(xi_prev))`` is not zero."""
+    xs0, xm0, _, _, seg_s, seg_m, _, ev0 = _nts_case(0.0)
+    xs, xm = rotate(xs0, 30.0, (0.4, -0.7)), rotate(xm0, 30.0, (0.4, -0.7))
+    e = nts_slip(xs, xm, seg_m, ev0.info["xi"], ev0.info["segment"], tangent=False)
+    assert e.mask.all()
+    # round-off of arc lengths ~1 computed from rotated coordinates: a few 1e-16
+    np.testing.assert_allclose(e.u, 0.0, atol=1e-13)
+    t = 2.0 * ev0.info["xi"] - 1.0                       # the curve parameter
+    N = [t * (t - 1) / 2, t * (t + 1) / 2, 1 - t * t]
+    dxm = sum(N[a] * (xm - xm0)[:, seg_m[ev0.info["segment"], a]] for a in range(3))
+    bad = np.sum(e.tangent * ((xs - xs0) - dxm), axis=0)
+    assert np.abs(bad).max() > 1e-2                      # the test can fail
+    e = nts_slip(xs0 + [[0.3], [0.2]], xm0 + [[0.3], [0.2]], seg_m, ev0.info["xi"],
+                 ev0.info["segment"], tangent=False)
+    np.testing.assert_allclose(e.u, 0.0, atol=1e-13)
+
+
+def test_nts_curved_slip_is_the_linear_one_on_a_straight_chain():
+    """Centred mid nodes on a straight chain: the curved master's arc length is the
+    chord's, so the slip, its tangent and its slave derivatives equal the 2-node
+    kernel's (round-off; the master derivatives differ: a vertex moved off the line
+    bends the 3-node curve but turns the 2-node segment)."""
+    xm3, seg3 = _master(bend=0.0)
+    xm3[:, 4:] = 0.5 * (xm3[:, seg3[:, 0]] + xm3[:, seg3[:, 1]])    # centred mid nodes
+    xm3 = rotate(xm3, 10.0, (0.0, 0.0))
+    xs0, _, _ = _slave(y0=0.03)
+    xs0 = rotate(xs0, 10.0, (0.0, 0.0))
+    ev0 = nts.evaluate(xs0, np.c_[0:5, 1:6], xm3, seg3, tangent=False)
+    xs = xs0 + rotate(np.array([[0.33], [0.0]]), 10.0, (0.0, 0.0))
+    e3 = nts_slip(xs, xm3, seg3, ev0.info["xi"], ev0.info["segment"])
+    e2 = nts_slip(xs, xm3[:, :4], seg3[:, :2], ev0.info["xi"], ev0.info["segment"])
+    assert (e3.mask == e2.mask).all() and e3.mask.sum() >= 4 and (e3.info["crossed"] != 0).any()
+    np.testing.assert_allclose(e3.u, e2.u, atol=1e-14)
+    np.testing.assert_allclose(e3.tangent, e2.tangent, atol=1e-14)
+    np.testing.assert_allclose(e3.G.toarray()[:, :12], e2.G.toarray()[:, :12], atol=1e-14)
+
+
+def test_nts_slip_validates_its_history():
+    xs0, xm0, _, _, _, seg_m, _, ev0 = _nts_case(0.0)
+    with pytest.raises(ValueError, match="segment_prev must index master segments"):
+        nts_slip(xs0, xm0, seg_m, ev0.info["xi"], np.full(xs0.shape[1], 3))
+
+
+# ------------------------------------------------------------------ mortar
+CASES = [(3, 3), (3, 2), (2, 3)]
+
+
+def _mortar_case(ks, km, dual):
+    xs0, ss, xm0, sm = configuration(ks, km, 0.37)
+    hist = mortar_history(xs0, ss, xm0, sm, dual=dual)
+    return xs0, ss, xm0, sm, hist
+
+
+@pytest.mark.parametrize("ks,km", CASES)
+@pytest.mark.parametrize("dual", [False, True])
+def test_mortar_curved_slip_derivatives(ks, km, dual):
+    """The curved slave (the disk) slid by 0.06 over the curved base, both perturbed."""
+    xs0, ss, xm0, sm, hist = _mortar_case(ks, km, dual)
+    rng = np.random.default_rng(0)
+    xs = xs0 + [[0.06], [0.0]] + 0.005 * rng.standard_normal(xs0.shape)
+    xm = xm0 + 0.005 * rng.standard_normal(xm0.shape)
+    n_s = xs.shape[1]
+    lam = rng.standard_normal(n_s)
+
+    def ev(q, **kw):
+        a, b = unpack(q, n_s)
+        return mortar_slip(a, ss, b, sm, hist["D_prev"], hist["M_prev"], dual=dual, **kw)
+    e, eg, eh = fd_check(ev, pack(xs, xm), lam)
+    assert e.mask.all() and np.abs(e.u).max() > 1e-3        # a sliding state, all nodes
+    assert eg < TOL_G and eh < TOL_H
+
+
+@pytest.mark.parametrize("ks,km", CASES)
+@pytest.mark.parametrize("dual", [False, True])
+def test_mortar_curved_slip_is_objective_and_the_increment_form_is_not(ks, km, dual):
+    xs0, ss, xm0, sm, hist = _mortar_case(ks, km, dual)
+    xs, xm = rotate(xs0, 30.0, (0.4, -0.7)), rotate(xm0, 30.0, (0.4, -0.7))
+    e = mortar_slip(xs, ss, xm, sm, hist["D_prev"], hist["M_prev"], dual=dual, tangent=False)
+    assert e.mask.all()
+    # round-off of D x - M x with |x| ~ 1 and D, M ~ 0.1: a few 1e-17
+    np.testing.assert_allclose(e.u, 0.0, atol=1e-15)
+    bad = -np.sum(e.tangent * (hist["D_prev"] @ (xs - xs0).T
+                               - hist["M_prev"] @ (xm - xm0).T).T, axis=0)
+    assert np.abs(bad).max() > 1e-3                      # the test can fail
+    e = mortar_slip(xs0 + [[0.3], [0.2]], ss, xm0 + [[0.3], [0.2]], sm, hist["D_prev"],
+                    hist["M_prev"], dual=dual, tangent=False)
+    np.testing.assert_allclose(e.u, 0.0, atol=1e-15)
+
+
+@pytest.mark.parametrize("ks,km", CASES)
+def test_curved_tangential_offset_is_the_mortar_integrals_identity(ks, km):
+    """``r_A`` integrated per Gauss point equals ``tau_A . (M x_m - D x_s)`` from the
+    assembled integrals, and ``tau_A`` is the kernel's nodal normal turned."""
+    xs, ss, xm, sm = configuration(ks, km, 0.37)
+    for dual in (False, True):
+        t = mq.tangential_evaluate(xs, ss, xm, sm, dual=dual, tangent=False)
+        v = t.info["M"] @ xm.T - t.info["D"] @ xs.T
+        np.testing.assert_allclose(t.g, np.sum(t.info["tangent"].T * v, axis=1), atol=1e-15)
+        assert np.abs(t.g).max() > 1e-7                # curved: not round-off (1e-17)
+        g = mq.evaluate(xs, ss, xm, sm, dual=dual, tangent=False)
+        for key in ("D", "M"):                          # the same integrals as the gaps'
+            assert abs(t.info[key] - g.info[key]).max() == 0.0
+
+
+@pytest.mark.parametrize("dual", [False, True])
+def test_mortar_pure_sliding_on_straight_3_node_surfaces(dual):
+    """A straight 3-node slave slides by ``d`` along its tangent over a straight
+    3-node master: ``u_t,A = d int Phi_A = d area_A`` (round-off)."""
+    def line(x0, x1, y, n):
+        xv = np.linspace(x0, x1, n + 1)
+        X = np.r_[xv, 0.5 * (xv[:-1] + xv[1:])]
+        return np.array([X, np.full(X.size, y)]), np.c_[0:n, 1:n + 1, n + 1:2 * n + 1]
+    xs0, ss = line(0.0, 1.0, 1e-3, 4)
+    xm0, sm = line(1.6, -0.6, 0.0, 5)
+    hist = mortar_history(xs0, ss, xm0, sm, dual=dual)
+    area = mq.evaluate(xs0, ss, xm0, sm, dual=dual, tangent=False).area
+    d = 0.137
+    e = mortar_slip(xs0 + [[-d], [0.0]], ss, xm0, sm, hist["D_prev"], hist["M_prev"],
+                    dual=dual, tangent=False)
+    np.testing.assert_allclose(e.tangent, np.repeat([[-1.0], [0.0]], xs0.shape[1], 1),
+                               atol=1e-15)
+    np.testing.assert_allclose(e.u, d * area, atol=1e-15)
