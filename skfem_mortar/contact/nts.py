@@ -612,8 +612,9 @@ class NTS(ContactDiscretization):
         k = np.tile(np.arange(n_s), len(near))
         ok = e >= 0
         k, e = k[ok], e[ok]
-        cols = (2 * n_s + 2 * seg_m[e][:, :, None] + np.arange(2)).reshape(-1, 4)
-        return pattern_matrix(np.repeat(k, 4), cols.ravel(), (n_s, 2 * n_s + 2 * n_m))
+        nm = 2 * seg_m.shape[1]                      # master dofs of a segment: 4, or 6 (3-node)
+        cols = (2 * n_s + 2 * seg_m[e][:, :, None] + np.arange(2)).reshape(-1, nm)
+        return pattern_matrix(np.repeat(k, nm), cols.ravel(), (n_s, 2 * n_s + 2 * n_m))
 
     def load_state_dict(self, state: dict[str, np.ndarray]) -> None:
         ns = self.slave.n_nodes

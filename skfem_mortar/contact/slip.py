@@ -36,6 +36,18 @@ changes the slip).  This follows Wriggers, *Computational Contact Mechanics*
 (2006), section 4.3 (the slip as the change of the convective coordinate
 times the metric), with the crossing of segments written as arc length.
 
+On curved 3-node master segments (``x(t) = sum_a N_a(t) x_a``, ``t`` in
+``[-1, 1]``, :mod:`~skfem_mortar.contact.nts_quadratic`) the arc length is
+measured along the current curves: on one segment ``u_t = int_{t_prev}^{t}
+|x'(s)| ds`` (``t_prev = 2 xi_prev - 1``), across segments the rest of the
+previous one, the crossed ones whole and the part of the current one
+(backwards the same, negative), each by the Gauss rule of
+:func:`~skfem_mortar.contact.nts_quadratic.arc_length` with the current
+parameter ``t`` a jet (two Newton steps of the projection in jets), so the
+derivatives are exact for the rule; ``tau`` is the curve's unit tangent at
+the projection.  On a straight segment with a centred mid node it is the
+linear rule; a rigid motion leaves parameters and arc lengths unchanged.
+
 Mortar (:func:`mortar_slip`)
 ----------------------------
 The weighted objective slip of Gitterle, Popp, Gee, Wall (2010), at slave
@@ -45,7 +57,9 @@ nodal normal turned by -90 degrees):
     u_t,A = - tau_A . [ sum_B (D_AB - D_AB^prev) x_B - sum_C (M_AC - M_AC^prev) x_C ],
 
 ``D^prev``, ``M^prev`` the mortar integrals of the last converged step
-(history) and ``x`` the current positions.  Rigid motions of the whole pair
+(history) and ``x`` the current positions (3-node segments on either side:
+the curved kernel's ``D``, ``M`` and nodal normals,
+:func:`skfem_mortar.contact.mortar_quadratic.tangential_evaluate`).  Rigid motions of the whole pair
 leave ``D`` and ``M`` unchanged, so the slip vanishes exactly; a translation
 alone also cancels by ``sum_B D_AB = sum_C M_AC`` (both integrate ``Phi_A``
 over the same mortar segments).  The sign: for a slave sliding by ``d`` along
