@@ -304,8 +304,6 @@ class Mortar(ContactDiscretization):
         ``M`` with the options :meth:`evaluate` passes its kernel (the same
         segments, multiplier functions and mask)."""
         from .slip import mortar_slip
-        if self.curved:
-            raise ValueError("friction is not supported on 3-node segments yet")
         extra, pinned = self._extra(xs, xm)
         D_prev, M_prev = self._prev(history)
         sl = mortar_slip(xs, self.slave.segments, xm, self.master.segments, D_prev, M_prev,

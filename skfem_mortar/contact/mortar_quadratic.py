@@ -119,11 +119,12 @@ from .contact_eval import ContactEval
 from .jets import Jet, at_gauss, constant_like, value, where
 from .mortar import MASK_TOL, gauss_rule
 from .mortar_quadratic_segmentation import (Segmentation, SlaveSlots, curve, element_normals,
-                                            element_polynomial, order_of, project_on_master,
+                                            element_polynomial, nodal_normals, order_of,
+                                            project_on_master,
                                             project_on_master_jet, project_on_slave_jet,
                                             segment, shape_values, slave_slots, tangent)
 
-__all__ = ["evaluate", "segment", "Segmentation", "merge_matrix", "dual_coefficients",
+__all__ = ["evaluate", "tangential_evaluate", "segment", "Segmentation", "merge_matrix", "dual_coefficients",
            "tributary_weights", "multiplier_support", "N_GAUSS", "N_GAUSS_ELEMENT", "MASK_TOL"]
 
 N_GAUSS = 3
@@ -356,9 +357,10 @@ class _Block(NamedTuple):
 
 
 def _block(P: _Problem, sl: np.ndarray, nv: int, second: bool, dual: bool,
-           lam: np.ndarray | None) -> _Block:
+           lam: np.ndarray | None, tangential: bool = False) -> _Block:
     """Steps 1 to 7 on the mortar segments ``sl`` in jets of ``nv`` local variables
-    (0: values only)."""
+    (0: values only); ``tangential``: the tangential offsets ``r_A`` of
+    :func:`tangential_evaluate` instead of the weighted gaps."""
     sg, k, km = P.sg, P.slots.k, P.seg_m.shape[1]
     e, m = sg.e_s[sl], sg.e_m[sl]
     ns = P.n_slots
@@ -421,6 +423,9 @@ def _block(P: _Problem, sl: np.ndarray, nv: int, second: bool, dual: bool,
     nl = nl2.sqrt() if isinstance(nl2, Jet) else np.sqrt(nl2)
     gn = ((xm_g[0] - X[0]) * Nn[0] + (xm_g[1] - X[1]) * Nn[1]) / nl
     f = gn * dG                                       # g_n dGamma
+    if tangential:                                    # tau_A . (x_m - x_s) dGamma per node
+        dx, dy = xm_g[0] - X[0], xm_g[1] - X[1]
+        f = [(dx * at_gauss(nrm[a][1]) - dy * at_gauss(nrm[a][0])) * dG for a in range(k)]
     # 6. Phi_A at the Gauss points
     Nt = _modified(T, shape_values(k, xi), k)
     if A is not None:
@@ -434,16 +439,19 @@ def _block(P: _Problem, sl: np.ndarray, nv: int, second: bool, dual: bool,
     else:
         Phi = Nt
     # 7. g_A (first order) and sum_A lam_A g_A (second order)
-    f1 = f.first() if isinstance(f, Jet) else f
-    g = [((ph.first() if isinstance(ph, Jet) else ph) * f1).sum(1) for ph in Phi]
-    q = None
-    if second and lam is not None:
-        lam_e = lam[P.seg_s[e]]                       # (n, k)
-        phl = None
-        for a in range(k):
-            term = Phi[a] * at_gauss(lam_e[:, a])
-            phl = term if phl is None else phl + term
-        q = (phl * f).sum(1)
+    if tangential:
+        g, q = _tangential_rows(Phi, f, lam, P.seg_s[e], second)
+    else:
+        f1 = f.first() if isinstance(f, Jet) else f
+        g = [((ph.first() if isinstance(ph, Jet) else ph) * f1).sum(1) for ph in Phi]
+        q = None
+        if second and lam is not None:
+            lam_e = lam[P.seg_s[e]]                       # (n, k)
+            phl = None
+            for a in range(k):
+                term = Phi[a] * at_gauss(lam_e[:, a])
+                phl = term if phl is None else phl + term
+            q = (phl * f).sum(1)
     # values: D_AB = int Phi_A N_B dGamma, M_AC = int Phi_A N_C dGamma
     xv, dGv = value(xi), value(dG)
     Nb = shape_values(k, xv)
@@ -452,6 +460,21 @@ def _block(P: _Problem, sl: np.ndarray, nv: int, second: bool, dual: bool,
     D = np.stack([np.stack([(p * N).sum(1) for N in Nb], 1) for p in ph_v], 1)
     M = np.stack([np.stack([(p * N).sum(1) for N in Nc], 1) for p in ph_v], 1)
     return _Block(g=g, q=q, D=D, M=M)
+
+
+def _tangential_rows(Phi: list, f: list, lam: np.ndarray | None, rows: np.ndarray,
+                     second: bool) -> tuple[list, Jet | None]:
+    """``r_A = int Phi_A f_A`` (first order) and ``sum_A lam_A r_A`` (second order)
+    of one block, ``f_A = tau_A . (x_m - x_s) dGamma`` at the Gauss points."""
+    def first(x):
+        return x.first() if isinstance(x, Jet) else x
+    r = [(first(ph) * first(fa)).sum(1) for ph, fa in zip(Phi, f)]
+    q = None
+    if second and lam is not None:
+        for a, (ph, fa) in enumerate(zip(Phi, f)):
+            term = (ph * at_gauss(lam[rows[:, a]]) * fa).sum(1)
+            q = term if q is None else q + term
+    return r, q
 
 
 def _blocks(P: _Problem, nv_on: bool, dual: bool, second: bool):
@@ -533,8 +556,47 @@ def evaluate(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarra
         (``int Phi_A N_B dGamma``, ``int Phi_A N_C dGamma``), ``segmentation``
         and ``n_segments``.
     """
+    return _evaluate(xs, seg_s, xm, seg_m, lam, tangent, dual, n_gauss, segmentation, pairs,
+                     margin, crosspoints, reach, n_gauss_element, options, False, "evaluate")
+
+
+def tangential_evaluate(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarray,
+                        lam: np.ndarray | None = None, tangent: bool = True, dual: bool = False,
+                        n_gauss: int = N_GAUSS, segmentation: Segmentation | None = None,
+                        pairs: tuple[np.ndarray, np.ndarray] | None = None,
+                        margin: float | None = None, crosspoints: np.ndarray | None = None,
+                        reach: float = 0.0, n_gauss_element: int = N_GAUSS_ELEMENT,
+                        **options: Any) -> ContactEval:
+    """The tangential offsets ``r_A = tau_A . (sum_C M_AC x_C - sum_B D_AB x_B)``,
+    ``G = dr/dx`` and ``H = sum_A lam_A d^2 r_A/dx^2`` on curved segments, exact.
+
+    The curved counterpart of :func:`skfem_mortar.contact.mortar.tangential_evaluate`
+    (the configuration-dependent part of the objective slip of
+    :func:`skfem_mortar.contact.slip.mortar_slip`): the same mortar segments,
+    multiplier functions, Gauss points and mask as :func:`evaluate` (same
+    parameters; ``lam`` the tangential multipliers), with the integrand
+    ``Phi_A tau_A . (x_m(eta) - x_s(xi)) dGamma`` instead of ``Phi_A g_n dGamma``;
+    ``tau_A = (n_y, -n_x)`` is the nodal normal of step 1 turned by -90 degrees,
+    a jet of the element's slot nodes like the normal field.  Summed over the
+    mortar segments this is ``tau_A . (M x_m - D x_s)`` with the ``D``, ``M`` of
+    the same rule, exactly.
+
+    Returns
+    -------
+    ContactEval
+        ``g`` holds ``r_A``; ``info`` the current ``D``, ``M``, ``tangent``
+        (2, n_s) the values ``tau_A``, ``segmentation`` and ``n_segments``.
+    """
+    return _evaluate(xs, seg_s, xm, seg_m, lam, tangent, dual, n_gauss, segmentation, pairs,
+                     margin, crosspoints, reach, n_gauss_element, options, True,
+                     "tangential_evaluate")
+
+
+def _evaluate(xs, seg_s, xm, seg_m, lam, tangent, dual, n_gauss, segmentation, pairs, margin,
+              crosspoints, reach, n_gauss_element, options, tangential, name) -> ContactEval:
+    """:func:`evaluate` (``tangential`` False) or :func:`tangential_evaluate`."""
     if options:
-        raise TypeError(f"unknown options for mortar_quadratic.evaluate: {sorted(options)}")
+        raise TypeError(f"unknown options for mortar_quadratic.{name}: {sorted(options)}")
     _check_rule("n_gauss", n_gauss)
     _check_rule("n_gauss_element", n_gauss_element)
     P = _prepare(xs, seg_s, xm, seg_m, segmentation, pairs, margin, reach, crosspoints,
@@ -549,7 +611,7 @@ def evaluate(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarra
     for sl, nv in _blocks(P, tangent, dual, second):
         if sl.size == 0:
             continue
-        blk = _block(P, sl, nv, second, dual, lamv)
+        blk = _block(P, sl, nv, second, dual, lamv, tangential)
         rows = P.seg_s[P.sg.e_s[sl]]                   # (n, k)
         for a in range(k):
             np.add.at(g, rows[:, a], value(blk.g[a]))
@@ -583,5 +645,8 @@ def evaluate(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarra
                       shape=(n_s, n_s)).tocsr()
     M = sp.coo_matrix((cat(Mv), (cat(Mr, np.int64), cat(Mc, np.int64))),
                       shape=(n_s, n_m)).tocsr()
-    return ContactEval(g=g, G=G, H=H, area=P.area, mask=P.mask,
-                       info={"D": D, "M": M, "segmentation": P.sg, "n_segments": P.sg.n})
+    info = {"D": D, "M": M, "segmentation": P.sg, "n_segments": P.sg.n}
+    if tangential:
+        nrm = nodal_normals(P.xs, P.seg_s)
+        info["tangent"] = np.stack([nrm[1], -nrm[0]])
+    return ContactEval(g=g, G=G, H=H, area=P.area, mask=P.mask, info=info)

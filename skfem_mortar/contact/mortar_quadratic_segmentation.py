@@ -77,7 +77,7 @@ from .mortar_segmentation import LEN_TOL, Segmentation, _side, clip_to_slave
 from .search import box_pairs
 
 __all__ = ["SHAPE", "shape_values", "element_polynomial", "poly", "poly_derivative",
-           "element_normals", "slave_slots", "SlaveSlots", "nodal_normals",
+           "element_normals", "slave_slots", "SlaveSlots", "nodal_normals", "nodal_normal_jets",
            "project_on_slave", "project_on_master", "newton_jet", "candidate_pairs",
            "segment", "Segmentation", "chord_lengths", "order_of"]
 
@@ -275,6 +275,47 @@ def nodal_normals(xs: np.ndarray, seg: np.ndarray) -> np.ndarray:
         out[0, seg[:, a]] = value(nrm[a][0])
         out[1, seg[:, a]] = value(nrm[a][1])
     return out
+
+
+def nodal_normal_jets(xs: np.ndarray, seg: np.ndarray, second: bool = True
+                      ) -> tuple[tuple[Jet, Jet], np.ndarray]:
+    """Step 1 in jets: the nodal normal of every slave node, with its exact first
+    (and ``second``) derivatives.
+
+    Node ``A``'s normal is taken from one element holding it (its vertex normals
+    agree between the two elements at a vertex: the same normalized sum of the
+    same two element normals), as a jet of that element's ``3 k - 2`` slot
+    positions (:class:`SlaveSlots`, variables ``2 j, 2 j + 1`` of slot ``j``).
+
+    Returns
+    -------
+    (nx, ny) : Jet (n_s,)
+        Zero (with zero derivatives) at a node on no segment.
+    nodes : int ndarray (n_s, 3 k - 2)
+        The slave nodes of the variables (pair ``j`` is node ``nodes[:, j]``).
+    """
+    xs = np.asarray(xs, dtype=float)
+    seg = np.asarray(seg, dtype=np.int64)
+    n_s, k = xs.shape[1], seg.shape[1]
+    sl = slave_slots(xs, seg)
+    elem = np.full(n_s, -1, dtype=np.int64)
+    col = np.zeros(n_s, dtype=np.int64)
+    for a in range(k):
+        elem[seg[:, a]] = np.arange(seg.shape[0])
+        col[seg[:, a]] = a
+    on = elem >= 0
+    el = np.maximum(elem, 0)
+    ns = 3 * k - 2
+    V = [(Jet.variable(sl.pos[0, el, j], 2 * j, 2 * ns, second),
+          Jet.variable(sl.pos[1, el, j], 2 * j + 1, 2 * ns, second)) for j in range(ns)]
+    nrm = element_normals(V, k, sl.wp[el], sl.wn[el])
+    out = []
+    for i in (0, 1):
+        acc = nrm[k - 1][i]
+        for a in range(k - 1):
+            acc = Jet.where(col == a, nrm[a][i], acc)
+        out.append(acc * on)
+    return (out[0], out[1]), sl.nodes[el]
 
 
 # ------------------------------------------------------------ step 2: projections

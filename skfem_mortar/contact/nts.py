@@ -61,7 +61,7 @@ from ..core.chain import polyline
 from ..core.coo import element_coo
 from .surfaces import segment_lengths, segment_normals, segments_at_nodes, tributary_lengths
 
-__all__ = ["NTS", "evaluate", "project", "candidates", "RESERVE_MARGIN", "RESERVE_HALO", "SLIP_HALO", "LOCK_STICK", "COARSE_RATIO", "failure_hints",
+__all__ = ["NTS", "evaluate", "project", "candidates", "choose_segments", "RESERVE_MARGIN", "RESERVE_HALO", "SLIP_HALO", "LOCK_STICK", "COARSE_RATIO", "failure_hints",
            "nearest_nodes", "vertex_trap"]
 
 log = logging.getLogger("skfem_mortar.contact.pair")  # the pair's log, as before the split
@@ -120,6 +120,45 @@ def candidates(xs: np.ndarray, xm: np.ndarray, seg_m: np.ndarray, margin: float,
     return np.unique(np.concatenate([i_n * n_seg + i_e, k2[ok] * n_seg + e2[ok]]))
 
 
+
+def choose_segments(i_n: np.ndarray, i_e: np.ndarray, xi: np.ndarray, dist: np.ndarray,
+                    n_s: int, prefer: np.ndarray | None = None, stick: float = 0.05,
+                    lock: np.ndarray | None = None) -> np.ndarray:
+    """The winning candidate of every slave node that has one (shared by the linear
+    and the curved projection, :func:`project` and
+    :func:`skfem_mortar.contact.nts_quadratic.project`).
+
+    Among the candidate pairs ``(i_n, i_e)`` (slave node, master segment) with the
+    parameter ``xi`` along the segment (``[0, 1]`` inside, unclipped) and the
+    distance ``dist`` to the clipped projection, each node keeps its ``prefer``
+    segment while ``xi`` on it lies in ``[-stick, 1 + stick]`` (locked nodes:
+    ``[-LOCK_STICK, 1 + LOCK_STICK]``); otherwise the smallest ``dist`` wins,
+    ties to the smaller overshoot ``max(-xi, xi - 1, 0)``, then the lower index.
+
+    Returns
+    -------
+    int ndarray
+        Indices into the candidate arrays, one per node with a candidate, in
+        increasing node order.
+    """
+    over = np.maximum(np.maximum(-xi, xi - 1.0), 0.0)
+    if prefer is not None:
+        prefer = np.asarray(prefer, dtype=np.int64).ravel()
+        if prefer.shape != (n_s,):
+            raise ValueError(f"prefer must have shape ({n_s},), got {prefer.shape}")
+        inside = (xi >= -stick) & (xi <= 1.0 + stick)
+        if lock is not None:
+            lock = np.asarray(lock, dtype=bool).ravel()
+            if lock.shape != (n_s,):
+                raise ValueError(f"lock must have shape ({n_s},), got {lock.shape}")
+            inside |= lock[i_n] & (xi >= -LOCK_STICK) & (xi <= 1.0 + LOCK_STICK)
+        keep = (i_e == prefer[i_n]) & inside
+    else:
+        keep = np.zeros(i_n.shape, dtype=bool)
+    order = np.lexsort((over, dist, ~keep, i_n))
+    return order[np.unique(i_n[order], return_index=True)[1]]
+
+
 def project(xs: np.ndarray, xm: np.ndarray, seg_m: np.ndarray, margin: float | None = None,
             end_tolerance: float = 1e-8, prefer: np.ndarray | None = None,
             stick: float = 0.05, lock: np.ndarray | None = None) -> dict:
@@ -176,23 +215,7 @@ def project(xs: np.ndarray, xm: np.ndarray, seg_m: np.ndarray, margin: float | N
     xi = np.sum(d1 * t, axis=0) / l2
     xp = np.where(xi <= 0, x1, np.where(xi >= 1, x2, x1 + xi * t))
     dist = np.hypot(*(xs[:, i_n] - xp))
-    over = np.maximum(np.maximum(-xi, xi - 1.0), 0.0)
-    if prefer is not None:
-        prefer = np.asarray(prefer, dtype=np.int64).ravel()
-        if prefer.shape != (n_s,):
-            raise ValueError(f"prefer must have shape ({n_s},), got {prefer.shape}")
-        inside = (xi >= -stick) & (xi <= 1.0 + stick)
-        if lock is not None:
-            lock = np.asarray(lock, dtype=bool).ravel()
-            if lock.shape != (n_s,):
-                raise ValueError(f"lock must have shape ({n_s},), got {lock.shape}")
-            inside |= lock[i_n] & (xi >= -LOCK_STICK) & (xi <= 1.0 + LOCK_STICK)
-        keep = (i_e == prefer[i_n]) & inside
-    else:
-        keep = np.zeros(i_n.shape, dtype=bool)
-    order = np.lexsort((over, dist, ~keep, i_n))
-    first = np.unique(i_n[order], return_index=True)[1]
-    best = order[first]
+    best = choose_segments(i_n, i_e, xi, dist, n_s, prefer, stick, lock)
     k, e, xi = i_n[best], i_e[best], xi[best]
     segment = np.full(n_s, -1, dtype=np.int64)
     segment[k] = e
@@ -589,8 +612,9 @@ class NTS(ContactDiscretization):
         k = np.tile(np.arange(n_s), len(near))
         ok = e >= 0
         k, e = k[ok], e[ok]
-        cols = (2 * n_s + 2 * seg_m[e][:, :, None] + np.arange(2)).reshape(-1, 4)
-        return pattern_matrix(np.repeat(k, 4), cols.ravel(), (n_s, 2 * n_s + 2 * n_m))
+        nm = 2 * seg_m.shape[1]                      # master dofs of a segment: 4, or 6 (3-node)
+        cols = (2 * n_s + 2 * seg_m[e][:, :, None] + np.arange(2)).reshape(-1, nm)
+        return pattern_matrix(np.repeat(k, nm), cols.ravel(), (n_s, 2 * n_s + 2 * n_m))
 
     def load_state_dict(self, state: dict[str, np.ndarray]) -> None:
         ns = self.slave.n_nodes

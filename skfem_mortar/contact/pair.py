@@ -334,8 +334,8 @@ class ContactPair(Item):
         the slave along the node's tangent) after the normal ones, the slip
         within the load step (:mod:`skfem_mortar.contact.slip`) and the
         semi-smooth stick/slip rows of
-        :func:`~skfem_mortar.contact.friction.complementarity` (docs/friction.md).
-        2-node segments only (ValueError on 3-node ones).
+        :func:`~skfem_mortar.contact.friction.complementarity` (docs/friction.md);
+        on 2-node and 3-node (quadratic) segments alike.
     **options
         The discretization's options (e.g. ``margin``), checked when it is built.
 
@@ -382,13 +382,6 @@ class ContactPair(Item):
         if friction is not None and not isinstance(friction, (Coulomb, Tresca)):
             raise ValueError(f"friction must be None, Coulomb(mu) or Tresca(bound), got "
                              f"{friction!r}")
-        if friction is not None:
-            from .mortar_method import surface_order
-            for what, surf in (("slave", slave), ("master", master)):
-                if surface_order(surf) == 2:
-                    raise ValueError(f"friction is not supported on 3-node (quadratic) segments "
-                                     f"yet: the {what} surface {getattr(surf, 'name', '')!r} "
-                                     f"has them; use friction=None or 2-node segments")
         self.discretization = make_method(method, slave, master, pair_name=name, **options)
         if friction is not None and not isinstance(self.discretization, FrictionDiscretization):
             raise ValueError(f"friction: method {method!r} has no slip hooks "

@@ -36,6 +36,18 @@ changes the slip).  This follows Wriggers, *Computational Contact Mechanics*
 (2006), section 4.3 (the slip as the change of the convective coordinate
 times the metric), with the crossing of segments written as arc length.
 
+On curved 3-node master segments (``x(t) = sum_a N_a(t) x_a``, ``t`` in
+``[-1, 1]``, :mod:`~skfem_mortar.contact.nts_quadratic`) the arc length is
+measured along the current curves: on one segment ``u_t = int_{t_prev}^{t}
+|x'(s)| ds`` (``t_prev = 2 xi_prev - 1``), across segments the rest of the
+previous one, the crossed ones whole and the part of the current one
+(backwards the same, negative), each by the Gauss rule of
+:func:`~skfem_mortar.contact.nts_quadratic.arc_length` with the current
+parameter ``t`` a jet (two Newton steps of the projection in jets), so the
+derivatives are exact for the rule; ``tau`` is the curve's unit tangent at
+the projection.  On a straight segment with a centred mid node it is the
+linear rule; a rigid motion leaves parameters and arc lengths unchanged.
+
 Mortar (:func:`mortar_slip`)
 ----------------------------
 The weighted objective slip of Gitterle, Popp, Gee, Wall (2010), at slave
@@ -45,7 +57,9 @@ nodal normal turned by -90 degrees):
     u_t,A = - tau_A . [ sum_B (D_AB - D_AB^prev) x_B - sum_C (M_AC - M_AC^prev) x_C ],
 
 ``D^prev``, ``M^prev`` the mortar integrals of the last converged step
-(history) and ``x`` the current positions.  Rigid motions of the whole pair
+(history) and ``x`` the current positions (3-node segments on either side:
+the curved kernel's ``D``, ``M`` and nodal normals,
+:func:`skfem_mortar.contact.mortar_quadratic.tangential_evaluate`).  Rigid motions of the whole pair
 leave ``D`` and ``M`` unchanged, so the slip vanishes exactly; a translation
 alone also cancels by ``sum_B D_AB = sum_C M_AC`` (both integrate ``Phi_A``
 over the same mortar segments).  The sign: for a slave sliding by ``d`` along
@@ -77,8 +91,9 @@ from typing import Any
 import numpy as np
 import scipy.sparse as sp
 
-from . import mortar
+from . import mortar, mortar_quadratic, nts_quadratic
 from .jets import Jet
+from .mortar_quadratic_segmentation import nodal_normal_jets
 from .mortar_segmentation import nodal_normals
 from .nts import project
 from ..core.chain import segments_at_nodes
@@ -176,6 +191,86 @@ def _node_dofs(n_s: int, nodes: np.ndarray, master: bool) -> np.ndarray:
     return base + 2 * nodes[:, None] + np.arange(2)
 
 
+def _assemble(n_s: int, ndof: int, parts: list, lam_t: np.ndarray | None, second: bool
+              ) -> tuple[sp.csr_matrix, sp.csr_matrix | None]:
+    """``G`` and ``H`` of a sum of weighted jets: ``parts`` holds
+    ``(rows (m,), dofs (m, nv), weight (m,), jet)``, each adding ``weight * jet``
+    to the slip of its row's node (the jet's variables are the local dofs)."""
+    Gr = np.concatenate([np.repeat(r, d.shape[1]) for r, d, _, _ in parts])
+    Gc = np.concatenate([d.ravel() for _, d, _, _ in parts])
+    Gv = np.concatenate([(w[:, None] * j.g.T).ravel() for _, _, w, j in parts])
+    G = sp.csr_matrix((Gv, (Gr, Gc)), shape=(n_s, ndof))
+    if not second:
+        return G, None
+    Hr, Hc, Hv = [], [], []
+    for r, d, w, j in parts:
+        nv = d.shape[1]
+        Hr.append(np.repeat(d, nv, axis=1).ravel())
+        Hc.append(np.tile(d, (1, nv)).ravel())
+        Hv.append((w * j.hessian() * lam_t[r]).transpose(2, 0, 1).ravel())
+    H = sp.csr_matrix((np.concatenate(Hv), (np.concatenate(Hr), np.concatenate(Hc))),
+                      shape=(ndof, ndof))
+    return G, H
+
+
+def _segment_dofs(n_s: int, seg_m: np.ndarray, segs: np.ndarray) -> np.ndarray:
+    """Local dofs (m, 2 k) of the master nodes of the segments ``segs``."""
+    return np.hstack([_node_dofs(n_s, seg_m[segs, a], True) for a in range(seg_m.shape[1])])
+
+
+def _linear_parts(xs, xm, seg_m, k, e, terms, second):
+    """The jets of the 2-node slip: ``xi l`` on the current segment and the weighted
+    segment lengths of ``terms``; and the tangents ``e`` of the current segments."""
+    n_s = xs.shape[1]
+    x1, x2 = xm[:, seg_m[e, 0]], xm[:, seg_m[e, 1]]
+    parts = [(k, np.hstack([_node_dofs(n_s, k, False), _segment_dofs(n_s, seg_m, e)]),
+              np.ones(k.size), _coordinate_jet(xs[:, k], x1, x2, second))]
+    for nodes, segs, w in terms:
+        parts.append((nodes, _segment_dofs(n_s, seg_m, segs), w,
+                      _length_jet(xm[:, seg_m[segs, 0]], xm[:, seg_m[segs, 1]], second)))
+    l_e = np.hypot(*(x2 - x1))
+    return parts, (x2 - x1) / np.where(l_e > 0, l_e, 1.0)
+
+
+def _curve_nodes(xm: np.ndarray, seg_m: np.ndarray, segs: np.ndarray) -> tuple:
+    return tuple((xm[0, seg_m[segs, a]], xm[1, seg_m[segs, a]]) for a in range(3))
+
+
+def _curved_parts(xs, xm, seg_m, k, e, ep, xp, st, crossed, second):
+    """The jets of the slip along curved 3-node segments (module doc): the arc length
+    from the previous to the current projection, on the current curve."""
+    n_s = xs.shape[1]
+    P = _curve_nodes(xm, seg_m, e)
+    xi, _ = nts_quadratic.project_values(xs[:, k], P)
+    js, JP, z = nts_quadratic.projection_jets(xs[:, k], P, xi, second)
+    one = Jet.constant(np.ones(k.size), 8, second)
+    xpc = 2.0 * xp - 1.0                              # [0, 1] -> the curve's [-1, 1]
+    start = Jet.constant(np.where(st == 0, xpc, -1.0), 8, second)
+    back = st < 0
+    # the current segment: from xi_prev (same segment), from its start (forward), or
+    # from xi to its end (backward, negative)
+    a_e = nts_quadratic.arc_length(JP, Jet.where(back, z, start), Jet.where(back, one, z))
+    parts = [(k, np.hstack([_node_dofs(n_s, k, False), _segment_dofs(n_s, seg_m, e)]),
+              np.where(back, -1.0, 1.0), a_e)]
+    moved = st != 0
+    kp, epm, xpm, fwd = k[moved], ep[moved], xpc[moved], st[moved] > 0
+    V = [Jet.variable(c, i, 6, second) for i, c in enumerate(
+        v for pt in _curve_nodes(xm, seg_m, epm) for v in pt)]
+    JPp = ((V[0], V[1]), (V[2], V[3]), (V[4], V[5]))
+    # the previous segment: from xi_prev to its end (forward) or from its start (backward)
+    a_p = nts_quadratic.arc_length(JPp, np.where(fwd, xpm, -1.0), np.where(fwd, 1.0, xpm))
+    parts.append((kp, _segment_dofs(n_s, seg_m, epm), np.where(fwd, 1.0, -1.0), a_p))
+    for nodes, segs, w in crossed:                    # whole segments in between
+        V = [Jet.variable(c, i, 6, second) for i, c in enumerate(
+            v for pt in _curve_nodes(xm, seg_m, segs) for v in pt)]
+        full = nts_quadratic.arc_length(((V[0], V[1]), (V[2], V[3]), (V[4], V[5])),
+                                        -np.ones(segs.size), np.ones(segs.size))
+        parts.append((nodes, _segment_dofs(n_s, seg_m, segs), w, full))
+    _, t, _ = nts_quadratic.curve_values(P, z.v)
+    lt = np.hypot(t[0], t[1])
+    return parts, np.vstack(t) / np.where(lt > 0, lt, 1.0)
+
+
 def nts_slip(xs: np.ndarray, xm: np.ndarray, seg_m: np.ndarray, xi_prev: np.ndarray,
              segment_prev: np.ndarray, segment: np.ndarray | None = None,
              lam_t: np.ndarray | None = None, tangent: bool = True,
@@ -186,8 +281,10 @@ def nts_slip(xs: np.ndarray, xm: np.ndarray, seg_m: np.ndarray, xi_prev: np.ndar
     ----------
     xs, xm : ndarray (2, n_s), (2, n_m)
         Current slave and master node coordinates.
-    seg_m : int ndarray (n_seg, 2)
-        Master segments (one oriented chain, open or closed).
+    seg_m : int ndarray (n_seg, 2) or (n_seg, 3)
+        Master segments (one oriented chain, open or closed; 3 columns: curved
+        3-node segments (start, end, mid), the slip is then the arc length along
+        the current curves).
     xi_prev : ndarray (n_s,)
         Parameter in [0, 1] along ``segment_prev`` at the last converged step
         (``info["xi"]`` of :func:`skfem_mortar.contact.nts.evaluate`).
@@ -197,7 +294,8 @@ def nts_slip(xs: np.ndarray, xm: np.ndarray, seg_m: np.ndarray, xi_prev: np.ndar
     segment : int ndarray (n_s,), optional
         The current segment of each node (the pair's projection, ``info["segment"]``
         of its NTS evaluation, with its hysteresis and locks); by default
-        :func:`skfem_mortar.contact.nts.project` with ``project_options``.
+        :func:`skfem_mortar.contact.nts.project` (3-node:
+        :func:`skfem_mortar.contact.nts_quadratic.project`) with ``project_options``.
     lam_t : ndarray (n_s,), optional
         Tangential multipliers, for ``H``.
     tangent : bool
@@ -208,7 +306,10 @@ def nts_slip(xs: np.ndarray, xm: np.ndarray, seg_m: np.ndarray, xi_prev: np.ndar
     SlipEval
     """
     xs, xm = np.asarray(xs, float), np.asarray(xm, float)
-    seg_m = np.asarray(seg_m, dtype=np.int64).reshape(-1, 2)
+    seg_m = np.asarray(seg_m, dtype=np.int64)
+    if seg_m.ndim != 2 or seg_m.shape[1] not in (2, 3):
+        seg_m = seg_m.reshape(-1, 2)
+    curved = seg_m.shape[1] == 3
     n_s, n_m, n_seg = xs.shape[1], xm.shape[1], len(seg_m)
     xi_prev = np.asarray(xi_prev, float)
     segment_prev = np.asarray(segment_prev, dtype=np.int64)
@@ -218,7 +319,8 @@ def nts_slip(xs: np.ndarray, xm: np.ndarray, seg_m: np.ndarray, xi_prev: np.ndar
     if segment_prev.size and (segment_prev.min() < -1 or segment_prev.max() >= n_seg):
         raise ValueError(f"segment_prev must index master segments in [-1, {n_seg})")
     if segment is None:
-        segment = project(xs, xm, seg_m, **project_options)["segment"]
+        proj = nts_quadratic.project if curved else project
+        segment = proj(xs, xm, seg_m, **project_options)["segment"]
     segment = np.asarray(segment, dtype=np.int64)
     if segment.shape != (n_s,):
         raise ValueError(f"segment must have shape ({n_s},), got {segment.shape}")
@@ -227,61 +329,37 @@ def nts_slip(xs: np.ndarray, xm: np.ndarray, seg_m: np.ndarray, xi_prev: np.ndar
         if lam_t.shape != (n_s,):
             raise ValueError(f"lam_t must have shape ({n_s},), got {lam_t.shape}")
     has = (segment >= 0) & (segment_prev >= 0)
-    steps, found, fw, bw = _chain_steps(seg_m, n_m, np.where(has, segment_prev, -1),
+    steps, found, fw, bw = _chain_steps(seg_m[:, :2], n_m, np.where(has, segment_prev, -1),
                                         np.where(has, segment, -1))
     mask = has & found
     second = tangent and lam_t is not None
     k = np.flatnonzero(mask)
     e = segment[k]
-    # xi l on the current segment: (x - x1) . e
-    x1, x2 = xm[:, seg_m[e, 0]], xm[:, seg_m[e, 1]]
-    s_jet = _coordinate_jet(xs[:, k], x1, x2, second)
-    # the lengths: (node, segment, weight) -- previous segment, those crossed, current
     ep, xp, st = segment_prev[k], xi_prev[k], steps[k]
-    terms = [(k, ep, np.where(st > 0, 1.0 - xp, -xp))]           # S(e_p, xi_p) and the start
-    back = st < 0
-    terms.append((k[back], e[back], -np.ones(int(back.sum()))))   # backward: the whole of e
-    for j in range(int(np.abs(st).max(initial=0)) - 1):           # the segments in between
+    crossed = []                                                  # the segments in between
+    for j in range(int(np.abs(st).max(initial=0)) - 1):
         fwd_j, bwd_j = fw[j][k], bw[j][k]
         inside = np.abs(st) > j + 1
-        terms.append((k[inside], np.where(st > 0, fwd_j, bwd_j)[inside],
-                      np.where(st > 0, 1.0, -1.0)[inside]))
+        crossed.append((k[inside], np.where(st > 0, fwd_j, bwd_j)[inside],
+                        np.where(st > 0, 1.0, -1.0)[inside]))
+    if curved:
+        parts, tan_k = _curved_parts(xs, xm, seg_m, k, e, ep, xp, st, crossed, second)
+    else:
+        # the lengths: (node, segment, weight) -- previous segment, backward: the
+        # whole of e, those crossed
+        back = st < 0
+        terms = [(k, ep, np.where(st > 0, 1.0 - xp, -xp)),
+                 (k[back], e[back], -np.ones(int(back.sum())))] + crossed
+        parts, tan_k = _linear_parts(xs, xm, seg_m, k, e, terms, second)
     u = np.zeros(n_s)
-    u[k] = s_jet.v
-    lens = []
-    for nodes, segs, w in terms:
-        lj = _length_jet(xm[:, seg_m[segs, 0]], xm[:, seg_m[segs, 1]], second)
-        np.add.at(u, nodes, w * lj.v)
-        lens.append((nodes, segs, w, lj))
+    for nodes, _, w, j in parts:
+        np.add.at(u, nodes, w * j.v)
     tan = np.zeros((2, n_s))
-    l_e = np.hypot(*(x2 - x1))
-    tan[:, k] = (x2 - x1) / np.where(l_e > 0, l_e, 1.0)
+    tan[:, k] = tan_k
     info = {"crossed": np.where(mask, steps, 0)}
     if not tangent:
         return SlipEval(u=u, G=None, H=None, tangent=tan, mask=mask, info=info)
-    ndof = 2 * n_s + 2 * n_m
-    dofs = [np.hstack([_node_dofs(n_s, k, False), _node_dofs(n_s, seg_m[e, 0], True),
-                       _node_dofs(n_s, seg_m[e, 1], True)])]
-    rows, vals, hess = [k], [s_jet.g.T], [None if not second else s_jet.hessian()]
-    for nodes, segs, w, lj in lens:
-        dofs.append(np.hstack([_node_dofs(n_s, seg_m[segs, 0], True),
-                               _node_dofs(n_s, seg_m[segs, 1], True)]))
-        rows.append(nodes)
-        vals.append(w[:, None] * lj.g.T)
-        hess.append(None if not second else w * lj.hessian())
-    Gr = np.concatenate([np.repeat(r, d.shape[1]) for r, d in zip(rows, dofs)])
-    Gc = np.concatenate([d.ravel() for d in dofs])
-    G = sp.csr_matrix((np.concatenate([v.ravel() for v in vals]), (Gr, Gc)), shape=(n_s, ndof))
-    H = None
-    if second:
-        Hr, Hc, Hv = [], [], []
-        for r, d, h in zip(rows, dofs, hess):
-            nv = d.shape[1]
-            Hr.append(np.repeat(d, nv, axis=1).ravel())
-            Hc.append(np.tile(d, (1, nv)).ravel())
-            Hv.append((h * lam_t[r]).transpose(2, 0, 1).ravel())
-        H = sp.csr_matrix((np.concatenate(Hv), (np.concatenate(Hr), np.concatenate(Hc))),
-                          shape=(ndof, ndof))
+    G, H = _assemble(n_s, 2 * n_s + 2 * n_m, parts, lam_t, second)
     return SlipEval(u=u, G=G, H=H, tangent=tan, mask=mask, info=info)
 
 
@@ -293,16 +371,30 @@ def _as_csr(M: Any, shape: tuple[int, int], name: str) -> sp.csr_matrix:
     return M
 
 
+def _curved(seg_s: np.ndarray, seg_m: np.ndarray) -> bool:
+    """Whether either surface has 3-node segments (the curved mortar kernel)."""
+    return np.asarray(seg_s).shape[-1] == 3 or np.asarray(seg_m).shape[-1] == 3
+
+
+def _segments(seg: Any) -> np.ndarray:
+    seg = np.asarray(seg, dtype=np.int64)
+    return seg if seg.ndim == 2 and seg.shape[1] in (2, 3) else seg.reshape(-1, 2)
+
+
 def mortar_history(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarray,
                    **kernel_options: Any) -> dict[str, sp.csr_matrix]:
     """The history of :func:`mortar_slip` at a converged state: ``D_prev``, ``M_prev``.
 
     The mortar integrals of :func:`skfem_mortar.contact.mortar.evaluate`
-    (values only; ``kernel_options`` as there: ``dual``, ``n_gauss``,
-    ``crosspoints``, ...), which the pair also has as ``info["D"]``,
-    ``info["M"]`` of its last evaluation at the converged state.
+    (3-node segments on either side:
+    :func:`skfem_mortar.contact.mortar_quadratic.evaluate`; values only;
+    ``kernel_options`` as there: ``dual``, ``n_gauss``, ``crosspoints``, ...),
+    which the pair also has as ``info["D"]``, ``info["M"]`` of its last
+    evaluation at the converged state.
     """
-    ev = mortar.evaluate(xs, seg_s, xm, seg_m, tangent=False, **kernel_options)
+    seg_s, seg_m = _segments(seg_s), _segments(seg_m)
+    kernel = mortar_quadratic.evaluate if _curved(seg_s, seg_m) else mortar.evaluate
+    ev = kernel(xs, seg_s, xm, seg_m, tangent=False, **kernel_options)
     return {"D_prev": ev.info["D"], "M_prev": ev.info["M"]}
 
 
@@ -315,8 +407,11 @@ def mortar_slip(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.nda
     ----------
     xs, xm : ndarray (2, n_s), (2, n_m)
         Current slave and master node coordinates.
-    seg_s, seg_m : int ndarray (n, 2)
-        Slave and master segments.
+    seg_s, seg_m : int ndarray (n, 2) or (n, 3)
+        Slave and master segments; 3-node segments (start, end, mid) on either
+        side take the curved kernel
+        (:func:`skfem_mortar.contact.mortar_quadratic.tangential_evaluate`, its
+        ``D``, ``M`` and nodal normals).
     D_prev, M_prev : sparse or dense (n_s, n_s), (n_s, n_m)
         The mortar integrals ``int Phi_A N_B``, ``int Phi_A N_C`` at the last
         converged step (:func:`mortar_history`), with the same multiplier
@@ -336,7 +431,8 @@ def mortar_slip(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.nda
         ``D``, ``M`` (current, the next step's history), ``r``, ``w``.
     """
     xs, xm = np.asarray(xs, float), np.asarray(xm, float)
-    seg_s = np.asarray(seg_s, dtype=np.int64).reshape(-1, 2)
+    seg_s, seg_m = _segments(seg_s), _segments(seg_m)
+    curved = _curved(seg_s, seg_m)
     n_s, n_m = xs.shape[1], xm.shape[1]
     Dp = _as_csr(D_prev, (n_s, n_s), "D_prev")
     Mp = _as_csr(M_prev, (n_s, n_m), "M_prev")
@@ -345,8 +441,8 @@ def mortar_slip(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.nda
         if lam_t.shape != (n_s,):
             raise ValueError(f"lam_t must have shape ({n_s},), got {lam_t.shape}")
     second = tangent and lam_t is not None
-    ev = mortar.tangential_evaluate(xs, seg_s, xm, seg_m, lam=lam_t, tangent=tangent,
-                                    **kernel_options)
+    kernel = mortar_quadratic.tangential_evaluate if curved else mortar.tangential_evaluate
+    ev = kernel(xs, seg_s, xm, seg_m, lam=lam_t, tangent=tangent, **kernel_options)
     # w_A = sum_B Dp_AB x_B - sum_C Mp_AC x_C: rows 2A + i, local dof columns
     I2 = sp.identity(2, format="csr")
     W = sp.hstack([sp.kron(Dp, I2), -sp.kron(Mp, I2)], format="csr")
@@ -358,14 +454,17 @@ def mortar_slip(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.nda
     if not tangent:
         return SlipEval(u=u, G=None, H=None, tangent=tau, mask=ev.mask, info=info)
     ndof = 2 * n_s + 2 * n_m
-    (nx, ny), pnode, nnode = nodal_normals(xs, seg_s, second, 6)
-    tj = (ny, -nx)                                                 # tau_A as jets (6 variables)
-    node = np.arange(n_s)
-    d6 = np.hstack([_node_dofs(n_s, pnode, False), _node_dofs(n_s, node, False),
-                    _node_dofs(n_s, nnode, False)])                # (n_s, 6)
+    if curved:       # the nodal normals of the curved kernel's step 1, slot variables
+        (nx, ny), slots = nodal_normal_jets(xs, seg_s, second)
+    else:
+        (nx, ny), pnode, nnode = nodal_normals(xs, seg_s, second, 6)
+        slots = np.column_stack([pnode, np.arange(n_s), nnode])
+    tj = (ny, -nx)                                                 # tau_A as jets
+    d6 = np.hstack([_node_dofs(n_s, slots[:, j], False) for j in range(slots.shape[1])])
+    nv = d6.shape[1]
     # T: rows 2A + i, d tau_A,i / dx
     T = sp.csr_matrix((np.stack([tj[0].g.T, tj[1].g.T], 1).ravel(),
-                       (np.repeat(np.arange(2 * n_s), 6), np.repeat(d6, 2, axis=0).ravel())),
+                       (np.repeat(np.arange(2 * n_s), nv), np.repeat(d6, 2, axis=0).ravel())),
                       shape=(2 * n_s, ndof))
     S = sp.kron(sp.identity(n_s, format="csr"), np.ones((1, 2)), format="csr")
     G = (ev.G + S @ (sp.diags(tau.T.ravel()) @ W + sp.diags(w.T.ravel()) @ T)).tocsr()
@@ -373,9 +472,9 @@ def mortar_slip(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.nda
     if second:
         L = sp.diags(np.repeat(lam_t, 2))
         cross = T.T @ L @ W
-        h6 = (tj[0].hessian() * (lam_t * w[0]) + tj[1].hessian() * (lam_t * w[1]))  # (6, 6, n)
+        h6 = (tj[0].hessian() * (lam_t * w[0]) + tj[1].hessian() * (lam_t * w[1]))  # (nv, nv, n)
         Ht = sp.csr_matrix((h6.transpose(2, 0, 1).ravel(),
-                            (np.repeat(d6, 6, axis=1).ravel(), np.tile(d6, (1, 6)).ravel())),
+                            (np.repeat(d6, nv, axis=1).ravel(), np.tile(d6, (1, nv)).ravel())),
                            shape=(ndof, ndof))
         H = (ev.H + cross + cross.T + Ht).tocsr()
     return SlipEval(u=u, G=G, H=H, tangent=tau, mask=ev.mask, info=info)
