@@ -143,6 +143,9 @@ class SeriesWriter:
     index ``<name>.pvd`` is rewritten atomically, so after a crash every frame
     the index lists is complete and readable (meshio reads the VTU files,
     ParaView the PVD). Frames beyond a resumed run's restart are replaced.
+    The VTU data arrays are binary without compression: zlib took three
+    quarters of the writing (hertz: 13.6 ms against 67 ms per body frame, on a
+    loaded machine) for files 1.75 times smaller.
 
     Parameters
     ----------
@@ -205,7 +208,7 @@ class SeriesWriter:
         rel = f"{self.name}/{self.name}_{index:04d}.vtu"
         mesh = frame_mesh(self.points, self.cells, point_data, cell_data)
         with atomic_path(self.directory / rel, suffix=".vtu") as tmp:
-            meshio.write(tmp, mesh, file_format="vtu")
+            meshio.write(tmp, mesh, file_format="vtu", compression=None)
         self.frames.append((float(t), rel))
         entries = "\n".join(f'    <DataSet timestep="{tt:.12g}" part="0" file="{f}"/>'
                             for tt, f in self.frames)
