@@ -179,3 +179,14 @@ def test_a_small_mortar_run_does_not_import_scipy_spatial(tmp_path):
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                          check=True).stdout
     assert out.strip().splitlines()[-1] == "no spatial"
+
+
+# ------------------------------------------------------------ the hertz mesh
+@pytest.mark.parametrize("refine", [-2, 0])
+def test_hertz_boundary_nodes_equal_skfem(refine):
+    """The mesh build's boundary nodes (numpy, no facet tables) are skfem's."""
+    from skfem import MeshTri
+    from skfem_mortar.scenes.hertz import _boundary_nodes, graded_quarter_disk
+    mesh = graded_quarter_disk(8.0, 0.05 * 2.0 ** -refine, 0.5)
+    m = MeshTri(mesh.p, mesh.t)
+    np.testing.assert_array_equal(_boundary_nodes(m.t, m.p.shape[1]), m.boundary_nodes())
