@@ -168,17 +168,18 @@ def test_a_hertz_run_calls_the_mortar_kernel_once_per_assembly_and_step_end(monk
 
 
 # ------------------------------------------------------------ imports of a run
-def test_a_small_mortar_run_does_not_import_scipy_spatial(tmp_path):
-    """The search's grid serves a small run: ``scipy.spatial`` (0.1 s of
-    imports) stays out of its process."""
+def test_a_small_mortar_run_does_not_import_scipy_spatial_or_meshio(tmp_path):
+    """The search's grid and the series' own VTU writer serve a small run:
+    ``scipy.spatial`` and meshio (0.1 and 0.05 s of imports) stay out of its
+    process."""
     code = ("import sys\n"
             "from skfem_mortar.app import cli\n"
             f"cli.main(['run', 'hertz', '--method', 'mortar', '--set', 'refine=-2', '--out', "
             f"{str(tmp_path / 'run')!r}, '--no-progress'])\n"
-            "print('spatial' if 'scipy.spatial' in sys.modules else 'no spatial')\n")
+            "print(sorted({'scipy.spatial', 'meshio'} & set(sys.modules)))\n")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                          check=True).stdout
-    assert out.strip().splitlines()[-1] == "no spatial"
+    assert out.strip().splitlines()[-1] == "[]"
 
 
 # ------------------------------------------------------------ the hertz mesh
@@ -190,3 +191,40 @@ def test_hertz_boundary_nodes_equal_skfem(refine):
     mesh = graded_quarter_disk(8.0, 0.05 * 2.0 ** -refine, 0.5)
     m = MeshTri(mesh.p, mesh.t)
     np.testing.assert_array_equal(_boundary_nodes(m.t, m.p.shape[1]), m.boundary_nodes())
+
+
+# ------------------------------------------------------------ the VTU writer
+@pytest.mark.parametrize("cell_type,k", [("triangle", 3), ("quad", 4), ("line", 2),
+                                         ("line3", 3), ("triangle6", 6), ("vertex", 1)])
+def test_vtu_text_reads_back_as_written(tmp_path, cell_type, k):
+    """meshio reads the frame :func:`vtu_text` writes as the data it was given:
+    points, cells, vector, scalar and integer point fields, cell fields of two
+    blocks, exactly."""
+    import meshio
+    from skfem_mortar.output.io import vtu_text
+    rng = np.random.default_rng(1)
+    pts = np.column_stack([rng.normal(size=(12, 2)), np.zeros(12)])
+    c1, c2 = rng.integers(0, 12, (5, k)), rng.integers(0, 12, (3, k))
+    pd = {"displacement": rng.normal(size=(12, 3)), "pressure": rng.normal(size=12),
+          "flag": rng.integers(0, 2, 12).astype(np.int64)}
+    cd = {"sigma": [rng.normal(size=5), rng.normal(size=3)]}
+    path = tmp_path / "f.vtu"
+    path.write_text(vtu_text(pts, [(cell_type, c1), (cell_type, c2)], pd, cd))
+    m = meshio.read(path)
+    np.testing.assert_array_equal(m.points, pts)
+    got = np.concatenate([b.data for b in m.cells])
+    np.testing.assert_array_equal(got, np.concatenate([c1, c2]))
+    assert {b.type for b in m.cells} == {cell_type}
+    for name, v in pd.items():
+        np.testing.assert_array_equal(m.point_data[name], v)
+    np.testing.assert_array_equal(np.concatenate(m.cell_data["sigma"]), np.concatenate(cd["sigma"]))
+
+
+def test_vtu_text_leaves_other_cells_and_dtypes_to_meshio():
+    from skfem_mortar.output.io import vtu_text
+    pts = np.zeros((4, 3))
+    tet = [("tetra", np.array([[0, 1, 2, 3]]))]
+    tri = [("triangle", np.array([[0, 1, 2]]))]
+    assert vtu_text(pts, tet, {}, {}) is None
+    assert vtu_text(pts, tri, {"b": np.ones(4, dtype=bool)}, {}) is None
+    assert vtu_text(pts, tri, {}, {"s": [np.ones(1), np.ones(1)]}) is None  # blocks mismatch
