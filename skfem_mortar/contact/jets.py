@@ -23,9 +23,29 @@ def _zero(h: np.ndarray) -> bool:
     return h.strides[0] == 0
 
 
+def _full(a: tuple, b: tuple) -> tuple:
+    """``np.broadcast_shapes(a, b)``, without its cost where the shapes are equal
+    (the common case: a fixed cost of every jet operation on small blocks)."""
+    return a if a == b else np.broadcast_shapes(a, b)
+
+
+_ZEROS: dict[tuple, np.ndarray] = {}
+
+
+def _zeros(shape: tuple) -> np.ndarray:
+    """A read-only broadcast view of zeros of ``shape`` (stride 0: :func:`_zero`),
+    made once per shape."""
+    z = _ZEROS.get(shape)
+    if z is None:
+        if len(_ZEROS) > 256:  # bounded: shapes follow the block sizes of a run
+            _ZEROS.clear()
+        z = _ZEROS[shape] = np.broadcast_to(np.zeros(()), shape)
+    return z
+
+
 def _acc(h: np.ndarray, t: np.ndarray) -> np.ndarray:
     """``h + t``, in place when the shapes allow."""
-    if h.shape == np.broadcast_shapes(h.shape, t.shape):
+    if h.shape == _full(h.shape, t.shape):
         h += t
         return h
     return h + t
@@ -59,15 +79,15 @@ class Jet:
         e = np.zeros((nv,) + (1,) * v.ndim)
         e[i] = 1.0
         g = np.broadcast_to(e, (nv,) + v.shape)
-        h = np.broadcast_to(np.zeros(()), (nv, nv) + v.shape) if second else None
+        h = _zeros((nv, nv) + v.shape) if second else None
         return Jet(v, g, h)
 
     @staticmethod
     def constant(v: np.ndarray, nv: int, second: bool) -> "Jet":
         """A constant (zero gradient and Hessian), as broadcast views."""
         v = np.asarray(v, dtype=float)
-        g = np.broadcast_to(np.zeros(()), (nv,) + v.shape)
-        h = np.broadcast_to(np.zeros(()), (nv, nv) + v.shape) if second else None
+        g = _zeros((nv,) + v.shape)
+        h = _zeros((nv, nv) + v.shape) if second else None
         return Jet(v, g, h)
 
     # -- arithmetic
@@ -75,7 +95,7 @@ class Jet:
         if isinstance(o, Jet):
             h = None
             if self.h is not None:   # (in-place updates only ever touch fresh arrays)
-                full = np.broadcast_shapes(self.h.shape, o.h.shape)
+                full = _full(self.h.shape, o.h.shape)
                 if _zero(o.h) and self.h.shape == full:
                     h = self.h
                 elif _zero(self.h) and o.h.shape == full:
@@ -94,7 +114,7 @@ class Jet:
         if isinstance(o, Jet):
             h = None
             if self.h is not None:
-                full = np.broadcast_shapes(self.h.shape, o.h.shape)
+                full = _full(self.h.shape, o.h.shape)
                 if _zero(o.h) and self.h.shape == full:
                     h = self.h
                 else:
@@ -121,7 +141,7 @@ class Jet:
         h = None
         if self.h is not None:
             if _zero(self.h):
-                h = np.broadcast_to(np.zeros(()), np.broadcast_shapes(self.h.shape, o.shape))
+                h = _zeros(_full(self.h.shape, o.shape))
             else:
                 h = self.h * o
         return Jet(self.v * o, self.g * o, h)

@@ -101,9 +101,20 @@ def gauss_rule(n_gauss: int) -> tuple[np.ndarray, np.ndarray]:
     """Step 4: the Gauss-Legendre points ``eta_k`` and weights ``w_k`` on [-1, 1].
 
     ``sum_k w_k p(eta_k) = int_{-1}^{1} p(eta) d eta`` exactly for polynomials
-    of degree ``2 n_gauss - 1``.
+    of degree ``2 n_gauss - 1``.  Computed once per ``n_gauss`` (numpy's
+    ``leggauss`` solves an eigenproblem: a fixed cost of every kernel call);
+    the arrays are read-only.
     """
-    return np.polynomial.legendre.leggauss(n_gauss)
+    rule = _GAUSS.get(n_gauss)
+    if rule is None:
+        rule = np.polynomial.legendre.leggauss(n_gauss)
+        for a in rule:
+            a.flags.writeable = False
+        rule = _GAUSS[n_gauss] = (rule[0], rule[1])
+    return rule
+
+
+_GAUSS: dict[int, tuple[np.ndarray, np.ndarray]] = {}
 
 
 class Quadrature(NamedTuple):

@@ -13,6 +13,7 @@ instead; 2-node surfaces on both sides take the linear kernel as before.
 """
 from __future__ import annotations
 
+from dataclasses import dataclass, replace
 from typing import Any
 
 import numpy as np
@@ -43,6 +44,65 @@ def surface_order(surface: Any) -> int:
     segments' columns (2: straight, 3: curved 3-node segments)."""
     order = getattr(surface, "order", None)
     return int(order) if order is not None else order_of(surface.segments)
+
+
+def _same_options(a: dict, b: dict) -> bool:
+    """Equal per-call kernel options (:meth:`Mortar._extra`): the same reach, the
+    same frozen segmentation object, equal crosspoints."""
+    if a.keys() != b.keys():
+        return False
+    for k, v in a.items():
+        w = b[k]
+        if isinstance(v, np.ndarray):
+            if not np.array_equal(v, w):
+                return False
+        elif k == "segmentation":
+            if v is not w:
+                return False
+        elif v != w:
+            return False
+    return True
+
+
+@dataclass
+class _LastEvaluation:
+    """A kernel call kept by :meth:`Mortar.evaluate`: its inputs (copies) and result."""
+
+    ev: ContactEval
+    xs: np.ndarray
+    xm: np.ndarray
+    lam: np.ndarray | None  # the multipliers of ``H`` (None: no ``H``)
+    tangent: bool
+    extra: dict
+    pinned: np.ndarray | None
+
+    @staticmethod
+    def of(ev: ContactEval, xs, xm, lam, tangent: bool, extra: dict,
+           pinned: np.ndarray | None) -> "_LastEvaluation":
+        for a in (ev.g, ev.area, ev.mask):
+            a.flags.writeable = False  # shared by the answers: nobody may change them
+        with_h = tangent and lam is not None
+        return _LastEvaluation(ev, np.array(xs, dtype=float), np.array(xm, dtype=float),
+                               np.array(lam, dtype=float) if with_h else None, bool(tangent),
+                               dict(extra), None if pinned is None else pinned.copy())
+
+    def answer(self, xs, xm, lam, tangent: bool, extra: dict,
+               pinned: np.ndarray | None) -> ContactEval | None:
+        """The kept result for this call, or None when it does not hold it: other
+        positions or options, a tangent it did not compute, ``H`` for other
+        multipliers.  ``G`` and ``H`` are left out where the call does not ask
+        for them (as the kernel leaves them out)."""
+        with_h = tangent and lam is not None
+        if ((tangent and not self.tangent) or (with_h and self.lam is None)
+                or not (np.array_equal(xs, self.xs) and np.array_equal(xm, self.xm))
+                or (with_h and not np.array_equal(lam, self.lam))
+                or (pinned is None) != (self.pinned is None)
+                or (pinned is not None and not np.array_equal(pinned, self.pinned))
+                or not _same_options(extra, self.extra)):
+            return None
+        ev = self.ev
+        return replace(ev, G=ev.G if tangent else None, H=ev.H if with_h else None,
+                       info=dict(ev.info))
 
 
 class Mortar(ContactDiscretization):
@@ -111,6 +171,8 @@ class Mortar(ContactDiscretization):
         #: (held pair keys, pattern) of :meth:`pattern`; reservations made
         self._reserved: tuple[np.ndarray, sp.csr_matrix] | None = None
         self.reservations = 0
+        #: the last kernel call (:meth:`evaluate`)
+        self._last: _LastEvaluation | None = None
 
     def set_pinned(self, pinned: np.ndarray | None) -> None:
         self._pinned = pinned
@@ -255,12 +317,32 @@ class Mortar(ContactDiscretization):
 
     def evaluate(self, xs: np.ndarray, xm: np.ndarray, lam: np.ndarray | None,
                  tangent: bool) -> ContactEval:
+        """The kernel's :class:`ContactEval` at ``xs``, ``xm`` (``lam``: for ``H``).
+
+        The last evaluation is kept: a call at the same positions, with the
+        same per-call options (:meth:`_extra`: reach, frozen segmentation,
+        crosspoints) and asking no more than it computed (no tangent, or a
+        tangent without ``H``, or ``H`` for the same ``lam``) is answered from
+        it, with ``G`` and ``H`` dropped where not asked for.  The kernel's
+        values do not depend on what else it computes (``g``, ``area``,
+        ``mask``, ``D``, ``M`` are the same to the last bit with or without
+        the tangent), so the answer is the one a new call would give.  This
+        is what a converged step asks repeatedly at its final state (the KKT
+        check after the last assembly, the outputs after ``end_step``, which
+        zeroes multipliers but moves no node) and at its start (preflight,
+        initial active set).  The kept arrays are read-only.
+        """
         extra, pinned = self._extra(xs, xm)
+        pin = self._pinned if pinned else None
+        hit = self._last.answer(xs, xm, lam, tangent, extra, pin) if self._last else None
+        if hit is not None:
+            return hit
         ev = self._kernel(xs, self.slave.segments, xm, self.master.segments, lam=lam,
                           tangent=tangent, **extra, **self._kernel_options)
         if pinned:
             ev.mask = ev.mask & ~self._pinned
-        return ev
+        self._last = _LastEvaluation.of(ev, xs, xm, lam, tangent, extra, pin)
+        return self._last.answer(xs, xm, lam, tangent, extra, pin)
 
     # -- friction (FrictionDiscretization) ------------------------------------
     def slip_history(self, xs: np.ndarray, xm: np.ndarray, ev: ContactEval

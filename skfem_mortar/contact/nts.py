@@ -51,12 +51,11 @@ from typing import Any
 
 import numpy as np
 import scipy.sparse as sp
-from scipy.spatial import cKDTree
 
 from .contact_eval import ContactEval
 from .discretization import (ContactDiscretization, OptionTable, check_entries, check_options,
                              covers, pattern_matrix, reserved_keys)
-from .search import node_segment_pairs
+from .search import nearest_vertex, node_segment_pairs
 from ..core.chain import polyline
 from ..core.coo import element_coo
 from .surfaces import segment_lengths, segment_normals, segments_at_nodes, tributary_lengths
@@ -105,7 +104,7 @@ def candidates(xs: np.ndarray, xm: np.ndarray, seg_m: np.ndarray, margin: float,
     n_s, n_seg = xs.shape[1], len(seg_m)
     i_n, i_e = node_segment_pairs(xs, xm, seg_m, margin)
     seg_of_end, seg_of_start = segments_at_nodes(seg_m, xm.shape[1])
-    _, jn = cKDTree(xm.T).query(xs.T)
+    _, jn = nearest_vertex(xm, xs)
     k2 = np.concatenate([np.arange(n_s), np.arange(n_s)])
     e2 = np.concatenate([seg_of_start[jn], seg_of_end[jn]])
     near = [e2]

@@ -12,23 +12,37 @@ Algorithm
 ---------
 Boxes are reduced to their centres ``c`` and half sizes ``h``.  Two boxes
 overlap iff ``|c_a - c_b|_inf <= h_a + h_b + margin`` componentwise, so every
-overlapping pair of "small" boxes is found by a kd-tree range query in the
-max-norm with the radius ``max h_a + max h_b + margin`` (``cKDTree``, a dual
-tree traversal, O(n log n) for a surface mesh of bounded grading) and then
-filtered exactly.  "Large" boxes (half size above four times the median of their set; e.g. a
-rigid plane of one long segment) would inflate that radius for all the others,
-so they are tested against every entity of the other set directly; there are
-only a few of them, so this costs O(n_large n).  No all-pairs test is done.
+overlapping pair of "small" boxes lies within the max-norm radius
+``r = max h_a + max h_b + margin`` of each other.  The centres of one set are
+hashed into a uniform grid of square cells of side ``r / 2`` (a sort of the
+cell keys); each centre of the other set is paired with the centres in the
+cells that meet the square of half width ``r`` around it (at most five
+columns of cells, each one ``searchsorted`` range of the sorted keys, the
+cells of a grid column being consecutive keys), and the pairs are then
+filtered exactly.  O(n log n) for a surface mesh of bounded grading, numpy
+alone.  Above :data:`GRID_POINTS` boxes the range query is scipy's
+``cKDTree`` (a dual tree traversal), imported only then: measured
+(``benchmarks/search_grid.py``, one thread) the grid is as fast as the tree
+at 1e3 boxes and 10 to 30 % slower at 1e4 to 1e5, while importing
+``scipy.spatial`` costs a small run about 0.1 s of its start.  The exact test
+makes both give the same pairs.  "Large" boxes (half
+size above four times the median of their set; e.g. a rigid plane of one long
+segment) would inflate that radius for all the others, so they are tested
+against every entity of the other set directly; there are only a few of them,
+so this costs O(n_large n).  No all-pairs test is done.
+
+The nearest vertex of a point (:func:`nearest_vertex`) uses the same grid:
+the nearest vertex in the square of half width ``r`` around a point is the
+nearest of all when it lies within ``r`` (every vertex outside is farther).
 """
 from __future__ import annotations
 
 import numpy as np
-from scipy.spatial import cKDTree
-
 from ..core.chain import polyline
 from ..core.timing import timed
 
-__all__ = ["segment_pairs", "node_segment_pairs", "box_pairs", "segment_boxes"]
+__all__ = ["segment_pairs", "node_segment_pairs", "box_pairs", "segment_boxes", "nearest_vertex",
+           "distance_to_polyline"]
 
 _LARGE = 4.0  # a box is "large" above this many median half sizes
 
@@ -76,6 +90,148 @@ def _overlap(lo_a, hi_a, lo_b, hi_b, ia, ib, margin):
                   & (lo_b[:, ib] <= hi_a[:, ia] + margin), axis=0)
 
 
+#: most cells of the grid along an axis (its keys stay far inside int64)
+_MAX_CELLS = 2**24
+#: the box and nearest-vertex searches use the grid (numpy) up to this many
+#: points (both sets together) and ``scipy.spatial.cKDTree`` above: there the
+#: tree is faster, and a run that large does not feel its import (0.1 s)
+GRID_POINTS = 4000
+
+
+def _ragged(starts: np.ndarray, counts: np.ndarray) -> np.ndarray:
+    """``concatenate([arange(s, s + c) for s, c in zip(starts, counts)])``, vectorized."""
+    ends = np.cumsum(counts)
+    return np.repeat(starts - ends + counts, counts) + np.arange(ends[-1] if ends.size else 0)
+
+
+class _Grid:
+    """Points hashed into a uniform grid of square cells (side at least ``cell``).
+
+    The cell of a point is ``k = floor((c - origin) / side)`` per axis, its key
+    ``k_x n_y + k_y`` (``n_y`` the cells along y, the grid's box holding the
+    points and the queries widened by ``reach``); the keys are sorted once, so
+    the points of the cells ``k_y0 .. k_y1`` of a grid column are one range of
+    the sorted keys.
+    """
+
+    def __init__(self, c: np.ndarray, cell: float, others: np.ndarray, reach: float):
+        lo = np.minimum(c.min(axis=1), others.min(axis=1) - reach)
+        hi = np.maximum(c.max(axis=1), others.max(axis=1) + reach)
+        self.side = max(float(cell), float((hi - lo).max()) / _MAX_CELLS, 1e-300)
+        self.origin = lo
+        self.ny = int(np.floor((hi[1] - lo[1]) / self.side)) + 1
+        k = self.cells(c)
+        key = k[0] * self.ny + k[1]
+        self.order = np.argsort(key, kind="stable")
+        self.sorted = key[self.order]
+
+    def cells(self, c: np.ndarray) -> np.ndarray:
+        return np.floor((c - self.origin[:, None]) / self.side).astype(np.int64)
+
+    def within(self, c: np.ndarray, r: float) -> tuple[np.ndarray, np.ndarray]:
+        """Pairs ``(i, j)``, sorted by ``i``: point ``j`` of the grid lies in a cell
+        that meets the square ``|y - c_i|_inf <= r`` (a superset of the points in
+        that square, for ``r`` at most twice the side: five columns of cells)."""
+        k0, k1 = self.cells(c - r), self.cells(c + r)
+        starts, counts = np.empty((c.shape[1], 5), np.int64), np.empty((c.shape[1], 5), np.int64)
+        for dx in range(5):
+            kx = k0[0] + dx
+            s = np.searchsorted(self.sorted, kx * self.ny + k0[1], side="left")
+            e = np.searchsorted(self.sorted, kx * self.ny + k1[1], side="right")
+            starts[:, dx] = s
+            counts[:, dx] = np.where(kx <= k1[0], e - s, 0)
+        i = np.repeat(np.arange(c.shape[1], dtype=np.int64), counts.sum(1))
+        return i, self.order[_ragged(starts.ravel(), counts.ravel())].astype(np.int64)
+
+
+def _near_pairs(ca: np.ndarray, cb: np.ndarray, r: float) -> tuple[np.ndarray, np.ndarray]:
+    """Every pair ``(i, j)`` with ``|ca_i - cb_j|_inf <= r`` (and some up to about
+    ``2.5 r`` apart: the caller filters exactly).
+
+    Up to :data:`GRID_POINTS` points in all, from a grid of cells of side
+    ``r / 2`` (:class:`_Grid`; ``r`` widened by a hair, so that round-off in
+    the cell of a point never drops a pair within ``r``); above, by
+    ``scipy.spatial.cKDTree`` (imported then only), which measured 10 to 30 %
+    faster there (``benchmarks/search_grid.py``).  The exact test that
+    follows makes both give the same pairs.
+    """
+    if ca.shape[1] + cb.shape[1] > GRID_POINTS:
+        from scipy.spatial import cKDTree
+        hits = cKDTree(ca.T).sparse_distance_matrix(cKDTree(cb.T), r, p=np.inf,
+                                                     output_type="ndarray")
+        return hits["i"].astype(np.int64), hits["j"].astype(np.int64)
+    r = r * (1.0 + 1e-9)
+    grid = _Grid(cb, 0.5 * r, ca, r)
+    return grid.within(ca, r)
+
+
+#: :func:`nearest_vertex` measures every distance up to this many point-vertex pairs
+_ALL_PAIRS = 20_000
+#: rounds of :func:`nearest_vertex` in the grid (the square searched grows four
+#: times each round) before the points still unresolved go to a k-d tree
+_NEAREST_ROUNDS = 2
+
+
+def nearest_vertex(x: np.ndarray, p: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The vertex of ``x (2, m)`` nearest to each point ``p (2, n)`` and its distance.
+
+    ``d_i = min_j |p_i - x_j|`` (Euclidean, ``sqrt(dx^2 + dy^2)``); among vertices
+    at exactly the same distance the lowest index (the tree's own choice for
+    the points left to it).  A uniform grid (module
+    doc; up to 20,000 point-vertex pairs every distance is measured): the
+    vertices in the square of half width ``r`` around a point
+    (``r`` first twice the mean vertex spacing along the larger side of their
+    bounding box); a nearest one within ``r`` is the nearest of all.  The
+    points without one are searched again with ``4 r``, and those still
+    without (far from a dense surface, where the square would hold many
+    vertices) by ``scipy.spatial.cKDTree``, imported only then; above
+    :data:`GRID_POINTS` points and vertices all go to the tree (faster there).
+
+    Returns
+    -------
+    distance : ndarray (n,)
+    index : int ndarray (n,)
+    """
+    x = np.asarray(x, dtype=float).reshape(2, -1)
+    p = np.asarray(p, dtype=float).reshape(2, -1)
+    n, m = p.shape[1], x.shape[1]
+    dist, idx = np.full(n, np.inf), np.zeros(n, dtype=np.int64)
+    if n == 0:
+        return dist, idx
+    if m == 0:
+        raise ValueError("x must hold at least one vertex")
+    if n * m <= _ALL_PAIRS:  # few: every point against every vertex
+        dx, dy = p[0][:, None] - x[0], p[1][:, None] - x[1]
+        d = np.sqrt(dx * dx + dy * dy)
+        idx = np.argmin(d, axis=1)  # the first of equal minima: the lowest index
+        return d[np.arange(n), idx], idx
+    extent = float((x.max(axis=1) - x.min(axis=1)).max())
+    r = max(2.0 * extent / m, 1e-300)
+    todo = np.arange(n)
+    for _ in range(_NEAREST_ROUNDS if n + m <= GRID_POINTS else 0):
+        if not todo.size:
+            break
+        q = p[:, todo]
+        grid = _Grid(x, 0.5 * r, q, r)
+        i, j = grid.within(q, r)
+        dx, dy = q[0, i] - x[0, j], q[1, i] - x[1, j]
+        d = np.sqrt(dx * dx + dy * dy)
+        o = np.lexsort((j, d, i))  # by point, then distance, then vertex index
+        first = np.ones(o.size, dtype=bool)
+        first[1:] = i[o[1:]] != i[o[:-1]]
+        best = o[first]
+        best = best[d[best] <= r]  # no vertex outside the square is nearer
+        dist[todo[i[best]]], idx[todo[i[best]]] = d[best], j[best]
+        found = np.zeros(todo.size, dtype=bool)
+        found[i[best]] = True
+        todo = todo[~found]
+        r *= 4.0
+    if todo.size:
+        from scipy.spatial import cKDTree
+        dist[todo], idx[todo] = cKDTree(x.T).query(p[:, todo].T)
+    return dist, idx
+
+
 def box_pairs(lo_a: np.ndarray, hi_a: np.ndarray, lo_b: np.ndarray, hi_b: np.ndarray,
               margin: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
     """All pairs (i, j) of boxes ``a_i``, ``b_j`` that overlap after inflating by ``margin``.
@@ -110,16 +266,12 @@ def box_pairs(lo_a: np.ndarray, hi_a: np.ndarray, lo_b: np.ndarray, hi_b: np.nda
     ia_parts, ib_parts = [empty], [empty]
     if small_a.size and small_b.size:
         r = sa[small_a].max() + sb[small_b].max() + margin
-        ta, tb = cKDTree(ca[:, small_a].T), cKDTree(cb[:, small_b].T)
         # widen by round-off of the centres so that touching boxes are kept;
         # the exact test below decides
         scale = max(np.abs(ca).max(), np.abs(cb).max(), r)
-        hits = ta.sparse_distance_matrix(tb, r + 1e-12 * scale + 1e-300, p=np.inf,
-                                         output_type="ndarray")
-        i = small_a[hits["i"].astype(np.int64)]
-        j = small_b[hits["j"].astype(np.int64)]
-        ia_parts.append(i)
-        ib_parts.append(j)
+        i, j = _near_pairs(ca[:, small_a], cb[:, small_b], r + 1e-12 * scale + 1e-300)
+        ia_parts.append(small_a[i])
+        ib_parts.append(small_b[j])
     # large boxes against everything of the other set (few of them)
     for big, n_other, first in ((np.flatnonzero(big_a), nb, True),
                                 (np.flatnonzero(big_b), na, False)):
@@ -222,7 +374,7 @@ def distance_to_polyline(p: np.ndarray, x: np.ndarray, seg: np.ndarray) -> np.nd
     nodes ``x (2, m)``: ``min_e |p - (x_1 + t (x_2 - x_1))|``, ``t`` clipped to [0, 1]
     (3-node segments: to their chords through the mid node, :func:`~skfem_mortar.core.chain.polyline`).
 
-    The nearest vertex (a k-d tree) bounds each distance by ``d_v``; the closest
+    The nearest vertex (:func:`nearest_vertex`) bounds each distance by ``d_v``; the closest
     segment then lies in its box inflated by ``d_v``, so the points, in batches
     sorted by ``d_v``, are paired with the segment boxes (:func:`box_pairs`) with
     the batch's largest ``d_v`` as margin, and the minimum is taken over those pairs only.
@@ -232,7 +384,7 @@ def distance_to_polyline(p: np.ndarray, x: np.ndarray, seg: np.ndarray) -> np.nd
     if p.shape[1] == 0:
         return out
     seg = polyline(np.asarray(seg, dtype=np.int64))  # 3-node segments: their two chords
-    d_v, _ = cKDTree(x.T).query(p.T)
+    d_v, _ = nearest_vertex(x, p)
     order = np.argsort(d_v)
     lo, hi = segment_boxes(x, seg)
     for k in range(0, order.size, _DIST_BATCH):

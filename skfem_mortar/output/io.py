@@ -21,7 +21,7 @@ from typing import Any, Iterator, Sequence
 import numpy as np
 
 __all__ = ["atomic_path", "write_json", "write_contact_csv", "SeriesWriter", "read_series", "frame_mesh",
-           "Checkpoint", "write_checkpoint", "read_checkpoint", "clear_checkpoint",
+           "vtu_text", "Checkpoint", "write_checkpoint", "read_checkpoint", "clear_checkpoint",
            "prune_checkpoint"]
 
 
@@ -128,6 +128,66 @@ def frame_mesh(points: np.ndarray, cells: list, point_data: dict, cell_data: dic
                        cell_data=cell_data)
 
 
+#: VTK cell type numbers of the meshio cell types :func:`vtu_text` writes itself
+VTK_TYPES = {"vertex": 1, "line": 3, "triangle": 5, "quad": 9, "line3": 21, "triangle6": 22}
+_VTK_DTYPES = {np.dtype(np.float64): "Float64", np.dtype(np.float32): "Float32",
+               np.dtype(np.int64): "Int64", np.dtype(np.int32): "Int32",
+               np.dtype(np.uint8): "UInt8"}
+
+
+def _data_array(name: str, data: np.ndarray) -> str | None:
+    """One binary ``DataArray`` (base64 of a UInt32 byte count and the raw
+    little-endian bytes, what meshio writes without compression); None for a
+    dtype or size it does not cover."""
+    import base64
+    from xml.sax.saxutils import quoteattr
+
+    data = np.ascontiguousarray(data)
+    kind = _VTK_DTYPES.get(data.dtype.newbyteorder("="))
+    raw = data.astype(data.dtype.newbyteorder("<"), copy=False).tobytes()
+    if kind is None or data.ndim > 2 or len(raw) >= 2**32:
+        return None
+    comps = f' NumberOfComponents="{data.shape[1]}"' if data.ndim == 2 else ""
+    body = base64.b64encode(np.array(len(raw), dtype="<u4").tobytes() + raw).decode()
+    return (f'<DataArray type="{kind}" Name={quoteattr(name)}{comps} format="binary">'
+            f"{body}</DataArray>")
+
+
+def vtu_text(points: np.ndarray, cells: list, point_data: dict, cell_data: dict) -> str | None:
+    """The VTU file of one frame (points ``(N, 3)``, meshio-style cell blocks
+    ``[(type, (n, k) array)]``, point fields ``(N,)`` / ``(N, c)``, cell fields as
+    one array per block), binary without compression, as meshio writes it;
+    None where meshio is needed (another cell type or data type): the series
+    writer then calls meshio.  Written here because importing meshio (with its
+    console library) costs a small run a twentieth of a second."""
+    blocks = [(t, np.asarray(c)) for t, c in cells]
+    if not blocks or any(t not in VTK_TYPES or c.ndim != 2 for t, c in blocks):
+        return None
+    conn = np.concatenate([c.ravel() for _, c in blocks]).astype(np.int64)
+    offsets = np.cumsum(np.concatenate([np.full(len(c), c.shape[1]) for _, c in blocks])
+                        ).astype(np.int64)
+    types = np.concatenate([np.full(len(c), VTK_TYPES[t]) for t, c in blocks]).astype(np.uint8)
+    parts = [_data_array("Points", points)]
+    parts_c = [_data_array(n, a) for n, a in (("connectivity", conn), ("offsets", offsets),
+                                            ("types", types))]
+    pd = [_data_array(k, np.asarray(v)) for k, v in point_data.items()]
+    cd = []
+    for k, v in cell_data.items():
+        if len(v) != len(blocks):
+            return None
+        cd.append(_data_array(k, np.concatenate([np.asarray(a) for a in v])))
+    if any(x is None for x in parts + parts_c + pd + cd):
+        return None
+    byte_order = "LittleEndian"
+    return ('<?xml version="1.0"?>\n'
+            f'<VTKFile type="UnstructuredGrid" version="0.1" byte_order="{byte_order}">\n'
+            f'<UnstructuredGrid>\n<Piece NumberOfPoints="{len(points)}" '
+            f'NumberOfCells="{len(types)}">\n'
+            f"<Points>\n{parts[0]}\n</Points>\n<Cells>\n" + "\n".join(parts_c)
+            + "\n</Cells>\n<PointData>\n" + "\n".join(pd) + "\n</PointData>\n<CellData>\n"
+            + "\n".join(cd) + "\n</CellData>\n</Piece>\n</UnstructuredGrid>\n</VTKFile>\n")
+
+
 def _check_finite_fields(point_data: dict, cell_data: dict, t: float) -> None:
     for name, arr in list(point_data.items()) + [(k, a) for k, v in cell_data.items()
                                                  for a in v]:
@@ -143,6 +203,10 @@ class SeriesWriter:
     index ``<name>.pvd`` is rewritten atomically, so after a crash every frame
     the index lists is complete and readable (meshio reads the VTU files,
     ParaView the PVD). Frames beyond a resumed run's restart are replaced.
+    The VTU data arrays are binary without compression: zlib took three
+    quarters of the writing (hertz: 13.6 ms against 67 ms per body frame, on a
+    loaded machine) for files 1.75 times smaller.  The common cell types are
+    written here (:func:`vtu_text`), the rest by meshio.
 
     Parameters
     ----------
@@ -196,16 +260,22 @@ class SeriesWriter:
 
     def write(self, t: float, point_data: dict, cell_data: dict,
               index: int | None = None) -> Path:
-        """Write frame ``index`` (default: the next one) at time ``t``."""
-        import meshio  # lazily: the command line starts fast
-
+        """Write frame ``index`` (default: the next one) at time ``t``
+        (:func:`vtu_text`, or meshio for what it does not cover)."""
         _check_finite_fields(point_data, cell_data, t)
         index = len(self.frames) if index is None else index
         del self.frames[index:]
         rel = f"{self.name}/{self.name}_{index:04d}.vtu"
-        mesh = frame_mesh(self.points, self.cells, point_data, cell_data)
+        text = vtu_text(self.points, self.cells,
+                        {k: _vectors3(v) for k, v in point_data.items()}, cell_data)
         with atomic_path(self.directory / rel, suffix=".vtu") as tmp:
-            meshio.write(tmp, mesh, file_format="vtu")
+            if text is not None:
+                tmp.write_text(text)
+            else:
+                import meshio  # lazily: the command line starts fast
+
+                meshio.write(tmp, frame_mesh(self.points, self.cells, point_data, cell_data),
+                             file_format="vtu", compression=None)
         self.frames.append((float(t), rel))
         entries = "\n".join(f'    <DataSet timestep="{tt:.12g}" part="0" file="{f}"/>'
                             for tt, f in self.frames)

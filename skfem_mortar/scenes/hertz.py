@@ -184,6 +184,15 @@ def triangles_to_quads(mesh: MeshTri) -> MeshQuad:
     return MeshQuad(P, np.ascontiguousarray(np.hstack(quads)))
 
 
+def _boundary_nodes(t: np.ndarray, n: int) -> np.ndarray:
+    """The sorted nodes of the edges that belong to one triangle of ``t`` (3, n_t):
+    ``MeshTri.boundary_nodes`` without building the mesh's facet tables."""
+    e = np.sort(np.hstack([t[[0, 1]], t[[1, 2]], t[[2, 0]]]), axis=0)
+    keys, count = np.unique(e[0] * n + e[1], return_counts=True)
+    b = keys[count == 1]
+    return np.unique(np.concatenate([b // n, b % n]))
+
+
 def _on_circle(p: np.ndarray, R: float, tol: float, nodes: np.ndarray) -> np.ndarray:
     """``p`` with the points ``nodes`` of the arc (``x > 0``, ``y < R``) moved radially onto
     the circle of radius ``R`` about ``(0, R)``."""
@@ -241,7 +250,7 @@ def graded_quarter_disk(R: float, h0: float, fine: float, element: str = "tri1")
     tol = 1e-9 * R
 
     def project(m: MeshTri) -> np.ndarray:
-        return _on_circle(m.p, R, tol, m.boundary_nodes())
+        return _on_circle(m.p, R, tol, _boundary_nodes(m.t, m.p.shape[1]))
 
     mesh = split_corner(_refine_graded(mesh, _coarser(h0, element), fine, project))
     mesh = _with_element(mesh, element, R, tol)
