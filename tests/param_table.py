@@ -33,7 +33,7 @@ VALID = {
     "patch": {"nu": {"0"}, "offset": {"0"}},
     "hertz": {"nu": {"0"}, "nu_base": {"0"}, "refine": {"0", "-1"}},
     "ironing": {"slide": {"0"}, "x_start": {"0"}, "nu": {"0"}, "mu": {"0"}},
-    "seed": {"nu_cushion": {"0"}, "refine_cushion": {"0"}},
+    "seed": {"nu_cushion": {"0"}, "refine_cushion": {"0"}, "mu": {"0"}},
 }
 
 

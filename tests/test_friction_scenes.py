@@ -1,8 +1,9 @@
-"""Friction in the existing scenes: ``ironing --set mu=...``.
+"""Friction in the existing scenes: ``ironing --set mu=...`` and ``seed --set mu=...``.
 
 ``mu = 0`` (both scenes' default) builds no friction; ``mu > 0`` gives the
 contact pair ``Coulomb(mu)``.  What friction changes is the physics checked
-here: the die's force ratio rises by about ``mu``.
+here: the die's force ratio rises by about ``mu`` (ironing), the cable's
+tension is no longer constant along the contact (seed).
 """
 import numpy as np
 import pytest
@@ -12,6 +13,7 @@ from skfem_mortar.contact.friction import Coulomb
 from skfem_mortar.contact.pair import METHODS
 
 MU = 0.3
+SEED_COARSE = {"n_cable": 24, "refine_cushion": 1}
 
 
 class _Runs(dict):
@@ -32,7 +34,7 @@ def _pair(setup):
     return next(it for it in setup.model.items if it.name == "contact")
 
 
-@pytest.mark.parametrize("scene", ["ironing"])
+@pytest.mark.parametrize("scene", ["ironing", "seed"])
 def test_mu_zero_builds_no_friction_and_mu_positive_builds_coulomb(scene):
     setup, values, _ = build_scene(scene, {})
     assert values["mu"] == 0.0 and _pair(setup).friction is None
@@ -71,3 +73,52 @@ def test_ironing_friction_adds_about_mu_to_the_force_ratio(runs, method):
     assert m1["force_ratio_spread"] < 0.05
     # gross sliding at the end: no contact node sticks
     assert m1["n_stick"] == 0 and m1["n_slip"] > 0
+
+
+# -- seed -------------------------------------------------------------------------
+@pytest.mark.parametrize("method, mesh, factor", [
+    ("mortar", SEED_COARSE, 5.0), ("mortar-dual", SEED_COARSE, 5.0), ("nts", {}, 3.0)])
+def test_seed_friction_varies_the_tension_along_the_contact(runs, method, mesh, factor):
+    """With ``mu = 0.3`` the cable, pushed outwards while the cushion holds it,
+    carries tangential tractions: its tension over the contact zone varies by
+    ``(max - min) / mean`` above 1 % (measured 2.0 % mortar on the coarse mesh,
+    2.4 % NTS on the default one) and by a multiple of the frictionless variation
+    of the same mesh, which is the discretization's (see the next test): mortar
+    0.04 %, 5 times; NTS, whose nodal force acts along the master segment's
+    normal, 0.4 % on the default mesh (1.1 % on the coarse one), 3 times."""
+    dry = runs["seed", method, 0.0, tuple(mesh.items())]
+    wet = runs["seed", method, MU, tuple(mesh.items())]
+    assert dry["converged"] and wet["converged"]
+    v0, v1 = dry["metrics"]["tension_variation"], wet["metrics"]["tension_variation"]
+    assert v1 > 0.01 and v1 > factor * v0, (v0, v1)
+    # the body balances hold as without friction (Newton's tolerance)
+    assert wet["metrics"]["cable_equilibrium_error"] < 1e-8
+    assert wet["metrics"]["cushion_equilibrium_error"] < 1e-8
+    # friction holds the cable back: the contact zone's tension drops below the free one
+    assert wet["metrics"]["tension_min"] < dry["metrics"]["tension_min"]
+
+
+@pytest.mark.slow
+def test_seed_frictionless_tension_is_constant_up_to_the_discretization(runs):
+    """``mu = 0``: no tangential load acts on the cable, so its tension is
+    constant along the contact; the discrete contact force is not exactly normal
+    to the cable's chords (the averaged normals, the weighted gap), which leaves
+    a variation that falls under refinement (measured mortar: 3.7e-4 at 24
+    cable elements, 1.6e-4 at 48, 3.2e-5 at 96).  Each halving must bring it
+    down by a factor 1.5 at least, and it stays below 1e-3."""
+    v = [runs["seed", "mortar", 0.0, (("n_cable", n), ("refine_cushion", r))]
+         ["metrics"]["tension_variation"] for n, r in ((24, 1), (48, 2))]
+    assert v[0] < 1e-3 and v[1] < v[0] / 1.5, v
+
+
+def test_seed_sticks_in_the_middle_and_slips_at_the_ends(runs):
+    """With a small ``mu = 0.1`` the cable sticks where it touched first (the
+    middle) and slips towards the ends of the contact zone (measured on the
+    coarse mesh: 6 sticking, 3 sliding nodes)."""
+    m = runs["seed", "mortar", 0.1, tuple(SEED_COARSE.items())]["metrics"]
+    assert m["n_stick"] > 0 and m["n_slip"] > 0
+    assert 0.0 < m["stick_half_width"] < m["slip_half_width"] <= m["contact_half_width"]
+    # with mu = 0.3 the whole contact sticks (measured: 9 of 9 nodes)
+    m3 = runs["seed", "mortar", MU, tuple(SEED_COARSE.items())]["metrics"]
+    assert m3["n_slip"] == 0 and m3["stick_half_width"] == m3["contact_half_width"]
+    assert m3["tension_variation"] > m["tension_variation"]  # more friction, more variation
