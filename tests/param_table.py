@@ -32,8 +32,8 @@ VALID = {
     "cable_flat": {},
     "patch": {"nu": {"0"}, "offset": {"0"}},
     "hertz": {"nu": {"0"}, "nu_base": {"0"}, "refine": {"0", "-1"}},
-    "ironing": {"slide": {"0"}, "x_start": {"0"}, "nu": {"0"}},
-    "seed": {"nu_cushion": {"0"}, "refine_cushion": {"0"}},
+    "ironing": {"slide": {"0"}, "x_start": {"0"}, "nu": {"0"}, "mu": {"0"}},
+    "seed": {"nu_cushion": {"0"}, "refine_cushion": {"0"}, "mu": {"0"}},
 }
 
 

@@ -30,3 +30,41 @@ def test_line_plots(tmp_path):
     assert plot_pressure(curves, tmp_path / "pressure.png").stat().st_size > 1000
     steps = [{"load_factor": 1.0, "residual_norms": [1.0, 1e-3, 1e-9, 0.0]}]
     assert plot_newton(steps, tmp_path / "newton.png").stat().st_size > 1000
+
+
+def _tangential_lines(fig):
+    return [ln for ax in fig.axes for ln in ax.get_lines() if ln.get_gid() == "tangential traction"]
+
+
+@pytest.mark.parametrize("mu", [0.0, 0.3])
+def test_pressure_plot_gains_the_tangential_traction_with_friction(mu):
+    """The demo's pressure curves of a seed run: with friction each curve has its
+    tangential traction, drawn dashed on a second, labelled axis; frictionless
+    there is neither (the plot as before)."""
+    import matplotlib.pyplot as plt
+
+    from skfem_mortar.app.demo import pressure_curves
+    from skfem_mortar.output.plot import TANGENTIAL_WORDS, pressure_figure
+
+    _, result, setup = run_scene("seed", {"n_cable": 24, "refine_cushion": 1, "mu": mu},
+                                 method="mortar", return_result=True)
+    curves = pressure_curves("mortar", result, setup)
+    assert curves
+    fig = pressure_figure(curves)
+    lines = _tangential_lines(fig)
+    pressure = [ln for ax in fig.axes for ln in ax.get_lines() if ln.get_gid() == "pressure"]
+    assert len(pressure) == len(curves)
+    labels = [ax.get_ylabel().replace("\n", " ") for ax in fig.axes]
+    if mu == 0.0:
+        assert not lines and len(fig.axes) == 1
+        assert all("tangential_traction" not in c for c in curves)
+    else:
+        assert len(lines) == len(curves) and len(fig.axes) == 2
+        assert TANGENTIAL_WORDS in labels
+        for ln, c in zip(lines, curves):  # the curve's values, in the order of x
+            order = np.argsort(c["x"])
+            assert np.array_equal(ln.get_ydata(), np.asarray(c["tangential_traction"])[order])
+            assert ln.get_linestyle() == "--"
+        # friction acts: the last curve's tangential traction is not zero
+        assert np.abs(lines[-1].get_ydata()).max() > 1e-3 * np.max(curves[-1]["pressure"])
+    plt.close(fig)

@@ -118,3 +118,69 @@ def test_steps_list_and_grid_points_are_validated():
             plan_study(["ring"], quick=True, steps=bad)
     with pytest.raises(ValueError, match=r"parameter 'EA' .* grid point EA=1000000000000.0"):
         plan_study(["ring"], quick=True, sets={"EA": "10,1e12"})
+
+
+def test_mu_is_an_axis_of_the_friction_scenes():
+    """``--set mu=...`` is an axis like any scene parameter: slide (whose mu must
+    be > 0: it is a friction scene), ironing and seed (mu = 0: frictionless)."""
+    for scene, values in (("slide", "0.1,0.3"), ("ironing", "0,0.1,0.3"), ("seed", "0,0.1,0.3")):
+        plan = plan_study([scene], quick=True, methods=["nts"], sets={"mu": values})
+        mus = sorted({r["params"]["mu"] for r in plan.runs})
+        assert mus == [float(v) for v in values.split(",")]
+    with pytest.raises(ValueError, match="'mu'"):
+        plan_study(["slide"], quick=True, sets={"mu": "0,0.3"})
+
+
+def test_friction_cost_pairs_each_friction_row_with_its_frictionless_one():
+    from skfem_mortar.app.study_report import friction_cost
+
+    def row(method, mu, its, t, n="10"):
+        return {"scene": "seed", "method": method, "steps": "", "solver": "",
+                "param.mu": mu, "param.n": n, "status": "ok", "newton_iterations": its,
+                "wall_time_s": t}
+    rows = [row("nts", 0.0, 40, 2.0), row("nts", "0.3", 60, 6.0),  # a string: read back
+            row("mortar", 0.3, 50, 5.0), row("nts", 0.3, 80, 9.0, n="20")]
+    cost = friction_cost(rows)
+    assert [c["mu"] for c in cost] == [0.3, 0.3, 0.3]
+    first = cost[0]
+    assert first["partner"] and first["iterations_ratio"] == 60 / 40
+    assert first["time_ratio"] == 6.0 / 2.0
+    assert first["time_per_iteration_ratio"] == pytest.approx((6.0 / 60) / (2.0 / 40), rel=1e-15)
+    # no mu = 0 run of the same method / the same n: listed without ratios
+    assert [c["partner"] for c in cost[1:]] == [False, False]
+    assert cost[1]["iterations_ratio"] is None
+
+
+def test_study_over_mu_reports_friction_cost(tmp_path, monkeypatch):
+    """A tiny seed grid (mortar, the coarse level, mu = 0 and 0.3): every row
+    runs, and the report's friction_cost section gives the mu = 0.3 run's
+    iterations and times against the mu = 0 one.  The reference run is made at
+    the grid's own level (to keep the test short), so each row's reference
+    errors are exactly 0 when each mu has its own reference run (against the
+    frictionless reference the mu = 0.3 run's contact force is 1.8 % off)."""
+    monkeypatch.setitem(study.GRIDS["seed"], "reference_params",
+                        {"n_cable": 24, "refine_cushion": 1})
+    rows = run_study(["seed"], tmp_path, quick=True, methods=["mortar"], sets={"mu": "0,0.3"},
+                     repeat=1)
+    assert [r["status"] for r in rows] == ["ok", "ok"]
+    report = (tmp_path / "report.md").read_text()
+    section = report.split("### friction_cost")[1]
+    dry, wet = sorted(rows, key=lambda r: r["param.mu"])
+    line = next(l for l in section.splitlines() if l.startswith("| mortar"))
+    cells = [c.strip() for c in line.strip("|").split("|")]
+    assert cells[2] == "0.3"
+    assert cells[3] == f"{wet['newton_iterations']:.3g}"
+    assert cells[4] == f"{dry['newton_iterations']:.3g}"
+    assert float(cells[5]) == pytest.approx(wet["newton_iterations"] / dry["newton_iterations"],
+                                            rel=1e-2)  # printed to 3 digits
+    assert float(cells[8]) == pytest.approx(wet["wall_time_s"] / dry["wall_time_s"], rel=1e-2)
+    # each mu against its own reference run (a run like the row's: exactly 0)
+    for r in rows:
+        for q in ("contact_force", "max_indentation", "contact_length"):
+            assert r[f"{q}_error"] == 0.0, (r["param.mu"], q)
+    refs = json.loads((tmp_path / "references.json").read_text())
+    assert sorted(refs) == ["seed", 'seed {"mu": 0.3}']
+    assert refs['seed {"mu": 0.3}']["params"]["mu"] == 0.3
+    # the tension's variation along the contact is a metric of the rows
+    assert json.loads(wet["metrics"])["tension_variation"] > json.loads(
+        dry["metrics"])["tension_variation"]

@@ -4,7 +4,8 @@ Runs ``seed`` with the chosen method (writing the result series, summary.json,
 contact.csv), runs it once more with the other family (NTS against mortar) for
 the pressure comparison, and draws ``figure.png`` (initial and deformed model),
 ``pressure.png`` (contact pressure along the interface at several load steps,
-side by side) and ``newton.png`` (residual against iteration per step).
+side by side; with friction, ``params={"mu": ...}``, the tangential traction
+too, dashed on a second axis) and ``newton.png`` (residual against iteration per step).
 """
 from __future__ import annotations
 
@@ -21,7 +22,8 @@ PICTURES = ("figure.png", "newton.png", "pressure.png")
 
 
 def pressure_curves(method: str, result, setup, n_curves: int = 4) -> list[dict]:
-    """Contact pressure along the interface at up to ``n_curves`` load steps with contact."""
+    """Contact pressure along the interface at up to ``n_curves`` load steps with
+    contact, and with friction the tangential traction (``tangential_traction``)."""
     with_contact = [k for k, s in enumerate(result.steps, start=1) if s.n_active > 0]
     if not with_contact:
         return []
@@ -30,8 +32,11 @@ def pressure_curves(method: str, result, setup, n_curves: int = 4) -> list[dict]
     for i in pick:
         k = with_contact[i]
         data = setup.contact(result.states[k])
-        curves.append({"method": method, "label": f"lf={result.load_factors[k]:.2f}",
-                       "x": data["x"], "pressure": data["pressure"]})
+        curve = {"method": method, "label": f"lf={result.load_factors[k]:.2f}",
+                 "x": data["x"], "pressure": data["pressure"]}
+        if "tangential_traction" in data:  # a friction run (seed with mu > 0)
+            curve["tangential_traction"] = data["tangential_traction"]
+        curves.append(curve)
     return curves
 
 

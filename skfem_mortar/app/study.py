@@ -11,6 +11,14 @@ deviation ``<q>_error = |q - q_ref| / |q_ref|`` of a scene quantity ``q`` from a
 fine mortar reference run computed once and cached in the output directory.
 ``error_metric`` names the plotted measure (``metric``), ``error`` holds its value.
 
+The friction coefficient is an axis like any scene parameter (``--set
+mu=0,0.1,0.3`` for ``ironing`` and ``seed``, where ``mu = 0`` builds no
+friction; ``slide`` takes ``mu > 0``). It changes the problem, not its
+discretization (:data:`PHYSICS_AXES`), so each of its values gets its own
+reference run; the report's ``friction_cost`` section compares each friction
+run with the ``mu = 0`` run of the same setting (Newton iterations, wall time,
+time per iteration: :func:`~skfem_mortar.app.study_report.friction_cost`).
+
 Timing: each point is run ``repeat`` times (default :data:`SMALL_REPEAT` for a
 grid of at most :data:`SMALL_GRID_RUNS` points, else once), in rounds: a round
 runs every point that needs another timing once, in an order shuffled per round
@@ -47,7 +55,7 @@ import numpy as np
 
 __all__ = ["StudyPlan", "plan_study", "run_study", "parse_steps", "error_measures",
            "timing_stats", "GRIDS", "KILL_RETRIES", "SMALL_GRID_RUNS", "SMALL_REPEAT",
-           "UNSTEADY_SPREAD", "DEFAULT_TOLERANCES"]
+           "UNSTEADY_SPREAD", "DEFAULT_TOLERANCES", "PHYSICS_AXES"]
 
 #: how many times a grid point that killed its worker is tried again on another
 #: worker before it becomes a failed row (dask's ``allowed-failures``)
@@ -116,6 +124,12 @@ _clock = time.perf_counter
 
 #: settings that only mortar methods have (an NTS run ignores them)
 MORTAR_ONLY = ("n_gauss", "segmentation")
+
+#: axes that change the problem, not its discretization (the friction
+#: coefficient): each value of such an axis a grid sets gets its own reference
+#: run (the reference parameters with that value), so that ``<q>_error`` of a
+#: friction run is measured against a fine run with the same friction
+PHYSICS_AXES = ("mu",)
 
 
 @dataclass
@@ -285,11 +299,31 @@ def plan_study(scenes: Sequence[str], *, methods: Sequence[str] | None = None,
                 plan.runs.append(run)
         if "reference" in conf:
             plan.references[name] = {"metrics": list(conf["reference"]),
-                                     "params": conf.get("reference_params", {})}
+                                     "params": conf.get("reference_params", {}),
+                                     "variants": _variants(scene, plan.runs)}
     unknown = set(sets) - used
     if unknown:
         raise ValueError(f"--set names no parameter of the studied scenes: {sorted(unknown)}")
     return plan
+
+
+def _variants(scene, runs: list[dict]) -> list[dict]:
+    """The settings of :data:`PHYSICS_AXES` the scene's runs use other than the
+    scene's defaults (each wants its own reference run), in order of appearance."""
+    out: list[dict] = []
+    for run in runs:
+        if run["scene"] != scene.name:
+            continue
+        variant = {k: run["params"][k] for k in PHYSICS_AXES
+                   if k in run["params"] and run["params"][k] != scene.param(k).default}
+        if variant and variant not in out:
+            out.append(variant)
+    return out
+
+
+def variant_key(values: dict) -> str:
+    """The key of a reference variant (its physics-axis values, as floats)."""
+    return json.dumps({k: float(v) for k, v in values.items()}, sort_keys=True)
 
 
 def _check_point(scene, params: dict) -> None:
@@ -453,6 +487,10 @@ def _measures(row: dict, refs: dict[str, dict]) -> dict[str, float | None]:
     if not names:  # a scene GRIDS does not declare: its own *_error metrics
         names = [k for k in metrics if k.endswith("_error")]
     ref = refs.get(row["scene"], {}).get("values", {})
+    variant = {k: row[f"param.{k}"] for k in PHYSICS_AXES
+               if row.get(f"param.{k}") not in ("", None)}
+    ref = refs.get(row["scene"], {}).get("variant_values", {}).get(variant_key(variant), ref) \
+        if variant else ref
     out: dict[str, float | None] = {}
     for name in names:
         q = name.removesuffix("_error")
@@ -697,18 +735,30 @@ def run_study(scenes: Sequence[str], out: str | Path, *, methods: Sequence[str] 
 
 
 def _references(plan: StudyPlan, out: Path) -> dict[str, dict]:
-    """Fine mortar reference values, computed once and cached in ``references.json``."""
+    """Fine mortar reference values, computed once and cached in ``references.json``:
+    one per scene at its reference parameters, and one per variant of the
+    :data:`PHYSICS_AXES` the grid sets (the reference parameters with it, cached
+    as ``"<scene> <variant>"``, e.g. ``seed {"mu": 0.3}``)."""
     from ..output.io import write_json
     from .runner import run_scene
 
     path = out / "references.json"
     cache = json.loads(path.read_text()) if path.exists() else {}
     for scene, ref in plan.references.items():
-        key = json.dumps(ref, sort_keys=True)
-        if cache.get(scene, {}).get("key") != key:
-            summary = run_scene(scene, ref["params"], method="mortar")
-            values = {q: summary["metrics"].get(q) for q in ref["metrics"]}
-            cache[scene] = {"key": key, "values": values, "params": ref["params"]}
-            write_json(path, cache)
-        plan.references[scene]["values"] = cache[scene]["values"]
+        variants = ref.get("variants", [])
+        for variant in [{}] + list(variants):
+            name = scene if not variant else f"{scene} {variant_key(variant)}"
+            params = {**ref["params"], **variant}
+            key = json.dumps({"metrics": ref["metrics"], "params": params}, sort_keys=True) \
+                if variant else json.dumps({k: ref[k] for k in ("metrics", "params")},
+                                           sort_keys=True)
+            if cache.get(name, {}).get("key") != key:
+                summary = run_scene(scene, params, method="mortar")
+                values = {q: summary["metrics"].get(q) for q in ref["metrics"]}
+                cache[name] = {"key": key, "values": values, "params": params}
+                write_json(path, cache)
+            if variant:
+                ref.setdefault("variant_values", {})[variant_key(variant)] = cache[name]["values"]
+            else:
+                ref["values"] = cache[name]["values"]
     return plan.references

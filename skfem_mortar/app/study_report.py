@@ -10,7 +10,8 @@ from typing import Mapping, Sequence
 
 import numpy as np
 
-__all__ = ["pareto_front", "pareto_figure", "pareto_plot", "recommend", "write_report"]
+__all__ = ["pareto_front", "pareto_figure", "pareto_plot", "recommend", "write_report",
+           "friction_cost"]
 
 _MARKERS = {"nts": "s", "mortar": "o", "mortar-dual": "^", "": "D"}
 
@@ -165,6 +166,86 @@ def recommend(rows: Sequence[Mapping], metric: str, tolerances: Sequence[float]
     return out
 
 
+def _setting_key(row: Mapping, without: str) -> tuple:
+    """A row's setting (scene, method, load steps, solver, parameters) without the
+    parameter ``without``; numbers compared as floats (a row read back from the
+    CSV holds strings)."""
+    def norm(v):
+        f = _num(v)
+        return repr(f) if np.isfinite(f) else str(v)
+    params = tuple(sorted((k, norm(v)) for k, v in row.items()
+                          if k.startswith("param.") and k != without and v not in ("", None)))
+    return (row["scene"], row.get("method") or "", norm(row.get("steps") or ""),
+            row.get("solver") or "", params)
+
+
+def friction_cost(rows: Sequence[Mapping], param: str = "mu") -> list[dict]:
+    """What friction costs: each ok row with ``param`` (the friction coefficient)
+    ``> 0`` against the ok row of the same setting with ``param = 0``.
+
+    Per such row: ``mu``, ``newton_iterations`` and ``wall_time_s`` of both runs
+    (``*_frictionless``), the ratios ``iterations_ratio = its / its_0``,
+    ``time_ratio = t / t_0`` and ``time_per_iteration_ratio = (t / its) / (t_0 /
+    its_0)``.  A friction row without such a partner is listed with the ratios
+    None (``partner`` False).
+    """
+    col = f"param.{param}"
+    ok = [r for r in rows if r.get("status") == "ok" and np.isfinite(_num(r.get(col)))]
+    dry = {_setting_key(r, col): r for r in ok if _num(r[col]) == 0.0}
+    out = []
+    for r in ok:
+        mu = _num(r[col])
+        if mu <= 0.0:
+            continue
+        d = dry.get(_setting_key(r, col))
+        its, t = _num(r.get("newton_iterations")), _num(r.get("wall_time_s"))
+        entry = {"row": r, "mu": mu, "newton_iterations": its, "wall_time_s": t,
+                 "partner": d is not None, "newton_iterations_frictionless": None,
+                 "wall_time_s_frictionless": None, "iterations_ratio": None,
+                 "time_ratio": None, "time_per_iteration_ratio": None}
+        if d is not None:
+            its0, t0 = _num(d.get("newton_iterations")), _num(d.get("wall_time_s"))
+            entry.update(newton_iterations_frictionless=its0, wall_time_s_frictionless=t0,
+                         iterations_ratio=its / its0 if its0 > 0 else None,
+                         time_ratio=t / t0 if t0 > 0 else None,
+                         time_per_iteration_ratio=(t / its) / (t0 / its0)
+                         if its > 0 and its0 > 0 and t0 > 0 else None)
+        out.append(entry)
+    return out
+
+
+def _friction_lines(rows: Sequence[Mapping]) -> list[str]:
+    """The report's ``friction_cost`` section of one scene's rows (none without
+    a friction row)."""
+    cost = friction_cost(rows)
+    if not cost:
+        return []
+
+    def g(v):
+        return "-" if v is None else f"{v:.3g}"
+    lines = ["### friction_cost", "",
+             "Each run with friction (`mu > 0`) against the run of the same setting with "
+             "`mu = 0` (no friction built): Newton iterations (summed over the load steps) "
+             "and wall time, their ratios, and the ratio of the time per Newton iteration.",
+             "", "| method | setting | mu | Newton its | its at mu = 0 | its ratio | "
+             "wall time (s) | at mu = 0 | time ratio | time per iteration ratio |",
+             "|---" * 10 + "|"]
+    for c in cost:
+        r = c["row"]
+        setting = _settings({k: v for k, v in r.items() if k != "param.mu"})
+        if not c["partner"]:
+            lines.append(f"| {r['method'] or '-'} | {setting} | {c['mu']:g} | "
+                         f"{g(c['newton_iterations'])} | no mu = 0 run of this setting in the "
+                         f"grid | | {g(c['wall_time_s'])}{_timing_mark(r)} | | | |")
+            continue
+        lines.append(f"| {r['method'] or '-'} | {setting} | {c['mu']:g} | "
+                     f"{g(c['newton_iterations'])} | {g(c['newton_iterations_frictionless'])} | "
+                     f"{g(c['iterations_ratio'])} | {g(c['wall_time_s'])}{_timing_mark(r)} | "
+                     f"{g(c['wall_time_s_frictionless'])} | {g(c['time_ratio'])} | "
+                     f"{g(c['time_per_iteration_ratio'])} |")
+    return lines + [""]
+
+
 def _pct(tol: float) -> str:
     return f"{100 * tol:g} %"
 
@@ -179,7 +260,9 @@ def write_report(rows: Sequence[Mapping], path: str | Path,
                  measures: Mapping[str, Sequence[str]] | None = None,
                  repeat: int | None = None, csv_path: str | Path | None = None) -> Path:
     """``report.md``: per scene, the cheapest setting (method, parameters, load
-    steps, solver) per error measure and tolerance, then every run; and, with
+    steps, solver) per error measure and tolerance, then every run, then (for a
+    grid with a friction axis ``mu``) the ``friction_cost`` section
+    (:func:`friction_cost`); and, with
     ``csv_path``, the same recommendations as CSV (one row per scene, measure
     and tolerance; empty settings where no run meets it)."""
     from ..output.io import atomic_path
@@ -242,6 +325,7 @@ def write_report(rows: Sequence[Mapping], path: str | Path,
                 + " | " + " | ".join(f"{_num(r.get(m)):.3g}" for m in names)
                 + f" | {r.get('status', '')} |")
         lines.append("")
+        lines += _friction_lines(sub)
     with atomic_path(path) as tmp:
         tmp.write_text("\n".join(lines) + "\n")
     if csv_path is not None:

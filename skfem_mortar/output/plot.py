@@ -36,9 +36,9 @@ from typing import Any, Callable, Sequence
 
 import numpy as np
 
-__all__ = ["figure", "draw", "render", "plot_pressure", "plot_newton",
+__all__ = ["figure", "draw", "render", "plot_pressure", "pressure_figure", "plot_newton",
            "relative_spread", "colour_ticks", "tick_labels", "CONSTANT_SPREAD",
-           "FIELD_WORDS", "PRESSURE_WORDS", "Picture"]
+           "FIELD_WORDS", "PRESSURE_WORDS", "TANGENTIAL_WORDS", "Picture"]
 
 #: preferred colouring field, in order
 _COLOUR_BY = ("von_mises", "tension")
@@ -54,6 +54,8 @@ FIELD_WORDS = {
 }
 PRESSURE_WORDS = ("contact pressure (traction, force/length\u00b2 per unit thickness, "
                   "> 0 compression)")
+TANGENTIAL_WORDS = ("tangential traction, dashed (on the slave along its tangent, "
+                    "force/length\u00b2 per unit thickness)")
 #: colour maps: solids, cables, contact pressure
 _CMAP = {"von_mises": "viridis", "tension": "plasma", "pressure": "inferno"}
 #: polygon vertex order of each meshio cell type (midside nodes between their corners)
@@ -703,19 +705,16 @@ def _draw_key(fig, cax, key: dict, mappable, width_in: float) -> None:
 
 
 # -- line plots -----------------------------------------------------------------
-def plot_pressure(curves: Sequence[dict], path: str | os.PathLike,
-                  title: str = "contact pressure along the interface") -> Path:
-    """Contact pressure against position, one panel per method; the pressure
-    axis starts at 0.
+def pressure_figure(curves: Sequence[dict],
+                    title: str = "contact pressure along the interface"):
+    """The figure of :func:`plot_pressure` (not saved).
 
-    Parameters
-    ----------
-    curves : sequence of dict
-        Each with ``method``, ``label`` (e.g. the load factor), ``x`` and
-        ``pressure`` arrays (the nodes), and optionally ``profile``: a
-        :func:`~skfem_mortar.output.contact_output.pressure_profile` dict, drawn as
-        the continuous line (for 3-node segments, the quadratic profile) with the
-        nodes as markers.
+    One panel per method: the pressure against position (solid lines, the left
+    axis, starting at 0); where a curve has ``tangential_traction`` (a friction
+    run), that panel gets a second axis on the right with the tangential
+    traction, dashed, in the colour of the curve's pressure (lines with gid
+    ``"tangential traction"``, the axis labelled :data:`TANGENTIAL_WORDS`).  A
+    frictionless panel has no second axis.
     """
     import matplotlib
 
@@ -726,25 +725,55 @@ def plot_pressure(curves: Sequence[dict], path: str | os.PathLike,
     fig, axes = plt.subplots(1, len(methods), figsize=(5.5 * len(methods), 4.2),
                              sharey=True, squeeze=False)
     for ax, m in zip(axes[0], methods):
-        for c in (c for c in curves if c["method"] == m):
+        mine = [c for c in curves if c["method"] == m]
+        twin = ax.twinx() if any(c.get("tangential_traction") is not None for c in mine) \
+            else None
+        for c in mine:
             order = np.argsort(c["x"])
+            x = np.asarray(c["x"])[order]
             prof = c.get("profile")
             if prof is None:
-                ax.plot(np.asarray(c["x"])[order], np.asarray(c["pressure"])[order],
-                        ".-", label=c["label"])
+                (ln,) = ax.plot(x, np.asarray(c["pressure"])[order], ".-", label=c["label"])
             else:
                 (ln,) = ax.plot(prof["x"], prof["pressure"], "-", label=c["label"])
-                ax.plot(np.asarray(c["x"])[order], np.asarray(c["pressure"])[order], ".",
-                        color=ln.get_color())
+                ax.plot(x, np.asarray(c["pressure"])[order], ".", color=ln.get_color())
+            ln.set_gid("pressure")
+            if twin is not None and c.get("tangential_traction") is not None:
+                (lt,) = twin.plot(x, np.asarray(c["tangential_traction"], dtype=float)[order],
+                                  "--", color=ln.get_color(), lw=1.0)
+                lt.set_gid("tangential traction")
         ax.set_title(m)
         ax.set_xlabel("x (current position of the slave node)")
         ax.grid(alpha=0.3)
+        if twin is not None:
+            twin.set_ylabel(textwrap.fill(TANGENTIAL_WORDS, 45), fontsize=9)
+            twin.set_gid("tangential traction axis")
+            ax.plot([], [], "--", color="grey", label="tangential traction (right axis)")
         ax.legend(fontsize=8)
     axes[0][0].set_ylim(bottom=0.0)
     axes[0][0].set_ylabel(textwrap.fill(PRESSURE_WORDS, 45), fontsize=9)
     fig.suptitle(title)
     fig.tight_layout()
-    return _save(fig, path)
+    return fig
+
+
+def plot_pressure(curves: Sequence[dict], path: str | os.PathLike,
+                  title: str = "contact pressure along the interface") -> Path:
+    """Contact pressure against position, one panel per method; the pressure
+    axis starts at 0 (:func:`pressure_figure`, written as a PNG).
+
+    Parameters
+    ----------
+    curves : sequence of dict
+        Each with ``method``, ``label`` (e.g. the load factor), ``x`` and
+        ``pressure`` arrays (the nodes), optionally ``tangential_traction`` (an
+        array at the same nodes: a friction run's, drawn dashed on a second axis)
+        and ``profile``: a
+        :func:`~skfem_mortar.output.contact_output.pressure_profile` dict, drawn as
+        the continuous line (for 3-node segments, the quadratic profile) with the
+        nodes as markers.
+    """
+    return _save(pressure_figure(curves, title), path)
 
 
 def plot_newton(steps: Sequence[dict], path: str | os.PathLike,

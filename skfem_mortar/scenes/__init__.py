@@ -34,7 +34,7 @@ import numpy as np
 from ..contact import BUILTIN_METHODS
 
 __all__ = ["Param", "Derived", "Scene", "Setup", "get_scene", "list_scenes", "METHODS",
-           "max_dofs", "MAX_STEPS", "SAFE_LOW", "SAFE_HIGH"]
+           "max_dofs", "MAX_STEPS", "SAFE_LOW", "SAFE_HIGH", "press_then_slide"]
 
 METHODS = BUILTIN_METHODS  # the contact methods a scene with contact offers
 
@@ -280,6 +280,31 @@ def cable_dofs(n_elements: int) -> int:
 def grid_dofs(nx: int, ny: int, order: int = 1) -> int:
     """Dofs of a vector field on an ``nx x ny`` grid of elements of polynomial ``order``."""
     return 2 * (order * int(nx) + 1) * (order * int(ny) + 1)
+
+
+def press_then_slide(t_press: float, press: float = 1.0, slide: float = 1.0
+                     ) -> tuple[Callable[[float], float], Callable[[float], float]]:
+    """The two phases of a press-and-slide load history over the load factor ``t``.
+
+    Returns ``(pressed, slid)``: ``pressed(t) = press min(t / t_press, 1)`` (rises to
+    ``press`` at ``t_press``, then held) and
+    ``slid(t) = slide max(t - t_press, 0) / (1 - t_press)`` (0 while pressing, then
+    rising to ``slide`` at ``t = 1``).
+
+    Raises
+    ------
+    ValueError
+        Unless ``0 < t_press < 1``.
+    """
+    if not 0.0 < t_press < 1.0:
+        raise ValueError(f"t_press must lie in (0, 1), got {t_press!r}")
+
+    def pressed(t: float) -> float:
+        return press * min(t / t_press, 1.0)
+
+    def slid(t: float) -> float:
+        return slide * max(t - t_press, 0.0) / (1.0 - t_press)
+    return pressed, slid
 
 
 @dataclass

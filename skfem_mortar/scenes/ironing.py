@@ -10,8 +10,10 @@ ring of outer radius ``R = 3`` and inner radius ``0.933 R = 2.8``
 (every node moves alike, a rigid translation of the inner boundary): for load
 factors ``t <= t_press`` it goes down by ``press t / t_press``, after that it
 slides to the right by ``slide (t - t_press) / (1 - t_press)`` at the full
-depth.  The slave surface is the die's outer arc (the finer surface), the
-master the block's top.
+depth.  The slave surface is the block's top by default (``slave=die``: the
+die's outer arc), the master the other one.  ``mu > 0`` gives the pair
+Coulomb friction ``mu`` (``docs/friction.md``); ``mu = 0`` (the default)
+builds none.
 
 The scaled-down default mesh (``n_block`` elements along the block's width,
 ``n_block / 3`` through its height, ``n_die`` along the die's arc, quad1) runs
@@ -34,6 +36,17 @@ Metrics
     and ``(max - min) / mean``.
 ``tangential_force_mean`` :
     likewise.
+``force_ratio_mean``, ``force_ratio_spread``, ``force_ratio_steps`` : the ratio
+    ``tangential_force / normal_force`` in steady sliding, over the steps of the
+    last third of the slide (with friction the die first sticks and shears the
+    block, over about half of the default slide): its mean, its ``max - min``,
+    and the first and last step of that window (step ``k`` ends at ``time[k]``;
+    at the defaults steps 30 to 40 of 40).  Frictionless it is the die's
+    geometric resistance (the block's bulge ahead of it, which changes sign as
+    the die passes the block's middle); with friction it is about ``mu`` more
+    (a little more: the contact leans on the die's front face).
+``n_stick``, ``n_slip`` : with friction, the slave nodes sticking and sliding
+    at the end.
 ``normal_force_roughness`` : ``max |F_{k+1} - 2 F_k + F_{k-1}| / mean`` over the
     same window, the largest second difference of the history: for a smooth
     history it is O(dt^2), a step of size ``s`` gives at least ``s / mean``.
@@ -49,12 +62,14 @@ from pathlib import Path
 import numpy as np
 from skfem import MeshQuad
 
+from ..contact.friction import SLIP, STICK, Coulomb
 from ..contact.pair import ContactPair
 from ..bodies.materials import NeoHooke
 from ..core.model import Dirichlet, Model
 from ..bodies.solid import Solid
 from ..contact.surfaces import ContactSurface
-from . import MAX_STEPS, METHODS, Param, Scene, Setup, grid_dofs, lame_quantities, ratio
+from . import (MAX_STEPS, METHODS, Param, Scene, Setup, grid_dofs, lame_quantities,
+               press_then_slide, ratio)
 
 __all__ = ["SCENE", "build", "die_mesh", "block_mesh", "plot_history"]
 
@@ -93,16 +108,6 @@ def die_mesh(n: int, x_center: float, y_center: float, n_radial: int = 1) -> Mes
                                  "inner": bf[np.all(rv < INNER + tol, axis=0)]})
 
 
-def _path(press: float, slide: float, t_press: float):
-    """Displacement (ux, uy) of the die's inner arc at load factor t."""
-    def ux(t):
-        return slide * max(t - t_press, 0.0) / (1.0 - t_press)
-
-    def uy(t):
-        return -press * min(t / t_press, 1.0)
-    return ux, uy
-
-
 def build(params: dict, method: str | None = None) -> Setup:
     """Block, die, the die's load path, the contact pair; reaction-force metrics."""
     method = method or "mortar"
@@ -119,8 +124,10 @@ def build(params: dict, method: str | None = None) -> Setup:
     die_s = ContactSurface.from_solid(die, "outer", name="die_outer")
     block_s = ContactSurface.from_solid(block, "top", name="block_top")
     slave, master = (die_s, block_s) if params["slave"] == "die" else (block_s, die_s)
-    pair = ContactPair(slave, master, method, name="contact")
-    ux, uy = _path(press, slide, t_press)
+    mu = float(params["mu"])
+    pair = ContactPair(slave, master, method, name="contact",
+                       friction=Coulomb(mu) if mu > 0.0 else None)
+    uy, ux = press_then_slide(t_press, -press, slide)  # the inner arc's displacement
     dx = die.dofs_on("inner", "x")
     dy = die.dofs_on("inner", "y")
     model = Model([block, die, pair,
@@ -148,11 +155,23 @@ def build(params: dict, method: str | None = None) -> Setup:
             out["normal_force_variation"] = float((w.max() - w.min()) / abs(mean))
             out["normal_force_roughness"] = float(np.max(np.abs(np.diff(w, 2))) / abs(mean))
             out["tangential_force_mean"] = float(np.mean(ft[slide_steps]))
+        # steady sliding: the last third of the slide (with friction the die sticks
+        # and shears the block first, over about half of the default slide)
+        steady = np.flatnonzero(t > t_press + (2.0 / 3.0) * (1.0 - t_press) - 1e-12)
+        if steady.size:  # index k: the state after step k
+            q = ft[steady] / fn[steady]
+            out["force_ratio_mean"] = float(np.mean(q))
+            out["force_ratio_spread"] = float(np.ptp(q))
+            out["force_ratio_steps"] = [int(steady[0]), int(steady[-1])]
         d = pair.contact_data(result.z)
         act = pair.active[d["node"]]  # the rows of d follow the surface
         gap = np.where(np.isfinite(d["gap"]), d["gap"], 0.0)
         out["max_penetration"] = float(max(0.0, -gap[act].min(initial=0.0)) / RADIUS)
         out["n_active"] = int(act.sum())
+        if pair.friction is not None:  # the last step's statuses (checkpointed)
+            status = pair.statuses.converged
+            out["n_stick"] = int(np.sum(status == STICK))
+            out["n_slip"] = int(np.sum(status == SLIP))
         return out
 
     return Setup(model=model, metrics=metrics,
@@ -224,6 +243,8 @@ SCENE = Scene(
               low=0.0, high=WIDTH),
         Param("t_press", 0.25, "load factor at which pressing ends and sliding starts",
               float, low=0.0, low_inclusive=False, high=1.0, high_inclusive=False),
+        Param("n_steps", 40, "load steps (press and slide together)", int, low=2,
+              high=MAX_STEPS),
         Param("E_block", 1.0, "Young's modulus of the block", float, low=0.0,
               low_inclusive=False),
         Param("E_die", 1000.0, "Young's modulus of the die", float, low=0.0,
@@ -234,10 +255,10 @@ SCENE = Scene(
               int, low=3, high=100_000),
         Param("n_die", 48, "elements along the die's half-ring arc", int, low=4,
               high=1_000_000),
+        Param("mu", 0.0, "Coulomb friction coefficient (0: frictionless, no friction built)",
+              float, low=0.0, high=2.0),
         Param("slave", "block", "which surface carries the multipliers", str,
               choices=("die", "block")),
-        Param("n_steps", 40, "load steps (press and slide together)", int, low=2,
-              high=MAX_STEPS),
     ),
     build=build,
     methods=METHODS,

@@ -11,6 +11,14 @@ slave surface, the cushion's bottom face the master.
 Mortar segments are rebuilt in every Newton iteration (``segmentation=iteration``)
 or after every converged load step (``segmentation=step``, as in the paper).
 
+With ``mu > 0`` the pair has Coulomb friction ``mu`` (``docs/friction.md``,
+``mu = 0``, the default, builds none): the cable, pushed outwards by the
+pressure while the cushion holds it, sticks where it touched first and slips
+towards the ends of the contact zone, so its tension is no longer constant
+along the contact (frictionless it is, to round-off: no tangential load acts
+on it).  ``tension_variation`` measures by how much; ``n_stick``, ``n_slip``,
+``stick_half_width`` and ``slip_half_width`` say where it sticks and slips.
+
 No closed form exists. The checks are global: each body must be in
 equilibrium on its own (pressure resultant + support reactions + contact
 force on the cable; contact force + support reactions on the cushion), and
@@ -22,6 +30,7 @@ import numpy as np
 import skfem
 
 from ..bodies.cable import LAWS, Cable
+from ..contact.friction import SLIP, STICK, Coulomb
 from ..contact.pair import ContactPair
 from ..loads.pressure import FollowerPressure
 from ..bodies.materials import NeoHooke
@@ -74,7 +83,9 @@ def build(params: dict, method: str | None = None) -> Setup:
     if method != "nts":
         options = {"n_gauss": int(params["n_gauss"]),
                    "segmentation": params["segmentation"]}
-    pair = ContactPair(slave, master, method, name="contact", **options)
+    mu = float(params["mu"])
+    pair = ContactPair(slave, master, method, name="contact",
+                       friction=Coulomb(mu) if mu > 0.0 else None, **options)
     pressure = FollowerPressure(cable, float(params["pressure"]), side="left", name="pressure")
     supports = Dirichlet(cable, cable.support_dofs(), 0.0, name="supports")
     clamp = Dirichlet(cushion, cushion.dofs_on("top"), 0.0, name="clamp")
@@ -96,7 +107,8 @@ def build(params: dict, method: str | None = None) -> Setup:
         bottom = np.unique(mesh.facets[:, mesh.boundaries["bottom"]])
         p_norm = float(np.linalg.norm(p_res))
         c_norm = float(np.linalg.norm(on_cable))
-        return {
+        extra = _tension_metrics(cable, slave, pair, z)
+        return {**extra,
             "contact_force": c_norm,
             "max_indentation": float(max(0.0, u_cushion[1, bottom].max())),
             "contact_length": float(ev.area[act].sum()),
@@ -118,6 +130,32 @@ def build(params: dict, method: str | None = None) -> Setup:
     return Setup(model=model, metrics=metrics, solve_options={"extrapolate": True},
                  # the cushion first: pictures draw the cable over it
                  outputs=[cushion, cable, *pair.outputs()])
+
+
+def _tension_metrics(cable, slave, pair, z: np.ndarray) -> dict:
+    """The cable tension over the contact zone and where the cable sticks and slips.
+
+    The contact zone is the cable elements whose two nodes are both in the normal
+    active set at the end; ``tension_variation = (max N - min N) / mean N`` over
+    them (0 without such elements).  With friction: ``n_stick``, ``n_slip`` and
+    ``stick_half_width``, ``slip_half_width`` (the largest ``|x|`` of a sticking,
+    sliding node; 0 for none), beside ``contact_half_width`` (of an active node).
+    """
+    active = np.zeros(cable.X.shape[1], dtype=bool)
+    active[slave.nodes[pair.active]] = True
+    zone = np.all(active[np.asarray(cable.elements).reshape(-1, 2)], axis=1)
+    N = cable.tension(z)[zone]
+    x = np.abs(cable.x(z)[0, slave.nodes])
+    out = {"tension_variation": float(np.ptp(N) / np.mean(N)) if N.size else 0.0,
+           "tension_min": float(N.min()) if N.size else 0.0,
+           "tension_max": float(N.max()) if N.size else 0.0,
+           "contact_half_width": float(x[pair.active].max(initial=0.0))}
+    if pair.friction is not None:  # the last step's statuses (checkpointed)
+        status = pair.statuses.converged
+        out.update(n_stick=int(np.sum(status == STICK)), n_slip=int(np.sum(status == SLIP)),
+                   stick_half_width=float(x[status == STICK].max(initial=0.0)),
+                   slip_half_width=float(x[status == SLIP].max(initial=0.0)))
+    return out
 
 
 def _split_xy(body, local_dofs) -> tuple[np.ndarray, np.ndarray]:
@@ -177,6 +215,8 @@ SCENE = Scene(
               low_inclusive=False),
         Param("nu_cushion", 0.3, "Poisson's ratio of the cushion", float, low=-1.0, high=0.5,
               low_inclusive=False, high_inclusive=False),
+        Param("mu", 0.0, "Coulomb friction coefficient (0: frictionless, no friction built)",
+              float, low=0.0, high=2.0),
         Param("n_cable", 48, "number of cable elements", int, low=4, high=1_000_000),
         Param("refine_cushion", 2, "uniform refinements of the 12 x 3 cushion mesh", int,
               low=0, high=6),

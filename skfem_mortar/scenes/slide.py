@@ -61,7 +61,7 @@ from ..contact.surfaces import ContactSurface, RigidPlane
 from ..core.model import Dirichlet, Model
 from ..loads.traction import Traction
 from . import (MAX_STEPS, METHODS, Param, Scene, Setup, grid_dofs, lame_quantities, positive,
-               ratio)
+               press_then_slide, ratio)
 
 __all__ = ["SCENE", "build", "block_mesh", "WIDTH", "HEIGHT"]
 
@@ -100,12 +100,7 @@ def build(params: dict, method: str | None = None) -> Setup:
     pair = ContactPair(ContactSurface.from_solid(block, "bottom"), plane, method,
                        name="contact", friction=Coulomb(mu))
 
-    def press(t):
-        return min(t / t_press, 1.0)
-
-    def push(t):
-        return max(t - t_press, 0.0) / (1.0 - t_press)
-
+    press, push = press_then_slide(t_press)
     items = [block, pair, _PathTraction(block, "top", (0.0, -N / WIDTH), press, name="press")]
     top_x = block.dofs_on("top", "x")
     solve_options: dict = {}
