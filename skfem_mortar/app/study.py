@@ -101,6 +101,10 @@ GRIDS: dict[str, dict[str, Any]] = {
     # slide: the contact's tangential resultant against mu N (gross sliding at the end)
     "slide": {"metrics": ["tangential_ratio_error"], "grid": {"n": [10, 20, 40]},
               "quick": {"n": [10]}},
+    # mindlin: the Cattaneo-Mindlin shear and stick zone (the pressure: the floor)
+    "mindlin": {"metrics": ["shear_l2_error", "stick_half_width_error", "shear_core_error",
+                            "pressure_l2_error"],
+                "grid": {"n_a": [6, 12, 24]}, "quick": {"n_a": [6]}},
     "tied": {"metrics": ["tip_deflection_error", "energy_error", "traction_max_error",
                          "traction_error"],
              "grid": {"refine": [1, 2, 3, 4]}, "quick": {"refine": [1, 2]}},
