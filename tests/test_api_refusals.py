@@ -71,7 +71,10 @@ def test_the_same_item_twice_is_refused():
 
 
 @pytest.mark.parametrize("kw, match", [
-    (dict(margn=0.1), r"unknown option 'margn' for method 'nts'; its options are"),
+    (dict(margn=0.1), r"unknown option 'margn' for method 'nts'; its options are.*"
+                      r"did you mean 'margin'\?"),
+    (dict(method="mortar", frcition=None), r"unknown option 'frcition' .*ContactPair's own "
+                                          r"keywords .*did you mean 'friction'\?"),
     (dict(method="mortar", n_gauss=0), r"n_gauss must be an integer in \[1, 10\]"),
     (dict(method="mortar", n_gauss=2.5), r"n_gauss must be an integer in \[1, 10\]"),
     (dict(margin=NAN), "margin must be a finite number > 0"),

@@ -43,6 +43,7 @@ with ``dual=False`` / ``True``).
 """
 from __future__ import annotations
 
+import difflib
 from typing import Any, Callable, Protocol, runtime_checkable
 
 import numpy as np
@@ -305,6 +306,10 @@ def make_method(method: str, slave: Any, master: Any, pair_name: str = "contact"
     return out
 
 
+#: the keywords ``ContactPair`` takes itself (a misspelt one reaches the method's options)
+PAIR_KEYWORDS = ("name", "c", "cycle_guard", "touch_tolerance", "segmentation", "accelerate",
+                 "friction")
+
 #: option name -> (check, allowed range as said in the refusal)
 OptionTable = dict[str, tuple[Callable[[Any], Any], str]]
 
@@ -313,8 +318,11 @@ def check_options(method: str, options: dict, allowed: OptionTable) -> None:
     """Refuse an unknown or out-of-range option (ValueError naming it)."""
     for k, v in options.items():
         if k not in allowed:
+            close = difflib.get_close_matches(k, list(allowed) + list(PAIR_KEYWORDS), n=1)
+            hint = f"; did you mean {close[0]!r}?" if close else ""
             raise ValueError(f"unknown option {k!r} for method {method!r}; its options are "
-                             f"{sorted(allowed)}")
+                             f"{sorted(allowed)} (and ContactPair's own keywords "
+                             f"{', '.join(PAIR_KEYWORDS)}){hint}")
         check, what = allowed[k]
         try:
             ok = bool(check(v))
