@@ -567,7 +567,7 @@ def tangential_evaluate(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m
                         margin: float | None = None, crosspoints: np.ndarray | None = None,
                         reach: float = 0.0, n_gauss_element: int = N_GAUSS_ELEMENT,
                         **options: Any) -> ContactEval:
-    """The tangential offsets ``r_A = tau_A . (sum_C M_AC x_C - sum_B D_AB x_B)``,
+    """The tangential offsets ``r_A = dot(tau_A, sum_C M_AC x_C - sum_B D_AB x_B)``,
     ``G = dr/dx`` and ``H = sum_A lam_A d^2 r_A/dx^2`` on curved segments, exact.
 
     The curved counterpart of :func:`skfem_mortar.contact.mortar.tangential_evaluate`
