@@ -10,7 +10,7 @@ derivative without the sliver's cancelling one, a jump of ``G`` at the tie only
 import numpy as np
 import pytest
 
-from skfem_mortar.contact.mortar import evaluate
+from skfem_mortar.contact.mortar import evaluate, tangential_evaluate
 
 from test_mortar import chain
 
@@ -42,6 +42,18 @@ def test_gap_gradient_is_continuous_at_the_tie(dual, eps):
     assert np.abs(G0 - G1).max() <= 1e-3 * np.abs(G0).max()
     # the weighted gaps themselves were always continuous (round-off of eps)
     np.testing.assert_allclose(r0.g, r1.g, atol=1e-8 * np.abs(r0.g).max())
+
+
+@pytest.mark.parametrize("dual", [False, True])
+@pytest.mark.parametrize("eps", [1e-9, -1e-9, 1e-13, -1e-13])
+def test_tangential_gradient_is_continuous_at_the_tie(dual, eps):
+    # the tangential offsets r_A (friction) on the same segments: G_t moves off the
+    # tie by the Gauss rule's error, 2.5e-5 (standard) and 1.7e-4 (dual) relative,
+    # by round-off (1e-12) within XI_TOL; the bug's jump there was 0.038 (dual;
+    # standard multipliers hid it below the Gauss error here).  1e-3 separates them.
+    G0 = tangential_evaluate(*_tie_pair(0.0), dual=dual).G.toarray()
+    G1 = tangential_evaluate(*_tie_pair(eps), dual=dual).G.toarray()
+    assert np.abs(G0 - G1).max() <= 1e-3 * np.abs(G0).max()
 
 
 @pytest.mark.parametrize("dual", [False, True])
