@@ -354,6 +354,14 @@ def clip_to_slave(p1: np.ndarray, p2: np.ndarray, keep: np.ndarray
     points ``xi`` (n, 2) and where these come from, ``src`` (n, 2): -1 a slave
     end, 0 or 1 the first or second master node.
     """
+    # A master node projecting within XI_TOL of a slave end is that end (a slave
+    # node exactly above a master node): its sliver segment on one side is
+    # dropped below, so the segment on the other side must start at the slave
+    # end too (src -1), or the element's segments leave the sliver uncovered and
+    # the end point's derivative (the projection's) is not cancelled by the
+    # sliver's: the weighted gap's gradient G jumps at the tie (and only there).
+    p1 = np.where(np.abs(np.abs(p1) - 1.0) <= XI_TOL, np.copysign(1.0, p1), p1)
+    p2 = np.where(np.abs(np.abs(p2) - 1.0) <= XI_TOL, np.copysign(1.0, p2), p2)
     lo = np.maximum(-1.0, np.minimum(p1, p2))
     hi = np.minimum(1.0, np.maximum(p1, p2))
     src_lo = np.where(lo == -1.0, -1, np.where(p1 <= p2, 0, 1))
