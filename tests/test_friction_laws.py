@@ -35,6 +35,26 @@ def test_tresca_refuses_a_bad_bound(bound):
         Tresca(bound)
 
 
+@pytest.mark.parametrize("start", [-0.1, 1.0, 1.5, np.nan, np.inf, "a", None])
+@pytest.mark.parametrize("law", [lambda s: Coulomb(0.3, start=s), lambda s: Tresca(1.0, start=s)])
+def test_laws_refuse_a_start_outside_the_load_range(law, start):
+    with pytest.raises(ValueError, match=r"start must be a finite number in \[0, 1\)"):
+        law(start)
+
+
+@pytest.mark.parametrize("law", [Coulomb(0.3, start=0.25), Tresca(1.0, start=0.25)])
+def test_friction_acts_in_the_steps_ending_after_its_start(law):
+    # the steps ending at or before start are frictionless, the later ones not
+    assert [law.acts(t) for t in (0.0, 0.125, 0.25, 0.25 + 1e-12, 0.5, 1.0)] == [
+        False, False, False, True, True, True]
+    # start 0 (the default): every step, the first one's load factor whatever it is
+    for free in (Coulomb(0.3), Tresca(1.0)):
+        assert free.start == 0.0 and all(free.acts(t) for t in (0.0, 1e-9, 1.0))
+    # a law with start is told apart from one without, and says so
+    assert law != type(law)(*([0.3] if isinstance(law, Coulomb) else [1.0]))
+    assert "start=0.25" in repr(law) and "start" not in repr(Coulomb(0.3))
+
+
 def test_laws_are_frozen_and_compare_by_value():
     assert Coulomb(0.3) == Coulomb(0.3) and Tresca(2) == Tresca(2.0)
     with pytest.raises(AttributeError):

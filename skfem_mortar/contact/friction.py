@@ -86,7 +86,7 @@ from typing import Union
 import numpy as np
 
 __all__ = ["Coulomb", "Tresca", "FrictionLaw", "FrictionRows", "OPEN", "STICK", "SLIP",
-           "STATUS_NAMES", "complementarity"]
+           "STATUS_NAMES", "NO_FRICTION", "complementarity"]
 
 #: node status codes of :func:`complementarity`
 OPEN, STICK, SLIP = 0, 1, 2
@@ -106,6 +106,24 @@ def _finite(name: str, value: float, low: float, strict: bool) -> float:
     return v
 
 
+def _start(value: float) -> float:
+    """``start`` as a float, ValueError naming it unless finite and in ``[0, 1)``."""
+    try:
+        v = float(value)
+    except (TypeError, ValueError):
+        v = float("nan")
+    if not (np.isfinite(v) and 0.0 <= v < 1.0):
+        raise ValueError(f"start must be a finite number in [0, 1) (the load factor after "
+                         f"which friction acts), got {value!r}")
+    return v
+
+
+def _acts(start: float, load_factor: float) -> bool:
+    """Friction acts in every step when ``start == 0``, else in the steps ending
+    after ``start``."""
+    return start == 0.0 or load_factor > start
+
+
 @dataclass(frozen=True)
 class Coulomb:
     """Coulomb friction: ``|lam_t| <= mu lam_n``.
@@ -115,12 +133,32 @@ class Coulomb:
     mu : float
         Friction coefficient, finite and ``>= 0`` (``mu = 0``: every active node
         is open tangentially, ``lam_t = 0``).
+    start : float, optional
+        The load factor after which friction acts, in ``[0, 1)`` (default 0:
+        in every step).  A load step whose target load factor ``t`` has
+        ``t <= start`` is frictionless (``lam_t = 0`` on every node); the slip
+        of the first step with ``t > start`` is measured from the state that
+        ended the last frictionless one.  For a normal loading that theory
+        calls shear-free (elastically similar bodies) followed by a tangential
+        one: frictional pressing in finite load steps locks in the slip a
+        node makes within the step in which it touches down, as stick
+        traction (:meth:`acts`; docs/friction.md).
     """
 
     mu: float
+    start: float = 0.0
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "mu", _finite("mu", self.mu, 0.0, strict=False))
+        object.__setattr__(self, "start", _start(self.start))
+
+    def acts(self, load_factor: float) -> bool:
+        """Whether friction acts in the load step ending at ``load_factor``:
+        ``start == 0 or load_factor > start``."""
+        return _acts(self.start, load_factor)
+
+    def __repr__(self) -> str:
+        return f"Coulomb(mu={self.mu!r}" + (f", start={self.start!r})" if self.start else ")")
 
     def slip_bound(self, lam_n: np.ndarray, g_n: np.ndarray, c_n: float,
                    weight: np.ndarray | float = 1.0
@@ -141,6 +179,9 @@ class Tresca:
     bound : float
         The bound, a traction per unit thickness (force / length^2 in plane
         problems of unit thickness), finite and ``> 0``.
+    start : float, optional
+        The load factor after which friction acts, in ``[0, 1)`` (default 0);
+        as :class:`Coulomb`'s.
 
     Notes
     -----
@@ -153,9 +194,19 @@ class Tresca:
     """
 
     bound: float
+    start: float = 0.0
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "bound", _finite("bound", self.bound, 0.0, strict=True))
+        object.__setattr__(self, "start", _start(self.start))
+
+    def acts(self, load_factor: float) -> bool:
+        """Whether friction acts in the load step ending at ``load_factor``
+        (:meth:`Coulomb.acts`)."""
+        return _acts(self.start, load_factor)
+
+    def __repr__(self) -> str:
+        return f"Tresca(bound={self.bound!r}" + (f", start={self.start!r})" if self.start else ")")
 
     def slip_bound(self, lam_n: np.ndarray, g_n: np.ndarray, c_n: float,
                    weight: np.ndarray | float = 1.0
@@ -167,6 +218,9 @@ class Tresca:
 
 
 FrictionLaw = Union[Coulomb, Tresca]
+
+#: the law of a frictional pair's steps before its ``start`` (every node open)
+NO_FRICTION = Coulomb(0.0)
 
 
 @dataclass

@@ -54,8 +54,8 @@ from .contact_eval import ContactEval
 from . import BUILTIN_METHODS  # noqa: F401 (the former module offered the method names)
 from .discretization import (METHODS, FrictionDiscretization, PatternedDiscretization,
                              check_entries, make_method)  # METHODS: the registry's names
-from .friction import (OPEN, SLIP, STATUS_NAMES, STICK, Coulomb, FrictionRows, Tresca,
-                       complementarity)
+from .friction import (NO_FRICTION, OPEN, SLIP, STATUS_NAMES, STICK, Coulomb, FrictionRows,
+                       Tresca, complementarity)
 from . import preflight as _preflight  # noqa: F401 (registers the checks Model.preflight runs)
 from ..core.model import Contribution, Item
 from ..output.contact_output import ContactOutput
@@ -388,6 +388,9 @@ class ContactPair(Item):
                              f"(FrictionDiscretization); use friction=None")
         #: the friction law (None: frictionless, one multiplier per slave node)
         self.friction = friction
+        #: the law of the current step: ``friction``, or :data:`NO_FRICTION` in
+        #: the steps before its ``start`` (:meth:`begin_step`)
+        self._law = friction if friction is None or friction.start == 0 else NO_FRICTION
         self.n_dofs = slave.n_nodes * (1 if friction is None else 2)
         self.c = c
         lengths = segment_lengths(slave.X, slave.segments)
@@ -620,7 +623,7 @@ class ContactPair(Item):
             return
         lam = np.asarray(z)[self._normal]
         weight = self._area0 if self.multiplier_kind == "force" else 1.0
-        xi, _, _ = self.friction.slip_bound(np.where(self.state.converged, lam, 0.0),
+        xi, _, _ = self._law.slip_bound(np.where(self.state.converged, lam, 0.0),
                                             np.zeros_like(lam), self.c, weight)
         xi = np.where(self.state.converged, xi, 0.0)
         if xi.max(initial=0.0) > 0:
@@ -663,10 +666,10 @@ class ContactPair(Item):
         # length for force multipliers (a fixed weight: no derivative), 1 for tractions
         weight = self._area0 if self.multiplier_kind == "force" else 1.0
         on = active & sl.mask
-        fr = complementarity(self.friction, lam, lam_t, ev.g, sl.u, c, c, on, weight)
+        fr = complementarity(self._law, lam, lam_t, ev.g, sl.u, c, c, on, weight)
         st = self.statuses.update(fr.status, track)
         if not np.array_equal(st, fr.status):
-            fr = complementarity(self.friction, lam, lam_t, ev.g, sl.u, c, c, on, weight,
+            fr = complementarity(self._law, lam, lam_t, ev.g, sl.u, c, c, on, weight,
                                  status=st)
         return ev, sl, fr
 
@@ -864,6 +867,8 @@ class ContactPair(Item):
         self.state.begin()
         self.discretization.begin_step(xs, xm, first)
         if self.friction is not None:
+            # frictionless in the steps ending at or before the law's start
+            self._law = self.friction if self.friction.acts(load_factor) else NO_FRICTION
             self.statuses.begin()
             self._history(z)  # the first step: measured from its start
             self._step_p_ref(z)
