@@ -66,6 +66,29 @@ semi-smooth Newton method with these derivatives converges locally
 superlinearly, quadratically once the statuses settle (Qi and Sun 1993;
 Hintermueller, Ito, Kunisch 2003 for ``max``; Hueber, Stadler, Wohlmuth 2008).
 
+The projected slip derivatives
+------------------------------
+Away from a solution a slip node can carry ``|lam_t| > Xi``; then the exact
+``dC/du_t = c_t (Xi - sign(s) lam_t)`` has the wrong sign, and the Newton step
+drives the slip against the friction it should oppose (seen at contact edges,
+where ``Xi`` is small: the statuses cycle between stick and slip, the cycling
+guard freezes them, Newton then meets the slip branch's spurious root
+``s = 0`` and the KKT check cuts the step).  :func:`complementarity`
+therefore uses, by default, ``lam_t`` projected onto ``|lam_t| <= Xi`` in the
+slip branch's ``dC/dlam_t`` and ``dC/du_t``::
+
+    l   = lam_t min(1, Xi / |lam_t|),
+    dC/dlam_t = |s| - Xi + sign(s) l,   dC/du_t = c_t (Xi - sign(s) l)  (>= 0),
+
+which is the exact derivative wherever ``|lam_t| <= Xi``, in particular at
+every solution (a sliding node has ``lam_t = Xi sign(s)``), so the local
+quadratic rate is that of the exact Newton method; only iterates with
+``|lam_t| > Xi`` see a different (inexact) step.  ``jacobian="exact"``
+gives the exact derivatives (the finite-difference tests use it).  Measured
+(``docs/friction.md``): ironing at ``mu = 0.3`` takes 40 steps with every
+method (54 and 73 with the exact derivatives, mortar and dual), seed at
+``mu = 0.3`` 10 to 16 (18 to 49).
+
 Second-order terms
 ------------------
 ``C_t`` rows need only first derivatives: their Jacobian is
@@ -86,7 +109,7 @@ from typing import Union
 import numpy as np
 
 __all__ = ["Coulomb", "Tresca", "FrictionLaw", "FrictionRows", "OPEN", "STICK", "SLIP",
-           "STATUS_NAMES", "NO_FRICTION", "complementarity"]
+           "STATUS_NAMES", "NO_FRICTION", "JACOBIANS", "complementarity"]
 
 #: node status codes of :func:`complementarity`
 OPEN, STICK, SLIP = 0, 1, 2
@@ -256,10 +279,16 @@ class FrictionRows:
         return self.status == code
 
 
+#: the slip branch's derivatives (:func:`complementarity`): ``"projected"`` (the
+#: default) or ``"exact"``
+JACOBIANS = ("projected", "exact")
+
+
 def complementarity(law: FrictionLaw, lam_n: np.ndarray, lam_t: np.ndarray, g_n: np.ndarray,
                     u_t: np.ndarray, c_n: float, c_t: float, active: np.ndarray | None = None,
                     weight: np.ndarray | float = 1.0,
-                    status: np.ndarray | None = None) -> FrictionRows:
+                    status: np.ndarray | None = None,
+                    jacobian: str = "projected") -> FrictionRows:
     """``C_t = max(Xi, |s|) lam_t - Xi s``, ``s = lam_t - c_t u_t``, per slave node, with its
     status and exact derivatives (module doc).
 
@@ -288,6 +317,13 @@ def complementarity(law: FrictionLaw, lam_n: np.ndarray, lam_t: np.ndarray, g_n:
         step and its cycling guard, :class:`~skfem_mortar.contact.active_set.StatusSet`);
         a node whose normal row is inactive or whose ``Xi <= 0`` is open whatever
         ``status`` says.  Default: the plain choice of the module doc.
+    jacobian : {"projected", "exact"}
+        The slip branch's ``dC/dlam_t`` and ``dC/du_t``: ``"exact"`` the
+        derivatives of the module doc; ``"projected"`` (default) the same with
+        ``lam_t`` replaced by its projection onto the disk ``|lam_t| <= Xi``,
+        ``lam_t min(1, Xi / |lam_t|)`` (module doc, "The projected slip
+        derivatives").  Both agree wherever ``|lam_t| <= Xi``, so at every
+        solution.
 
     Returns
     -------
@@ -295,6 +331,9 @@ def complementarity(law: FrictionLaw, lam_n: np.ndarray, lam_t: np.ndarray, g_n:
     """
     if not isinstance(law, (Coulomb, Tresca)):
         raise ValueError(f"law must be a Coulomb or Tresca friction law, got {law!r}")
+    if jacobian not in JACOBIANS:
+        raise ValueError(f"jacobian must be one of {', '.join(map(repr, JACOBIANS))}, got "
+                         f"{jacobian!r}")
     c_n = _finite("c_n", c_n, 0.0, strict=True)
     c_t = _finite("c_t", c_t, 0.0, strict=True)
     lam_n = np.asarray(lam_n, float)
@@ -323,9 +362,17 @@ def complementarity(law: FrictionLaw, lam_n: np.ndarray, lam_t: np.ndarray, g_n:
     stick, slip, opened = st == STICK, st == SLIP, st == OPEN
     sg = np.sign(s)
     C = np.where(opened, lam_t, np.where(stick, xi * c_t * u_t, a * lam_t - xi * s))
-    d_lt = np.where(opened, 1.0, np.where(stick, 0.0, a - xi + sg * lam_t))
-    d_u = np.where(stick, c_t * xi, np.where(slip, c_t * (xi - sg * lam_t), 0.0))
+    lt = lam_t if jacobian == "exact" else _projected(lam_t, xi)
+    d_lt = np.where(opened, 1.0, np.where(stick, 0.0, a - xi + sg * lt))
+    d_u = np.where(stick, c_t * xi, np.where(slip, c_t * (xi - sg * lt), 0.0))
     d_xi = np.where(stick, c_t * u_t, np.where(slip, -s, 0.0))
     return FrictionRows(C=C, status=st.astype(np.int8), d_lam_n=d_xi * dxi_dl,
                         d_lam_t=d_lt, d_g=d_xi * dxi_dg, d_u=d_u,
                         bound=np.where(opened, 0.0, xi), s=s)
+
+
+def _projected(lam_t: np.ndarray, xi: np.ndarray) -> np.ndarray:
+    """``lam_t`` projected onto the disk ``|lam_t| <= Xi`` (``Xi > 0``; where
+    ``Xi <= 0``, 0): ``lam_t min(1, Xi / |lam_t|)``."""
+    bound = np.maximum(xi, 0.0)
+    return np.clip(lam_t, -bound, bound)
