@@ -18,7 +18,7 @@ import os
 import shutil
 from contextlib import contextmanager
 from pathlib import Path
-from typing import Iterator
+from typing import Callable, Iterator
 
 import numpy as np
 
@@ -132,3 +132,34 @@ def assert_same_summary(ref: dict, got: dict) -> None:
             _close(v, w, max(abs(v), floor), f"metric {key}")
         else:
             assert w == v, f"metric {key}: {w!r} != {v!r}"
+
+
+def assert_resumes(run: Callable[..., dict], root: Path,
+                   moments: Callable[[list[tuple[str, int]]], list[int]]) -> None:
+    """``run(out)`` uninterrupted into ``root/ref``; then for each rename number
+    ``moments(log)`` picks from its renames (1-based), a run killed there and
+    resumed with ``run(out, resume=True)`` gives the same frames and summary."""
+    with renames() as log:
+        ref = run(root / "ref")
+    for n in dict.fromkeys(moments(log)):  # a moment drawn twice is run once
+        out = root / f"killed_at_{n}"
+        try:
+            with renames(kill_at=n):
+                run(out)
+        except Killed:
+            pass
+        else:
+            raise AssertionError(f"the run was not killed at rename {n}")
+        got = run(out, resume=True)
+        assert_same_frames(root / "ref", out)
+        assert_same_summary(ref, got)
+
+
+def checkpoint_moments(log: list[tuple[str, int]]) -> list[int]:
+    """The rename numbers (1-based) of the checkpoint writes."""
+    return [i + 1 for i, (p, _) in enumerate(log) if "/checkpoint/" in p]
+
+
+def frame_moments(log: list[tuple[str, int]]) -> list[int]:
+    """The rename numbers (1-based) of the frame outputs."""
+    return [i + 1 for i, (p, _) in enumerate(log) if p.endswith((".vtu", ".pvd"))]

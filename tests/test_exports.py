@@ -54,3 +54,19 @@ def test_a_contact_run_imports_only_what_it_needs():
     assert "scipy.sparse" in loaded  # the check sees what is imported
     for heavy in ("pyvista", "matplotlib", "dask", "scipy.optimize", "meshio", "tqdm"):
         assert heavy not in loaded, heavy
+
+
+def test_a_run_writing_its_files_imports_no_network_stack(tmp_path):
+    """The VTU writer quotes names with ``html.escape``: ``xml.sax.saxutils``
+    would import urllib.request, http.client and ssl (about 40 ms of a 1 s run)."""
+    import subprocess
+    import sys
+
+    code = ("import sys; from skfem_mortar.app.runner import run_scene; "
+            f"run_scene('hertz', {{'refine': -2}}, 'mortar', out={str(tmp_path / 'run')!r}); "
+            "print(' '.join(sorted(sys.modules)))")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    loaded = set(out.stdout.split())
+    assert "skfem_mortar.output.io" in loaded and (tmp_path / "run" / "contact.csv").exists()
+    for heavy in ("urllib.request", "http.client", "ssl", "xml.sax"):
+        assert heavy not in loaded, heavy

@@ -35,6 +35,26 @@ def test_tresca_refuses_a_bad_bound(bound):
         Tresca(bound)
 
 
+@pytest.mark.parametrize("start", [-0.1, 1.0, 1.5, np.nan, np.inf, "a", None])
+@pytest.mark.parametrize("law", [lambda s: Coulomb(0.3, start=s), lambda s: Tresca(1.0, start=s)])
+def test_laws_refuse_a_start_outside_the_load_range(law, start):
+    with pytest.raises(ValueError, match=r"start must be a finite number in \[0, 1\)"):
+        law(start)
+
+
+@pytest.mark.parametrize("law", [Coulomb(0.3, start=0.25), Tresca(1.0, start=0.25)])
+def test_friction_acts_in_the_steps_ending_after_its_start(law):
+    # the steps ending at or before start are frictionless, the later ones not
+    assert [law.acts(t) for t in (0.0, 0.125, 0.25, 0.25 + 1e-12, 0.5, 1.0)] == [
+        False, False, False, True, True, True]
+    # start 0 (the default): every step, the first one's load factor whatever it is
+    for free in (Coulomb(0.3), Tresca(1.0)):
+        assert free.start == 0.0 and all(free.acts(t) for t in (0.0, 1e-9, 1.0))
+    # a law with start is told apart from one without, and says so
+    assert law != type(law)(*([0.3] if isinstance(law, Coulomb) else [1.0]))
+    assert "start=0.25" in repr(law) and "start" not in repr(Coulomb(0.3))
+
+
 def test_laws_are_frozen_and_compare_by_value():
     assert Coulomb(0.3) == Coulomb(0.3) and Tresca(2) == Tresca(2.0)
     with pytest.raises(AttributeError):
@@ -95,9 +115,9 @@ def test_open_nodes():
 
 
 # --------------------------------------------------------------- derivatives
-def _rows(law, q, c_n=2.0, c_t=3.0, weight=1.0):
+def _rows(law, q, c_n=2.0, c_t=3.0, weight=1.0, jacobian="exact"):
     """C_t at q = (lam_n, lam_t, g_n, u_t), each (n,)."""
-    return complementarity(law, *q, c_n, c_t, weight=weight)
+    return complementarity(law, *q, c_n, c_t, weight=weight, jacobian=jacobian)
 
 
 def _fd_check(law, q, weight=1.0):
@@ -129,6 +149,42 @@ def test_derivatives_of_every_branch_against_finite_differences(law):
     q = [a[far] for a in q]
     r = _fd_check(law, q, weight=np.ones(int(far.sum())))
     assert (r.status == STICK).sum() > 20 and (r.status == SLIP).sum() > 20
+
+
+@pytest.mark.parametrize("law", [Coulomb(0.4), Tresca(0.7)])
+def test_projected_slip_derivatives(law):
+    """The default derivatives: on slip nodes ``lam_t`` projected onto ``|lam_t| <= Xi``
+    in ``dC/dlam_t`` and ``dC/du_t``; the exact ones wherever ``|lam_t| <= Xi`` (so at
+    every solution), ``dC/du_t >= 0`` everywhere; values, statuses and the other
+    derivatives as the exact ones'."""
+    rng = np.random.default_rng(7)
+    n = 400
+    q = [rng.uniform(0.5, 2.0, n), rng.uniform(-2.0, 2.0, n), rng.uniform(-0.1, 0.1, n),
+         rng.uniform(-0.3, 0.3, n)]
+    exact, proj = _rows(law, q), _rows(law, q, jacobian="projected")
+    assert (complementarity(law, *q, 2.0, 3.0).d_u == proj.d_u).all()   # the default
+    for k in ("C", "status", "d_lam_n", "d_g", "bound", "s"):
+        np.testing.assert_array_equal(getattr(exact, k), getattr(proj, k))
+    slip = exact.status == SLIP
+    inside = np.abs(q[1]) <= exact.bound
+    over = slip & ~inside
+    assert inside[slip].sum() > 20 and over.sum() > 20     # both cases drawn
+    for k in ("d_lam_t", "d_u"):
+        np.testing.assert_array_equal(getattr(exact, k)[~over], getattr(proj, k)[~over])
+    # beyond the disk: lam_t replaced by Xi sign(lam_t) (the formulas of the module doc)
+    l, sg, xi = np.sign(q[1][over]) * exact.bound[over], np.sign(exact.s[over]), exact.bound[over]
+    np.testing.assert_allclose(proj.d_u[over], 3.0 * (xi - sg * l), rtol=1e-15, atol=1e-15)
+    np.testing.assert_allclose(proj.d_lam_t[over], np.abs(exact.s[over]) - xi + sg * l,
+                               rtol=1e-15, atol=1e-15)
+    assert (proj.d_u[slip] >= 0).all() and (exact.d_u[over] < 0).any()
+    # at solutions (lam_t = Xi sign(s) on the slip nodes) the two are the same
+    qs = [a[slip] for a in q]
+    qs[1] = exact.bound[slip] * np.sign(exact.s[slip]) * (1 - 1e-12)
+    e2, p2 = _rows(law, qs), _rows(law, qs, jacobian="projected")
+    np.testing.assert_array_equal(e2.d_u, p2.d_u)
+    np.testing.assert_array_equal(e2.d_lam_t, p2.d_lam_t)
+    with pytest.raises(ValueError, match="jacobian must be one of 'projected', 'exact'"):
+        complementarity(law, *q, 2.0, 3.0, jacobian="exakt")
 
 
 def test_tresca_bound_is_weighted_and_independent_of_the_normal_state():
@@ -180,7 +236,7 @@ def test_slip_zero_iff_the_multiplier_sits_on_the_bound_against_the_slip():
     assert (np.abs(wrong.C) > 0.1).all()
 
 
-def _newton_one_node(law, k, d, c=1.0, n_iter=30):
+def _newton_one_node(law, k, d, c=1.0, n_iter=30, jacobian="projected"):
     """Semi-smooth Newton on a slave node held by a spring ``k`` to a support moved by
     ``d`` along the tangent, under friction: unknowns ``(u_t, lam_t)``, rows
     ``k (d - u_t) + lam_t = 0`` (the friction force ``lam_t`` on the node) and ``C_t``."""
@@ -188,7 +244,8 @@ def _newton_one_node(law, k, d, c=1.0, n_iter=30):
     one = np.ones(1)
     history = []
     for it in range(n_iter):
-        r = complementarity(law, one, np.array([lam]), np.zeros(1), np.array([u]), 1.0, c)
+        r = complementarity(law, one, np.array([lam]), np.zeros(1), np.array([u]), 1.0, c,
+                            jacobian=jacobian)
         R = np.array([k * (d - u) + lam, r.C[0]])
         history.append(np.abs(R).max())
         if history[-1] < 1e-13:
@@ -199,14 +256,15 @@ def _newton_one_node(law, k, d, c=1.0, n_iter=30):
     raise AssertionError("semi-smooth Newton did not converge")
 
 
+@pytest.mark.parametrize("jacobian", ["projected", "exact"])
 @pytest.mark.parametrize("d", [0.05, -0.05, 0.3, -0.3, 2.0])
-def test_semismooth_newton_solves_a_spring_under_friction(d):
+def test_semismooth_newton_solves_a_spring_under_friction(d, jacobian):
     """``k |d| <= Xi``: stick, ``u_t = 0``, ``lam_t = -k d``; else slip,
     ``u_t = d - Xi sign(d) / k``, ``lam_t = -Xi sign(u_t)``; reached in a few
     iterations: stick is linear (one step once the status settles), slip
     quadratic once the status settles (``|R_k+1| <= 10 |R_k|^2`` near the answer)."""
     k, xi = 2.0, 0.3
-    u, lam, res, status = _newton_one_node(Tresca(xi), k, d)
+    u, lam, res, status = _newton_one_node(Tresca(xi), k, d, jacobian=jacobian)
     if k * abs(d) <= xi:
         assert status == STICK and u == pytest.approx(0.0, abs=1e-13)
         assert lam == pytest.approx(-k * d, abs=1e-13)
@@ -218,6 +276,12 @@ def test_semismooth_newton_solves_a_spring_under_friction(d):
     # (measured |R_k+1| / |R_k|^2: 0.1 to 2.5; a linearly converging Newton, a wrong
     # derivative, keeps |R_k+1| / |R_k| fixed and fails this by decades at |R_k| ~ 1e-6)
     # (plus 1e-15: the round-off of residuals of size 1)
+    if jacobian == "projected":
+        # the spring and the Tresca slip row are linear once the status is slip and
+        # lam_t sits on the disk, which the projected step puts it on: solved
+        # exactly in one step after the status settles (measured 2 or 3 residuals)
+        assert len(res) <= 3
+        return
     near = [(a, b) for a, b in zip(res, res[1:]) if a < 0.1]
     assert all(b <= 10 * a * a + 1e-15 for a, b in near)
     assert status == STICK or len(near) >= 3

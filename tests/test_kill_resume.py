@@ -14,7 +14,7 @@ import zlib
 
 import numpy as np
 import pytest
-from resume_tools import Killed, assert_same_frames, assert_same_summary, renames
+from resume_tools import assert_resumes, checkpoint_moments, frame_moments
 
 from skfem_mortar.app.runner import run_scene
 
@@ -43,8 +43,7 @@ def _run(case, out, resume=False):
 def _moments(log: list[tuple[str, int]], seed: int) -> list[int]:
     """Three rename numbers (1-based): in the checkpoint write, in the frames, anywhere."""
     rng = np.random.default_rng(seed)
-    ckpt = [i + 1 for i, (p, _) in enumerate(log) if "/checkpoint/" in p]
-    frames = [i + 1 for i, (p, _) in enumerate(log) if p.endswith((".vtu", ".pvd"))]
+    ckpt, frames = checkpoint_moments(log), frame_moments(log)
     return [int(rng.choice(ckpt)), int(rng.choice(frames)), int(rng.integers(1, len(log) + 1))]
 
 
@@ -52,13 +51,6 @@ def _moments(log: list[tuple[str, int]], seed: int) -> list[int]:
                                              + (f"-{c[2]['element']}" if "element" in c[2] else "")
                                              for c in CASES])
 def test_killed_anywhere_resumes_to_the_same_frames_and_metrics(case, tmp_path):
-    with renames() as log:
-        ref = _run(case, tmp_path / "ref")
     seed = zlib.crc32(f"{case[0]}-{case[1]}".encode())
-    for n in dict.fromkeys(_moments(log, seed)):  # a moment drawn twice is run once
-        out = tmp_path / f"killed_at_{n}"
-        with pytest.raises(Killed), renames(kill_at=n):
-            _run(case, out)
-        got = _run(case, out, resume=True)
-        assert_same_frames(tmp_path / "ref", out)
-        assert_same_summary(ref, got)
+    assert_resumes(lambda out, resume=False: _run(case, out, resume), tmp_path,
+                   lambda log: _moments(log, seed))

@@ -260,19 +260,13 @@ def test_killed_and_resumed_friction_run_repeats_the_uninterrupted_one(method, t
     """The friction history (slip history, statuses, p_ref) is in the checkpoint:
     killed inside a checkpoint write and inside the frame output, then resumed,
     the run gives the same frames and metrics as the uninterrupted one."""
-    from resume_tools import Killed, assert_same_frames, assert_same_summary, renames
+    from resume_tools import assert_resumes, checkpoint_moments, frame_moments
     params = {"n": 8, "n_steps": 8}
 
     def run(out, resume=False):
         return run_scene("slide", params, method, steps=8, out=out, resume=resume)
-    with renames() as log:
-        ref = run(tmp_path / "ref")
-    ckpt = [i + 1 for i, (p, _) in enumerate(log) if "/checkpoint/" in p]
-    frames = [i + 1 for i, (p, _) in enumerate(log) if p.endswith((".vtu", ".pvd"))]
-    for n in (ckpt[len(ckpt) // 2], frames[2 * len(frames) // 3]):  # mid-run moments
-        out = tmp_path / f"killed_at_{n}"
-        with pytest.raises(Killed), renames(kill_at=n):
-            run(out)
-        got = run(out, resume=True)
-        assert_same_frames(tmp_path / "ref", out)
-        assert_same_summary(ref, got)
+
+    def moments(log):   # mid-run moments: a checkpoint write, a frame output
+        ckpt, frames = checkpoint_moments(log), frame_moments(log)
+        return [ckpt[len(ckpt) // 2], frames[2 * len(frames) // 3]]
+    assert_resumes(run, tmp_path, moments)

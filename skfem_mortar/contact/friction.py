@@ -66,6 +66,29 @@ semi-smooth Newton method with these derivatives converges locally
 superlinearly, quadratically once the statuses settle (Qi and Sun 1993;
 Hintermueller, Ito, Kunisch 2003 for ``max``; Hueber, Stadler, Wohlmuth 2008).
 
+The projected slip derivatives
+------------------------------
+Away from a solution a slip node can carry ``|lam_t| > Xi``; then the exact
+``dC/du_t = c_t (Xi - sign(s) lam_t)`` has the wrong sign, and the Newton step
+drives the slip against the friction it should oppose (seen at contact edges,
+where ``Xi`` is small: the statuses cycle between stick and slip, the cycling
+guard freezes them, Newton then meets the slip branch's spurious root
+``s = 0`` and the KKT check cuts the step).  :func:`complementarity`
+therefore uses, by default, ``lam_t`` projected onto ``|lam_t| <= Xi`` in the
+slip branch's ``dC/dlam_t`` and ``dC/du_t``::
+
+    l   = lam_t min(1, Xi / |lam_t|),
+    dC/dlam_t = |s| - Xi + sign(s) l,   dC/du_t = c_t (Xi - sign(s) l)  (>= 0),
+
+which is the exact derivative wherever ``|lam_t| <= Xi``, in particular at
+every solution (a sliding node has ``lam_t = Xi sign(s)``), so the local
+quadratic rate is that of the exact Newton method; only iterates with
+``|lam_t| > Xi`` see a different (inexact) step.  ``jacobian="exact"``
+gives the exact derivatives (the finite-difference tests use it).  Measured
+(``docs/friction.md``): ironing at ``mu = 0.3`` takes 40 steps with every
+method (54 and 73 with the exact derivatives, mortar and dual), seed at
+``mu = 0.3`` 10 to 16 (18 to 49).
+
 Second-order terms
 ------------------
 ``C_t`` rows need only first derivatives: their Jacobian is
@@ -86,7 +109,7 @@ from typing import Union
 import numpy as np
 
 __all__ = ["Coulomb", "Tresca", "FrictionLaw", "FrictionRows", "OPEN", "STICK", "SLIP",
-           "STATUS_NAMES", "complementarity"]
+           "STATUS_NAMES", "NO_FRICTION", "JACOBIANS", "complementarity"]
 
 #: node status codes of :func:`complementarity`
 OPEN, STICK, SLIP = 0, 1, 2
@@ -106,6 +129,24 @@ def _finite(name: str, value: float, low: float, strict: bool) -> float:
     return v
 
 
+def _start(value: float) -> float:
+    """``start`` as a float, ValueError naming it unless finite and in ``[0, 1)``."""
+    try:
+        v = float(value)
+    except (TypeError, ValueError):
+        v = float("nan")
+    if not (np.isfinite(v) and 0.0 <= v < 1.0):
+        raise ValueError(f"start must be a finite number in [0, 1) (the load factor after "
+                         f"which friction acts), got {value!r}")
+    return v
+
+
+def _acts(start: float, load_factor: float) -> bool:
+    """Friction acts in every step when ``start == 0``, else in the steps ending
+    after ``start``."""
+    return start == 0.0 or load_factor > start
+
+
 @dataclass(frozen=True)
 class Coulomb:
     """Coulomb friction: ``|lam_t| <= mu lam_n``.
@@ -115,12 +156,32 @@ class Coulomb:
     mu : float
         Friction coefficient, finite and ``>= 0`` (``mu = 0``: every active node
         is open tangentially, ``lam_t = 0``).
+    start : float, optional
+        The load factor after which friction acts, in ``[0, 1)`` (default 0:
+        in every step).  A load step whose target load factor ``t`` has
+        ``t <= start`` is frictionless (``lam_t = 0`` on every node); the slip
+        of the first step with ``t > start`` is measured from the state that
+        ended the last frictionless one.  For a normal loading that theory
+        calls shear-free (elastically similar bodies) followed by a tangential
+        one: frictional pressing in finite load steps locks in the slip a
+        node makes within the step in which it touches down, as stick
+        traction (:meth:`acts`; docs/friction.md).
     """
 
     mu: float
+    start: float = 0.0
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "mu", _finite("mu", self.mu, 0.0, strict=False))
+        object.__setattr__(self, "start", _start(self.start))
+
+    def acts(self, load_factor: float) -> bool:
+        """Whether friction acts in the load step ending at ``load_factor``:
+        ``start == 0 or load_factor > start``."""
+        return _acts(self.start, load_factor)
+
+    def __repr__(self) -> str:
+        return f"Coulomb(mu={self.mu!r}" + (f", start={self.start!r})" if self.start else ")")
 
     def slip_bound(self, lam_n: np.ndarray, g_n: np.ndarray, c_n: float,
                    weight: np.ndarray | float = 1.0
@@ -141,6 +202,9 @@ class Tresca:
     bound : float
         The bound, a traction per unit thickness (force / length^2 in plane
         problems of unit thickness), finite and ``> 0``.
+    start : float, optional
+        The load factor after which friction acts, in ``[0, 1)`` (default 0);
+        as :class:`Coulomb`'s.
 
     Notes
     -----
@@ -153,9 +217,19 @@ class Tresca:
     """
 
     bound: float
+    start: float = 0.0
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "bound", _finite("bound", self.bound, 0.0, strict=True))
+        object.__setattr__(self, "start", _start(self.start))
+
+    def acts(self, load_factor: float) -> bool:
+        """Whether friction acts in the load step ending at ``load_factor``
+        (:meth:`Coulomb.acts`)."""
+        return _acts(self.start, load_factor)
+
+    def __repr__(self) -> str:
+        return f"Tresca(bound={self.bound!r}" + (f", start={self.start!r})" if self.start else ")")
 
     def slip_bound(self, lam_n: np.ndarray, g_n: np.ndarray, c_n: float,
                    weight: np.ndarray | float = 1.0
@@ -167,6 +241,9 @@ class Tresca:
 
 
 FrictionLaw = Union[Coulomb, Tresca]
+
+#: the law of a frictional pair's steps before its ``start`` (every node open)
+NO_FRICTION = Coulomb(0.0)
 
 
 @dataclass
@@ -202,10 +279,16 @@ class FrictionRows:
         return self.status == code
 
 
+#: the slip branch's derivatives (:func:`complementarity`): ``"projected"`` (the
+#: default) or ``"exact"``
+JACOBIANS = ("projected", "exact")
+
+
 def complementarity(law: FrictionLaw, lam_n: np.ndarray, lam_t: np.ndarray, g_n: np.ndarray,
                     u_t: np.ndarray, c_n: float, c_t: float, active: np.ndarray | None = None,
                     weight: np.ndarray | float = 1.0,
-                    status: np.ndarray | None = None) -> FrictionRows:
+                    status: np.ndarray | None = None,
+                    jacobian: str = "projected") -> FrictionRows:
     """``C_t = max(Xi, |s|) lam_t - Xi s``, ``s = lam_t - c_t u_t``, per slave node, with its
     status and exact derivatives (module doc).
 
@@ -234,6 +317,13 @@ def complementarity(law: FrictionLaw, lam_n: np.ndarray, lam_t: np.ndarray, g_n:
         step and its cycling guard, :class:`~skfem_mortar.contact.active_set.StatusSet`);
         a node whose normal row is inactive or whose ``Xi <= 0`` is open whatever
         ``status`` says.  Default: the plain choice of the module doc.
+    jacobian : {"projected", "exact"}
+        The slip branch's ``dC/dlam_t`` and ``dC/du_t``: ``"exact"`` the
+        derivatives of the module doc; ``"projected"`` (default) the same with
+        ``lam_t`` replaced by its projection onto the disk ``|lam_t| <= Xi``,
+        ``lam_t min(1, Xi / |lam_t|)`` (module doc, "The projected slip
+        derivatives").  Both agree wherever ``|lam_t| <= Xi``, so at every
+        solution.
 
     Returns
     -------
@@ -241,6 +331,9 @@ def complementarity(law: FrictionLaw, lam_n: np.ndarray, lam_t: np.ndarray, g_n:
     """
     if not isinstance(law, (Coulomb, Tresca)):
         raise ValueError(f"law must be a Coulomb or Tresca friction law, got {law!r}")
+    if jacobian not in JACOBIANS:
+        raise ValueError(f"jacobian must be one of {', '.join(map(repr, JACOBIANS))}, got "
+                         f"{jacobian!r}")
     c_n = _finite("c_n", c_n, 0.0, strict=True)
     c_t = _finite("c_t", c_t, 0.0, strict=True)
     lam_n = np.asarray(lam_n, float)
@@ -269,9 +362,17 @@ def complementarity(law: FrictionLaw, lam_n: np.ndarray, lam_t: np.ndarray, g_n:
     stick, slip, opened = st == STICK, st == SLIP, st == OPEN
     sg = np.sign(s)
     C = np.where(opened, lam_t, np.where(stick, xi * c_t * u_t, a * lam_t - xi * s))
-    d_lt = np.where(opened, 1.0, np.where(stick, 0.0, a - xi + sg * lam_t))
-    d_u = np.where(stick, c_t * xi, np.where(slip, c_t * (xi - sg * lam_t), 0.0))
+    lt = lam_t if jacobian == "exact" else _projected(lam_t, xi)
+    d_lt = np.where(opened, 1.0, np.where(stick, 0.0, a - xi + sg * lt))
+    d_u = np.where(stick, c_t * xi, np.where(slip, c_t * (xi - sg * lt), 0.0))
     d_xi = np.where(stick, c_t * u_t, np.where(slip, -s, 0.0))
     return FrictionRows(C=C, status=st.astype(np.int8), d_lam_n=d_xi * dxi_dl,
                         d_lam_t=d_lt, d_g=d_xi * dxi_dg, d_u=d_u,
                         bound=np.where(opened, 0.0, xi), s=s)
+
+
+def _projected(lam_t: np.ndarray, xi: np.ndarray) -> np.ndarray:
+    """``lam_t`` projected onto the disk ``|lam_t| <= Xi`` (``Xi > 0``; where
+    ``Xi <= 0``, 0): ``lam_t min(1, Xi / |lam_t|)``."""
+    bound = np.maximum(xi, 0.0)
+    return np.clip(lam_t, -bound, bound)

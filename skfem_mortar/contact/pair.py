@@ -54,8 +54,8 @@ from .contact_eval import ContactEval
 from . import BUILTIN_METHODS  # noqa: F401 (the former module offered the method names)
 from .discretization import (METHODS, FrictionDiscretization, PatternedDiscretization,
                              check_entries, make_method)  # METHODS: the registry's names
-from .friction import (OPEN, SLIP, STATUS_NAMES, STICK, Coulomb, FrictionRows, Tresca,
-                       complementarity)
+from .friction import (NO_FRICTION, OPEN, SLIP, STATUS_NAMES, STICK, Coulomb, FrictionRows,
+                       Tresca, complementarity)
 from . import preflight as _preflight  # noqa: F401 (registers the checks Model.preflight runs)
 from ..core.model import Contribution, Item
 from ..output.contact_output import ContactOutput
@@ -388,6 +388,12 @@ class ContactPair(Item):
                              f"(FrictionDiscretization); use friction=None")
         #: the friction law (None: frictionless, one multiplier per slave node)
         self.friction = friction
+        #: the law of the current step: ``friction``, or :data:`NO_FRICTION` in
+        #: the steps before its ``start`` (:meth:`begin_step`)
+        self._law = friction if friction is None or friction.start == 0 else NO_FRICTION
+        #: the slip branch's derivatives (:func:`~skfem_mortar.contact.friction.complementarity`):
+        #: ``"projected"`` (default) or ``"exact"`` (the finite-difference tests)
+        self.friction_jacobian = "projected"
         self.n_dofs = slave.n_nodes * (1 if friction is None else 2)
         self.c = c
         lengths = segment_lengths(slave.X, slave.segments)
@@ -620,7 +626,7 @@ class ContactPair(Item):
             return
         lam = np.asarray(z)[self._normal]
         weight = self._area0 if self.multiplier_kind == "force" else 1.0
-        xi, _, _ = self.friction.slip_bound(np.where(self.state.converged, lam, 0.0),
+        xi, _, _ = self._law.slip_bound(np.where(self.state.converged, lam, 0.0),
                                             np.zeros_like(lam), self.c, weight)
         xi = np.where(self.state.converged, xi, 0.0)
         if xi.max(initial=0.0) > 0:
@@ -663,11 +669,12 @@ class ContactPair(Item):
         # length for force multipliers (a fixed weight: no derivative), 1 for tractions
         weight = self._area0 if self.multiplier_kind == "force" else 1.0
         on = active & sl.mask
-        fr = complementarity(self.friction, lam, lam_t, ev.g, sl.u, c, c, on, weight)
+        jac = self.friction_jacobian
+        fr = complementarity(self._law, lam, lam_t, ev.g, sl.u, c, c, on, weight, jacobian=jac)
         st = self.statuses.update(fr.status, track)
         if not np.array_equal(st, fr.status):
-            fr = complementarity(self.friction, lam, lam_t, ev.g, sl.u, c, c, on, weight,
-                                 status=st)
+            fr = complementarity(self._law, lam, lam_t, ev.g, sl.u, c, c, on, weight,
+                                 status=st, jacobian=jac)
         return ev, sl, fr
 
     def _assemble_friction(self, z: np.ndarray, load_factor: float,
@@ -802,8 +809,10 @@ class ContactPair(Item):
 
     def failure_hint(self) -> str:
         """A likely cause to add to a :class:`ConvergenceError` ("" if none known):
-        the discretization's, and with friction, when every active node slides in
-        the failed attempt, that the tangential load may exceed the friction bound."""
+        the discretization's, and with friction, when the last converged step's
+        tangential force was within 2 % of its bound or every active node slides in
+        the failed attempt, that the tangential load may exceed the friction bound
+        (the failed attempt may have lost the contact altogether)."""
         hint = self.discretization.failure_hint()
         if self.friction is None:
             return hint
@@ -815,7 +824,7 @@ class ContactPair(Item):
             bound = float(np.sum(d["bound"] * self._area0))
             near = bound > 0 and abs(float(np.sum(d["tangential_traction"] * self._area0))
                                      ) >= NEAR_BOUND * bound
-        if act.any() and (near or np.all(st[act] == SLIP)):
+        if near or (act.any() and np.all(st[act] == SLIP)):
             law = (f"mu = {self.friction.mu:g} times the normal force"
                    if isinstance(self.friction, Coulomb) else
                    f"the Tresca bound {self.friction.bound:g} times the contact length")
@@ -864,6 +873,8 @@ class ContactPair(Item):
         self.state.begin()
         self.discretization.begin_step(xs, xm, first)
         if self.friction is not None:
+            # frictionless in the steps ending at or before the law's start
+            self._law = self.friction if self.friction.acts(load_factor) else NO_FRICTION
             self.statuses.begin()
             self._history(z)  # the first step: measured from its start
             self._step_p_ref(z)

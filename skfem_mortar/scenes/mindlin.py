@@ -23,6 +23,13 @@ so the cylinder cannot rotate):
   from 0 (measured at the defaults: ``Q / (mu P) = 0.70`` at ``shift = 1.1``;
   the contact slides as a whole, ``Q = mu P``, from ``shift`` about 1.7).
 
+Friction acts from ``t_press`` on (``pressing='frictionless'``, the default:
+``Coulomb(mu, start=t_press)``): theory's pressing is shear-free (``beta =
+0``), and pressing with friction in finite steps (``pressing='frictional'``)
+locks in the slip each node makes within the step it touches down in as stick
+traction (up to 0.2 ``mu p0`` at ``n_a = 12`` with 4 pressing steps), which
+then stays in the stick core as its error.
+
 Why displacement control: the top's reactions supply the moment ``Q R`` of
 the tangential force, so the pressure stays Hertz's (a uniform traction on the
 top could not, and a load-controlled rigid top would need a multipoint
@@ -64,17 +71,14 @@ first touch (and all along the surfaces, node above node). That case converges
 its steps (24 for 16); the offset keeps the scene's stepping regular.
 
 Accuracy (``benchmarks/friction/mindlin_refinement.py``, ``docs/friction.md``):
-the stick zone's edges are read from the nodes, within ``h0 / 2`` each
-(``stick_half_width_error`` 1.0, 0.8, 0.7 % at ``n_a = 6, 12, 24``, NTS and
-dual); in the slip zones ``q = mu p`` at every node, so there the shear's
-error is ``mu`` times the pressure's (the floor).  The largest nodal error
-sits at the first sticking node next to ``|x| = c``, where ``q`` has a
-square-root cusp: ``shear_l2_error`` halves from ``n_a = 6`` to 12 (0.12 to
-0.06) and then stays, above the pressure's floor (dual 0.011): the nodes'
-statuses are Mindlin's (at ``n_a = 15`` every node sticks or slides as
-``|x| < c`` says), but the traction at the nodes next to ``|x| = c`` is
-smoother than the cusp, and it shrinks with the load steps (24 steps instead
-of 12 halve the L2 error) and only like ``h^0.5`` with the mesh.
+the stick zone's edges are read from the nodes, within ``h0 / 2`` each; in the
+slip zones ``q = mu p`` at every node, so there the shear's error is ``mu``
+times the pressure's (the floor).  In the stick core the shear's error is at
+the floor (dual: ``shear_core_error`` 0.050, 0.010, 0.003 at ``n_a = 6, 12,
+24`` against the pressure's 0.019, 0.011, 0.007); the largest nodal error sits
+next to ``|x| = c``, where ``q`` has a square-root cusp, and the L2 error it
+dominates falls like ``h`` (dual 0.094, 0.038, 0.021 against the pressure's
+0.048, 0.013, 0.011).
 
 Metrics
 -------
@@ -272,6 +276,7 @@ def build(params: dict, method: str | None = None) -> Setup:
     R, P_target = float(params["radius"]), float(params["load"])
     E, nu, mu = float(params["E"]), float(params["nu"]), float(params["mu"])
     t_press = float(params["t_press"])
+    frictionless_press = params["pressing"] == "frictionless"
     ex = hertz_exact(R, P_target, E, nu, E, nu)
     a_est = ex["half_width"]
     if a_est > A_OVER_R[1] * R:
@@ -295,7 +300,8 @@ def build(params: dict, method: str | None = None) -> Setup:
     top_x, top_y = cyl.dofs_on("top", "x"), cyl.dofs_on("top", "y")
     pair = ContactPair(ContactSurface.from_solid(cyl, "contact", name="cylinder_arc"),
                        ContactSurface.from_solid(block, "contact", name="block_top"), method,
-                       name="contact", friction=Coulomb(mu))
+                       name="contact",
+                       friction=Coulomb(mu, start=t_press if frictionless_press else 0.0))
     model = Model([cyl, block, pair,
                    Dirichlet(block, block.dofs_on("bottom"), 0.0, name="block_bottom"),
                    Dirichlet(cyl, top_x, value=ux, name="shift"),
@@ -384,6 +390,11 @@ SCENE = Scene(
               high=240),
         replace(_SLIDE.param("t_press"),
                 doc="load factor at which pressing ends and shifting starts"),
+        Param("pressing", "frictionless", "friction while pressing: 'frictionless' (friction "
+              "acts from t_press on: Mindlin's shear-free pressing) or 'frictional' (from the "
+              "start: the slip of each node within the step it touches down in stays locked "
+              "as stick traction, an error of the load step)", str,
+              choices=("frictionless", "frictional")),
         Param("n_steps", 16, "load steps (press and shift together)", int, low=2,
               high=MAX_STEPS),
     ),
