@@ -193,6 +193,17 @@ def test_hertz_boundary_nodes_equal_skfem(refine):
     np.testing.assert_array_equal(_boundary_nodes(m.t, m.p.shape[1]), m.boundary_nodes())
 
 
+def test_hertz_boundary_nodes_int32_many_nodes():
+    """int32 triangles (skfem's refined meshes) with node numbers whose square
+    overflows int32: the keys are int64 (hertz refine=3 refined without end)."""
+    from skfem import MeshTri
+    from skfem_mortar.scenes.hertz import _boundary_nodes
+    m = MeshTri.init_tensor(np.linspace(0, 1, 250), np.linspace(0, 1, 250))
+    t = m.t.astype(np.int32)
+    assert m.p.shape[1] ** 2 > np.iinfo(np.int32).max
+    np.testing.assert_array_equal(_boundary_nodes(t, m.p.shape[1]), m.boundary_nodes())
+
+
 # ------------------------------------------------------------ the VTU writer
 @pytest.mark.parametrize("cell_type,k", [("triangle", 3), ("quad", 4), ("line", 2),
                                          ("line3", 3), ("triangle6", 6), ("vertex", 1)])

@@ -194,3 +194,22 @@ def test_the_reservation_goes_into_checkpoints(method):
 
 def _positions(pair, z):
     return pair.slave.x(z), pair.master.x(z)
+
+
+@pytest.mark.parametrize("m,n", [(0, 7), (1, 1), (1000, 40), (50000, 3000)])
+def test_unique_keys_and_union_are_numpys(m, n):
+    """The pattern's own sorts (scipy's row bucketing, a merge of sorted runs)
+    give what ``np.unique`` gives: the sorted unique keys, each triplet's place
+    among them, and each key array's place in the union."""
+    from skfem_mortar.core.model import _union, _unique_keys
+    rng = np.random.default_rng(m)
+    rows, cols = rng.integers(0, n, m), rng.integers(0, n, m)
+    keys, inv = _unique_keys(rows, cols, n)
+    ref, ref_inv = np.unique(rows * n + cols, return_inverse=True)
+    np.testing.assert_array_equal(keys, ref)
+    np.testing.assert_array_equal(inv, ref_inv.ravel())
+    other = np.unique(rng.integers(0, n * n, m // 3 + 1))
+    union, places = _union([keys, other])
+    np.testing.assert_array_equal(union, np.union1d(keys, other))
+    for k, pl in zip((keys, other), places):
+        np.testing.assert_array_equal(union[pl], k)

@@ -530,9 +530,11 @@ class ContactPair(Item):
         vals = []
         gd = self.global_dofs()
         gd = gd[gd >= 0]
+        at = np.zeros(len(z), dtype=bool)
+        at[gd] = True  # a mask, not np.isin over every triplet (0.5 s at 6e6 triplets)
         for body in self._bodies():
             cb = body.assemble(z, load_factor, tangent=True)
-            on = (cb.k_rows == cb.k_cols) & np.isin(cb.k_rows, gd)
+            on = (cb.k_rows == cb.k_cols) & at[cb.k_rows]
             d = np.bincount(cb.k_rows[on], weights=cb.k_vals[on], minlength=len(z))[gd]
             d = np.abs(d[d != 0])
             if d.size:

@@ -187,7 +187,9 @@ def triangles_to_quads(mesh: MeshTri) -> MeshQuad:
 def _boundary_nodes(t: np.ndarray, n: int) -> np.ndarray:
     """The sorted nodes of the edges that belong to one triangle of ``t`` (3, n_t):
     ``MeshTri.boundary_nodes`` without building the mesh's facet tables."""
-    e = np.sort(np.hstack([t[[0, 1]], t[[1, 2]], t[[2, 0]]]), axis=0)
+    # int64 keys: skfem's refined meshes hold int32 triangles, and n * n overflows
+    # int32 beyond 46,340 nodes (hertz refine=3 then refined without end)
+    e = np.sort(np.hstack([t[[0, 1]], t[[1, 2]], t[[2, 0]]]), axis=0).astype(np.int64)
     keys, count = np.unique(e[0] * n + e[1], return_counts=True)
     b = keys[count == 1]
     return np.unique(np.concatenate([b // n, b % n]))
