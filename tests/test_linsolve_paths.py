@@ -94,7 +94,6 @@ def test_symmetrize_refuses_an_unsymmetric_multiplier_row():
     assert symmetrize(A.tocsr(), b, mult) is None
 
 
-
 @needs_pardiso
 def test_symmetric_pardiso_refines_only_after_perturbed_pivots(monkeypatch):
     """PARDISO refines its answer only when it perturbed pivots (``iparm(8) = 0``;
@@ -174,7 +173,6 @@ def test_pardiso_keeps_its_analysis_over_a_settled_solve(path, monkeypatch):
     assert factorizations >= iterations
     attempts = len(res.steps) + sum(s.cuts for s in res.steps)
     assert analyses <= attempts + model.pattern_builds and analyses < iterations // 3
-
 
 
 @needs_pardiso

@@ -103,7 +103,7 @@ rows by a fixed pressure of the step (see ``docs/friction.md``).
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, fields
 from typing import Union
 
 import numpy as np
@@ -141,14 +141,25 @@ def _start(value: float) -> float:
     return v
 
 
-def _acts(start: float, load_factor: float) -> bool:
-    """Friction acts in every step when ``start == 0``, else in the steps ending
-    after ``start``."""
-    return start == 0.0 or load_factor > start
+class _Starts:
+    """What the friction laws share about their ``start``: when friction acts, and
+    the repr (``start`` shown only when set)."""
+
+    start: float
+
+    def acts(self, load_factor: float) -> bool:
+        """Whether friction acts in the load step ending at ``load_factor``:
+        ``start == 0`` (every step) or ``load_factor > start``."""
+        return self.start == 0.0 or load_factor > self.start
+
+    def __repr__(self) -> str:
+        name = fields(self)[0].name   # the law's own parameter: mu or bound
+        more = f", start={self.start!r}" if self.start else ""
+        return f"{type(self).__name__}({name}={getattr(self, name)!r}{more})"
 
 
-@dataclass(frozen=True)
-class Coulomb:
+@dataclass(frozen=True, repr=False)
+class Coulomb(_Starts):
     """Coulomb friction: ``|lam_t| <= mu lam_n``.
 
     Parameters
@@ -175,14 +186,6 @@ class Coulomb:
         object.__setattr__(self, "mu", _finite("mu", self.mu, 0.0, strict=False))
         object.__setattr__(self, "start", _start(self.start))
 
-    def acts(self, load_factor: float) -> bool:
-        """Whether friction acts in the load step ending at ``load_factor``:
-        ``start == 0 or load_factor > start``."""
-        return _acts(self.start, load_factor)
-
-    def __repr__(self) -> str:
-        return f"Coulomb(mu={self.mu!r}" + (f", start={self.start!r})" if self.start else ")")
-
     def slip_bound(self, lam_n: np.ndarray, g_n: np.ndarray, c_n: float,
                    weight: np.ndarray | float = 1.0
                    ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -193,8 +196,8 @@ class Coulomb:
         return xi, np.full(xi.shape, self.mu), np.full(xi.shape, -self.mu * c_n)
 
 
-@dataclass(frozen=True)
-class Tresca:
+@dataclass(frozen=True, repr=False)
+class Tresca(_Starts):
     """Tresca friction: ``|t_t| <= bound``, a fixed bound on the tangential traction.
 
     Parameters
@@ -222,14 +225,6 @@ class Tresca:
     def __post_init__(self) -> None:
         object.__setattr__(self, "bound", _finite("bound", self.bound, 0.0, strict=True))
         object.__setattr__(self, "start", _start(self.start))
-
-    def acts(self, load_factor: float) -> bool:
-        """Whether friction acts in the load step ending at ``load_factor``
-        (:meth:`Coulomb.acts`)."""
-        return _acts(self.start, load_factor)
-
-    def __repr__(self) -> str:
-        return f"Tresca(bound={self.bound!r}" + (f", start={self.start!r})" if self.start else ")")
 
     def slip_bound(self, lam_n: np.ndarray, g_n: np.ndarray, c_n: float,
                    weight: np.ndarray | float = 1.0

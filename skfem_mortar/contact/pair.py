@@ -390,7 +390,7 @@ class ContactPair(Item):
         self.friction = friction
         #: the law of the current step: ``friction``, or :data:`NO_FRICTION` in
         #: the steps before its ``start`` (:meth:`begin_step`)
-        self._law = friction if friction is None or friction.start == 0 else NO_FRICTION
+        self._law = friction if friction is None or friction.acts(0.0) else NO_FRICTION
         #: the slip branch's derivatives (:func:`~skfem_mortar.contact.friction.complementarity`):
         #: ``"projected"`` (default) or ``"exact"`` (the finite-difference tests)
         self.friction_jacobian = "projected"
