@@ -148,7 +148,9 @@ def test_a_stale_lock_is_taken_over_with_a_note(tmp_path):
 
 
 @pytest.mark.parametrize("host, pid, why", [("elsewhere.example", 1, "elsewhere.example"),
-                                            (None, os.getpid(), "in use")])
+                                            (None, os.getpid(), "in use")],
+                         ids=["another-host", "this-process"])  # stable ids: pytest-xdist workers
+                                                                # must collect the same names
 def test_a_lock_of_a_live_run_or_another_host_is_refused(tmp_path, capsys, host, pid, why):
     out = tmp_path / "run"
     out.mkdir()

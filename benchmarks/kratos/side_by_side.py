@@ -1,7 +1,8 @@
 """Side by side: Kratos' ``hertz_simple`` contact test against ``skfem-mortar run hertz``.
 
     python benchmarks/kratos/side_by_side.py --out DIR [--repeat 3] [--levels 1 2 4]
-        [--refine -2 -1 0 1 2] [--steps 1 2 4] [--kratos-python /work/kratos-venv/bin/python]
+        [--refine -2 -1 0 1 2] [--steps 1 2 4] [--methods mortar mortar-dual]
+        [--kratos-python /work/kratos-venv/bin/python]
 
 Every run is a fresh process, timed by the wall clock around it (imports, mesh
 reading, solve and output included; both codes' Python modules byte-compiled
@@ -16,7 +17,8 @@ uniform refinements (``make_meshes.py``: 2x, 4x), two load steps to the line
 load ``P = 3.2032``, each with the test's linear solver (skyline LU) and with
 Eigen's sparse LU (``--kratos-solvers``; the test's solver is the slower one
 from 2x on).  Ours: ``python -m skfem_mortar.app.cli run hertz --method
-mortar --set refine=R --steps S --out TMP --replace`` for every ``R`` and ``S``
+M --set refine=R --steps S --out TMP --replace`` for every ``M`` (``--methods``,
+default ``mortar``: standard multipliers, as Kratos' test), ``R`` and ``S``
 asked for.  The scene's defaults are the data of ``hertz_simple``: R = 8, E =
 200, nu = 0.3, line load 3.2032 on a rigid base (Kratos: a plate with E = 2e12,
 every node fixed).  Kratos models the whole half cylinder; ours the quarter
@@ -180,8 +182,9 @@ def timed(cmd: list[str], env: dict, cwd: str, log: str) -> tuple[float, int]:
 def configurations(a) -> list[dict]:
     runs = [{"code": "kratos", "name": f"kratos {k}x" + ("" if sol == TEST_SOLVER else f" {sol}"),
              "level": k, "solver": sol} for sol in a.kratos_solvers for k in a.levels]
-    runs += [{"code": "ours", "name": f"ours refine={r} steps={s}", "refine": r, "steps": s}
-             for r in a.refine for s in a.steps]
+    runs += [{"code": "ours", "name": f"ours {m} refine={r} steps={s}", "method": m,
+              "refine": r, "steps": s}
+             for m in a.methods for r in a.refine for s in a.steps]
     return runs
 
 
@@ -190,7 +193,8 @@ def command(run: dict, a, paths: dict, rundir: str) -> list[str]:
         cmd = [a.kratos_python, os.path.join(HERE, "run_kratos.py"), paths[run["level"]],
                os.path.join(rundir, "kratos.json")]
         return cmd + ["--linear-solver", run["solver"]]
-    return [sys.executable, "-m", "skfem_mortar.app.cli", "run", "hertz", "--method", "mortar",
+    return [sys.executable, "-m", "skfem_mortar.app.cli", "run", "hertz",
+            "--method", run["method"],
             "--set", f"refine={run['refine']}", "--steps", str(run["steps"]),
             "--out", rundir, "--replace", "--no-progress"]
 
@@ -250,6 +254,9 @@ def main(argv=None) -> int:
                     help="our scene's refine values to sweep")
     ap.add_argument("--steps", type=int, nargs="*", default=[1, 2, 4],
                     help="our load step counts to sweep")
+    ap.add_argument("--methods", nargs="*", default=["mortar"],
+                    help="our contact methods to sweep (mortar: standard multipliers like "
+                         "Kratos' test; mortar-dual, nts)")
     ap.add_argument("--kratos-python", default="/work/kratos-venv/bin/python")
     ap.add_argument("--kratos-solvers", nargs="*", default=[TEST_SOLVER, "sparse_lu"],
                     help="Kratos linear solvers to run each mesh with: the test's skyline LU "
