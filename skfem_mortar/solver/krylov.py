@@ -22,12 +22,12 @@ with ``r_k = ||R_k||``, the step's force scale ``S`` and the Newton tolerance
 ``tol``:
 
     eta_k = min(eta_max, max(gamma (r_k / r_{k-1})^2, gamma eta_{k-1}^2 if > 0.1))
-    eta_k = min(eta_k, r_k / S)                 (quadratic convergence kept)
+    eta_k = min(eta_k, c_q r_k / S)             (quadratic convergence kept)
     eta_k = max(eta_k, 0.1 tol / r_k, ETA_MIN)  (no oversolving), then <= eta_max
 
-The second line keeps the linear error ``eta_k r_k <= r_k^2 / S`` of the order
-of Newton's own quadratic term, so the iteration stays quadratic once the
-active set has settled; the third stops at a linear residual a tenth of the
+The second line keeps the linear error ``eta_k r_k <= c_q r_k^2 / S``
+(``c_q`` = :data:`ETA_QUADRATIC`) below Newton's own quadratic term, so the
+iteration stays quadratic once the active set has settled; the third stops at a linear residual a tenth of the
 Newton tolerance (enough for the convergence test) and above round-off.
 
 FGMRES (our own, not ``scipy.sparse.linalg.gmres``): scipy's GMRES applies the
@@ -61,6 +61,11 @@ KRYLOV_MAX_ITER = 12
 FORCING_MAX = 1e-2
 #: Eisenstat-Walker's gamma of choice 2
 FORCING_GAMMA = 0.9
+#: c_q of the quadratic bound ``eta_k <= c_q r_k / S``: with 1 (the linear error
+#: as large as a quadratic term ``r_k^2 / S``) seed (mortar-dual, 10 steps)
+#: ended one step at 1.1e-10 S against the tolerance 1e-10 S (direct: 9.8e-11)
+#: and took an extra Newton iteration; 0.01 adds at most a hundredth of it
+ETA_QUADRATIC = 1e-2
 #: smallest forcing term: a relative residual of 1e-12 is the round-off of a
 #: solve with the factors of a system of condition up to ~1e4 (hertz's free
 #: blocks after the symmetric scaling), below it FGMRES stalls
@@ -105,7 +110,7 @@ def forcing(norms: list[float], eta_prev: float | None, scale: float, tol: float
             eta = max(eta, guard)
         eta = min(eta, eta_max)
     if 0.0 < scale < np.inf:
-        eta = min(eta, r / scale)
+        eta = min(eta, ETA_QUADRATIC * r / scale)
     if r > 0.0:
         eta = max(eta, 0.1 * tol / r)
     return float(min(max(eta, ETA_MIN), eta_max))
@@ -227,10 +232,16 @@ class KrylovSolver:
         self.counts = KrylovCounts()
 
     def solve(self, K: sp.spmatrix, b: np.ndarray, eta: float,
-              multipliers: np.ndarray | None = None) -> np.ndarray:
+              multipliers: np.ndarray | None = None, reuse: bool = True) -> np.ndarray:
         """``x`` with ``||K x - b|| <= eta ||b||``: FGMRES preconditioned by the kept
-        factors when they are there for ``K``'s pattern, else (or when it fails)
-        the direct answer of a fresh factorization of ``K``, whose factors are kept.
+        factors when they are there for ``K``'s pattern and ``reuse`` is true,
+        else (or when it fails) the direct answer of a fresh factorization of
+        ``K``, whose factors are kept.  Newton passes ``reuse`` = the active set
+        is settled (no item changed its set in the last iteration): as it
+        refactors every unsettled iteration, the kept factors are then of the
+        current active set (with factors of another active set FGMRES needed
+        20 to 40 iterations to reach 1e-2 on hertz, more than a factorization
+        costs; module docstring).
 
         Raises
         ------
@@ -238,7 +249,7 @@ class KrylovSolver:
             As :func:`~skfem_mortar.solver.linsolve.solve_linear` (the direct solve).
         """
         kept = self.kept
-        if kept is not None and kept.alive() and kept.same_pattern(K):
+        if reuse and kept is not None and kept.alive() and kept.same_pattern(K):
             try:
                 out = fgmres(K, b, kept.solve, eta, self.max_iter)
             except Exception as exc:  # noqa: BLE001 (the factors' solve failed): refactor

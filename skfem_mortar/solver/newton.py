@@ -238,6 +238,7 @@ def newton(model: Model, z: np.ndarray, load_factor: float, free: np.ndarray,
             tol = report.tolerance = max(opt.rtol * report.scale, opt.atol)
             report.floor = float(np.linalg.norm(floor))
             ref = max(rnorm, report.scale, report.floor)
+        settled = False
         if it > 0 or not fixed.size:
             settled = all(item.settled() for item in model.items)
             done = settled and excess_norm(Rf, floor) <= tol
@@ -269,7 +270,8 @@ def newton(model: Model, z: np.ndarray, load_factor: float, free: np.ndarray,
                 report.factorizations += 1
             else:
                 eta = forcing(report.residual_norms, eta, report.scale, tol, opt.forcing_max)
-                dzf = krylov.solve(model.free_block(K, free), -Rf, eta, multipliers=mult)
+                dzf = krylov.solve(model.free_block(K, free), -Rf, eta, multipliers=mult,
+                                   reuse=settled)
         except InversionError as exc:
             report.reason = str(exc)
             report.iterations = it
