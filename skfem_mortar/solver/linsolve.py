@@ -239,10 +239,16 @@ class KeptFactors:
     def same_pattern(self, K: sp.spmatrix) -> bool:
         """Whether ``K`` has ``K0``'s shape and sparsity pattern (csr or csc alike)."""
         A = self.matrix
-        if K.shape != A.shape or K.format != A.format:
-            return False
-        return ((K.indptr is A.indptr or np.array_equal(K.indptr, A.indptr))
-                and (K.indices is A.indices or np.array_equal(K.indices, A.indices)))
+        return (K.shape == A.shape and K.format == A.format in ("csr", "csc")
+                and _same_arrays((A.indptr, A.indices), K))
+
+
+def _same_arrays(pattern: tuple[np.ndarray, np.ndarray], A: sp.spmatrix) -> bool:
+    """Whether ``A``'s ``indptr`` and ``indices`` are those of ``pattern`` (the same
+    memory, or equal)."""
+    ip, ix = pattern
+    return ((A.indptr is ip or np.array_equal(ip, A.indptr))
+            and (A.indices is ix or np.array_equal(ix, A.indices)))
 
 
 class _Pardiso:
@@ -335,11 +341,7 @@ class _Pardiso:
 
     def same_pattern(self, A: sp.csr_matrix) -> bool:
         """Whether ``A`` has the pattern of the kept analysis."""
-        if self.pattern is None:
-            return False
-        ip, ix = self.pattern
-        return ((A.indptr is ip or np.array_equal(ip, A.indptr))
-                and (A.indices is ix or np.array_equal(ix, A.indices)))
+        return self.pattern is not None and _same_arrays(self.pattern, A)
 
     def solve(self, A: sp.csr_matrix, b: np.ndarray, check=None, correction=None,
               analysis=None) -> np.ndarray | None:
