@@ -42,11 +42,13 @@ def test_bad_linear_options_are_refused(kwargs, name):
         NewtonOptions(**kwargs)
 
 
-def test_auto_is_direct_below_the_threshold():
+def test_auto_chooses_by_the_size():
     assert krylov.choose_linear("direct", 10 ** 9) == "direct"
     assert krylov.choose_linear("krylov", 1) == "krylov"
-    small = krylov.choose_linear("auto", 1)
-    assert small == "direct"
+    assert krylov.choose_linear("auto", 1) == "direct"
+    above = krylov.AUTO_KRYLOV_ABOVE
+    assert krylov.choose_linear("auto", above if above else 10 ** 9) == (
+        "krylov" if above else "direct")
 
 
 # -- the pieces ------------------------------------------------------------------------
