@@ -9,7 +9,11 @@ on the free unknowns (``K = dR/dz`` holds the bulk, load and contact blocks
 ``[K_uu  K_ulam; K_lamu  K_lamlam]``). The prescribed increment enters the
 first iteration through the consistent predictor ``K_ff dz_f = -(R_f + K_fp dz_p)``,
 so that a large boundary displacement does not invert the elements next to
-the boundary before the interior has followed.
+the boundary before the interior has followed.  ``NewtonOptions.linear``
+chooses how ``K dz = -R`` is solved: a factorization per iteration
+(``"direct"``), or inexactly to a forcing term by FGMRES preconditioned by the
+kept factors of an earlier tangent (``"krylov"``, :mod:`.krylov`); the
+convergence test below is the same for both.
 
 Convergence (a step is reported converged only when all three hold):
 
