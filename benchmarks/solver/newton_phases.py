@@ -2,7 +2,8 @@
 
     OMP_NUM_THREADS=1 MKL_NUM_THREADS=1 python benchmarks/solver/newton_phases.py \
         [--scene hertz] [--set refine=3] [--method mortar] [--steps 3] \
-        [--solver pardiso|superlu] [--symmetric 0|1] [--json out.json]
+        [--solver pardiso|superlu] [--symmetric 0|1] [--json out.json] \
+        [--linear direct|krylov|auto] [--krylov-max-iter 12] [--forcing-max 1e-2]
 
 Phases (seconds per Newton iteration): ``bulk`` (the items' assembly: bodies
 and loads), ``contact`` (the contact pairs' assembly, search and pattern hook
@@ -11,7 +12,13 @@ into its CSR pattern, pattern builds included; ``pattern_builds`` counts
 them), ``free_gather`` (``K[free][:, free]``), ``solve`` (the linear solve),
 within it for PARDISO ``analysis`` (phase 11, or the whole phase 13 of a
 checkout that runs analysis and factorization together), ``factorization``
-(phase 23: numerical factorization and solve) and ``refinement`` (phase 33).
+(phase 23: numerical factorization and solve) and ``refinement`` (phase 33
+outside FGMRES).  With ``--linear krylov`` (inexact Newton,
+:mod:`skfem_mortar.solver.krylov`): ``krylov`` (the FGMRES runs, their
+preconditioner solves with the kept factors included, ``precond`` alone) and
+the counts ``factorizations``, ``krylov_iterations``, ``krylov_solves``
+(solves answered with kept factors) and ``fallbacks`` summed over the steps'
+Newton reports (a checkout without them reports them absent).
 Works on this checkout and on an older one (what it lacks is reported as
 absent), so that before and after can be compared with the same script.
 """
@@ -57,6 +64,9 @@ def main(argv=None) -> dict:
     p.add_argument("--solver", default="pardiso", choices=("pardiso", "superlu"))
     p.add_argument("--symmetric", type=int, default=1, choices=(0, 1))
     p.add_argument("--json")
+    p.add_argument("--linear", default="direct", choices=("direct", "krylov", "auto"))
+    p.add_argument("--krylov-max-iter", type=int)
+    p.add_argument("--forcing-max", type=float)
     a = p.parse_args(argv)
     os.environ["SKFEM_MORTAR_SOLVER"] = a.solver
     os.environ["SKFEM_MORTAR_SYMMETRIC"] = str(a.symmetric)
@@ -64,7 +74,7 @@ def main(argv=None) -> dict:
     from skfem_mortar.app.runner import build_scene
     from skfem_mortar.core import model as model_mod
     from skfem_mortar.core import timing
-    from skfem_mortar.solver import linsolve, newton
+    from skfem_mortar.solver import linsolve, newton, stepping
     from skfem_mortar.solver.stepping import solve
 
     params = {}
@@ -79,6 +89,35 @@ def main(argv=None) -> dict:
     wrap(model_mod.Model, "_tangent", "tangent_sum")
     has_gather = wrap(model_mod.Model, "free_block", "free_gather")
     wrap(newton, "solve_linear", "solve")
+    reports = []
+    inside = {"fgmres": 0}
+    krylov_mod = None
+    if a.linear != "direct" or a.krylov_max_iter or a.forcing_max:
+        from dataclasses import replace
+
+        from skfem_mortar.solver import krylov as krylov_mod
+        extra = {k: v for k, v in (("linear", a.linear), ("krylov_max_iter", a.krylov_max_iter),
+                                   ("forcing_max", a.forcing_max)) if v is not None}
+        base = setup.solve_options.get("newton") or newton.NewtonOptions()
+        setup.solve_options["newton"] = replace(base, **extra)
+        wrap(krylov_mod.KrylovSolver, "solve", "solve")
+        wrap(krylov_mod, "fgmres", "krylov")
+        real_fgmres = krylov_mod.fgmres
+
+        def fgmres(*args, **kwargs):  # the phase 33 runs inside are the preconditioner's
+            inside["fgmres"] += 1
+            try:
+                return real_fgmres(*args, **kwargs)
+            finally:
+                inside["fgmres"] -= 1
+        krylov_mod.fgmres = fgmres
+    real_step = stepping.newton_step
+
+    def step(*args, **kwargs):
+        rep = real_step(*args, **kwargs)
+        reports.append(rep)
+        return rep
+    stepping.newton_step = step
     pardiso_cls = getattr(linsolve, "_Pardiso", None)
     if pardiso_cls is not None:
         real_run = pardiso_cls._run
@@ -90,6 +129,8 @@ def main(argv=None) -> dict:
             finally:
                 key = {11: "analysis", 13: "analysis+factorization", 22: "factorization",
                        23: "factorization", 33: "refinement"}.get(phase, f"phase{phase}")
+                if phase == 33 and inside["fgmres"]:
+                    key = "precond"
                 T[key] += time.perf_counter() - t
                 N[key] += 1
         pardiso_cls._run = run
@@ -141,11 +182,16 @@ def main(argv=None) -> dict:
                "free_gather": T["free_gather"] / its,
                "solve": T["solve"] / its,
                **{k: T[k] / its for k in ("analysis", "analysis+factorization",
-                                          "factorization", "refinement") if N[k]}},
+                                          "factorization", "refinement", "krylov",
+                                          "precond") if N[k]}},
            "counts": {"tangent_calls": tangent_calls, "solves": N["solve"],
                       "pattern_builds": getattr(model, "pattern_builds", None),
                       **{k: N[k] for k in ("analysis", "analysis+factorization",
-                                           "factorization", "refinement") if N[k]}}}
+                                           "factorization", "refinement", "precond") if N[k]}},
+           "linear": a.linear,
+           "newton": {k: sum(getattr(r, k, 0) for r in reports) if all(
+               hasattr(r, k) for r in reports) else "absent"
+               for k in ("factorizations", "krylov_iterations", "krylov_solves", "fallbacks")}}
     # nonzeros of the last factor (iparm(18)) and perturbed pivots (iparm(14))
     handles = dict(getattr(linsolve, "_pardiso_solvers", {}))
     if getattr(linsolve, "_pardiso_solver", None) is not None:

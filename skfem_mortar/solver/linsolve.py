@@ -51,9 +51,9 @@ import scipy.sparse.linalg as spla
 
 from ..core.errors import InversionError
 
-__all__ = ["solve_linear", "available_backends", "default_backend", "BACKENDS",
-           "pardiso_solver", "forget_analyses", "symmetrize", "SymmetricSystem",
-           "SYMMETRIC"]
+__all__ = ["solve_linear", "factorize", "KeptFactors", "available_backends",
+           "default_backend", "BACKENDS", "pardiso_solver", "forget_analyses", "symmetrize",
+           "SymmetricSystem", "SYMMETRIC"]
 
 log = logging.getLogger(__name__)
 
@@ -141,30 +141,114 @@ def solve_linear(K: sp.spmatrix, b: np.ndarray, backend: str | None = None,
         When the matrix is singular or the solution is not finite (the Newton
         solver treats this like a failed iteration and cuts the load step).
     """
+    return _direct(K, b, backend, multipliers, keep=False)[0]
+
+
+def factorize(K: sp.spmatrix, b: np.ndarray, backend: str | None = None,
+              multipliers: np.ndarray | None = None
+              ) -> tuple[np.ndarray, "KeptFactors | None"]:
+    """:func:`solve_linear`, and the factors it used, kept to be applied again.
+
+    The answer is the direct one (the same paths and checks as
+    :func:`solve_linear`; SuperLU through ``splu``, whose object is kept,
+    instead of ``spsolve``).  The second value applies the inverse of the
+    factored matrix ``K0`` to later right-hand sides (:class:`KeptFactors`):
+    the preconditioner of :mod:`~skfem_mortar.solver.krylov`.  It is None for
+    an empty system.
+    """
+    return _direct(K, b, backend, multipliers, keep=True)
+
+
+def _direct(K: sp.spmatrix, b: np.ndarray, backend: str | None,
+            multipliers: np.ndarray | None, keep: bool
+            ) -> tuple[np.ndarray, "KeptFactors | None"]:
+    """The direct answer of ``K x = b`` and, with ``keep``, its kept factors."""
     if K.shape[0] == 0:
-        return np.zeros(0)
+        return np.zeros(0), None
     backend = backend or default_backend()
     if backend not in BACKENDS:
         raise ValueError(f"backend must be one of {BACKENDS}, got {backend!r}")
     b = np.asarray(b, dtype=float)
     if backend == "pardiso":
         mult = None if multipliers is None else np.asarray(multipliers, dtype=bool)
-        x = _pardiso(K, b, mult)
+        x, kept = _pardiso_kept(K, b, mult)
         if x is not None:
-            return x
-    return _superlu(K, b)
+            return x, _handed(kept, K) if keep else None
+    x, kept = _superlu(K, b, keep)
+    return x, _handed(kept, K)
 
 
-def _superlu(K: sp.spmatrix, b: np.ndarray) -> np.ndarray:
+def _handed(kept: "KeptFactors | None", K: sp.spmatrix) -> "KeptFactors | None":
+    """``kept`` with the matrix as the caller handed it over (its pattern is compared)."""
+    if kept is not None:
+        kept.matrix = K
+    return kept
+
+
+def _superlu(K: sp.spmatrix, b: np.ndarray, keep: bool = False
+             ) -> tuple[np.ndarray, "KeptFactors | None"]:
+    """SuperLU's answer (``spsolve``; with ``keep`` ``splu``, whose object is kept)."""
+    A = sp.csc_matrix(K)
+    kept = None
     with warnings.catch_warnings():
         warnings.simplefilter("error", spla.MatrixRankWarning)
         try:
-            x = spla.spsolve(sp.csc_matrix(K), b)
+            if keep:
+                lu = spla.splu(A)
+                x = lu.solve(b)
+                kept = KeptFactors(lu.solve, A, "superlu")
+            else:
+                x = spla.spsolve(A, b)
         except (spla.MatrixRankWarning, RuntimeError) as exc:
             raise InversionError(f"singular tangent: {exc}") from None
     if not np.all(np.isfinite(x)):
         raise InversionError("the linear solve returned non-finite values")
-    return np.atleast_1d(x)
+    return np.atleast_1d(x), kept
+
+
+class KeptFactors:
+    """The factors of a matrix ``K0``, kept to apply ``K0^-1`` to later right-hand sides.
+
+    ``solve(r)`` is ``K0^-1 r`` by the kept factors: SuperLU's ``splu`` object;
+    PARDISO's phase 33 on the factors in its instance (``mtype`` 11), or for the
+    symmetrized system (``mtype`` -2, :func:`symmetrize`) ``S0^-1 T0(r)``: the
+    symmetrization is a linear change ``T0`` of the right-hand side (``transform``)
+    with ``S0 = T0 K0``, so ``S0^-1 T0 = K0^-1``.  PARDISO refines an answer
+    against ``K0`` (``S0``) after perturbed pivots, so ``solve`` need not be exactly
+    linear (a flexible Krylov method takes that).  ``alive()`` is False once the
+    PARDISO instance has factored another matrix or released its memory.
+    ``matrix`` is ``K0`` as the caller handed it over (its pattern: :meth:`same_pattern`);
+    ``kind`` one of ``superlu``, ``pardiso``, ``pardiso-symmetric``.
+    """
+
+    def __init__(self, solve: Callable[[np.ndarray], np.ndarray], matrix: sp.spmatrix,
+                 kind: str, handle: "_Pardiso | None" = None):
+        self._solve, self.matrix, self.kind, self.handle = solve, matrix, kind, handle
+        self.stamp = None if handle is None else handle.stamp
+
+    def alive(self) -> bool:
+        """Whether the factors are still there (PARDISO: not replaced since)."""
+        return self.handle is None or self.handle.stamp == self.stamp
+
+    def solve(self, r: np.ndarray) -> np.ndarray:
+        """``K0^-1 r`` by the kept factors (RuntimeError once they are gone)."""
+        if not self.alive():
+            raise RuntimeError("the kept PARDISO factors were replaced")
+        return self._solve(np.asarray(r, dtype=float))
+
+    def same_pattern(self, K: sp.spmatrix) -> bool:
+        """Whether ``K`` has ``K0``'s shape and sparsity pattern (csr or csc alike)."""
+        A = self.matrix
+        return (K.shape == A.shape and K.format == A.format in ("csr", "csc")
+                and _same_arrays((A.indptr, A.indices), K))
+
+
+def _same_arrays(pattern: tuple[np.ndarray, np.ndarray], A: sp.spmatrix) -> bool:
+    """Whether ``A``'s ``indptr`` and ``indices`` are those of ``pattern`` (the same
+    memory, or equal)."""
+    ip, ix = pattern
+    return ((A.indptr is ip or np.array_equal(ip, A.indptr))
+            and (A.indices is ix or np.array_equal(ix, A.indices)))
 
 
 class _Pardiso:
@@ -215,12 +299,16 @@ class _Pardiso:
                 self.solver.set_iparm(i, v)
         self.pattern: tuple[np.ndarray, np.ndarray] | None = None
         self.analyses = self.factorizations = self.solves = 0
+        #: changes with every analysis, factorization and release: the factors
+        #: held are those of the same stamp (:class:`KeptFactors`)
+        self.stamp = 0
         #: perturbed pivots of the last factorization (iparm(14))
         self.perturbed = 0
 
     def release(self) -> None:
         self.solver.free_memory(everything=True)
         self.pattern = None
+        self.stamp += 1
 
     def _threads(self, n: int) -> int | None:
         """Limit MKL to one thread (for this thread of Python) on small systems;
@@ -244,6 +332,7 @@ class _Pardiso:
         finally:
             if previous is not None:
                 self.solver.libmkl.MKL_Set_Num_Threads_Local(previous)
+        self.stamp += phase != 33
         self.analyses += phase == 11
         self.factorizations += phase == 23
         self.solves += phase != 11
@@ -252,11 +341,7 @@ class _Pardiso:
 
     def same_pattern(self, A: sp.csr_matrix) -> bool:
         """Whether ``A`` has the pattern of the kept analysis."""
-        if self.pattern is None:
-            return False
-        ip, ix = self.pattern
-        return ((A.indptr is ip or np.array_equal(ip, A.indptr))
-                and (A.indices is ix or np.array_equal(ix, A.indices)))
+        return self.pattern is not None and _same_arrays(self.pattern, A)
 
     def solve(self, A: sp.csr_matrix, b: np.ndarray, check=None, correction=None,
               analysis=None) -> np.ndarray | None:
@@ -490,7 +575,15 @@ def _good(A: sp.spmatrix, x: np.ndarray, b: np.ndarray) -> bool:
 
 def _pardiso(K: sp.spmatrix, b: np.ndarray, mult: np.ndarray | None = None
              ) -> np.ndarray | None:
-    """PARDISO's answer, or None when it fails or its residual is too large.
+    """PARDISO's answer, or None when it fails or its residual is too large
+    (:func:`_pardiso_kept` without the factors)."""
+    return _pardiso_kept(K, b, mult)[0]
+
+
+def _pardiso_kept(K: sp.spmatrix, b: np.ndarray, mult: np.ndarray | None = None
+                  ) -> tuple[np.ndarray | None, KeptFactors | None]:
+    """PARDISO's answer, or None when it fails or its residual is too large,
+    and the factors that gave it (:class:`KeptFactors`).
     With ``mult`` (the multiplier rows of a symmetrizable system) and
     :data:`SYMMETRIC` on, the symmetric indefinite factorization of the
     symmetrized system first (:func:`symmetrize`), else (or if that fails) the
@@ -501,13 +594,18 @@ def _pardiso(K: sp.spmatrix, b: np.ndarray, mult: np.ndarray | None = None
     if mult is not None and SYMMETRIC:
         sym = symmetrize(A, b, mult)
         if sym is not None:
-            x = pardiso_solver(-2).solve(sym.U, sym.b, check=lambda x: _good(A, x, b),
-                                         correction=lambda x: sym.transform(b - A @ x),
-                                         analysis=sym.analysis)
+            h = pardiso_solver(-2)
+            x = h.solve(sym.U, sym.b, check=lambda x: _good(A, x, b),
+                        correction=lambda x: sym.transform(b - A @ x),
+                        analysis=sym.analysis)
             if x is not None:
-                return x
+                U, transform = sym.U, sym.transform
+                return x, KeptFactors(lambda r: h._run(U, transform(r), 33), A,
+                                      "pardiso-symmetric", h)
             log.debug("symmetric pardiso gave no acceptable answer; unsymmetric retries")
-    x = pardiso_solver(11).solve(A, b)
+    h = pardiso_solver(11)
+    x = h.solve(A, b)
     if x is None:
         log.debug("pardiso gave no acceptable answer; SuperLU retries")
-    return x
+        return None, None
+    return x, KeptFactors(lambda r: h._run(A, r, 33), A, "pardiso", h)

@@ -9,7 +9,11 @@ on the free unknowns (``K = dR/dz`` holds the bulk, load and contact blocks
 ``[K_uu  K_ulam; K_lamu  K_lamlam]``). The prescribed increment enters the
 first iteration through the consistent predictor ``K_ff dz_f = -(R_f + K_fp dz_p)``,
 so that a large boundary displacement does not invert the elements next to
-the boundary before the interior has followed.
+the boundary before the interior has followed.  ``NewtonOptions.linear``
+chooses how ``K dz = -R`` is solved: a factorization per iteration
+(``"direct"``), or inexactly to a forcing term by FGMRES preconditioned by the
+kept factors of an earlier tangent (``"krylov"``, :mod:`.krylov`); the
+convergence test below is the same for both.
 
 Convergence (a step is reported converged only when all three hold):
 
@@ -39,6 +43,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..core.errors import InversionError
+from .krylov import FORCING_MAX, KRYLOV_MAX_ITER, LINEAR, KrylovSolver, choose_linear, forcing
 from .linsolve import solve_linear
 from ..core.model import Body, Model
 
@@ -68,6 +73,18 @@ class NewtonOptions:
     divergence : float
         An iteration whose residual exceeds ``divergence`` times the step's
         reference scale is declared divergent.
+    linear : {"direct", "krylov", "auto"}
+        How the Newton system is solved: ``"direct"`` a factorization per
+        iteration; ``"krylov"`` inexact Newton, FGMRES to the forcing term
+        ``eta_k`` preconditioned by the kept factors of an earlier tangent,
+        refactored when it does not reach it (:mod:`~skfem_mortar.solver.krylov`);
+        ``"auto"`` "krylov" from
+        :data:`~skfem_mortar.solver.krylov.AUTO_KRYLOV_ABOVE` free unknowns on.
+    forcing_max : float
+        Largest forcing term ``eta_max`` of "krylov", in (0, 1).
+    krylov_max_iter : int
+        FGMRES iterations with the kept factors before the tangent is
+        refactored (>= 1).
     """
 
     max_iter: int = 25
@@ -76,6 +93,9 @@ class NewtonOptions:
     line_search: bool = False
     max_backtracks: int = 8
     divergence: float = 1e8
+    linear: str = "direct"
+    forcing_max: float = FORCING_MAX
+    krylov_max_iter: int = KRYLOV_MAX_ITER
 
     def __post_init__(self):
         if not (isinstance(self.max_iter, (int, np.integer)) and self.max_iter >= 1):
@@ -89,6 +109,15 @@ class NewtonOptions:
         if not (isinstance(self.max_backtracks, (int, np.integer)) and self.max_backtracks >= 0):
             raise ValueError(f"max_backtracks must be an integer >= 0, "
                              f"got {self.max_backtracks!r}")
+        if self.linear not in LINEAR:
+            raise ValueError(f"linear must be one of {LINEAR}, got {self.linear!r}")
+        if not (isinstance(self.forcing_max, (int, float, np.floating))
+                and 0.0 < self.forcing_max < 1.0):
+            raise ValueError(f"forcing_max must lie in (0, 1), got {self.forcing_max!r}")
+        if not (isinstance(self.krylov_max_iter, (int, np.integer))
+                and not isinstance(self.krylov_max_iter, bool) and self.krylov_max_iter >= 1):
+            raise ValueError(f"krylov_max_iter must be an integer >= 1, "
+                             f"got {self.krylov_max_iter!r}")
 
 
 @dataclass
@@ -107,6 +136,14 @@ class NewtonReport:
     scale: float = 0.0
     tolerance: float = 0.0
     floor: float = 0.0
+    #: the linear solves: ``"direct"`` or ``"krylov"`` (``NewtonOptions.linear``
+    #: resolved), fresh factorizations, FGMRES iterations, solves answered by
+    #: kept factors, FGMRES runs given up for a factorization (:mod:`.krylov`)
+    linear: str = "direct"
+    factorizations: int = 0
+    krylov_iterations: int = 0
+    krylov_solves: int = 0
+    fallbacks: int = 0
 
 
 #: factor of the round-off floor of a row, ``ROUND_OFF * eps * max_j |K_ij| * L``:
@@ -182,6 +219,9 @@ def newton(model: Model, z: np.ndarray, load_factor: float, free: np.ndarray,
     ref = tol = 0.0
     floor = np.zeros(free.size)
     symmetric = model.symmetrizable  # symmetric but for the multiplier rows
+    report.linear = choose_linear(opt.linear, free.size)
+    krylov = KrylovSolver(max_iter=opt.krylov_max_iter) if report.linear == "krylov" else None
+    eta: float | None = None
     last: tuple[np.ndarray, float] | None = None  # the last update (dz_f, alpha)
     for it in range(opt.max_iter + 1):
         try:
@@ -202,6 +242,7 @@ def newton(model: Model, z: np.ndarray, load_factor: float, free: np.ndarray,
             tol = report.tolerance = max(opt.rtol * report.scale, opt.atol)
             report.floor = float(np.linalg.norm(floor))
             ref = max(rnorm, report.scale, report.floor)
+        settled = False
         if it > 0 or not fixed.size:
             settled = all(item.settled() for item in model.items)
             done = settled and excess_norm(Rf, floor) <= tol
@@ -226,13 +267,25 @@ def newton(model: Model, z: np.ndarray, load_factor: float, free: np.ndarray,
             report.iterations = it
             return report
         t0 = time.perf_counter()
+        mult = (free >= model.n_u) if symmetric else None
         try:
-            dzf = solve_linear(model.free_block(K, free), -Rf,
-                               multipliers=(free >= model.n_u) if symmetric else None)
+            if krylov is None:
+                dzf = solve_linear(model.free_block(K, free), -Rf, multipliers=mult)
+                report.factorizations += 1
+            else:
+                eta = forcing(report.residual_norms, eta, report.scale, tol, opt.forcing_max)
+                dzf = krylov.solve(model.free_block(K, free), -Rf, eta, multipliers=mult,
+                                   reuse=settled)
         except InversionError as exc:
             report.reason = str(exc)
             report.iterations = it
             return report
+        finally:
+            if krylov is not None:
+                c = krylov.counts
+                report.factorizations, report.krylov_iterations = (c.factorizations,
+                                                                   c.krylov_iterations)
+                report.krylov_solves, report.fallbacks = c.krylov_solves, c.fallbacks
         report.solve_time += time.perf_counter() - t0
         if it == 0 and fixed.size:
             z[fixed] += dz_fixed
