@@ -32,7 +32,7 @@ def _name(requirement: str) -> str:
 IMPORT_NAME = {"scikit-fem": "skfem"}
 
 #: the tools of the dev extra: run by the developer, never imported by the package
-TOOLS = {"pytest", "nbmake", "ipykernel"}
+TOOLS = {"pytest", "pytest-xdist", "nbmake", "ipykernel"}
 
 
 def _imports(path: Path) -> list[tuple[str, bool]]:

@@ -92,12 +92,12 @@ def test_bench_never_runs_a_size_above_max_dofs(tmp_path, monkeypatch, capsys):
     3000 the third is never run (it used to be run, then the loop stopped)."""
     ran = []
 
-    def fake(scene, params, method, steps):
+    def fake(scene, params, method, steps, path=None):
         n = bench.size_of(scene, params, method)
         ran.append(n)
         return {"scene": scene, "params": params, "method": method, "status": "ok",
                 "n_dofs": n, "n_multipliers": n // 50, "newton_iterations": 1,
-                "max_iterations_per_step": 1, "wall_time_s": 1.0, "peak_rss_mb": 1.0,
+                "factorizations": 1, "krylov_iterations": 0, "max_iterations_per_step": 1, "wall_time_s": 1.0, "peak_rss_mb": 1.0,
                 "time_per_iteration_s": {p: 1e-3 * n for p in bench.PHASES},
                 "contact_share": 0.5}
 

@@ -32,22 +32,31 @@ QUICK: dict[str, list[dict]] = {
 PHASES = ("bulk", "search", "contact_assembly", "solve", "output")
 
 _WORKER = r"""
-import json, resource, sys
+import json, os, resource, sys
 from skfem_mortar.app.runner import run_scene
 spec = json.loads(sys.argv[1])
-s = run_scene(spec["scene"], spec["params"], method=spec["method"], steps=spec["steps"])
+if spec["backend"]:
+    os.environ["SKFEM_MORTAR_SOLVER"] = spec["backend"]
+s = run_scene(spec["scene"], spec["params"], method=spec["method"], steps=spec["steps"],
+              linear=spec["linear"])
 s["peak_rss_mb"] = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
 print(json.dumps(s))
 """
 
 
-def _one(scene: str, params: dict, method: str | None, steps: int | None) -> dict:
-    spec = json.dumps({"scene": scene, "params": params, "method": method, "steps": steps})
+def _one(scene: str, params: dict, method: str | None, steps: int | None,
+         path: str | None = None) -> dict:
+    from .study import solver_path
+
+    backend, linear = solver_path(path) if path else (None, None)
+    spec = json.dumps({"scene": scene, "params": params, "method": method, "steps": steps,
+                       "backend": backend, "linear": linear})
     proc = subprocess.run([sys.executable, "-c", _WORKER, spec], capture_output=True,
                           text=True)
     if proc.returncode != 0:
         reason = (proc.stderr.strip().splitlines() or ["unknown"])[-1]
-        return {"scene": scene, "params": params, "method": method, "status": f"failed: {reason}"}
+        return {"scene": scene, "params": params, "method": method, "solver": path,
+                "status": f"failed: {reason}"}
     s = json.loads(proc.stdout.strip().splitlines()[-1])
     its = max(1, sum(st["newton_iterations"] for st in s["steps"]))
     t = s["phase_times_s"]
@@ -56,9 +65,11 @@ def _one(scene: str, params: dict, method: str | None, steps: int | None) -> dic
               "solve": t["solve"], "output": t["output"]}
     per_it = {k: v / its for k, v in per_it.items()}
     total = sum(per_it.values())
-    return {"scene": scene, "params": params, "method": s["method"], "status": "ok",
-            "n_dofs": s["n_dofs"], "n_multipliers": s["n_multipliers"],
-            "newton_iterations": its, "max_iterations_per_step":
+    return {"scene": scene, "params": params, "method": s["method"], "solver": path,
+            "status": "ok", "n_dofs": s["n_dofs"], "n_multipliers": s["n_multipliers"],
+            "newton_iterations": its,
+            "factorizations": sum(st.get("factorizations", 0) for st in s["steps"]),
+            "krylov_iterations": sum(st.get("krylov_iterations", 0) for st in s["steps"]), "max_iterations_per_step":
                 max(st["newton_iterations"] for st in s["steps"]),
             "wall_time_s": s["wall_time_s"], "peak_rss_mb": s["peak_rss_mb"],
             "time_per_iteration_s": per_it,
@@ -129,8 +140,14 @@ def check_inputs(scenes: Sequence[str], method: str, max_dofs: int | None,
 
 def run_bench(out: str | Path, scenes: Sequence[str] = ("hertz", "seed"),
               method: str = "mortar", quick: bool = False, max_dofs: int | None = None,
-              steps: int | None = None, progress: bool = False) -> dict:
+              steps: int | None = None, progress: bool = False,
+              solvers: Sequence[str] | None = None) -> dict:
     """Run the sizes of each scene; write ``bench.json`` and ``bench.png`` into ``out``.
+
+    ``solvers``: solver paths (:func:`~skfem_mortar.app.study.parse_solvers`, e.g.
+    ``["pardiso", "pardiso+krylov"]``; default: the default backend, direct).
+    With several, every path runs every size and ``report["scenes"]`` has an
+    entry ``"scene (path)"`` per path, each with its own slopes.
 
     Each scene's sizes run in growing order until one fails or, with
     ``max_dofs``, until the next size would have more than ``max_dofs``
@@ -146,12 +163,16 @@ def run_bench(out: str | Path, scenes: Sequence[str] = ("hertz", "seed"),
     """
     from ..output.io import write_json
 
+    from .study import parse_solvers
+
     table = QUICK if quick else SIZES
     check_inputs(scenes, method, max_dofs, steps, table)
+    paths = parse_solvers(list(solvers) if solvers else None)
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     report: dict = {"method": method, "scenes": {}}
-    for scene in scenes:
+    for scene, path in [(sc, p) for sc in scenes for p in paths]:
+        entry = scene if len(paths) == 1 else f"{scene} ({path})"
         rows = []
         for params in table[scene]:
             n = size_of(scene, params, method) if max_dofs is not None else None
@@ -159,14 +180,14 @@ def run_bench(out: str | Path, scenes: Sequence[str] = ("hertz", "seed"),
                 rows.append({"scene": scene, "params": params, "method": method,
                              "n_dofs": n, "status": f"skipped: {n} dofs > max_dofs {max_dofs}"})
                 break
-            row = _one(scene, params, method, steps)
+            row = _one(scene, params, method, steps, path)
             rows.append(row)
             if progress:
-                print(f"bench {scene} {params}: {row.get('n_dofs', '?')} dofs, "
+                print(f"bench {entry} {params}: {row.get('n_dofs', '?')} dofs, "
                       f"{row.get('status')}", file=sys.stderr)
             if row.get("status") != "ok":
                 break
-        report["scenes"][scene] = {"rows": rows, "slopes": fit_slopes(rows),
+        report["scenes"][entry] = {"rows": rows, "slopes": fit_slopes(rows),
                                    "slopes_vs_contact_nodes": fit_slopes(rows, "n_multipliers")}
         write_json(out / "bench.json", report)
     plot_bench(report, out / "bench.png")

@@ -146,7 +146,7 @@ def _cmd_run(args: argparse.Namespace) -> int:
 
     summary = run_scene(args.scene, args.sets, method=args.method,
                         steps=args.steps, out=args.out, progress=not args.no_progress,
-                        resume=args.resume, replace=args.replace)
+                        resume=args.resume, replace=args.replace, linear=args.linear)
     if args.json:
         print(json.dumps(summary))
     else:
@@ -205,7 +205,8 @@ def _cmd_bench(args: argparse.Namespace) -> int:
     with output_lock(args.out, "bench"):
         report = run_bench(args.out, scenes=args.scene or ("hertz", "seed"),
                            method=args.method, quick=args.quick, max_dofs=args.max_dofs,
-                           steps=args.steps, progress=not args.no_progress)
+                           steps=args.steps, progress=not args.no_progress,
+                           solvers=args.solver)
     for scene, data in report["scenes"].items():
         for r in data["rows"]:
             if r.get("status") != "ok":
@@ -215,7 +216,8 @@ def _cmd_bench(args: argparse.Namespace) -> int:
             print(f"{scene} {r['n_dofs']:>8d} dofs: " + ", ".join(
                 f"{k} {v * 1e3:.2f} ms" for k, v in t.items()) +
                 f"; contact share {100 * r['contact_share']:.1f} %, "
-                f"peak {r['peak_rss_mb']:.0f} MB")
+                f"peak {r['peak_rss_mb']:.0f} MB; {r['newton_iterations']} Newton its, "
+                f"{r['factorizations']} factorizations, {r['krylov_iterations']} Krylov its")
         fmt = lambda d: ", ".join(f"{k} {v:.2f}" for k, v in d.items())  # noqa: E731
         print(f"{scene} slopes vs dofs: {fmt(data['slopes'])}")
         print(f"{scene} slopes vs contact nodes: {fmt(data['slopes_vs_contact_nodes'])}")
@@ -251,6 +253,10 @@ def build_parser() -> argparse.ArgumentParser:
                    help="continue from the checkpoint in --out (same scene and settings)")
     p.add_argument("--replace", action="store_true",
                    help="remove the files of the run --out holds first")
+    p.add_argument("--linear", choices=("direct", "krylov", "auto"), default=None,
+                   help="Newton's linear solves: a factorization per iteration (direct, the "
+                        "default), or inexact with kept factors (krylov; auto: krylov from "
+                        "4e4 unknowns on)")
     p.set_defaults(func=_cmd_run)
 
     p = sub.add_parser("study", help="speed-accuracy grid: error against wall time")
@@ -261,9 +267,11 @@ def build_parser() -> argparse.ArgumentParser:
                    help="an axis of the grid: a scene parameter and its values")
     p.add_argument("--steps", type=_steps_list, default=None,
                    help="load step counts to compare, e.g. 5,10,20 (each >= 1)")
-    p.add_argument("--solver", action="append", default=None, metavar="BACKEND",
-                   help="solver backends to compare (repeatable; one of those installed, "
-                        "default: the default backend only)")
+    p.add_argument("--solver", action="append", default=None, metavar="PATH",
+                   help="solver paths to compare (repeatable): a backend installed here "
+                        "(superlu, pardiso), optionally +krylov or +auto for inexact Newton "
+                        "with kept factors, e.g. pardiso+krylov; default: the default "
+                        "backend, direct")
     p.add_argument("--metric", action="append", default=None, metavar="NAME",
                    help="the plotted error measure (default: the scene's first; repeatable "
                         "for several scenes: each plots the first it has)")
@@ -289,6 +297,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--max-dofs", type=_int_at_least(1), default=None,
                    help="run no size with more displacement dofs than this (>= 1)")
     p.add_argument("--steps", type=steps, default=None, help="load steps per run (>= 1)")
+    p.add_argument("--solver", action="append", default=None, metavar="PATH",
+                   help="solver paths to time side by side (repeatable, as for study: "
+                        "pardiso, pardiso+krylov, superlu, ...; default: the default backend)")
     p.add_argument("--out", type=_out_dir, default="skfem-mortar-bench")
     p.add_argument("--no-progress", action="store_true")
     p.set_defaults(func=_cmd_bench)

@@ -75,7 +75,8 @@ def _step_entry(record: StepRecord) -> dict:
 def run_scene(name: str, params: dict[str, Any] | None = None, method: str | None = None,
               steps: int | None = None, out: str | Path | None = None,
               progress: bool = False, resume: bool = False, replace: bool = False,
-              return_result: bool = False, **solve_kwargs) -> dict | tuple[dict, Result, Setup]:
+              return_result: bool = False, linear: str | None = None,
+              **solve_kwargs) -> dict | tuple[dict, Result, Setup]:
     """Build and solve a scene; return the summary object of the CLI contract.
 
     Parameters
@@ -108,7 +109,14 @@ def run_scene(name: str, params: dict[str, Any] | None = None, method: str | Non
         that run did not write).
     return_result : bool
         Also return the :class:`Result` and the :class:`Setup`.
+    linear : {"direct", "krylov", "auto"}, optional
+        How the Newton systems are solved (``NewtonOptions.linear``, in the
+        scene's Newton options): a factorization per iteration, or inexact
+        Newton with kept factors (:mod:`~skfem_mortar.solver.krylov`).  Default:
+        the scene's (``direct``).  The summary's steps count the
+        factorizations and Krylov iterations.
     """
+    _check_linear(linear)
     if resume and replace:
         raise ValueError("--resume and --replace exclude each other: resume continues the "
                          "run in --out, replace removes it")
@@ -116,7 +124,7 @@ def run_scene(name: str, params: dict[str, Any] | None = None, method: str | Non
         if resume or replace:
             raise ValueError("--resume and --replace need --out (the run's directory)")
         return _run_scene(name, params, method, steps, None, progress, False, False,
-                          return_result, solve_kwargs)
+                          return_result, _with_linear(solve_kwargs, linear))
     from ..output.outdir import output_lock
 
     scene = get_scene(name)  # bad input is refused before --out is made or locked
@@ -124,7 +132,32 @@ def run_scene(name: str, params: dict[str, Any] | None = None, method: str | Non
     scene.check_method(method)
     with output_lock(out, "run") as out:
         return _run_scene(name, params, method, steps, out, progress, resume, replace,
-                          return_result, solve_kwargs)
+                          return_result, _with_linear(solve_kwargs, linear))
+
+
+def _check_linear(linear: str | None) -> None:
+    """ValueError naming ``linear`` and its allowed values (before anything is built)."""
+    from ..solver.krylov import LINEAR
+
+    if linear is not None and linear not in LINEAR:
+        raise ValueError(f"linear must be one of {', '.join(LINEAR)}, got {linear!r}")
+
+
+def _with_linear(solve_kwargs: dict, linear: str | None) -> dict:
+    """``solve_kwargs`` with ``linear`` marked for the scene's Newton options
+    (applied in :func:`_run_scene`, once the scene's own options are known)."""
+    return solve_kwargs if linear is None else {**solve_kwargs, "_linear": linear}
+
+
+def _newton_with(kwargs: dict, linear: str) -> dict:
+    """The solve options with ``NewtonOptions.linear = linear`` (the scene's other
+    Newton settings kept)."""
+    from dataclasses import replace as _replace
+
+    from ..solver.newton import NewtonOptions
+
+    opts = kwargs.pop("newton_options", None) or kwargs.get("newton") or NewtonOptions()
+    return {**kwargs, "newton": _replace(opts, linear=linear)}
 
 
 def _run_scene(name: str, params: dict[str, Any] | None, method: str | None,
@@ -144,6 +177,9 @@ def _run_scene(name: str, params: dict[str, Any] | None, method: str | None,
     from ..core.timing import reset
     reset()
     kwargs = {**setup.solve_options, **solve_kwargs}
+    linear = kwargs.pop("_linear", None)
+    if linear is not None:
+        kwargs = _newton_with(kwargs, linear)
     meta = _clean({"scene": name, "method": method, "parameters": values, "steps": n_steps})
     recorder = _Recorder(out, setup, meta) if out is not None else None
     earlier: list[np.ndarray] = []

@@ -186,14 +186,27 @@ def error_measures(scene: str) -> list[str]:
     return [f"{q}_error" for q in conf.get("reference", [])] + list(conf.get("metrics", []))
 
 
+def solver_path(path: str) -> tuple[str, str | None]:
+    """``(backend, linear)`` of a solver path ``"backend"`` or ``"backend+linear"``
+    (``linear`` one of ``NewtonOptions.linear``'s; None for the bare backend)."""
+    backend, _, linear = str(path).partition("+")
+    return backend.strip(), (linear.strip() or None)
+
+
 def parse_solvers(solvers: str | Sequence[str] | None) -> list[str]:
-    """The solver backends of the ``solver`` axis (None: the default backend only).
+    """The solver paths of the ``solver`` axis (None: the default backend only).
+
+    A path is a backend, optionally with the Newton systems' linear solves
+    (``NewtonOptions.linear``): ``pardiso``, ``pardiso+krylov``, ``superlu+auto``;
+    ``+direct`` is the bare backend.
 
     Raises
     ------
     ValueError
-        Naming ``--solver`` and the backends available here, for any other name.
+        Naming ``--solver`` and the backends available here (or the linear
+        solves allowed), for any other name.
     """
+    from ..solver.krylov import LINEAR
     from ..solver.linsolve import BACKENDS, available_backends, default_backend
 
     if solvers is None or (not isinstance(solvers, str) and not list(solvers)):
@@ -201,13 +214,19 @@ def parse_solvers(solvers: str | Sequence[str] | None) -> list[str]:
     items = _parse_values(solvers) if isinstance(solvers, str) else [
         str(s).strip() for s in solvers]
     available = available_backends()
+    paths = []
     for name in items:
-        if name not in available:
+        backend, linear = solver_path(name)
+        if backend not in available:
             why = (" (a backend of the package, but not installed here)"
-                   if name in BACKENDS else "")
+                   if backend in BACKENDS else "")
             raise ValueError(f"solver {name!r} is not available{why}; allowed (--solver): "
-                             f"{', '.join(available)}")
-    return list(dict.fromkeys(items))
+                             f"{', '.join(available)}, each optionally +krylov or +auto")
+        if linear is not None and linear not in LINEAR:
+            raise ValueError(f"solver {name!r}: the linear solves after '+' must be one of "
+                             f"{', '.join(LINEAR)} (--solver), got {linear!r}")
+        paths.append(backend if linear in (None, "direct") else f"{backend}+{linear}")
+    return list(dict.fromkeys(paths))
 
 
 def _plotted(scenes: Sequence[str], metric: str | Sequence[str] | None) -> dict[str, str | None]:
@@ -245,7 +264,7 @@ def plan_study(scenes: Sequence[str], *, methods: Sequence[str] | None = None,
     sets : ``{name: "v1,v2,..."}`` axes that override or extend the scene's grid.
         A name that no scene knows is an error.
     steps : load step counts to compare (default: the scene's).
-    solvers : solver backends to compare (:func:`parse_solvers`; default: the
+    solvers : solver paths to compare (:func:`parse_solvers`; default: the
         default backend only).
     metric : the plotted error measure, or several (each scene plots the first
         it has; default: the scene's first, :func:`error_measures`).
@@ -382,19 +401,19 @@ def run_key(run: dict) -> str:
 
 
 def execute(run: dict) -> dict:
-    """Run one grid point with its solver backend; never raises (a failure is a row
+    """Run one grid point with its solver path; never raises (a failure is a row
     with its reason). The row's ``timings`` holds this run's wall and phase times."""
     from .runner import run_scene
 
     row = _base_row(run)
-    solver = run.get("solver")
+    solver, linear = solver_path(run["solver"]) if run.get("solver") else (None, None)
     previous = os.environ.get(SOLVER_ENV)
     if solver:
         os.environ[SOLVER_ENV] = solver
     try:
         t0 = _clock()
         summary = run_scene(run["scene"], run["params"], method=run["method"],
-                            steps=run["steps"])
+                            steps=run["steps"], **({"linear": linear} if linear else {}))
         wall = _clock() - t0
     except Exception as exc:  # noqa: BLE001 - the study reports, it does not crash
         return failed_row(run, f"{type(exc).__name__}: {exc}")

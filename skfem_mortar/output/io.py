@@ -568,6 +568,8 @@ def _items(path: Path, names, arrays: dict[str, np.ndarray]) -> dict[str, dict[s
 
 _RECORD_KEYS = {"load_factor", "newton_iterations", "residual_norms", "n_active",
                 "active_set_changes", "cuts", "increment"}
+#: the linear solves' counts, in the records of checkpoints written since they came
+_RECORD_COUNTS = {"factorizations", "krylov_iterations"}
 
 
 def _check_step(path: Path, header: dict, k: int, lf_before: float) -> None:
@@ -578,13 +580,15 @@ def _check_step(path: Path, header: dict, k: int, lf_before: float) -> None:
         if rec is not None or ctl is not None:
             raise _refuse(path, "the initial state carries a step record")
         return
-    if not (isinstance(rec, dict) and set(rec) == _RECORD_KEYS and isinstance(ctl, dict)):
+    if not (isinstance(rec, dict) and _RECORD_KEYS <= set(rec) <= _RECORD_KEYS | _RECORD_COUNTS
+            and isinstance(ctl, dict)):
         raise _refuse(path, "no step record or controller")
     lf = rec["load_factor"]
     if not (_is_number(lf) and lf_before < lf <= 1.0):
         raise _refuse(path, f"load factor {lf!r} of step {k} not in ({lf_before!r}, 1] "
                             "(load factors must increase)")
-    counts = [rec[c] for c in ("newton_iterations", "n_active", "active_set_changes", "cuts")]
+    counts = [rec[c] for c in ("newton_iterations", "n_active", "active_set_changes", "cuts",
+                               *sorted(_RECORD_COUNTS & set(rec)))]
     if not all(isinstance(c, int) and c >= 0 for c in counts):
         raise _refuse(path, f"step {k}: counts must be integers >= 0, got {counts}")
     norms = rec["residual_norms"]

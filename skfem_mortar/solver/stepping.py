@@ -174,12 +174,17 @@ class StepRecord:
     increment: float = 0.0
     info: dict = field(default_factory=dict)
     controller: Controller | None = None
+    #: the linear solves of the converged attempt: fresh factorizations and
+    #: Krylov iterations (``NewtonOptions.linear="krylov"``; 0 for "direct")
+    factorizations: int = 0
+    krylov_iterations: int = 0
 
     @classmethod
     def from_dict(cls, d: dict) -> "StepRecord":
         return cls(d["load_factor"], d["newton_iterations"], list(d["residual_norms"]),
                    d.get("n_active", 0), d.get("active_set_changes", 0), d.get("cuts", 0),
-                   d.get("increment", 0.0))
+                   d.get("increment", 0.0), factorizations=d.get("factorizations", 0),
+                   krylov_iterations=d.get("krylov_iterations", 0))
 
     def as_dict(self) -> dict:
         return {"load_factor": float(self.load_factor),
@@ -188,7 +193,9 @@ class StepRecord:
                 "n_active": int(self.n_active),
                 "active_set_changes": int(self.active_set_changes),
                 "cuts": int(self.cuts),
-                "increment": float(self.increment)}
+                "increment": float(self.increment),
+                "factorizations": int(self.factorizations),
+                "krylov_iterations": int(self.krylov_iterations)}
 
 
 @dataclass
@@ -519,7 +526,8 @@ def _converged(model: Model, z: np.ndarray, target: float, rep: NewtonReport,
             info[k] = info.get(k, 0) + v
     rec = StepRecord(target, rep.iterations, rep.residual_norms,
                      int(info.get("n_active", 0)),
-                     int(info.get("active_set_changes", 0)), ctl.cuts, 0.0, info)
+                     int(info.get("active_set_changes", 0)), ctl.cuts, 0.0, info,
+                     factorizations=rep.factorizations, krylov_iterations=rep.krylov_iterations)
     ctl.cuts = 0
     return rec
 
