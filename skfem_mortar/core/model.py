@@ -782,57 +782,82 @@ def _same(a: np.ndarray, b: np.ndarray) -> bool:
 
 def _unique_keys(rows: np.ndarray, cols: np.ndarray, n: int) -> tuple[np.ndarray, np.ndarray]:
     """Sorted unique keys ``row * n + col`` of triplets and the place of each
-    triplet among them (``keys[inv] == row * n + col``)."""
-    order = _row_major_order(rows, cols, n)
-    ks = rows[order].astype(np.int64) * n + cols[order]
-    new = np.ones(ks.size, dtype=bool)
-    new[1:] = ks[1:] != ks[:-1]
-    inv = np.empty(ks.size, dtype=np.int64)
-    inv[order] = np.cumsum(new) - 1
-    return ks[new], inv
-
-
-def _row_major_order(rows: np.ndarray, cols: np.ndarray, n: int) -> np.ndarray:
-    """The permutation that sorts triplets by ``(row, col)`` (equal pairs in
-    their order, or in any order: only the sorted keys and each triplet's
-    place among them are used).
+    triplet among them (``keys[inv] == row * n + col``).
 
     Our own counting sort instead of ``np.argsort`` of the keys: scipy's
     ``coo_tocsr`` buckets the triplet numbers by row (linear) and
-    ``sort_indices`` sorts each short row (measured at 6.1e6 triplets of
-    hertz ``refine=3``: 0.31 s against 0.52 s); ``np.argsort`` where scipy's
-    kernel is not there."""
+    ``csr_sort_indices`` sorts each short row; the duplicates are then
+    neighbours in each row, so no key of a triplet is formed (measured at
+    6.1e6 triplets of hertz ``refine=3``: 0.30 s against 0.46 s for the
+    sort of the keys by rows and 1 s for ``np.argsort``); ``np.argsort``
+    where scipy's kernels are not there."""
     try:
         from scipy.sparse import _sparsetools
-        coo_tocsr = _sparsetools.coo_tocsr
-    except (ImportError, AttributeError):  # pragma: no cover (a scipy without it)
-        return np.argsort(rows.astype(np.int64) * n + cols, kind="stable")
+        coo_tocsr, sort_rows = _sparsetools.coo_tocsr, _sparsetools.csr_sort_indices
+    except (ImportError, AttributeError):  # pragma: no cover (a scipy without them)
+        keys, inv = np.unique(rows.astype(np.int64) * n + cols, return_inverse=True)
+        return keys, inv.ravel()
     m = rows.size
     itype = np.int32 if max(n, m) < 2**31 - 1 else np.int64
     indptr = np.empty(n + 1, dtype=itype)
     indices = np.empty(m, dtype=itype)
-    ids = np.empty(m)  # triplet numbers as floats: exact below 2**53
+    ids = np.empty(m, dtype=np.int64)  # each triplet's number, in row-major order
     coo_tocsr(n, n, m, rows.astype(itype, copy=False), cols.astype(itype, copy=False),
-              np.arange(m, dtype=float), indptr, indices, ids)
-    A = sp.csr_matrix((ids, indices, indptr), shape=(n, n))
-    A.has_sorted_indices = False
-    A.sort_indices()
-    return A.data.astype(np.int64)
+              np.arange(m, dtype=np.int64), indptr, indices, ids)
+    sort_rows(n, indptr, indices, ids)
+    new = np.empty(m, dtype=bool)  # a triplet that starts a key
+    new[:1] = True
+    np.not_equal(indices[1:], indices[:-1], out=new[1:])
+    starts = indptr[:-1]
+    new[starts[starts < m]] = True
+    # (a cumsum of int8 is 7x faster than one of bool, which goes through a cast)
+    count = np.cumsum(new.view(np.int8), dtype=np.int64)
+    inv = np.empty(m, dtype=np.int64)
+    inv[ids] = count - 1
+    per_row = np.diff(np.concatenate([[0], count])[indptr.astype(np.int64)])
+    keys = np.repeat(np.arange(n, dtype=np.int64) * n, per_row) + indices[new]
+    return keys, inv
 
 
 def _union(sorted_keys: list[np.ndarray]) -> tuple[np.ndarray, list[np.ndarray]]:
     """The sorted union of sorted unique key arrays, and the place of each
-    array's keys in it (a stable sort merges the runs, the inverse of its
-    permutation gives the places; ``np.unique`` hashes, which measured ten
-    times slower here, and a search of each array in the union twice as slow)."""
-    k = np.concatenate(sorted_keys)
-    order = np.argsort(k, kind="stable")
-    ks = k[order]
+    array's keys in it.
+
+    The keys the largest array lacks are inserted into it (a search of the
+    others in it; their own union by :func:`_merge`), so the usual case, a
+    body's pattern and a contact pair's few keys, costs a copy of the body's
+    keys, not a sort of all of them."""
+    if not sorted_keys:
+        return np.zeros(0, dtype=np.int64), []
+    big = int(np.argmax([k.size for k in sorted_keys]))
+    base = sorted_keys[big]
+    rest = _merge([k for i, k in enumerate(sorted_keys) if i != big])
+    pos = np.searchsorted(base, rest)
+    found = pos < base.size
+    found[found] = base[pos[found]] == rest[found]
+    at = pos[~found]
+    union = np.insert(base, at, rest[~found])
+    places = []
+    for i, k in enumerate(sorted_keys):
+        if i != big:
+            places.append(np.searchsorted(union, k))
+        elif at.size:  # each base key moves by the keys inserted before it
+            shift = np.cumsum(np.bincount(at, minlength=base.size + 1)[:base.size])
+            places.append(np.arange(base.size) + shift)
+        else:
+            places.append(np.arange(base.size))
+    return union, places
+
+
+def _merge(sorted_keys: list[np.ndarray]) -> np.ndarray:
+    """The sorted union of sorted unique key arrays (a stable sort merges the
+    runs; ``np.unique`` hashes, which measured ten times slower here)."""
+    if len(sorted_keys) <= 1:
+        return sorted_keys[0] if sorted_keys else np.zeros(0, dtype=np.int64)
+    k = np.sort(np.concatenate(sorted_keys), kind="stable")
     new = np.ones(k.size, dtype=bool)
-    new[1:] = ks[1:] != ks[:-1]
-    place = np.empty(k.size, dtype=np.int64)
-    place[order] = np.cumsum(new) - 1
-    return ks[new], np.split(place, np.cumsum([a.size for a in sorted_keys])[:-1])
+    new[1:] = k[1:] != k[:-1]
+    return k[new]
 
 
 def _readonly(a: np.ndarray) -> np.ndarray:
@@ -847,7 +872,9 @@ class _Pattern:
     Each item's sorted unique keys ``row * n + col`` (and the place of each of
     its triplets among them) are computed once per index arrays (taken from
     ``previous`` when the arrays are the same); the pattern is their union,
-    ``indices`` and ``indptr`` read-only.
+    ``indices`` and ``indptr`` read-only.  ``where[j]`` holds the place of the
+    triplets of the ``j``-th item: kept per item, so that neither the places
+    nor the values are concatenated (:meth:`matrix`).
     """
 
     def __init__(self, items: tuple[int, ...], parts: list[Contribution], n: int,
@@ -863,23 +890,29 @@ class _Pattern:
                 self.local.append(old[1])
             else:
                 self.local.append(_unique_keys(p.k_rows, p.k_cols, n))
-        if len(self.local) == 1:
-            keys, self.where = self.local[0]
-        else:
-            keys, places = _union([uk for uk, _ in self.local])
-            self.where = np.concatenate([pl[inv] for pl, (_, inv) in zip(places, self.local)])
+        keys, places = _union([uk for uk, _ in self.local])
+        # an item whose keys keep their places (numbered 0, 1, ...) keeps its own
+        self.where = [inv if pl.size == keys.size else pl[inv]
+                      for pl, (_, inv) in zip(places, self.local)]
         self.nnz = keys.size
         itype = np.int32 if n < 2**31 else np.int64
-        self.indices = _readonly((keys % n).astype(itype))
-        indptr = np.zeros(n + 1, dtype=itype)
-        np.cumsum(np.bincount(keys // n, minlength=n), out=indptr[1:])
-        self.indptr = _readonly(indptr)
+        rows = keys // n
+        self.indices = _readonly((keys - rows * n).astype(itype))
+        self.indptr = _readonly(np.searchsorted(rows, np.arange(n + 1)).astype(itype))
         self.n = n
         self.last: sp.csr_matrix | None = None  # the last matrix made
         self._free: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray] | None = None
 
     def matrix(self, vals: list[np.ndarray]) -> sp.csr_matrix:
-        data = np.bincount(self.where, weights=np.concatenate(vals), minlength=self.nnz)
+        """The matrix of the items' values ``vals`` (one array per item).
+
+        The sum of the triplets in their order, as one ``bincount`` of all
+        of them would add them: the first item's by ``bincount``, every further
+        item's added in order by ``np.add.at`` (the same sums, to the last bit,
+        without concatenating the values)."""
+        data = np.bincount(self.where[0], weights=vals[0], minlength=self.nnz)
+        for where, v in zip(self.where[1:], vals[1:]):
+            np.add.at(data, where, v)
         K = sp.csr_matrix((data, self.indices, self.indptr), shape=(self.n, self.n))
         K.has_sorted_indices = True
         self.last = K
