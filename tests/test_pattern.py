@@ -240,3 +240,26 @@ def test_pattern_sums_as_one_bincount_of_all_triplets():
         np.testing.assert_array_equal(K.indices, ref_keys % n)
         np.testing.assert_array_equal(K.data, ref)
         previous, parts[2] = pat, part(300, n)  # a new reservation of the last item
+
+
+@pytest.mark.parametrize("element", ["tri1", "tri2", "quad1"])
+@pytest.mark.parametrize("offset", [0, 7])
+def test_element_keys_are_the_triplets_keys(element, offset):
+    """A Solid's pattern found per node (its vector dofs spread from the node
+    pairs, :func:`_element_keys`) is the one of its triplets: the same keys and
+    places exactly (integers); and a numbering that is not per node falls back."""
+    from skfem import MeshQuad, MeshTri
+
+    from skfem_mortar.bodies.materials import NeoHooke
+    from skfem_mortar.bodies.solid import Solid
+    from skfem_mortar.core.coo import element_coo
+    from skfem_mortar.core.model import _element_keys, _unique_keys
+    mesh = (MeshQuad() if element.startswith("quad") else MeshTri()).refined(2)
+    s = Solid(mesh, NeoHooke(E=1.0, nu=0.3), element=element)
+    n = offset + s.n_dofs + 3
+    shuffled = np.random.default_rng(0).permutation(s.n_dofs)  # not per node
+    for D in (offset + s._edofs, offset + shuffled[s._edofs]):
+        keys, inv = _element_keys(D, n)
+        ref_keys, ref_inv = _unique_keys(*element_coo(D, elements_last=True), n)
+        np.testing.assert_array_equal(keys, ref_keys)
+        np.testing.assert_array_equal(inv, ref_inv)

@@ -266,14 +266,14 @@ class Solid(Item):
         # the local dofs of each component as slices (None unless evenly spaced)
         on = [_as_slice(np.flatnonzero(self._comp == c)) for c in (0, 1)]
         self._by_comp = list(enumerate(on)) if all(isinstance(o, slice) for o in on) else None
-        self._kidx: tuple[int, np.ndarray, np.ndarray] | None = None
+        self._kidx: tuple[int, np.ndarray, np.ndarray, np.ndarray] | None = None
 
     def _tangent_index(self) -> tuple[np.ndarray, np.ndarray]:
         """Global COO rows and columns of the element tangents ``(n_loc, n_loc, n_el)``,
         built once per offset (the same arrays every call)."""
         if self._kidx is None or self._kidx[0] != self.offset:
-            self._kidx = (self.offset,
-                          *element_coo(self.offset + self._edofs, elements_last=True))
+            dofs = self.offset + self._edofs
+            self._kidx = (self.offset, *element_coo(dofs, elements_last=True), dofs)
         return self._kidx[1], self._kidx[2]
 
     def _grad_u(self, u: np.ndarray) -> np.ndarray:
@@ -379,6 +379,7 @@ class Solid(Item):
         rows, cols = self._tangent_index()
         out = Contribution.from_local(self.offset, r)
         out.k_rows, out.k_cols, out.k_vals = rows, cols, ke.ravel()
+        out.k_elements = self._kidx[3]
         return out
 
     def _tangents(self, Adx: np.ndarray) -> np.ndarray:

@@ -38,6 +38,10 @@ class Contribution:
     reserved pattern): they repeat, as the same arrays, until the reservation
     changes, so the model rebuilds its fixed pattern when they change instead of
     summing them apart (:meth:`Model._tangent`).
+    ``k_elements``: optional, the element dofs ``(n_loc, n_el)`` the triplet
+    indices were made of, ``element_coo(k_elements, elements_last=True)``
+    (:func:`~skfem_mortar.core.coo.element_coo`): the model then finds their
+    pattern per node instead of per triplet (:func:`_element_keys`).
     """
 
     r_index: np.ndarray
@@ -46,6 +50,7 @@ class Contribution:
     k_cols: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int64))
     k_vals: np.ndarray = field(default_factory=lambda: np.zeros(0))
     reserved: bool = False
+    k_elements: np.ndarray | None = None
 
     @classmethod
     def empty(cls) -> "Contribution":
@@ -476,7 +481,8 @@ def check_thickness(thickness: float) -> float:
 
 def _times(c: Contribution, H: float) -> Contribution:
     """``c`` with its residual and tangent values multiplied by ``H`` (the same index arrays)."""
-    return Contribution(c.r_index, H * c.r_value, c.k_rows, c.k_cols, H * c.k_vals)
+    return Contribution(c.r_index, H * c.r_value, c.k_rows, c.k_cols, H * c.k_vals,
+                        k_elements=c.k_elements)
 
 
 class Model:
@@ -819,6 +825,46 @@ def _unique_keys(rows: np.ndarray, cols: np.ndarray, n: int) -> tuple[np.ndarray
     return keys, inv
 
 
+def _item_keys(c: Contribution, n: int) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`_unique_keys` of an item's triplets, per node when it says how
+    they were made (:attr:`Contribution.k_elements`)."""
+    if c.k_elements is not None:
+        return _element_keys(np.asarray(c.k_elements, dtype=np.int64), n)
+    return _unique_keys(c.k_rows, c.k_cols, n)
+
+
+def _element_keys(D: np.ndarray, n: int) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`_unique_keys` of ``element_coo(D, elements_last=True)``.
+
+    Vector elements number their local dofs ``2 a + i`` and the global ones
+    ``r0 + 2 s + i`` (``s`` the node, ``i`` the component): then the keys
+    are those of the nodes' element triplets (a quarter as many) with each
+    node pair ``(p, q)`` spread into its 2 x 2 dof pairs, row ``r0 + 2 p + i``
+    holding the columns ``r0 + 2 q + k`` of the node row ``p`` in order.
+    Other numberings go to :func:`_unique_keys`."""
+    r = D[0::2]
+    r0 = int(r.min()) if r.size else 0
+    if D.shape[0] % 2 or not np.array_equal(D[1::2], r + 1) or np.any((r - r0) % 2):
+        return _unique_keys(*element_coo(D, elements_last=True), n)
+    S = (r - r0) // 2                                    # (n_nodes_loc, n_el) nodes
+    nn = int(S.max()) + 1
+    node_keys, node_inv = _unique_keys(*element_coo(S, elements_last=True), nn)
+    p, q = np.divmod(node_keys, nn)
+    count = np.bincount(p, minlength=nn)
+    first = np.cumsum(count) - count                     # each node row's first key
+    # the dof key of node key t, components i, k: 2 t + 2 first[p] + 2 i count[p] + k
+    at = 2 * np.arange(p.size) + 2 * first[p]
+    keys = np.empty(4 * p.size, dtype=np.int64)
+    for i in (0, 1):
+        for k in (0, 1):
+            keys[at + 2 * i * count[p] + k] = (r0 + 2 * p + i) * n + r0 + 2 * q + k
+    b, e = S.shape
+    base = 2 * node_inv.reshape(b, b, e) + (2 * first[S])[:, None, :]      # (a, b, e)
+    inv = (base[:, None, :, None, :] + (2 * count[S])[:, None, None, None, :]
+           * np.arange(2)[None, :, None, None, None] + np.arange(2)[None, None, None, :, None])
+    return keys, inv.reshape(-1)
+
+
 def _union(sorted_keys: list[np.ndarray]) -> tuple[np.ndarray, list[np.ndarray]]:
     """The sorted union of sorted unique key arrays, and the place of each
     array's keys in it.
@@ -889,7 +935,7 @@ class _Pattern:
             if old is not None and _same(old[0][0], p.k_rows) and _same(old[0][1], p.k_cols):
                 self.local.append(old[1])
             else:
-                self.local.append(_unique_keys(p.k_rows, p.k_cols, n))
+                self.local.append(_item_keys(p, n))
         keys, places = _union([uk for uk, _ in self.local])
         # an item whose keys keep their places (numbered 0, 1, ...) keeps its own
         self.where = [inv if pl.size == keys.size else pl[inv]
