@@ -860,8 +860,11 @@ def _element_keys(D: np.ndarray, n: int) -> tuple[np.ndarray, np.ndarray]:
             keys[at + 2 * i * count[p] + k] = (r0 + 2 * p + i) * n + r0 + 2 * q + k
     b, e = S.shape
     base = 2 * node_inv.reshape(b, b, e) + (2 * first[S])[:, None, :]      # (a, b, e)
-    inv = (base[:, None, :, None, :] + (2 * count[S])[:, None, None, None, :]
-           * np.arange(2)[None, :, None, None, None] + np.arange(2)[None, None, None, :, None])
+    inv = np.empty((b, 2, b, 2, e), dtype=np.int64)  # local dofs (2 a + i, 2 b + k)
+    for i in (0, 1):
+        shift = (2 * i * count[S])[:, None, :]
+        for k in (0, 1):
+            np.add(base, shift + k, out=inv[:, i, :, k, :])
     return keys, inv.reshape(-1)
 
 
