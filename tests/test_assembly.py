@@ -54,7 +54,7 @@ def test_one_point_tangent_kernel_is_the_general_one():
     (on this numpy they are equal to the last bit)."""
     s = Solid(MeshTri().refined(3), NeoHooke(E=10.0, nu=0.3), element="tri1")
     Model([s])
-    assert s._dx.shape[1] == 1 and s._by_comp is not None
+    assert s._dx.shape[1] == 1 and s._comp_slices is not None
     F = s.deformation_gradient(s.interpolate(_deformation))
     _, A = s.material.stress_and_tangent(F)
     ref = s._tangents(A * s._dx)

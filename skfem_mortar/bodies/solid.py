@@ -263,9 +263,12 @@ class Solid(Item):
         self._dN = np.stack([g[c] for g, c in zip(grads, self._comp)])  # (n_loc, 2, n_el, n_qp)
         self._dx = np.asarray(b.dx)                                      # (n_el, n_qp)
         self._dNdx = self._dN * self._dx                                 # the residual's
+        # each component's local dofs and dN (copies: Grad u reads them every call)
+        self._by_component = [(self._edofs[self._comp == c], self._dN[self._comp == c])
+                              for c in (0, 1)]
         # the local dofs of each component as slices (None unless evenly spaced)
         on = [_as_slice(np.flatnonzero(self._comp == c)) for c in (0, 1)]
-        self._by_comp = list(enumerate(on)) if all(isinstance(o, slice) for o in on) else None
+        self._comp_slices = list(enumerate(on)) if all(isinstance(o, slice) for o in on) else None
         self._kidx: tuple[int, np.ndarray, np.ndarray, np.ndarray] | None = None
 
     def _tangent_index(self) -> tuple[np.ndarray, np.ndarray]:
@@ -278,11 +281,9 @@ class Solid(Item):
 
     def _grad_u(self, u: np.ndarray) -> np.ndarray:
         """``Grad u`` on all quadrature points, ``(2, 2, n_el, n_qp)``, from the cached ``dN``."""
-        ue = u[self._edofs]                                              # (n_loc, n_el)
         G = np.zeros((2,) + self._dN.shape[1:])
-        for c in (0, 1):
-            on = self._comp == c
-            G[c] = np.einsum("le,lJeq->Jeq", ue[on], self._dN[on])
+        for c, (edofs, dN) in enumerate(self._by_component):
+            G[c] = np.einsum("le,lJeq->Jeq", u[edofs], dN)
         return G
 
     # -- geometry ----------------------------------------------------------
@@ -374,7 +375,7 @@ class Solid(Item):
         r = np.bincount(self._edofs.ravel(), weights=re.ravel(), minlength=self.n_dofs)
         if not tangent:
             return Contribution.from_local(self.offset, r)
-        ke = (self._tangents_one_point(A) if self._dx.shape[1] == 1 and self._by_comp
+        ke = (self._tangents_one_point(A) if self._dx.shape[1] == 1 and self._comp_slices
               else self._tangents(A * self._dx))
         rows, cols = self._tangent_index()
         out = Contribution.from_local(self.offset, r)
@@ -411,7 +412,7 @@ class Solid(Item):
             Adx, dNe, kee = A[..., e, 0] * dx[e], dN[:, :, e], ke[:, :, e]
             for l in range(len(comp)):
                 W = dNe[l, 0] * Adx[comp[l], 0] + dNe[l, 1] * Adx[comp[l], 1]   # (2, 2, n)
-                for k, on in self._by_comp:  # on: a slice, kee[l, on] a view
+                for k, on in self._comp_slices:  # on: a slice, kee[l, on] a view
                     np.multiply(W[k, 0], dNe[on, 0], out=kee[l, on])
                     kee[l, on] += W[k, 1] * dNe[on, 1]
         return ke
