@@ -370,8 +370,7 @@ class Solid(Item):
                  ) -> Contribution:
         F = self.deformation_gradient(z)
         P, A = self.material.stress_and_tangent(F, tangent=tangent)
-        # r_e[l] = sum_q P[c_l, J] dN[l, J] dx
-        re = np.einsum("lJeq,lJeq->le", P[self._comp], self._dNdx)
+        re = self._residuals(P)
         r = np.bincount(self._edofs.ravel(), weights=re.ravel(), minlength=self.n_dofs)
         if not tangent:
             return Contribution.from_local(self.offset, r)
@@ -382,6 +381,19 @@ class Solid(Item):
         out.k_rows, out.k_cols, out.k_vals = rows, cols, ke.ravel()
         out.k_elements = self._kidx[3]
         return out
+
+    def _residuals(self, P: np.ndarray) -> np.ndarray:
+        """Element residuals ``r_e[l] = sum_q P[c_l, J] dN[l, J] dx``, ``(n_loc, n_el)``;
+        with one quadrature point the two-term sums of ``einsum`` written by
+        component (no copy ``P[comp]``, as :meth:`_tangents_one_point`)."""
+        if self._dx.shape[1] != 1 or not self._comp_slices:
+            return np.einsum("lJeq,lJeq->le", P[self._comp], self._dNdx)
+        dNdx = self._dNdx[..., 0]
+        re = np.empty(dNdx[:, 0].shape)
+        for k, on in self._comp_slices:
+            np.multiply(P[k, 0, :, 0], dNdx[on, 0], out=re[on])
+            re[on] += P[k, 1, :, 0] * dNdx[on, 1]
+        return re
 
     def _tangents(self, Adx: np.ndarray) -> np.ndarray:
         """Element tangents ``K_e[l, m]`` ``(n_loc, n_loc, n_el)`` from ``A dx``
