@@ -923,8 +923,9 @@ class _Pattern:
     its triplets among them) are computed once per index arrays (taken from
     ``previous`` when the arrays are the same); the pattern is their union,
     ``indices`` and ``indptr`` read-only.  ``where[j]`` holds the place of the
-    triplets of the ``j``-th item: kept per item, so that neither the places
-    nor the values are concatenated (:meth:`matrix`).
+    triplets of the ``j``-th item (of the first among its own keys, which
+    ``_spread`` places): kept per item, so that neither the places nor the
+    values are concatenated (:meth:`matrix`).
     """
 
     def __init__(self, items: tuple[int, ...], parts: list[Contribution], n: int,
@@ -941,9 +942,12 @@ class _Pattern:
             else:
                 self.local.append(_item_keys(p, n))
         keys, places = _union([uk for uk, _ in self.local])
-        # an item whose keys keep their places (numbered 0, 1, ...) keeps its own
-        self.where = [inv if pl.size == keys.size else pl[inv]
-                      for pl, (_, inv) in zip(places, self.local)]
+        # the first item's values are summed among its own keys and then spread
+        # to their places (no gather of a place per triplet: at 6e6 triplets in
+        # a random order that cost 0.2 s a build); the others' places per triplet
+        self._spread = None if places[0].size == keys.size else places[0]
+        self.where = [self.local[0][1]] + [pl[inv] for pl, (_, inv)
+                                           in zip(places[1:], self.local[1:])]
         self.nnz = keys.size
         itype = np.int32 if n < 2**31 else np.int64
         # each row's first key by a search, not a division of every key (3x faster)
@@ -959,10 +963,16 @@ class _Pattern:
         """The matrix of the items' values ``vals`` (one array per item).
 
         The sum of the triplets in their order, as one ``bincount`` of all
-        of them would add them: the first item's by ``bincount``, every further
-        item's added in order by ``np.add.at`` (the same sums, to the last bit,
-        without concatenating the values)."""
-        data = np.bincount(self.where[0], weights=vals[0], minlength=self.nnz)
+        of them would add them: the first item's by ``bincount`` (among its
+        own keys, spread to theirs), every further item's added in order by
+        ``np.add.at`` (the same sums, to the last bit, without concatenating
+        the values)."""
+        if self._spread is None:
+            data = np.bincount(self.where[0], weights=vals[0], minlength=self.nnz)
+        else:
+            data = np.zeros(self.nnz)
+            data[self._spread] = np.bincount(self.where[0], weights=vals[0],
+                                             minlength=self._spread.size)
         for where, v in zip(self.where[1:], vals[1:]):
             np.add.at(data, where, v)
         K = sp.csr_matrix((data, self.indices, self.indptr), shape=(self.n, self.n))
