@@ -46,6 +46,27 @@ def test_tri1_one_point_rule_is_exact():
         np.testing.assert_allclose(a, b, atol=1e-12 * np.abs(b).max())
 
 
+def test_one_point_tangent_kernel_is_the_general_one():
+    """With one quadrature point (tri1) the Solid takes its own kernels
+    (``_tangents_one_point``, blocks of elements, and ``_residuals``); they form
+    the same products and two-term sums as the general ``einsum``, so element
+    tangents and residuals agree to a rounding of such a sum at most: 2 eps
+    of the largest entry (on this numpy they are equal to the last bit)."""
+    s = Solid(MeshTri().refined(3), NeoHooke(E=10.0, nu=0.3), element="tri1")
+    Model([s])
+    assert s._dx.shape[1] == 1 and s._comp_slices is not None
+    F = s.deformation_gradient(s.interpolate(_deformation))
+    P, A = s.material.stress_and_tangent(F)
+    re = np.einsum("lJeq,lJeq->le", P[s._comp], s._dNdx)
+    assert np.abs(s._residuals(P) - re).max() <= 2 * np.finfo(float).eps * np.abs(re).max()
+    ref = s._tangents(A * s._dx)
+    for chunk in (7, 8192):  # blocks that split the elements, and one block
+        with pytest.MonkeyPatch.context() as mp:
+            mp.setattr("skfem_mortar.bodies.solid.CHUNK", chunk)
+            ke = s._tangents_one_point(A)
+        assert np.abs(ke - ref).max() <= 2 * np.finfo(float).eps * np.abs(ref).max()
+
+
 class Wandering(Item):
     """A toy item on two dofs of a body whose tangent entries move every call."""
 

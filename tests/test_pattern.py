@@ -213,3 +213,53 @@ def test_unique_keys_and_union_are_numpys(m, n):
     np.testing.assert_array_equal(union, np.union1d(keys, other))
     for k, pl in zip((keys, other), places):
         np.testing.assert_array_equal(union[pl], k)
+
+
+def test_pattern_sums_as_one_bincount_of_all_triplets():
+    """The pattern adds the first item's values by ``bincount`` and the others'
+    by ``np.add.at``, each in its order, and keeps the places per item: the
+    sums are those of one ``bincount`` of all triplets in the items' order, to
+    the last bit (no tolerance: the same additions in the same order), also
+    after a rebuild for one item's new indices."""
+    from skfem_mortar.core.model import Contribution, _Pattern
+    rng = np.random.default_rng(3)
+    n = 60
+
+    def part(m, hi):
+        return Contribution(np.zeros(0, dtype=np.int64), np.zeros(0), rng.integers(0, hi, m),
+                            rng.integers(0, hi, m), rng.standard_normal(m))
+    parts = [part(20, 5), part(5000, n), part(300, 8)]  # the largest not first
+    previous = None
+    for _ in range(2):
+        pat = _Pattern((0, 1, 2), parts, n, previous)
+        K = pat.matrix([p.k_vals for p in parts])
+        keys = np.concatenate([p.k_rows * n + p.k_cols for p in parts])
+        ref_keys, inv = np.unique(keys, return_inverse=True)
+        ref = np.bincount(inv.ravel(), weights=np.concatenate([p.k_vals for p in parts]))
+        np.testing.assert_array_equal(K.indptr, np.searchsorted(ref_keys // n, np.arange(n + 1)))
+        np.testing.assert_array_equal(K.indices, ref_keys % n)
+        np.testing.assert_array_equal(K.data, ref)
+        previous, parts[2] = pat, part(300, n)  # a new reservation of the last item
+
+
+@pytest.mark.parametrize("element", ["tri1", "tri2", "quad1"])
+@pytest.mark.parametrize("offset", [0, 7])
+def test_element_keys_are_the_triplets_keys(element, offset):
+    """A Solid's pattern found per node (its vector dofs spread from the node
+    pairs, :func:`_element_keys`) is the one of its triplets: the same keys and
+    places exactly (integers); and a numbering that is not per node falls back."""
+    from skfem import MeshQuad, MeshTri
+
+    from skfem_mortar.bodies.materials import NeoHooke
+    from skfem_mortar.bodies.solid import Solid
+    from skfem_mortar.core.coo import element_coo
+    from skfem_mortar.core.model import _element_keys, _unique_keys
+    mesh = (MeshQuad() if element.startswith("quad") else MeshTri()).refined(2)
+    s = Solid(mesh, NeoHooke(E=1.0, nu=0.3), element=element)
+    n = offset + s.n_dofs + 3
+    shuffled = np.random.default_rng(0).permutation(s.n_dofs)  # not per node
+    for D in (offset + s._edofs, offset + shuffled[s._edofs]):
+        keys, inv = _element_keys(D, n)
+        ref_keys, ref_inv = _unique_keys(*element_coo(D, elements_last=True), n)
+        np.testing.assert_array_equal(keys, ref_keys)
+        np.testing.assert_array_equal(inv, ref_inv)

@@ -62,6 +62,11 @@ from ..core.model import Contribution, Item
 __all__ = ["Solid", "ELEMENTS", "KINEMATICS", "boundary_facets", "constitutive_law",
            "refuse_reduction"]
 
+#: elements per block of the one-point tangent kernel (its temporaries then stay
+#: in the cache; measured at hertz ``refine=3``: 4096 to 16384 alike, 2x faster
+#: than all elements at once)
+CHUNK = 8192
+
 #: the strain measures a solid offers
 KINEMATICS = ("finite", "small")
 
@@ -156,6 +161,16 @@ def refuse_reduction(body: str, kinematics: str, plane: str) -> None:
                          f"use Solid(..., plane='stress')), got {plane!r}")
 
 
+def _as_slice(idx: np.ndarray) -> slice | np.ndarray:
+    """``idx`` (sorted, distinct) as the slice it is when evenly spaced, else itself."""
+    if idx.size == 0:
+        return idx
+    step = int(idx[1] - idx[0]) if idx.size > 1 else 1
+    if np.array_equal(idx, idx[0] + step * np.arange(idx.size)):
+        return slice(int(idx[0]), int(idx[-1]) + 1, step)
+    return idx
+
+
 def _component_rows(component: int | str | None) -> list[str] | None:
     if component is None:
         return None
@@ -247,23 +262,28 @@ class Solid(Item):
         self._comp = np.array([int(np.argmax(np.abs(g).sum(axis=(1, 2, 3)))) for g in grads])
         self._dN = np.stack([g[c] for g, c in zip(grads, self._comp)])  # (n_loc, 2, n_el, n_qp)
         self._dx = np.asarray(b.dx)                                      # (n_el, n_qp)
-        self._kidx: tuple[int, np.ndarray, np.ndarray] | None = None
+        self._dNdx = self._dN * self._dx                                 # the residual's
+        # each component's local dofs and dN (copies: Grad u reads them every call)
+        self._by_component = [(self._edofs[self._comp == c], self._dN[self._comp == c])
+                              for c in (0, 1)]
+        # the local dofs of each component as slices (None unless evenly spaced)
+        on = [_as_slice(np.flatnonzero(self._comp == c)) for c in (0, 1)]
+        self._comp_slices = list(enumerate(on)) if all(isinstance(o, slice) for o in on) else None
+        self._kidx: tuple[int, np.ndarray, np.ndarray, np.ndarray] | None = None
 
     def _tangent_index(self) -> tuple[np.ndarray, np.ndarray]:
         """Global COO rows and columns of the element tangents ``(n_loc, n_loc, n_el)``,
         built once per offset (the same arrays every call)."""
         if self._kidx is None or self._kidx[0] != self.offset:
-            self._kidx = (self.offset,
-                          *element_coo(self.offset + self._edofs, elements_last=True))
+            dofs = self.offset + self._edofs
+            self._kidx = (self.offset, *element_coo(dofs, elements_last=True), dofs)
         return self._kidx[1], self._kidx[2]
 
     def _grad_u(self, u: np.ndarray) -> np.ndarray:
         """``Grad u`` on all quadrature points, ``(2, 2, n_el, n_qp)``, from the cached ``dN``."""
-        ue = u[self._edofs]                                              # (n_loc, n_el)
         G = np.zeros((2,) + self._dN.shape[1:])
-        for c in (0, 1):
-            on = self._comp == c
-            G[c] = np.einsum("le,lJeq->Jeq", ue[on], self._dN[on])
+        for c, (edofs, dN) in enumerate(self._by_component):
+            G[c] = np.einsum("le,lJeq->Jeq", u[edofs], dN)
         return G
 
     # -- geometry ----------------------------------------------------------
@@ -350,23 +370,64 @@ class Solid(Item):
                  ) -> Contribution:
         F = self.deformation_gradient(z)
         P, A = self.material.stress_and_tangent(F, tangent=tangent)
-        dN, dx, comp = self._dN, self._dx, self._comp
-        # r_e[l] = sum_q P[c_l, J] dN[l, J] dx
-        re = np.einsum("lJeq,lJeq->le", P[comp], dN * dx)
+        re = self._residuals(P)
         r = np.bincount(self._edofs.ravel(), weights=re.ravel(), minlength=self.n_dofs)
         if not tangent:
             return Contribution.from_local(self.offset, r)
-        Adx = A * dx
-        n_loc = len(comp)
-        ke = np.empty((n_loc, n_loc, dN.shape[2]))
-        for l in range(n_loc):
-            # W[k, L] = sum_J dN[l, J] A[c_l, J, k, L] dx, then K_e[l, m] = W[c_m, L] dN[m, L]
-            W = dN[l, 0] * Adx[comp[l], 0] + dN[l, 1] * Adx[comp[l], 1]   # (2, 2, n_el, n_qp)
-            ke[l] = np.einsum("mLeq,mLeq->me", W[comp], dN)
+        ke = (self._tangents_one_point(A) if self._dx.shape[1] == 1 and self._comp_slices
+              else self._tangents(A * self._dx))
         rows, cols = self._tangent_index()
         out = Contribution.from_local(self.offset, r)
         out.k_rows, out.k_cols, out.k_vals = rows, cols, ke.ravel()
+        out.k_elements = self._kidx[3]
         return out
+
+    def _residuals(self, P: np.ndarray) -> np.ndarray:
+        """Element residuals ``r_e[l] = sum_q P[c_l, J] dN[l, J] dx``, ``(n_loc, n_el)``;
+        with one quadrature point the two-term sums of ``einsum`` written by
+        component (no copy ``P[comp]``, as :meth:`_tangents_one_point`)."""
+        if self._dx.shape[1] != 1 or not self._comp_slices:
+            return np.einsum("lJeq,lJeq->le", P[self._comp], self._dNdx)
+        dNdx = self._dNdx[..., 0]
+        re = np.empty(dNdx[:, 0].shape)
+        for k, on in self._comp_slices:
+            np.multiply(P[k, 0, :, 0], dNdx[on, 0], out=re[on])
+            re[on] += P[k, 1, :, 0] * dNdx[on, 1]
+        return re
+
+    def _tangents(self, Adx: np.ndarray) -> np.ndarray:
+        """Element tangents ``K_e[l, m]`` ``(n_loc, n_loc, n_el)`` from ``A dx``
+        ``(2, 2, 2, 2, n_el, n_qp)``: ``W[k, L] = sum_J dN[l, J] A[c_l, J, k, L] dx``,
+        then ``K_e[l, m] = sum_q W[c_m, L] dN[m, L]``."""
+        dN, comp = self._dN, self._comp
+        ke = np.empty((len(comp), len(comp), dN.shape[2]))
+        for l in range(len(comp)):
+            W = dN[l, 0] * Adx[comp[l], 0] + dN[l, 1] * Adx[comp[l], 1]   # (2, 2, n_el, n_qp)
+            ke[l] = np.einsum("mLeq,mLeq->me", W[comp], dN)
+        return ke
+
+    def _tangents_one_point(self, A: np.ndarray) -> np.ndarray:
+        """:meth:`_tangents` for one quadrature point, from ``A``, the same
+        products and sums.
+
+        Our own two-term sums instead of ``einsum``: with one point its sum
+        over ``L`` is ``W[c_m, 0] dN[m, 0] + W[c_m, 1] dN[m, 1]`` as well,
+        written into the result by component (no copy ``W[comp]``; the
+        components' local dofs evenly spaced, as ``ElementVector`` has them), over
+        :data:`CHUNK` elements at a time, so that the temporaries stay in
+        the cache: 3x faster at hertz ``refine=3``."""
+        dN, dx, comp = self._dN[..., 0], self._dx[:, 0], self._comp
+        n_el = dN.shape[2]
+        ke = np.empty((len(comp), len(comp), n_el))
+        for start in range(0, n_el, CHUNK):
+            e = slice(start, start + CHUNK)
+            Adx, dNe, kee = A[..., e, 0] * dx[e], dN[:, :, e], ke[:, :, e]
+            for l in range(len(comp)):
+                W = dNe[l, 0] * Adx[comp[l], 0] + dNe[l, 1] * Adx[comp[l], 1]   # (2, 2, n)
+                for k, on in self._comp_slices:  # on: a slice, kee[l, on] a view
+                    np.multiply(W[k, 0], dNe[on, 0], out=kee[l, on])
+                    kee[l, on] += W[k, 1] * dNe[on, 1]
+        return ke
 
     def assemble_forms(self, z: np.ndarray, tangent: bool = True
                        ) -> tuple[np.ndarray, sp.csr_matrix | None]:

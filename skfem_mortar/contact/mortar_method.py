@@ -208,6 +208,18 @@ class Mortar(ContactDiscretization):
                                      segment_lengths(xs, seg_s), segment_lengths(xm, seg_m))
         return i_s * len(seg_m) + i_m
 
+    def _searched(self, xs: np.ndarray, xm: np.ndarray) -> np.ndarray:
+        """:meth:`_pairs` at these positions, read from the last evaluation when it
+        searched at them (its segmentation keeps the candidates; the same search
+        with the same margins), else searched again."""
+        if self._sg is None and self._last is not None:
+            extra, pinned = self._extra(xs, xm)
+            ev = self._last.answer(xs, xm, None, False, extra, self._pinned if pinned else None)
+            found = None if ev is None else ev.info["segmentation"].candidates
+            if found is not None:
+                return found[0] * len(self.master.segments) + found[1]
+        return self._pairs(xs, xm)
+
     def _reserve(self, xs: np.ndarray, xm: np.ndarray, need: np.ndarray) -> None:
         """Reserve the pairs of the search widened by :data:`RESERVE_LENGTHS` element
         lengths and the current reach (and ``need``)."""
@@ -288,7 +300,7 @@ class Mortar(ContactDiscretization):
         and into checkpoints (:meth:`state_dict`), so a resumed run reserves as
         the uninterrupted one.
         """
-        need = self._pairs(xs, xm)
+        need = self._searched(xs, xm)
         if self._reserved is None or not covers(self._reserved[0], need):
             self._reserve(xs, xm, need)
         return self._reserved[1]

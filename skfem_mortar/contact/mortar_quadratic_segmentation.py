@@ -507,8 +507,9 @@ def segment(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarray
     seg_m = np.asarray(seg_m, dtype=np.int64)
     order_of(seg_s), order_of(seg_m)
     km = seg_m.shape[1]
+    candidates = None
     if pairs is None:
-        pairs = candidate_pairs(xs, seg_s, xm, seg_m, margin, reach)
+        pairs = candidates = candidate_pairs(xs, seg_s, xm, seg_m, margin, reach)
     i_s = np.asarray(pairs[0], dtype=np.int64)
     i_m = np.asarray(pairs[1], dtype=np.int64)
     ls, lm = chord_lengths(xs, seg_s), chord_lengths(xm, seg_m)
@@ -544,4 +545,4 @@ def segment(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarray
     node_hi = np.where(src[:, 1] >= 0, seg_m[e_m, np.maximum(src[:, 1], 0)], -1)
     elem_xi, elem_node = _hull(e_s, xi, node_lo, node_hi, seg_s.shape[0])
     return Segmentation(e_s=e_s, e_m=e_m, xi=xi, src=src, elem_xi=elem_xi,
-                        elem_node=elem_node, frozen=frozen)
+                        elem_node=elem_node, frozen=frozen, candidates=candidates)

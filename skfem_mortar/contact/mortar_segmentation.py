@@ -305,6 +305,11 @@ class Segmentation:
     frozen : bool
         When passed to ``evaluate``, whether end points are frozen (policy
         ``step``) or only the pair list is reused and end points are recomputed.
+    candidates : (i_s, i_m) or None
+        The candidate element pairs of the search the segments were found
+        among (before degenerate elements are dropped), None when the pairs
+        were given: the method's reserved pattern reads them instead of
+        searching again (:meth:`~skfem_mortar.contact.mortar_method.Mortar.pattern`).
     """
 
     e_s: np.ndarray
@@ -314,6 +319,7 @@ class Segmentation:
     elem_xi: np.ndarray
     elem_node: np.ndarray
     frozen: bool = True
+    candidates: tuple[np.ndarray, np.ndarray] | None = None
 
     @property
     def n(self) -> int:
@@ -409,12 +415,14 @@ def segment(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarray
     seg_s = np.asarray(seg_s, dtype=np.int64).reshape(-1, 2)
     seg_m = np.asarray(seg_m, dtype=np.int64).reshape(-1, 2)
     ls, lm = _element_lengths(xs, seg_s), _element_lengths(xm, seg_m)
-    if pairs is None:
+    searched = pairs is None
+    if searched:
         from .search import segment_pairs
         if margin is None:
             pairs = segment_pairs(xs, seg_s, xm, seg_m, float(reach), ls, lm)
         else:
             pairs = segment_pairs(xs, seg_s, xm, seg_m, margin)
+    candidates = pairs if searched else None
     i_s = np.asarray(pairs[0], dtype=np.int64)
     i_m = np.asarray(pairs[1], dtype=np.int64)
     good_s = ls > LEN_TOL * max(ls.mean() if ls.size else 0.0, 1e-300)
@@ -469,4 +477,4 @@ def segment(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarray
         elem_xi[e_s[o[first]], 1] = xi[o[first], 1]
         elem_node[e_s[o[first]], 1] = node_hi[o[first]]
     return Segmentation(e_s=e_s, e_m=e_m, xi=xi, src=src, elem_xi=elem_xi,
-                        elem_node=elem_node, frozen=frozen)
+                        elem_node=elem_node, frozen=frozen, candidates=candidates)
