@@ -124,7 +124,7 @@ def run_scene(name: str, params: dict[str, Any] | None = None, method: str | Non
         if resume or replace:
             raise ValueError("--resume and --replace need --out (the run's directory)")
         return _run_scene(name, params, method, steps, None, progress, False, False,
-                          return_result, _with_linear(solve_kwargs, linear))
+                          return_result, solve_kwargs, linear)
     from ..output.outdir import output_lock
 
     scene = get_scene(name)  # bad input is refused before --out is made or locked
@@ -132,7 +132,7 @@ def run_scene(name: str, params: dict[str, Any] | None = None, method: str | Non
     scene.check_method(method)
     with output_lock(out, "run") as out:
         return _run_scene(name, params, method, steps, out, progress, resume, replace,
-                          return_result, _with_linear(solve_kwargs, linear))
+                          return_result, solve_kwargs, linear)
 
 
 def _check_linear(linear: str | None) -> None:
@@ -141,12 +141,6 @@ def _check_linear(linear: str | None) -> None:
 
     if linear is not None and linear not in LINEAR:
         raise ValueError(f"linear must be one of {', '.join(LINEAR)}, got {linear!r}")
-
-
-def _with_linear(solve_kwargs: dict, linear: str | None) -> dict:
-    """``solve_kwargs`` with ``linear`` marked for the scene's Newton options
-    (applied in :func:`_run_scene`, once the scene's own options are known)."""
-    return solve_kwargs if linear is None else {**solve_kwargs, "_linear": linear}
 
 
 def _newton_with(kwargs: dict, linear: str) -> dict:
@@ -162,8 +156,8 @@ def _newton_with(kwargs: dict, linear: str) -> dict:
 
 def _run_scene(name: str, params: dict[str, Any] | None, method: str | None,
                steps: int | None, out: Path | None, progress: bool, resume: bool,
-               replace: bool, return_result: bool, solve_kwargs: dict
-               ) -> dict | tuple[dict, Result, Setup]:
+               replace: bool, return_result: bool, solve_kwargs: dict,
+               linear: str | None = None) -> dict | tuple[dict, Result, Setup]:
     """:func:`run_scene` once ``out`` (if any) is locked."""
     t0 = time.perf_counter()
     scene = get_scene(name)
@@ -177,8 +171,7 @@ def _run_scene(name: str, params: dict[str, Any] | None, method: str | None,
     from ..core.timing import reset
     reset()
     kwargs = {**setup.solve_options, **solve_kwargs}
-    linear = kwargs.pop("_linear", None)
-    if linear is not None:
+    if linear is not None:  # the scene's other Newton settings kept
         kwargs = _newton_with(kwargs, linear)
     meta = _clean({"scene": name, "method": method, "parameters": values, "steps": n_steps})
     recorder = _Recorder(out, setup, meta) if out is not None else None

@@ -171,7 +171,7 @@ def _direct(K: sp.spmatrix, b: np.ndarray, backend: str | None,
     b = np.asarray(b, dtype=float)
     if backend == "pardiso":
         mult = None if multipliers is None else np.asarray(multipliers, dtype=bool)
-        x, kept = _pardiso_kept(K, b, mult)
+        x, kept = _pardiso(K, b, mult)
         if x is not None:
             return x, _handed(kept, K) if keep else None
     x, kept = _superlu(K, b, keep)
@@ -574,13 +574,6 @@ def _good(A: sp.spmatrix, x: np.ndarray, b: np.ndarray) -> bool:
 
 
 def _pardiso(K: sp.spmatrix, b: np.ndarray, mult: np.ndarray | None = None
-             ) -> np.ndarray | None:
-    """PARDISO's answer, or None when it fails or its residual is too large
-    (:func:`_pardiso_kept` without the factors)."""
-    return _pardiso_kept(K, b, mult)[0]
-
-
-def _pardiso_kept(K: sp.spmatrix, b: np.ndarray, mult: np.ndarray | None = None
                   ) -> tuple[np.ndarray | None, KeptFactors | None]:
     """PARDISO's answer, or None when it fails or its residual is too large,
     and the factors that gave it (:class:`KeptFactors`).
