@@ -20,13 +20,15 @@ from skfem_mortar.solver.newton import NewtonOptions
 from skfem_mortar.solver.stepping import solve
 from test_linsolve_paths import contact_system
 
-PATHS = ["superlu"] + (["pardiso-unsymmetric", "pardiso-symmetric"]
+PATHS = ["superlu"] + (["pardiso-unsymmetric", "pardiso-symmetric", "pardiso-single"]
                        if "pardiso" in available_backends() else [])
 
 
 def _path(path, monkeypatch):
     monkeypatch.setenv("SKFEM_MORTAR_SOLVER", path.split("-")[0])
     monkeypatch.setattr(linsolve, "SYMMETRIC", path != "pardiso-unsymmetric")
+    # single-precision symmetric factors at every size on their path, never elsewhere
+    monkeypatch.setattr(linsolve, "SINGLE_ABOVE", 0 if path == "pardiso-single" else 10**12)
 
 
 # -- options -------------------------------------------------------------------------
@@ -62,12 +64,18 @@ def test_kept_factors_apply_the_inverse_of_their_matrix(path, monkeypatch):
     _path(path, monkeypatch)
     A, b, mult = contact_system(inactive=(2, 5))
     x, kept = factorize(A, b, multipliers=mult)
-    assert kept is not None and kept.kind == {"pardiso-symmetric": "pardiso-symmetric",
+    assert kept is not None and kept.kind == {"pardiso-single": "pardiso-symmetric-single",
                                               "pardiso-unsymmetric": "pardiso"}.get(path, path)
     r = np.random.default_rng(1).standard_normal(b.size)
     ref = np.linalg.solve(A.toarray(), r)
-    # direct solves of a system of condition ~1e5: 1e-9 relative is round-off
-    np.testing.assert_allclose(kept.solve(r), ref, atol=1e-9 * np.abs(ref).max())
+    if path == "pardiso-single":
+        # unrefined single-precision factors: condition ~1e5 times float32's 6e-8
+        # bounds the error by ~1e-2; above double's round-off (they are single)
+        err = np.abs(kept.solve(r) - ref).max() / np.abs(ref).max()
+        assert 1e-12 < err < 1e-2
+    else:
+        # direct solves of a system of condition ~1e5: 1e-9 relative is round-off
+        np.testing.assert_allclose(kept.solve(r), ref, atol=1e-9 * np.abs(ref).max())
     np.testing.assert_allclose(x, np.linalg.solve(A.toarray(), b),
                                atol=1e-9 * np.abs(ref).max())
     assert kept.same_pattern(A) and not kept.same_pattern(A[:-1, :-1])
@@ -154,7 +162,7 @@ def _same_answer(model, ref, res, tol):
 #: patch and seed carry a follower pressure: no symmetric path (pardiso-symmetric
 #: would repeat the unsymmetric solves)
 SCENE_PATHS = [(*case, path) for case in CASES for path in PATHS
-               if path != "pardiso-symmetric" or case[0] == "hertz"]
+               if path not in ("pardiso-symmetric", "pardiso-single") or case[0] == "hertz"]
 
 
 @pytest.mark.parametrize("scene,params,method,n_steps,path", SCENE_PATHS, ids=lambda v: str(v))

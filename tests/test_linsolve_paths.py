@@ -110,18 +110,42 @@ def test_symmetric_pardiso_refines_only_after_perturbed_pivots(monkeypatch):
     assert np.linalg.norm(A @ x - b) <= linsolve.PARDISO_RTOL * np.linalg.norm(b)
 
 
+def test_single_precision_factors_are_refined_to_the_residual_check(monkeypatch):
+    """The single-precision symmetric path (iparm(28) = 1): its factors answer
+    to about single precision (a relative residual far above double's 1e-16,
+    here > 1e-12), and the refinement in double brings every answer under
+    :data:`PARDISO_RTOL` with at most :data:`REFINE_STEPS_SINGLE` steps."""
+    if not HAS_PARDISO:
+        pytest.skip("pypardiso not installed")
+    monkeypatch.setattr(linsolve, "SYMMETRIC", True)
+    monkeypatch.setattr(linsolve, "SINGLE_ABOVE", 0)
+    linsolve._pardiso_solvers.clear()
+    A, b, mult = contact_system(n=400, m=30, inactive=(2, 7))
+    x = linsolve.solve_linear(A, b, backend="pardiso", multipliers=mult)
+    s = linsolve._pardiso_solvers[(-2, "single")]
+    assert -2 not in linsolve._pardiso_solvers  # no fallback to double precision
+    assert s.solver.get_iparm(28) == 1 and s.single
+    assert np.linalg.norm(A @ x - b) <= linsolve.PARDISO_RTOL * np.linalg.norm(b)
+    assert s.factorizations == 1 and 1 <= s.solves - 1 <= linsolve.REFINE_STEPS_SINGLE
+    sym = symmetrize(A.tocsr(), b, mult)
+    y = s._run(sym.U, sym.b, 33)  # the factors' own answer, unrefined
+    assert np.linalg.norm(A @ y - b) > 1e-12 * np.linalg.norm(b)
+
+
 # -- the paths on scenes ----------------------------------------------------------
 CASES = [("hertz", {"base": "elastic", "refine": -1}, "nts"),
          ("hertz", {"base": "elastic", "refine": -1}, "mortar"),
          ("hertz", {"refine": -1}, "mortar-dual"),
          ("patch", {}, "nts"), ("patch", {}, "mortar"), ("patch", {}, "mortar-dual"),
          ("seed", {}, "mortar-dual")]
-PATHS = ("superlu", "pardiso-unsymmetric", "pardiso-symmetric")
+PATHS = ("superlu", "pardiso-unsymmetric", "pardiso-symmetric", "pardiso-single")
 
 
 def _run(scene, params, method, path, rtol, monkeypatch):
     monkeypatch.setenv("SKFEM_MORTAR_SOLVER", path.split("-")[0])
-    monkeypatch.setattr(linsolve, "SYMMETRIC", path == "pardiso-symmetric")
+    monkeypatch.setattr(linsolve, "SYMMETRIC", path in ("pardiso-symmetric", "pardiso-single"))
+    # single precision at every size on its path (by default from 5e4 unknowns), never elsewhere
+    monkeypatch.setattr(linsolve, "SINGLE_ABOVE", 0 if path == "pardiso-single" else 10**12)
     linsolve._pardiso_solvers.clear()  # fresh counters
     setup = build_scene(scene, params, method)[0]
     opts = dict(setup.solve_options)
@@ -154,6 +178,10 @@ def test_every_solver_path_gives_the_same_answer(scene, params, method, rtol, to
     # the symmetric path is taken where every item but the pair is symmetric
     sym_counts = out["pardiso-symmetric"][3]
     assert (-2 in sym_counts) == model.symmetrizable
+    # ... and on its path in single precision, every answer from the single factors
+    single_counts = out["pardiso-single"][3]
+    assert ((-2, "single") in single_counts) == model.symmetrizable
+    assert -2 not in single_counts  # no fallback to double precision
     assert model.symmetrizable == (scene == "hertz")  # patch, seed: a follower pressure
 
 
@@ -168,8 +196,8 @@ def test_pardiso_keeps_its_analysis_over_a_settled_solve(path, monkeypatch):
     model, res, _, counts = _run("hertz", {"base": "elastic", "refine": -1}, "mortar", path,
                                  1e-10, monkeypatch)
     iterations = sum(s.newton_iterations for s in res.steps)
-    analyses, factorizations = counts[-2 if path.endswith("symmetric") and "un" not in path
-                                      else 11]
+    key = {"pardiso-unsymmetric": 11, "pardiso-symmetric": -2, "pardiso-single": (-2, "single")}
+    analyses, factorizations = counts[key[path]]
     assert factorizations >= iterations
     attempts = len(res.steps) + sum(s.cuts for s in res.steps)
     assert analyses <= attempts + model.pattern_builds and analyses < iterations // 3
