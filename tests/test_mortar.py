@@ -88,6 +88,39 @@ def test_fd_G_and_H_curved_partial_sliding(dual, shift):
 
 
 @pytest.mark.parametrize("dual", [False, True])
+def test_segments_without_multipliers_skip_only_a_zero_hessian(dual):
+    """Segments whose nodes a, b both have lam = 0 are evaluated to first order
+    only (``mortar._blocks``): ``H`` is still the exact derivative of ``G^T lam``
+    (central differences), equals the all-second-order evaluation to round-off,
+    and ``g``, ``G`` are unchanged; blocks of both kinds are really formed here."""
+    import unittest.mock as mock
+
+    from skfem_mortar.contact import mortar as kernel
+    xs, ss, xm, sm = curved_pair(0.1)
+    lam = np.random.default_rng(3).uniform(0.5, 1.5, xs.shape[1])
+    lam[:3] = 0.0                                     # segments (0, 1), (1, 2): no H
+    eG, eH, r = fd_errors(xs, ss, xm, sm, lam, dual=dual)
+    assert eG <= FD_TOL and eH <= FD_TOL
+    real, seen = kernel._blocks, []
+
+    def recording(*args, every=False, **kwargs):
+        if every:                                     # drop the hessian argument
+            args, kwargs = args[:5], {}
+        out = list(real(*args, **kwargs))
+        seen.append({sec for _, _, sec in out})
+        return iter(out)
+    with mock.patch.object(kernel, "_blocks", recording):
+        r = evaluate(xs, ss, xm, sm, lam=lam, dual=dual)
+    assert seen.pop() == {True, False}                # both kinds of blocks
+    with mock.patch.object(kernel, "_blocks", lambda *a, **k: recording(*a, every=True, **k)):
+        full = evaluate(xs, ss, xm, sm, lam=lam, dual=dual)
+    assert seen.pop() == {True}
+    assert abs(full.H - r.H).max() <= 1e-13 * abs(full.H).max()  # the skipped part was zero
+    np.testing.assert_array_equal(full.g, r.g)
+    assert abs(full.G - r.G).max() <= 1e-15 * abs(full.G).max()
+
+
+@pytest.mark.parametrize("dual", [False, True])
 def test_fd_crosspoint_and_three_gauss_points(dual):
     """Crosspoint modification (slave node 0, covered by the master) and a 3-point rule."""
     xs, ss, xm, sm = curved_pair(0.1, seed=4)

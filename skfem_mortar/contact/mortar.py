@@ -412,15 +412,16 @@ class _Local(NamedTuple):
         return _Local(*(q[sl] for q in self))
 
 
-def _embed(j: Jet, idx: np.ndarray, offset: int, nv: int) -> Jet:
-    """Entries ``idx`` of a 6-variable node jet, placed at variables ``offset..offset+5``."""
+def _embed(j: Jet, idx: np.ndarray, offset: int, nv: int, second: bool = True) -> Jet:
+    """Entries ``idx`` of a 6-variable node jet, placed at variables ``offset..offset+5``
+    (without its Hessian unless ``second``)."""
     v = j.v[idx]
     if nv == 0:
         return Jet(v, np.zeros((0, v.size)), None)
     g = np.zeros((nv, v.size))
     g[offset:offset + 6] = j.g[:, idx]
     h = None
-    if j.h is not None:
+    if second and j.h is not None:
         h = np.zeros((nv, nv, v.size))
         h[offset:offset + 6, offset:offset + 6] = j.h[:, :, idx]
     return Jet(v, g, h)
@@ -461,8 +462,8 @@ def _segment_fields(xs, xm, loc: _Local, sg: Segmentation, sl, nv: int, second: 
          for k, xk in enumerate(pos)]
     Xa, Xb, M1, M2 = V[1], V[2], V[4], V[5]
     # 1. nodal normals: node jets in (prev, node, next) placed at slots (p, a, b) / (a, b, n)
-    na = (_embed(nrm[0], a, 0, nv), _embed(nrm[1], a, 0, nv))
-    nb = (_embed(nrm[0], b, 2, nv), _embed(nrm[1], b, 2, nv))
+    na = (_embed(nrm[0], a, 0, nv, second), _embed(nrm[1], a, 0, nv, second))
+    nb = (_embed(nrm[0], b, 2, nv, second), _embed(nrm[1], b, 2, nv, second))
     el = slave_element(Xa, Xb, na, nb)
     const = lambda v: constant_like(v, Xa[0])  # noqa: E731
     # 2, 3. segment end points on the slave element (master nodes projected onto it)
@@ -523,8 +524,8 @@ def _tangential_block(xs, xm, loc: _Local, sg: Segmentation, sl, nv: int, second
     ``tau`` the nodal tangent jets), with the mortar integrals (values)."""
     _, a, b, _, _, _, _, _ = loc
     f = _segment_fields(xs, xm, loc, sg, sl, nv, second, dual, merged, rule, nrm)
-    ta = (_embed(tau[0], a, 0, nv), _embed(tau[1], a, 0, nv))
-    tb = (_embed(tau[0], b, 2, nv), _embed(tau[1], b, 2, nv))
+    ta = (_embed(tau[0], a, 0, nv, second), _embed(tau[1], a, 0, nv, second))
+    tb = (_embed(tau[0], b, 2, nv, second), _embed(tau[1], b, 2, nv, second))
     ra, rb, q = tangential_jets(f.K, f.proj.alpha(f.quad.xi), f.el, f.quad, ta, tb,
                                 lam_ab if second else None)
     xv = f.quad.xi.v
@@ -579,21 +580,31 @@ def assemble_local(values: np.ndarray, rows: np.ndarray, cols: np.ndarray,
     return sp.coo_matrix((values.ravel(), (r.ravel(), c.ravel())), shape=shape).tocsr()
 
 
-def _blocks(nseg: int, nv: int, n_gauss: int, second: bool, loc: _Local):
-    """Index blocks of mortar segments with their number of local variables.
+def _blocks(nseg: int, nv: int, n_gauss: int, second: bool, loc: _Local,
+            hessian: np.ndarray | None = None):
+    """Index blocks of mortar segments with their number of local variables and
+    whether they carry second derivatives.
 
     Dual multipliers on partially projectable slave elements depend on the
     master nodes bounding the projectable part: 16 local variables there, 12
-    elsewhere.  Blocks bound the memory of the Hessian arrays; each is vectorized.
+    elsewhere.  With ``second``, only the segments where ``hessian`` is True
+    (default: all) carry second derivatives: a segment whose nodes ``a``,
+    ``b`` both have ``lam = 0`` adds exactly nothing to ``H = sum_A lam_A
+    d2 g_A``, and its jets without Hessians cost about a third.  Blocks bound
+    the memory of the Hessian arrays; each is vectorized.
     """
     groups = [(np.arange(nseg), nv)]
     if nv == 16:
         partial = (loc.lo >= 0) | (loc.hi >= 0)
         groups = [(np.flatnonzero(~partial), 12), (np.flatnonzero(partial), 16)]
     for idx, nv_g in groups:
-        chunk = max(1, _CHUNK_ENTRIES // (n_gauss * max(nv_g, 1) ** (2 if second else 1)))
-        for start in range(0, idx.size, chunk):
-            yield idx[start:start + chunk], nv_g
+        parts = [(idx, second)]
+        if second and hessian is not None:
+            parts = [(idx[hessian[idx]], True), (idx[~hessian[idx]], False)]
+        for sub, sec in parts:
+            chunk = max(1, _CHUNK_ENTRIES // (n_gauss * max(nv_g, 1) ** (2 if sec else 1)))
+            for start in range(0, sub.size, chunk):
+                yield sub[start:start + chunk], nv_g, sec
 
 
 def _cat(L, n, dtype=float, shape=(0,)):
@@ -635,8 +646,10 @@ class _Problem(NamedTuple):
         return _Problem(xs, xm, n_s, xm.shape[1], sg, mask, merged, nrm, loc,
                         gauss_rule(n_gauss), second)
 
-    def block(self, ls: _Local, sl, nv: int, dual: bool, lam_ab, vector: bool = False) -> _Block:
-        return _block(self.xs, self.xm, ls, self.sg, sl, nv, self.second, dual, self.merged,
+    def block(self, ls: _Local, sl, nv: int, dual: bool, lam_ab, vector: bool = False,
+              second: bool | None = None) -> _Block:
+        return _block(self.xs, self.xm, ls, self.sg, sl, nv,
+                      self.second if second is None else second, dual, self.merged,
                       self.rule, self.nrm, lam_ab, vector)
 
     def assemble(self, order: list, out: list) -> MortarIntegrals:
@@ -666,9 +679,11 @@ def _jet_rows(P: "_Problem", tangent: bool, dual: bool, n_gauss: int, lam, block
               ) -> tuple[np.ndarray, Any, Any, "MortarIntegrals"]:
     """Per-node rows summed over the mortar segments of ``P``, block by block.
 
-    ``block(ls, sl, nv, lam_ab)`` returns a :class:`_Block` whose ``ga``, ``gb``
-    are the jets of the rows of the nodes a, b of each segment and ``q`` their
-    ``lam``-weighted sum to second order.  Returns the values (n_s,), their
+    ``block(ls, sl, nv, lam_ab, second)`` returns a :class:`_Block` whose ``ga``,
+    ``gb`` are the jets of the rows of the nodes a, b of each segment and ``q``
+    (with ``second``) their ``lam``-weighted sum to second order; segments whose
+    nodes a, b both have ``lam = 0`` are evaluated to first order only (their
+    part of ``H`` is zero, see :func:`_blocks`).  Returns the values (n_s,), their
     first derivatives ``G`` (csr, local dofs), ``sum_A lam_A`` times their
     second derivatives ``H`` (csr, or None) and the assembled integrals.
     """
@@ -683,14 +698,15 @@ def _jet_rows(P: "_Problem", tangent: bool, dual: bool, n_gauss: int, lam, block
              2 * n_s + 2 * np.where(loc.hi >= 0, loc.hi, loc.m1)]
     dofs = np.stack([d + k for d in nodes for k in (0, 1)], 1)[:, :nv].astype(itype)
 
+    hessian = None if lamv is None else (lamv[loc.a] != 0.0) | (lamv[loc.b] != 0.0)
     g = np.zeros(n_s)
     Gr, Gc, Gv, Hr, Hc, Hv, out, order = [], [], [], [], [], [], [], []
-    for sl, nv_g in _blocks(sg.n, nv, n_gauss, second, loc):
+    for sl, nv_g, sec in _blocks(sg.n, nv, n_gauss, second, loc, hessian):
         order.append(sl)
         ls = loc.take(sl)
         aa, bb = ls.a, ls.b
-        lam_ab = None if lamv is None else (lamv[aa], lamv[bb])
-        blk = block(ls, sl, nv_g, lam_ab)
+        lam_ab = (lamv[aa], lamv[bb]) if sec and lamv is not None else None
+        blk = block(ls, sl, nv_g, lam_ab, sec)
         out.append(blk.ints)
         np.add.at(g, aa, blk.ga.v)
         np.add.at(g, bb, blk.gb.v)
@@ -699,7 +715,7 @@ def _jet_rows(P: "_Problem", tangent: bool, dual: bool, n_gauss: int, lam, block
             Gr += [np.repeat(aa.astype(itype), nv_g), np.repeat(bb.astype(itype), nv_g)]
             Gc += [dl.ravel(), dl.ravel()]
             Gv += [blk.ga.g.T.ravel(), blk.gb.g.T.ravel()]
-            if second:
+            if sec:
                 Hr.append(np.repeat(dl, nv_g, axis=1).ravel())
                 Hc.append(np.tile(dl, (1, nv_g)).ravel())
                 Hv.append(blk.q.hessian().transpose(2, 0, 1).ravel())
@@ -708,7 +724,8 @@ def _jet_rows(P: "_Problem", tangent: bool, dual: bool, n_gauss: int, lam, block
         G = sp.coo_matrix((_cat(Gv, sg.n), (_cat(Gr, sg.n, itype), _cat(Gc, sg.n, itype))),
                           shape=(n_s, ndof)).tocsr()
         if second:
-            H = sp.coo_matrix((_cat(Hv, sg.n), (_cat(Hr, sg.n, itype), _cat(Hc, sg.n, itype))),
+            nh = len(Hv)  # no block with second derivatives where every lam is 0
+            H = sp.coo_matrix((_cat(Hv, nh), (_cat(Hr, nh, itype), _cat(Hc, nh, itype))),
                               shape=(ndof, ndof)).tocsr()
     return g, G, H, P.assemble(order, out)
 
@@ -793,7 +810,8 @@ def evaluate(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarra
     P = _Problem.of(xs, seg_s, xm, seg_m, segmentation, pairs, margin, reach, crosspoints,
                     n_gauss, nodal_jets=(6 if tangent else 0), second=tangent and lam is not None)
     g, G, H, A = _jet_rows(P, tangent, dual, n_gauss, lam,
-                           lambda ls, sl, nv_g, lam_ab: P.block(ls, sl, nv_g, dual, lam_ab))
+                           lambda ls, sl, nv_g, lam_ab, sec: P.block(ls, sl, nv_g, dual, lam_ab,
+                                                                     second=sec))
     sg = P.sg
     return ContactEval(g=g, G=G, H=H, area=A.area, mask=P.mask,
                        info={"D": A.D, "M": A.M, "segmentation": sg, "n_segments": sg.n})
@@ -827,8 +845,8 @@ def tangential_evaluate(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m
                     n_gauss, nodal_jets=(6 if tangent else 0), second=second)
     tau = (P.nrm[1], -P.nrm[0])        # nodal_tangents, from the normals P holds
 
-    def block(ls, sl, nv_g, lam_ab):
-        return _tangential_block(P.xs, P.xm, ls, P.sg, sl, nv_g, P.second, dual, P.merged,
+    def block(ls, sl, nv_g, lam_ab, sec):
+        return _tangential_block(P.xs, P.xm, ls, P.sg, sl, nv_g, sec, dual, P.merged,
                                  P.rule, P.nrm, tau, lam_ab)
     r, G, H, A = _jet_rows(P, tangent, dual, n_gauss, lam, block)
     return ContactEval(g=r, G=G, H=H, area=A.area, mask=P.mask,
@@ -879,7 +897,7 @@ def integrals(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarr
                     n_gauss, nodal_jets=0, second=False)
     g = np.zeros(P.n_s)
     out, order = [], []
-    for sl, _ in _blocks(P.sg.n, 0, n_gauss, False, P.loc):
+    for sl, _, _ in _blocks(P.sg.n, 0, n_gauss, False, P.loc):
         ls = P.loc.take(sl)
         blk = P.block(ls, sl, 0, dual, None, vector=True)
         order.append(sl)
