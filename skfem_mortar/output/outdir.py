@@ -26,7 +26,6 @@ import os
 import re
 import socket
 import time
-import uuid
 from contextlib import contextmanager
 from pathlib import Path
 from typing import Any, Iterable, Iterator
@@ -131,7 +130,7 @@ def _is_stale(held: dict) -> bool:
 def _take_over(path: Path, held: dict) -> None:
     """Move a stale lock aside; put it back if what was moved is not the lock judged
     stale (another run took it over in between)."""
-    aside = path.with_name(f"{LOCK_NAME}.{os.getpid()}.{uuid.uuid4().hex[:8]}.stale")
+    aside = path.with_name(f"{LOCK_NAME}.{os.getpid()}.{os.urandom(4).hex()}.stale")
     try:
         os.rename(path, aside)
     except FileNotFoundError:
@@ -182,7 +181,7 @@ def _acquire(directory: Path, command: str) -> str:
         If another live run holds it, or a run on another host.
     """
     path = directory / LOCK_NAME
-    token = uuid.uuid4().hex
+    token = os.urandom(16).hex()  # random, as uuid4().hex (uuid's import: 3 ms)
     pid = os.getpid()
     info = {"host": socket.gethostname(), "pid": pid, "pid_start": _pid_start(pid),
             "started": time.strftime("%Y-%m-%dT%H:%M:%S%z"), "command": command,

@@ -19,7 +19,6 @@ from __future__ import annotations
 
 import os
 import sys
-import uuid
 from pathlib import Path
 from typing import TYPE_CHECKING, Callable, Iterable, Sequence
 
@@ -210,7 +209,7 @@ class CheckpointObserver(Observer):
 
         clear_checkpoint(self.directory)
         self.legacy.unlink(missing_ok=True)
-        self.run = uuid.uuid4().hex
+        self.run = os.urandom(16).hex()  # a random id as uuid4().hex, without importing uuid
         self.k = 0
         self.write(z)
 
