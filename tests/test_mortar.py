@@ -121,6 +121,31 @@ def test_segments_without_multipliers_skip_only_a_zero_hessian(dual):
 
 
 @pytest.mark.parametrize("dual", [False, True])
+@pytest.mark.parametrize("chunk", [None, 600])
+def test_values_do_not_depend_on_the_blocks(dual, chunk, monkeypatch):
+    """``g``, ``area``, ``D``, ``M`` and ``G`` are the same to the last bit from a
+    call with ``H`` (its blocks split by the zero multipliers), with ``G`` only,
+    and with values only, also when small blocks (``chunk`` Hessian entries:
+    about two segments) cut the segments differently in each: a kept evaluation
+    answers for a new one (``Mortar.evaluate``)."""
+    from skfem_mortar.contact import mortar as kernel
+    if chunk is not None:
+        monkeypatch.setattr(kernel, "_CHUNK_ENTRIES", chunk)
+    xs, ss, xm, sm = curved_pair(0.1)
+    lam = np.random.default_rng(3).uniform(0.5, 1.5, xs.shape[1])
+    lam[:3] = 0.0
+    full = evaluate(xs, ss, xm, sm, lam=lam, dual=dual)
+    g_only = evaluate(xs, ss, xm, sm, dual=dual)
+    values = evaluate(xs, ss, xm, sm, tangent=False, dual=dual)
+    for other in (g_only, values):
+        for name in ("g", "area", "mask"):
+            np.testing.assert_array_equal(getattr(full, name), getattr(other, name))
+        for name in ("D", "M"):
+            assert abs(full.info[name] - other.info[name]).max() == 0.0
+    assert abs(full.G - g_only.G).max() == 0.0
+
+
+@pytest.mark.parametrize("dual", [False, True])
 def test_fd_crosspoint_and_three_gauss_points(dual):
     """Crosspoint modification (slave node 0, covered by the master) and a 3-point rule."""
     xs, ss, xm, sm = curved_pair(0.1, seed=4)

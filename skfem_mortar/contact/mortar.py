@@ -653,12 +653,16 @@ class _Problem(NamedTuple):
                       self.rule, self.nrm, lam_ab, vector)
 
     def assemble(self, order: list, out: list) -> MortarIntegrals:
-        """Steps 6 assembled: the blocks' integrals summed into (n_s, .) arrays and csr."""
+        """Steps 6 assembled: the blocks' integrals summed into (n_s, .) arrays and csr,
+        in the order of the segments whatever the blocks (so the sums are the same
+        to the last bit however the segments were blocked)."""
         n = self.sg.n
-        o = _cat(order, n, np.int64)            # per-segment values in block order
-        sl_nodes = np.stack([self.loc.a[o], self.loc.b[o]], 1)
-        ms_nodes = np.stack([self.loc.m1[o], self.loc.m2[o]], 1)
-        area_seg = _cat([x.area for x in out], n, shape=(0, 2))
+        o = _cat(order, n, np.int64)            # the segment of each block-order value
+        at = np.empty_like(o)
+        at[o] = np.arange(n)                    # the block-order place of each segment
+        sl_nodes = np.stack([self.loc.a, self.loc.b], 1)
+        ms_nodes = np.stack([self.loc.m1, self.loc.m2], 1)
+        area_seg = _cat([x.area for x in out], n, shape=(0, 2))[at]
         area = np.zeros(self.n_s)
         np.add.at(area, sl_nodes[:, 0], area_seg[:, 0])
         np.add.at(area, sl_nodes[:, 1], area_seg[:, 1])
@@ -667,7 +671,8 @@ class _Problem(NamedTuple):
             vals = [getattr(x, name) for x in out]
             if vals and vals[0] is None:
                 return None
-            return assemble_local(_cat(vals, n, shape=shape), sl_nodes, cols, (self.n_s, n_cols))
+            return assemble_local(_cat(vals, n, shape=shape)[at], sl_nodes, cols,
+                                  (self.n_s, n_cols))
         return MortarIntegrals(
             n_AB=glob("n_AB", sl_nodes, self.n_s, (0, 2, 2, 2)),
             n_AC=glob("n_AC", ms_nodes, self.n_m, (0, 2, 2, 2)),
@@ -686,6 +691,9 @@ def _jet_rows(P: "_Problem", tangent: bool, dual: bool, n_gauss: int, lam, block
     part of ``H`` is zero, see :func:`_blocks`).  Returns the values (n_s,), their
     first derivatives ``G`` (csr, local dofs), ``sum_A lam_A`` times their
     second derivatives ``H`` (csr, or None) and the assembled integrals.
+    ``g``, ``G`` and the integrals are summed in the order of the segments,
+    whatever the blocks: the same to the last bit whether or not ``H`` split
+    them (a kept evaluation answers for a new one, ``Mortar.evaluate``).
     """
     n_s, sg, loc, second = P.n_s, P.sg, P.loc, P.second
     ndof = 2 * n_s + 2 * P.n_m
@@ -699,29 +707,34 @@ def _jet_rows(P: "_Problem", tangent: bool, dual: bool, n_gauss: int, lam, block
     dofs = np.stack([d + k for d in nodes for k in (0, 1)], 1)[:, :nv].astype(itype)
 
     hessian = None if lamv is None else (lamv[loc.a] != 0.0) | (lamv[loc.b] != 0.0)
-    g = np.zeros(n_s)
-    Gr, Gc, Gv, Hr, Hc, Hv, out, order = [], [], [], [], [], [], [], []
+    ga, gb = np.zeros(sg.n), np.zeros(sg.n)                 # per segment, for a and b
+    GA, GB = np.zeros((sg.n, nv)), np.zeros((sg.n, nv))     # their first derivatives
+    nvs = np.zeros(sg.n, dtype=np.int64)                     # local variables of each
+    Hr, Hc, Hv, out, order = [], [], [], [], []
     for sl, nv_g, sec in _blocks(sg.n, nv, n_gauss, second, loc, hessian):
         order.append(sl)
         ls = loc.take(sl)
-        aa, bb = ls.a, ls.b
-        lam_ab = (lamv[aa], lamv[bb]) if sec and lamv is not None else None
+        lam_ab = (lamv[ls.a], lamv[ls.b]) if sec and lamv is not None else None
         blk = block(ls, sl, nv_g, lam_ab, sec)
         out.append(blk.ints)
-        np.add.at(g, aa, blk.ga.v)
-        np.add.at(g, bb, blk.gb.v)
+        ga[sl], gb[sl] = blk.ga.v, blk.gb.v
         if tangent:
             dl = dofs[sl, :nv_g]
-            Gr += [np.repeat(aa.astype(itype), nv_g), np.repeat(bb.astype(itype), nv_g)]
-            Gc += [dl.ravel(), dl.ravel()]
-            Gv += [blk.ga.g.T.ravel(), blk.gb.g.T.ravel()]
+            GA[sl, :nv_g], GB[sl, :nv_g], nvs[sl] = blk.ga.g.T, blk.gb.g.T, nv_g
             if sec:
                 Hr.append(np.repeat(dl, nv_g, axis=1).ravel())
                 Hc.append(np.tile(dl, (1, nv_g)).ravel())
                 Hv.append(blk.q.hessian().transpose(2, 0, 1).ravel())
+    g = np.zeros(n_s)
+    np.add.at(g, loc.a, ga)
+    np.add.at(g, loc.b, gb)
     G = H = None
     if tangent:
-        G = sp.coo_matrix((_cat(Gv, sg.n), (_cat(Gr, sg.n, itype), _cat(Gc, sg.n, itype))),
+        used = np.arange(nv) < nvs[:, None]                  # (n_seg, nv)
+        rows = [np.broadcast_to(k.astype(itype)[:, None], used.shape)[used] for k in (loc.a, loc.b)]
+        cols = dofs[used]
+        G = sp.coo_matrix((np.concatenate([GA[used], GB[used]]),
+                           (np.concatenate(rows), np.concatenate([cols, cols]))),
                           shape=(n_s, ndof)).tocsr()
         if second:
             nh = len(Hv)  # no block with second derivatives where every lam is 0
