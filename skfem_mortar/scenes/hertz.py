@@ -472,8 +472,9 @@ SCENE = Scene(
               high=0.5, high_inclusive=False),
         Param("base", "rigid", "what the cylinder is pressed on", str,
               choices=("rigid", "elastic")),
-        Param("refine", 0, "mesh level: element size (a/30) 2^-refine in the contact zone",
-              int, low=-3, high=3),
+        Param("refine", 0, "mesh level: element size (a/30) 2^-refine in the contact zone "
+              "(refine=3: 1.7e5 unknowns; 4: 6.5e5, 3.6 GB, about a minute on one core)",
+              int, low=-3, high=4),
         Param("element", "tri1", "bodies' element: linear or quadratic triangles (tri1, tri2) "
               "or quadrilaterals (quad1, quad2; each graded triangle split in three), the "
               "quadratic ones isoparametric with the arc's mid nodes on the circle; or MINI "
