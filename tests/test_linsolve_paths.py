@@ -246,3 +246,15 @@ def test_the_model_pattern_repeats_over_a_solve():
     assert 1 <= model.pattern_builds <= 2 < iterations
     distinct = len(set(seen))
     assert distinct <= model.pattern_builds + 1  # one per pattern (and per free set)
+
+
+@pytest.mark.parametrize("text", ["abc", "-3", "1e5"])
+def test_a_bad_single_above_is_refused_naming_the_variable(text, monkeypatch):
+    """``SKFEM_MORTAR_SINGLE_ABOVE`` takes an integer >= 0; anything else is a
+    ValueError naming the variable, its range and the value given."""
+    monkeypatch.setenv("SKFEM_MORTAR_SINGLE_ABOVE", text)
+    with pytest.raises(ValueError, match=r"SKFEM_MORTAR_SINGLE_ABOVE must be an integer >= 0.*"
+                                         + repr(text)):
+        linsolve._single_above()
+    monkeypatch.setenv("SKFEM_MORTAR_SINGLE_ABOVE", " 0 ")
+    assert linsolve._single_above() == 0

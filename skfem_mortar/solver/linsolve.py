@@ -85,7 +85,19 @@ SYMMETRIC = os.environ.get("SKFEM_MORTAR_SYMMETRIC", "1").strip() != "0"
 #: takes 0.25-0.31 s instead of 0.40-0.51 s and one refinement step (0.05 s)
 #: brings the residual from 6e-8 to 7e-12; below ~5e4 unknowns the refinement
 #: eats the gain (``SKFEM_MORTAR_SINGLE_ABOVE`` overrides; 0: always)
-SINGLE_ABOVE = int(os.environ.get("SKFEM_MORTAR_SINGLE_ABOVE", "50000"))
+def _single_above() -> int:
+    text = os.environ.get("SKFEM_MORTAR_SINGLE_ABOVE", "50000").strip()
+    try:
+        value = int(text)
+    except ValueError:
+        value = -1
+    if value < 0:
+        raise ValueError("SKFEM_MORTAR_SINGLE_ABOVE must be an integer >= 0 (unknowns; 0: "
+                         f"always single precision), got {text!r}")
+    return value
+
+
+SINGLE_ABOVE = _single_above()
 #: refinement steps of a single-precision factorization at most (each one solve
 #: with the factors and a product with the matrix, ~10 % of a factorization),
 #: while each step at least halves the residual: measured at hertz ``refine=4``
