@@ -211,7 +211,12 @@ def test_symmetric_analysis_survives_the_active_set_changes(base, monkeypatch):
     although the active set changes over the solve (the analysis is run on the
     system with every coupled multiplier shown active, ``SymmetricSystem.analysis``;
     analysing the plain system answered the rigid base's reused solves with
-    perturbed pivots: 1 refinement at this size, 2 new analyses at ``refine=3``)."""
+    perturbed pivots: 1 refinement at this size, 2 new analyses at ``refine=3``).
+    On the rigid base the pattern is built once (the reservation's slave part
+    holds every slave element; the master's columns are not unknowns), so one
+    analysis serves the whole solve: the rows the first search did not reach
+    are shown active with the pairs' ``analysis_coupling`` (without it the
+    reused analysis pivoted badly at ``refine=3``: a new analysis anyway)."""
     monkeypatch.setenv("SKFEM_MORTAR_SOLVER", "pardiso")
     monkeypatch.setattr(linsolve, "SYMMETRIC", True)
     linsolve._pardiso_solvers.clear()  # fresh counters
@@ -224,6 +229,8 @@ def test_symmetric_analysis_survives_the_active_set_changes(base, monkeypatch):
     iterations = res.steps[0].newton_iterations
     assert s.analyses == setup.model.pattern_builds < iterations
     assert s.factorizations == s.solves == iterations  # every answer the first one
+    if base == "rigid":
+        assert s.analyses == 1
 
 
 def test_the_model_pattern_repeats_over_a_solve():
@@ -246,6 +253,30 @@ def test_the_model_pattern_repeats_over_a_solve():
     assert 1 <= model.pattern_builds <= 2 < iterations
     distinct = len(set(seen))
     assert distinct <= model.pattern_builds + 1  # one per pattern (and per free set)
+
+
+def test_the_analysis_shows_hinted_rows_active():
+    """``SymmetricSystem.analysis``: an inactive row with no coupling values (a
+    row the search has not reached) is shown active with the ``hint`` coupling
+    at its transposed entries (diagonal 0); without a hint it stays an identity
+    row; rows the hint does not name, and the values of ``U``, are unchanged."""
+    A, b, mult = contact_system(inactive=(4, 5))
+    n = 40
+    coo = A.tocoo()
+    coo.data[(coo.col == n + 5) & (coo.row < n)] = 0.0  # row 5 uncoupled: explicit zeros
+    A = sp.csr_matrix((coo.data, (coo.row, coo.col)), shape=A.shape)
+    cols = np.flatnonzero(_stored(A)[n + 5, :n])
+    assert cols.size == 4
+    hint = (np.full(cols.size, n + 5), cols, np.linspace(1.0, 2.0, cols.size))
+    plain = symmetrize(A, b, mult)
+    hinted = symmetrize(A, b, mult, lambda: hint)
+    assert abs(plain.U - hinted.U).max() == 0.0
+    P0, P1 = plain.analysis().toarray(), hinted.analysis().toarray()
+    assert P0[n + 5, n + 5] != 0 and np.all(P0[cols, n + 5] == 0)   # identity row
+    assert P1[n + 5, n + 5] == 0 and np.allclose(P1[cols, n + 5], hint[2])
+    other = np.ones(P0.shape, bool)
+    other[:, n + 5] = other[n + 5, :] = False
+    assert np.array_equal(P0[other], P1[other])
 
 
 @pytest.mark.parametrize("text", ["abc", "-3", "1e5"])

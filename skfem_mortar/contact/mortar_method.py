@@ -233,8 +233,8 @@ class Mortar(ContactDiscretization):
         self.reservations += 1
 
     def _pattern_of(self, held: np.ndarray) -> sp.csr_matrix:
-        """Row ``A``: its own dofs, and for each slave element at ``A`` with a held
-        pair its nodes ``p, a, b, n`` and the nodes of its held master elements."""
+        """Row ``A``: its own dofs, for each slave element at ``A`` its nodes ``p,
+        a, b, n``, and the nodes of the held master elements of those elements."""
         if self.curved:
             return self._pattern_curved(held)
         seg_s, seg_m = self.slave.segments, self.master.segments
@@ -244,7 +244,10 @@ class Mortar(ContactDiscretization):
         a, b = seg_s[:, 0], seg_s[:, 1]
         p = np.where(ending[a] >= 0, seg_s[np.maximum(ending[a], 0), 0], a)
         n = np.where(starting[b] >= 0, seg_s[np.maximum(starting[b], 0), 1], b)
-        el = np.unique(e_s)  # slave elements with a held pair: p, a, b, n each
+        # every slave element's own nodes p, a, b, n (local, cheap: a multiplier row
+        # couples to its neighbourhood), so that the slave part never grows and a
+        # rigid master's pattern repeats from the first iteration on
+        el = np.arange(len(seg_s))
         snodes = np.stack([p[el], a[el], b[el], n[el]], 1)
         own = np.arange(n_s)
         two = np.arange(2)
@@ -259,14 +262,14 @@ class Mortar(ContactDiscretization):
 
     def _pattern_curved(self, held: np.ndarray) -> sp.csr_matrix:
         """:meth:`_pattern_of` for the curved kernel: row ``A`` holds, for each slave
-        element at ``A`` with a held pair, the nodes of that element and of its
-        previous and next elements (the nodal normals of its vertices reach into
-        them), and the nodes of its held master elements."""
+        element at ``A``, the nodes of that element and of its previous and next
+        elements (the nodal normals of its vertices reach into them), and the
+        nodes of the held master elements of those elements."""
         seg_s, seg_m = self.slave.segments, self.master.segments
         n_s = self.slave.n_nodes
         e_s, e_m = held // len(seg_m), held % len(seg_m)
         ending, starting = segments_at_nodes(seg_s[:, :2], n_s)
-        el = np.unique(e_s)
+        el = np.arange(len(seg_s))  # every slave element (as _pattern_of)
         prev, nxt = ending[seg_s[el, 0]], starting[seg_s[el, 1]]
         snodes = np.concatenate([seg_s[el], np.where(prev[:, None] >= 0, seg_s[np.maximum(prev, 0)],
                                                       seg_s[el, :1]),
@@ -290,8 +293,10 @@ class Mortar(ContactDiscretization):
         normals reach one node further) and on master nodes of the elements
         paired with ``(a, b)`` (``m1, m2`` and the nodes bounding the
         projectable part).  So row ``A`` holds, for each slave element at
-        ``A`` with a reserved pair, its nodes ``p, a, b, n`` and the nodes of
-        its reserved master elements, besides ``A``'s own dofs.  Reserved:
+        ``A``, its nodes ``p, a, b, n`` (every element, held pair or not: the
+        slave part is local and never grows, so against a rigid master the
+        pattern repeats from the first iteration on) and the nodes of its
+        reserved master elements, besides ``A``'s own dofs.  Reserved:
         the pairs of the search with its margin widened by
         :data:`RESERVE_LENGTHS` element lengths and by the reach once more
         (the reach grows with the motion in the step); the same object is returned

@@ -618,6 +618,25 @@ class ContactPair(Item):
         kv.append(np.full(inact.size, rs))
         return _with_triplets(out, kr, kc, kv, gd, (ev.H,))  # K_uu = -H
 
+    def analysis_coupling(self, z: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """What each normal multiplier row would couple to when active, for the
+        linear solver's analysis only: row ``A`` to the slave node's own dofs,
+        ``a_A n_A`` (its tributary length times the outward normal averaged over
+        its segments), as global ``(rows, cols, vals)``.  A row not yet
+        reached by the search has no coupling values; its weighted matching
+        then pairs it with the dof it will pivot on once active
+        (:func:`~skfem_mortar.solver.linsolve.symmetrize`)."""
+        dofs = self.slave.dofs()
+        if dofs is None:
+            return (np.zeros(0, np.int64),) * 2 + (np.zeros(0),)
+        seg = self.slave.segments
+        nrm, length = self.slave.normals(z)
+        share = length / seg.shape[1]
+        v = np.stack([np.bincount(seg.ravel(), weights=np.repeat(nrm[k] * share, seg.shape[1]),
+                                  minlength=self.slave.n_nodes) for k in (0, 1)])
+        rows = np.repeat(self.offset + np.arange(self.slave.n_nodes, dtype=np.int64), 2)
+        return rows, dofs.T.ravel().astype(np.int64), v.T.ravel()
+
     # -- friction ----------------------------------------------------------------
     def _p_reference(self, ev: ContactEval, c: float) -> float:
         """The tangential rows' pressure ``p_ref`` of the step (:meth:`_step_p_ref`;

@@ -610,6 +610,21 @@ class Model:
         system symmetric (:func:`~skfem_mortar.solver.linsolve.symmetrize`)."""
         return all(it.symmetric or getattr(it, "symmetrizable", False) for it in self.items)
 
+    def analysis_coupling(self, z: np.ndarray, free: np.ndarray
+                          ) -> tuple[np.ndarray, np.ndarray, np.ndarray] | None:
+        """The contact pairs' :meth:`~skfem_mortar.contact.pair.ContactPair.analysis_coupling`
+        in the numbering of the free unknowns ``free`` (entries on prescribed
+        unknowns dropped), or None without such items: for the linear solver's
+        analysis of a symmetrized system only."""
+        parts = [it.analysis_coupling(z) for it in self.items if hasattr(it, "analysis_coupling")]
+        if not parts:
+            return None
+        at = np.full(self.n, -1, dtype=np.int64)
+        at[free] = np.arange(free.size)
+        r, c, v = (np.concatenate(a) for a in zip(*parts))
+        keep = (at[r] >= 0) & (at[c] >= 0)
+        return at[r[keep]], at[c[keep]], v[keep]
+
     def outputs(self) -> list[Output]:
         """Every item's :meth:`Item.outputs`, in the order of the items."""
         return [o for it in self.items for o in it.outputs()]

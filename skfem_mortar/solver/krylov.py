@@ -247,7 +247,8 @@ class KrylovSolver:
         self.counts = KrylovCounts()
 
     def solve(self, K: sp.spmatrix, b: np.ndarray, eta: float,
-              multipliers: np.ndarray | None = None, reuse: bool = True) -> np.ndarray:
+              multipliers: np.ndarray | None = None, reuse: bool = True,
+              hint=None) -> np.ndarray:
         """``x`` with ``||K x - b|| <= eta ||b||``: FGMRES preconditioned by the kept
         factors when they are there for ``K``'s pattern and ``reuse`` is true,
         else (or when it fails) the direct answer of a fresh factorization of
@@ -256,7 +257,8 @@ class KrylovSolver:
         refactors every unsettled iteration, the kept factors are then of the
         current active set (with factors of another active set FGMRES needed
         20 to 40 iterations to reach 1e-2 on hertz, more than a factorization
-        costs; module docstring).
+        costs; module docstring).  ``hint``: as for
+        :func:`~skfem_mortar.solver.linsolve.solve_linear`.
 
         Raises
         ------
@@ -276,6 +278,6 @@ class KrylovSolver:
             self.counts.fallbacks += 1
             log.debug("fgmres with kept factors: %s; refactoring", out.reason)
         self.kept = None  # (freed before the new factors are made)
-        x, self.kept = factorize(K, b, self.backend, multipliers)
+        x, self.kept = factorize(K, b, self.backend, multipliers, hint)
         self.counts.factorizations += 1
         return x

@@ -106,6 +106,9 @@ SINGLE_ABOVE = _single_above()
 #: analysis follows
 REFINE_STEPS_SINGLE = 10
 
+#: what multiplier rows would couple to once active: ``hint() -> (rows, cols, vals)``
+Hint = Callable[[], "tuple[np.ndarray, np.ndarray, np.ndarray] | None"]
+
 _pardiso_solvers: dict = {}  # the process's, by matrix type (and "single" for -2)
 
 
@@ -150,7 +153,7 @@ def default_backend() -> str:
 
 
 def solve_linear(K: sp.spmatrix, b: np.ndarray, backend: str | None = None,
-                 multipliers: np.ndarray | None = None) -> np.ndarray:
+                 multipliers: np.ndarray | None = None, hint: Hint | None = None) -> np.ndarray:
     """Solve ``K x = b`` with a sparse direct solver.
 
     Parameters
@@ -167,6 +170,10 @@ def solve_linear(K: sp.spmatrix, b: np.ndarray, backend: str | None = None,
         its symmetric indefinite solver (half the factor).  SuperLU solves the
         system as it is (scipy offers no symmetric indefinite factorization;
         its ``SymmetricMode`` measured slower, see the module docstring).
+    hint : callable, optional
+        ``hint()`` returns ``(rows, cols, vals)``: what multiplier rows would
+        couple to once active (``Model.analysis_coupling``), read only when
+        PARDISO analyses a symmetrized system (:class:`SymmetricSystem`).
 
     Raises
     ------
@@ -174,11 +181,11 @@ def solve_linear(K: sp.spmatrix, b: np.ndarray, backend: str | None = None,
         When the matrix is singular or the solution is not finite (the Newton
         solver treats this like a failed iteration and cuts the load step).
     """
-    return _direct(K, b, backend, multipliers, keep=False)[0]
+    return _direct(K, b, backend, multipliers, keep=False, hint=hint)[0]
 
 
 def factorize(K: sp.spmatrix, b: np.ndarray, backend: str | None = None,
-              multipliers: np.ndarray | None = None
+              multipliers: np.ndarray | None = None, hint: Hint | None = None
               ) -> tuple[np.ndarray, "KeptFactors | None"]:
     """:func:`solve_linear`, and the factors it used, kept to be applied again.
 
@@ -189,11 +196,11 @@ def factorize(K: sp.spmatrix, b: np.ndarray, backend: str | None = None,
     the preconditioner of :mod:`~skfem_mortar.solver.krylov`.  It is None for
     an empty system.
     """
-    return _direct(K, b, backend, multipliers, keep=True)
+    return _direct(K, b, backend, multipliers, keep=True, hint=hint)
 
 
 def _direct(K: sp.spmatrix, b: np.ndarray, backend: str | None,
-            multipliers: np.ndarray | None, keep: bool
+            multipliers: np.ndarray | None, keep: bool, hint: Hint | None = None
             ) -> tuple[np.ndarray, "KeptFactors | None"]:
     """The direct answer of ``K x = b`` and, with ``keep``, its kept factors."""
     if K.shape[0] == 0:
@@ -204,7 +211,7 @@ def _direct(K: sp.spmatrix, b: np.ndarray, backend: str | None,
     b = np.asarray(b, dtype=float)
     if backend == "pardiso":
         mult = None if multipliers is None else np.asarray(multipliers, dtype=bool)
-        x, kept = _pardiso(K, b, mult)
+        x, kept = _pardiso(K, b, mult, hint)
         if x is not None:
             return x, _handed(kept, K) if keep else None
     x, kept = _superlu(K, b, keep)
@@ -543,7 +550,13 @@ class SymmetricSystem(NamedTuple):
     with every inactive multiplier row that has a coupling column shown as an
     active one (diagonal 0, its column's values), so that the matching pairs
     every multiplier that can become active with a displacement and a later
-    active-set change finds its 2 x 2 pivot there.  Measured on hertz
+    active-set change finds its 2 x 2 pivot there; an inactive row with no
+    coupling values yet (one the contact search has not reached) is shown
+    active with the ``hint`` coupling of :func:`solve_linear` where given
+    (``ContactPair.analysis_coupling``: the node's normal times its tributary
+    length on its own dofs), so one analysis serves a solve whose contact zone
+    grows beyond the first search (hertz ``refine=3``, rigid base, one step:
+    1 analysis instead of 2, 0 perturbed pivots).  Measured on hertz
     (``refine=2``, one step): the analysis of the plain ``U`` answered 5 of 7
     reused solves with 1 to 3 perturbed pivots and a residual of 2e-5 to
     4e-8 (refinement, at ``refine=3`` two new analyses); shown active: none.
@@ -555,7 +568,7 @@ class SymmetricSystem(NamedTuple):
     analysis: Callable[[], sp.csr_matrix]
 
 
-def symmetrize(A: sp.csr_matrix, b: np.ndarray, mult: np.ndarray
+def symmetrize(A: sp.csr_matrix, b: np.ndarray, mult: np.ndarray, hint: Hint | None = None
                ) -> SymmetricSystem | None:
     """The symmetric form of a saddle-point system, as its upper triangle.
 
@@ -624,14 +637,44 @@ def symmetrize(A: sp.csr_matrix, b: np.ndarray, mult: np.ndarray
 
     def analysis() -> sp.csr_matrix:
         """``U`` with every inactive row that has a coupling column shown as
-        active (:class:`SymmetricSystem`)."""
+        active, and every other inactive row with the ``hint`` coupling in its
+        pattern (:class:`SymmetricSystem`)."""
         coupled = np.bincount(sym.row[move], weights=np.abs(v_col[move]), minlength=n) > 0
         shown = move & coupled[sym.row]
         pdata = data.copy()
         pdata[sym.tpos[shown]] = v_col[shown]
+        hinted = _hinted(A, sym, hint, inactive & ~coupled) if hint is not None else None
+        if hinted is not None:
+            pos, vals, rows = hinted
+            pdata[pos] = vals
+            coupled[rows] = True
         pdata[sym.ent[sym.diag & coupled[sym.row]]] = 0.0
         return _upper(sym, pdata, n)
     return SymmetricSystem(U, b, transform, analysis)
+
+
+def _hinted(A: sp.csr_matrix, sym: _Symmetrized, hint: Hint, rows_wanted: np.ndarray
+            ) -> tuple[np.ndarray, np.ndarray, np.ndarray] | None:
+    """The places, in the pattern of ``A``, of the transposed ``hint`` entries
+    ``(col, row)`` of the rows ``rows_wanted`` (bool) that lie in the pattern, their
+    values and rows; None if there are none."""
+    got = hint()
+    if got is None:
+        return None
+    r, c, v = (np.asarray(a) for a in got)
+    keep = rows_wanted[r] & (v != 0.0)
+    r, c, v = r[keep], c[keep], v[keep]
+    if r.size == 0:
+        return None
+    n = A.shape[0]
+    rows_of = np.repeat(np.arange(n, dtype=np.int64), np.diff(A.indptr))
+    keys = rows_of * n + A.indices  # sorted (canonical csr)
+    t = c.astype(np.int64) * n + r  # the transposed entry (col, row)
+    pos = np.minimum(np.searchsorted(keys, t), keys.size - 1)
+    found = keys[pos] == t
+    if not found.any():
+        return None
+    return pos[found], v[found], np.unique(r[found])
 
 
 def _upper(sym: _Symmetrized, data: np.ndarray, n: int) -> sp.csr_matrix:
@@ -648,8 +691,8 @@ def _good(A: sp.spmatrix, x: np.ndarray, b: np.ndarray) -> bool:
     return float(np.linalg.norm(A @ x - b)) <= PARDISO_RTOL * max(bn, np.finfo(float).tiny)
 
 
-def _pardiso(K: sp.spmatrix, b: np.ndarray, mult: np.ndarray | None = None
-                  ) -> tuple[np.ndarray | None, KeptFactors | None]:
+def _pardiso(K: sp.spmatrix, b: np.ndarray, mult: np.ndarray | None = None,
+             hint: Hint | None = None) -> tuple[np.ndarray | None, KeptFactors | None]:
     """PARDISO's answer, or None when it fails or its residual is too large,
     and the factors that gave it (:class:`KeptFactors`).
     With ``mult`` (the multiplier rows of a symmetrizable system) and
@@ -660,7 +703,7 @@ def _pardiso(K: sp.spmatrix, b: np.ndarray, mult: np.ndarray | None = None
     if not A.has_sorted_indices:
         A = A.sorted_indices()  # (pypardiso would sort the caller's arrays in place)
     if mult is not None and SYMMETRIC:
-        sym = symmetrize(A, b, mult)
+        sym = symmetrize(A, b, mult, hint)
         if sym is not None:
             for single in [True, False] if sym.U.shape[0] >= SINGLE_ABOVE else [False]:
                 h = pardiso_solver(-2, single)

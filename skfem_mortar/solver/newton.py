@@ -268,14 +268,15 @@ def newton(model: Model, z: np.ndarray, load_factor: float, free: np.ndarray,
             return report
         t0 = time.perf_counter()
         mult = (free >= model.n_u) if symmetric else None
+        hint = (lambda z=z: model.analysis_coupling(z, free)) if symmetric else None
         try:
             if krylov is None:
-                dzf = solve_linear(model.free_block(K, free), -Rf, multipliers=mult)
+                dzf = solve_linear(model.free_block(K, free), -Rf, multipliers=mult, hint=hint)
                 report.factorizations += 1
             else:
                 eta = forcing(report.residual_norms, eta, report.scale, tol, opt.forcing_max)
                 dzf = krylov.solve(model.free_block(K, free), -Rf, eta, multipliers=mult,
-                                   reuse=settled)
+                                   reuse=settled, hint=hint)
         except InversionError as exc:
             report.reason = str(exc)
             report.iterations = it
