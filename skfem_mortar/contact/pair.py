@@ -621,8 +621,10 @@ class ContactPair(Item):
     def analysis_coupling(self, z: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """What each normal multiplier row would couple to when active, for the
         linear solver's analysis only: row ``A`` to the slave node's own dofs,
-        ``a_A n_A`` (its tributary length times the outward normal averaged over
-        its segments), as global ``(rows, cols, vals)``.  A row not yet
+        ``sum_e n_e l_e / k`` over its segments ``e`` (outward normal times an
+        equal share of the length, ``k`` nodes a segment: for 2-node segments its
+        tributary length times the length-weighted mean normal), as global
+        ``(rows, cols, vals)``.  A row not yet
         reached by the search has no coupling values; its weighted matching
         then pairs it with the dof it will pivot on once active
         (:func:`~skfem_mortar.solver.linsolve.symmetrize`)."""

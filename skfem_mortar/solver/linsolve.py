@@ -79,13 +79,8 @@ REFINE_STEPS = 3
 #: (``SKFEM_MORTAR_SYMMETRIC=0`` turns it off: the unsymmetric path)
 SYMMETRIC = os.environ.get("SKFEM_MORTAR_SYMMETRIC", "1").strip() != "0"
 
-#: symmetrized systems of at least this many unknowns are factored in single
-#: precision and refined in double (:class:`_Pardiso`, ``single``):
-#: measured on hertz ``refine=3`` (1.7e5 unknowns, one core) the factorization
-#: takes 0.25-0.31 s instead of 0.40-0.51 s and one refinement step (0.05 s)
-#: brings the residual from 6e-8 to 7e-12; below ~5e4 unknowns the refinement
-#: eats the gain (``SKFEM_MORTAR_SINGLE_ABOVE`` overrides; 0: always)
 def _single_above() -> int:
+    """``SKFEM_MORTAR_SINGLE_ABOVE`` (default 50000), refused unless an integer >= 0."""
     text = os.environ.get("SKFEM_MORTAR_SINGLE_ABOVE", "50000").strip()
     try:
         value = int(text)
@@ -97,6 +92,12 @@ def _single_above() -> int:
     return value
 
 
+#: symmetrized systems of at least this many unknowns are factored in single
+#: precision and refined in double (:class:`_Pardiso`, ``single``):
+#: measured on hertz ``refine=3`` (1.7e5 unknowns, one core) the factorization
+#: takes 0.25-0.31 s instead of 0.40-0.51 s and one refinement step (0.05 s)
+#: brings the residual from 6e-8 to 7e-12; below ~5e4 unknowns the refinement
+#: eats the gain (``SKFEM_MORTAR_SINGLE_ABOVE`` overrides; 0: always)
 SINGLE_ABOVE = _single_above()
 #: refinement steps of a single-precision factorization at most (each one solve
 #: with the factors and a product with the matrix, ~10 % of a factorization),
@@ -341,7 +342,7 @@ class _Pardiso:
             for i, v in iparm.items():
                 self.solver.set_iparm(i, v)
         if single:
-            self.solver.set_iparm(28, 1)  # single precision: float32 values, right-hand sides, answers
+            self.solver.set_iparm(28, 1)  # single precision: float32 values, rhs, answers
         self.pattern: tuple[np.ndarray, np.ndarray] | None = None
         self.analyses = self.factorizations = self.solves = 0
         #: changes with every analysis, factorization and release: the factors
@@ -450,10 +451,11 @@ class _Pardiso:
             last = np.inf
             for _ in range(REFINE_STEPS_SINGLE if self.single else steps):
                 r = correction(x)
-                size = float(np.linalg.norm(r))
-                if self.single and not size < 0.5 * last:
-                    break  # stalls: a fresh analysis follows
-                last = size
+                if self.single:
+                    size = float(np.linalg.norm(r))
+                    if not size < 0.5 * last:
+                        break  # stalls: a fresh analysis follows
+                    last = size
                 try:
                     x = x + self._run(A, r, 33)
                 except Exception:  # noqa: BLE001 (PyPardisoError): a fresh analysis follows
@@ -643,7 +645,7 @@ def symmetrize(A: sp.csr_matrix, b: np.ndarray, mult: np.ndarray, hint: Hint | N
         shown = move & coupled[sym.row]
         pdata = data.copy()
         pdata[sym.tpos[shown]] = v_col[shown]
-        hinted = _hinted(A, sym, hint, inactive & ~coupled) if hint is not None else None
+        hinted = _hinted(A, hint, inactive & ~coupled) if hint is not None else None
         if hinted is not None:
             pos, vals, rows = hinted
             pdata[pos] = vals
@@ -653,7 +655,7 @@ def symmetrize(A: sp.csr_matrix, b: np.ndarray, mult: np.ndarray, hint: Hint | N
     return SymmetricSystem(U, b, transform, analysis)
 
 
-def _hinted(A: sp.csr_matrix, sym: _Symmetrized, hint: Hint, rows_wanted: np.ndarray
+def _hinted(A: sp.csr_matrix, hint: Hint, rows_wanted: np.ndarray
             ) -> tuple[np.ndarray, np.ndarray, np.ndarray] | None:
     """The places, in the pattern of ``A``, of the transposed ``hint`` entries
     ``(col, row)`` of the rows ``rows_wanted`` (bool) that lie in the pattern, their
