@@ -68,10 +68,10 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))  # amg_newton
 
 
 def capture(refine: int, method: str):
-    """The last Newton system of hertz in one step, its free indices and the
-    bodies' rigid modes (global, 3 columns per body)."""
+    """The last Newton system of hertz in one step and the bodies' rigid modes on
+    its free displacement unknowns (``amg_newton.rigid_modes``)."""
+    from amg_newton import rigid_modes  # (this folder)
     from skfem_mortar.app.runner import build_scene
-    from skfem_mortar.contact.preflight import _rigid_modes
     from skfem_mortar.solver import newton
     from skfem_mortar.solver.stepping import solve
 
@@ -93,12 +93,8 @@ def capture(refine: int, method: str):
     finally:
         newton.solve_linear = real
         del model.free_block
-    B = np.zeros((model.n, 3 * len(model.bodies)))
-    for i, body in enumerate(model.bodies):
-        modes = _rigid_modes(body).modes
-        B[body.offset:body.offset + modes.shape[0], 3 * i:3 * i + 3] = modes
     K, b, mult = caps[-1]
-    return K, b, mult, B[frees[-1]]
+    return K, b, mult, rigid_modes(model, frees[-1])
 
 
 def condensed(K, b, mult, repeat: int) -> dict:
@@ -106,7 +102,7 @@ def condensed(K, b, mult, repeat: int) -> dict:
     pivot (the displacement unknown of its largest value), ``D`` the diagonal
     of the pivot columns (``G_N``; its off-diagonal part, relative, is
     reported), ``x_piv = -D^-1 G_R x_R`` and ``C = Z^T A Z``; PARDISO's Cholesky
-    of ``C`` in double and in single precision."""
+    of ``C`` in double and in single precision, and its LDL^T in single."""
     from skfem_mortar.solver import linsolve
     sym = linsolve.symmetrize(K, b, mult)
     U = sym.U
@@ -161,17 +157,15 @@ def condensed(K, b, mult, repeat: int) -> dict:
 
 
 def iterative(K, b, mult, modes) -> dict:
-    """``linear="amg"``'s preconditioned FGMRES on ``K`` (a fresh hierarchy) to
-    1e-2 and 1e-8, setup apart."""
+    """``amg_newton.py``'s preconditioned FGMRES on ``K`` (a fresh hierarchy) to
+    1e-2 and 1e-8, setup apart; ``modes`` on the free displacement unknowns."""
     from amg_newton import AlPreconditioner  # (this folder)
     from skfem_mortar.solver import linsolve
     from skfem_mortar.solver.krylov import fgmres
     sym = linsolve.symmetrize(K, b, mult)
-    B = modes[~mult]
-    B = B[:, np.abs(B).sum(axis=0) > 0]
     res = {}
     t = time.perf_counter()
-    pre = AlPreconditioner(K, mult, B)
+    pre = AlPreconditioner(K, mult, modes)
     res["amg_setup_s"] = time.perf_counter() - t
     for tol in (1e-2, 1e-8):
         t = time.perf_counter()
