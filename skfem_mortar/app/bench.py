@@ -139,7 +139,7 @@ def check_inputs(scenes: Sequence[str], method: str, max_dofs: int | None,
 
 
 def run_bench(out: str | Path, scenes: Sequence[str] = ("hertz", "seed"),
-              method: str = "mortar", quick: bool = False, max_dofs: int | None = None,
+              method: str = "mortar-dual", quick: bool = False, max_dofs: int | None = None,
               steps: int | None = None, progress: bool = False,
               solvers: Sequence[str] | None = None) -> dict:
     """Run the sizes of each scene; write ``bench.json`` and ``bench.png`` into ``out``.

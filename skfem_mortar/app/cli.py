@@ -27,7 +27,7 @@ import traceback
 import warnings
 from typing import Callable, NoReturn, Sequence
 
-from ..contact import BUILTIN_METHODS
+from ..contact import BUILTIN_METHODS, DEFAULT_METHOD
 
 __all__ = ["main"]
 
@@ -128,6 +128,7 @@ def _cmd_scenes(args: argparse.Namespace) -> int:
     if args.json:
         print(json.dumps([{"name": s.name, "summary": s.summary,
                            "methods": [m for m in s.methods if m is not None],
+                           "default_method": s.check_method(None),
                            "default_steps": s.default_steps,
                            "one_step": s.one_step_text or None,
                            "parameters": {p.name: {"default": p.default, "doc": p.doc,
@@ -135,7 +136,9 @@ def _cmd_scenes(args: argparse.Namespace) -> int:
                                           for p in s.params}} for s in scenes]))
         return 0
     for s in scenes:
-        methods = ", ".join(m for m in s.methods if m is not None) or "-"
+        default = s.check_method(None)
+        methods = ", ".join(m + (" (default)" if m == default else "")
+                            for m in s.methods if m is not None) or "-"
         one = f", 1 {s.one_step_text}" if s.one_step_text else ""
         print(f"{s.name}: {s.summary}  [methods: {methods}; default steps: {s.default_steps}{one}]")
         for p in s.params:
@@ -227,10 +230,22 @@ def _cmd_bench(args: argparse.Namespace) -> int:
     return 0
 
 
+def _scene_names() -> list[str]:
+    """The scenes' names, from the modules of :mod:`skfem_mortar.scenes` (none is
+    imported: ``--help`` stays as fast as the rest of the command line)."""
+    import importlib.util
+    import pkgutil
+
+    spec = importlib.util.find_spec("skfem_mortar.scenes")
+    paths = list(spec.submodule_search_locations or []) if spec else []
+    return sorted(m.name for m in pkgutil.iter_modules(paths) if not m.name.startswith("_"))
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = _Parser(
         prog="skfem-mortar",
-        description="Large-deformation frictionless contact (NTS and mortar) on scikit-fem.",
+        description="Large-deformation contact (NTS and mortar, frictionless or with "
+                    "Coulomb or Tresca friction) for 2D models on scikit-fem.",
         epilog="exit codes: 0 ok, 1 did not converge, 2 bad input or refusal, 3 an output "
                "could not be written, 4 internal error, 130 interrupted")
     parser.add_argument("-v", "--verbose", action="store_true", help="log solver details")
@@ -241,9 +256,13 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--json", action="store_true")
     p.set_defaults(func=_cmd_scenes)
 
-    p = sub.add_parser("run", help="run a scene")
-    p.add_argument("scene")
-    p.add_argument("--method", choices=BUILTIN_METHODS, default=None)
+    names = ", ".join(_scene_names())
+    p = sub.add_parser("run", help="run a scene",
+                       description=f"Run a scene: {names}. `skfem-mortar scenes` lists "
+                                   "their parameters, defaults and allowed ranges.")
+    p.add_argument("scene", help=f"one of {names}")
+    p.add_argument("--method", choices=BUILTIN_METHODS, default=None,
+                   help=f"contact method (default: {DEFAULT_METHOD}, for a scene with contact)")
     p.add_argument("--set", action="append", default=[], metavar="NAME=VALUE",
                    help="override a scene parameter (repeatable, once per parameter)")
     p.add_argument("--steps", type=steps, default=None, help="number of load steps (>= 1)")
@@ -294,7 +313,8 @@ def build_parser() -> argparse.ArgumentParser:
 
     p = sub.add_parser("bench", help="per-phase timings and peak memory at growing sizes")
     p.add_argument("--scene", action="append", choices=["hertz", "seed"])
-    p.add_argument("--method", choices=BUILTIN_METHODS, default="mortar")
+    p.add_argument("--method", choices=BUILTIN_METHODS, default=DEFAULT_METHOD,
+                   help=f"contact method (default: {DEFAULT_METHOD})")
     p.add_argument("--quick", action="store_true", help="small sizes only (for CI)")
     p.add_argument("--max-dofs", type=_int_at_least(1), default=None,
                    help="run no size with more displacement dofs than this (>= 1)")
@@ -308,7 +328,9 @@ def build_parser() -> argparse.ArgumentParser:
 
     p = sub.add_parser("demo", help="run the demo scene and write its outputs")
     p.add_argument("--out", type=_out_dir, default="skfem-mortar-demo")
-    p.add_argument("--method", choices=BUILTIN_METHODS, default="mortar")
+    p.add_argument("--method", choices=BUILTIN_METHODS, default=DEFAULT_METHOD,
+                   help=f"contact method of the run (default: {DEFAULT_METHOD}); "
+                        "pressure.png compares it with NTS (with mortar if it is NTS)")
     p.add_argument("--replace", action="store_true",
                    help="remove the files of an earlier run in --out first")
     p.set_defaults(func=_cmd_demo)

@@ -40,7 +40,7 @@ def pressure_curves(method: str, result, setup, n_curves: int = 4) -> list[dict]
     return curves
 
 
-def run_demo(out: str | Path = "skfem-mortar-demo", method: str = "mortar",
+def run_demo(out: str | Path = "skfem-mortar-demo", method: str = "mortar-dual",
              progress: bool = True, params: dict | None = None,
              replace: bool = False) -> dict:
     """Run the demo and write everything into ``out``; return the summary.
@@ -62,7 +62,7 @@ def run_demo(out: str | Path = "skfem-mortar-demo", method: str = "mortar",
                title=f"inflated cable against a soft cushion ({method})")
         plot_newton(summary["steps"], out / "newton.png",
                     title=f"seed ({method}): Newton convergence per load step")
-        other = "nts" if method != "nts" else "mortar"
+        other = "nts" if method != "nts" else "mortar-dual"
         _, result2, setup2 = run_scene("seed", params, method=other, progress=False,
                                        return_result=True)
         curves = pressure_curves(method, result, setup) + pressure_curves(other, result2, setup2)

@@ -311,8 +311,12 @@ class ContactPair(Item):
         Deformable surface whose nodes carry the multipliers.
     master : ContactSurface
         Deformable or rigid surface.
-    method : {"nts", "mortar", "mortar-dual"} or a registered name
-        The contact discretization (:func:`~skfem_mortar.contact.discretization.make_method`).
+    method : {"mortar-dual", "mortar", "nts"} or a registered name
+        The contact discretization (:func:`~skfem_mortar.contact.discretization.make_method`);
+        default ``"mortar-dual"`` (dual mortar: passes the non-matching patch
+        test, pressures without standard mortar's alternating edge tail). NTS
+        is the cheapest and fine against a rigid or matching master, but 6 to
+        47 % off the patch test on non-matching deformable meshes.
     name : str
     c : float, optional
         Complementarity parameter (> 0); default from the bodies' stiffness.
@@ -365,7 +369,7 @@ class ContactPair(Item):
     symmetric = False
     phase = "contact"
 
-    def __init__(self, slave: Any, master: Any, method: str = "nts", name: str = "contact",
+    def __init__(self, slave: Any, master: Any, method: str = "mortar-dual", name: str = "contact",
                  c: float | None = None, cycle_guard: bool = True,
                  touch_tolerance: float = 1e-2, segmentation: str = "iteration",
                  accelerate: bool = True, friction: Coulomb | Tresca | None = None,

@@ -31,7 +31,7 @@ from typing import Any, Callable, Sequence
 
 import numpy as np
 
-from ..contact import BUILTIN_METHODS
+from ..contact import BUILTIN_METHODS, DEFAULT_METHOD
 
 __all__ = ["Param", "Derived", "Scene", "Setup", "get_scene", "list_scenes", "METHODS",
            "max_dofs", "MAX_STEPS", "SAFE_LOW", "SAFE_HIGH", "press_then_slide"]
@@ -465,8 +465,8 @@ class Scene:
         return _short(lo, works), _short(hi, works)
 
     def check_method(self, method: str | None) -> str | None:
-        if method is None:
-            return self.methods[0]
+        if method is None:  # the package's default where the scene offers it
+            return DEFAULT_METHOD if DEFAULT_METHOD in self.methods else self.methods[0]
         if method not in self.methods:
             allowed = ", ".join(str(m) for m in self.methods if m is not None) or "none"
             raise ValueError(f"method must be one of {allowed} for scene {self.name!r}, "
