@@ -1,8 +1,10 @@
-"""skfem-mortar: large-deformation frictionless contact for scikit-fem.
+"""skfem-mortar: large-deformation contact for scikit-fem, in 2D.
 
-Node-to-segment and mortar contact with Lagrange multipliers, nonlinear cables
-under follower pressure and hyperelastic solids, solved by one block Newton
-method over displacements and multipliers.
+Node-to-segment and mortar contact (dual mortar by default) with Lagrange
+multipliers, frictionless or with Coulomb or Tresca friction, mortar tying,
+nonlinear cables under follower pressure and hyperelastic solids (plane strain
+or plane stress), solved by one block Newton method over displacements and
+multipliers. Axisymmetric and 3D models are not supported yet.
 """
 from __future__ import annotations
 

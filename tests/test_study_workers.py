@@ -31,3 +31,21 @@ def test_a_point_that_kills_its_worker_is_a_failed_row(tmp_path, monkeypatch):
     assert [w["status"] for w in written] == [r["status"] for r in rows]
     report = (tmp_path / "report.md").read_text()
     assert "failed: worker died" in report
+
+
+
+def test_no_progress_study_on_workers_prints_nothing_of_dask(tmp_path):
+    """`study --workers 1 --no-progress` as a user runs it (a process of its own:
+    in pytest the root logger's handler is pytest's): dask's scheduler and nanny
+    log their start and stop at INFO into the command line's handler unless kept
+    to warnings; a quiet study writes only its closing line (stdout)."""
+    import subprocess
+    import sys
+
+    proc = subprocess.run([sys.executable, "-m", "skfem_mortar.app.cli", "study", "--scene",
+                           "block", "--quick", "--workers", "1", "--no-progress",
+                           "--out", str(tmp_path / "st")],
+                          capture_output=True, text=True, timeout=300)
+    assert proc.returncode == 0, proc.stderr
+    assert "distributed" not in proc.stderr and "INFO" not in proc.stderr, proc.stderr
+    assert "runs (0 failed)" in proc.stdout

@@ -53,6 +53,8 @@ from typing import Any, Iterator, Sequence
 
 import numpy as np
 
+from ..contact import DEFAULT_METHOD
+
 __all__ = ["StudyPlan", "plan_study", "run_study", "parse_steps", "error_measures",
            "timing_stats", "GRIDS", "KILL_RETRIES", "SMALL_GRID_RUNS", "SMALL_REPEAT",
            "UNSTEADY_SPREAD", "DEFAULT_TOLERANCES", "PHYSICS_AXES"]
@@ -597,6 +599,11 @@ class _Pool:
             return
         import logging
 
+        # dask's own config sets its loggers to INFO, and their records reach the
+        # command line's handler whatever its level: the scheduler's and nanny's
+        # start/stop chatter is kept to warnings unless -v asked for DEBUG
+        if logging.getLogger().getEffectiveLevel() > logging.DEBUG:
+            logging.getLogger("distributed").setLevel(logging.WARNING)
         # the scheduler runs in this process: a point that kills its worker is
         # given up (KilledWorker) after KILL_RETRIES retries on fresh workers.
         # worker-saturation 1: a worker holds only the point it runs (dask's
@@ -776,7 +783,7 @@ def _references(plan: StudyPlan, out: Path) -> dict[str, dict]:
                 if variant else json.dumps({k: ref[k] for k in ("metrics", "params")},
                                            sort_keys=True)
             if cache.get(name, {}).get("key") != key:
-                summary = run_scene(scene, params, method="mortar")
+                summary = run_scene(scene, params, method=DEFAULT_METHOD)
                 values = {q: summary["metrics"].get(q) for q in ref["metrics"]}
                 cache[name] = {"key": key, "values": values, "params": params}
                 write_json(path, cache)
