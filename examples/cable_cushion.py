@@ -29,10 +29,10 @@ cable = Cable.between((-1.0, 0.0), (1.0, 0.0), 2.4, 48, bulge="left", EA=50.0, l
 pressure = FollowerPressure(cable, 20.0, side="left", name="pressure")
 
 # %%
-# Contact: the cable's upper side (slave) against the cushion's bottom (master).
+# Contact: the cable's upper side (slave) against the cushion's bottom (master),
+# with the default method, dual mortar (``method="mortar"`` or ``"nts"`` for the others).
 pair = ContactPair(ContactSurface.from_cable(cable, side="left"),
-                   ContactSurface.from_solid(cushion, "bottom"), method="mortar",
-                   name="contact")
+                   ContactSurface.from_solid(cushion, "bottom"), name="contact")
 model = Model([cable, cushion, pressure, pair,
                Dirichlet(cable, cable.support_dofs(), name="supports"),
                Dirichlet(cushion, cushion.dofs_on("top"), name="clamp")])
