@@ -71,14 +71,14 @@ def test_the_same_item_twice_is_refused():
 
 
 @pytest.mark.parametrize("kw, match", [
-    (dict(margn=0.1), r"unknown option 'margn' for method 'nts'; its options are.*"
+    (dict(method="nts", margn=0.1), r"unknown option 'margn' for method 'nts'; its options are.*"
                       r"did you mean 'margin'\?"),
     (dict(method="mortar", frcition=None), r"unknown option 'frcition' .*ContactPair's own "
                                           r"keywords .*did you mean 'friction'\?"),
     (dict(method="mortar", n_gauss=0), r"n_gauss must be an integer in \[1, 10\]"),
     (dict(method="mortar", n_gauss=2.5), r"n_gauss must be an integer in \[1, 10\]"),
     (dict(margin=NAN), "margin must be a finite number > 0"),
-    (dict(stick=0.9), r"stick must be a number in \[0, 0.5\]"),
+    (dict(method="nts", stick=0.9), r"stick must be a number in \[0, 0.5\]"),
     (dict(c=NAN), "c must be a finite number > 0"),
     (dict(touch_tolerance=-1.0), "touch_tolerance must be a finite number >= 0"),
     (dict(accelerate="yes"), "accelerate must be True or False"),

@@ -56,7 +56,7 @@ def test_demo_writes_everything(tmp_path, capsys):
                  "cable.pvd", "cushion.pvd"):
         assert (out / name).stat().st_size > 0, name
     summary = json.loads((out / "summary.json").read_text())
-    assert summary["scene"] == "seed" and summary["method"] == "mortar"
+    assert summary["scene"] == "seed" and summary["method"] == "mortar-dual"
     frames = read_series(out / "cushion.pvd")
     assert len(frames) == len(summary["steps"]) + 1  # one frame per load step (+ the start)
     for _, mesh in frames:  # read back with meshio: the named fields, no NaN

@@ -152,7 +152,7 @@ def test_friction_cost_pairs_each_friction_row_with_its_frictionless_one():
 
 
 def test_study_over_mu_reports_friction_cost(tmp_path, monkeypatch):
-    """A tiny seed grid (mortar, the coarse level, mu = 0 and 0.3): every row
+    """A tiny seed grid (mortar-dual, the references' method, the coarse level, mu = 0 and 0.3): every row
     runs, and the report's friction_cost section gives the mu = 0.3 run's
     iterations and times against the mu = 0 one.  The reference run is made at
     the grid's own level (to keep the test short), so each row's reference
@@ -160,13 +160,13 @@ def test_study_over_mu_reports_friction_cost(tmp_path, monkeypatch):
     frictionless reference the mu = 0.3 run's contact force is 1.8 % off)."""
     monkeypatch.setitem(study.GRIDS["seed"], "reference_params",
                         {"n_cable": 24, "refine_cushion": 1})
-    rows = run_study(["seed"], tmp_path, quick=True, methods=["mortar"], sets={"mu": "0,0.3"},
+    rows = run_study(["seed"], tmp_path, quick=True, methods=["mortar-dual"], sets={"mu": "0,0.3"},
                      repeat=1)
     assert [r["status"] for r in rows] == ["ok", "ok"]
     report = (tmp_path / "report.md").read_text()
     section = report.split("### friction_cost")[1]
     dry, wet = sorted(rows, key=lambda r: r["param.mu"])
-    line = next(l for l in section.splitlines() if l.startswith("| mortar"))
+    line = next(l for l in section.splitlines() if l.startswith("| mortar-dual"))
     cells = [c.strip() for c in line.strip("|").split("|")]
     assert cells[2] == "0.3"
     assert cells[3] == f"{wet['newton_iterations']:.3g}"

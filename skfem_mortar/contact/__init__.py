@@ -14,7 +14,7 @@ every name of that module resolves here, lazily, to the same object.
 """
 from .._former import forward
 
-__all__ = ["ContactPair", "METHODS", "BUILTIN_METHODS", "DEFAULT_METHOD"]
+__all__ = ["ContactPair", "METHODS", "BUILTIN_METHODS"]  # and DEFAULT_METHOD
 
 #: the contact methods that come with the package (registered by
 #: :mod:`.discretization`; the scenes and the command line offer these); here,
