@@ -102,8 +102,10 @@ def run_scene(name: str, params: dict[str, Any] | None = None, method: str | Non
     resume : bool
         Continue from ``out/checkpoint/`` if it belongs to the same scene,
         method, parameters and steps (ValueError if it belongs to another run
-        or does not pass validation). The resumed run makes the same solves as
-        an uninterrupted one from the last checkpointed step on; a finished
+        or does not pass validation: a file that is not a step file of this
+        run, or a state that is not converged at its load factor,
+        :mod:`~skfem_mortar.solver.resume_check`). The resumed run makes the
+        same solves as an uninterrupted one from the last checkpointed step on; a finished
         run redoes its last step, so its outputs and metrics come out as they were.
     replace : bool
         Remove the files of the run ``out`` holds before starting (never a file
