@@ -14,6 +14,7 @@ more than 1e-8).
 """
 from __future__ import annotations
 
+import json
 import os
 import shutil
 from contextlib import contextmanager
@@ -61,6 +62,18 @@ def renames(kill_at: int | None = None) -> Iterator[list[tuple[str, int]]]:
 def copy_run(src: Path, dst: Path) -> Path:
     shutil.copytree(src, dst)
     return dst
+
+
+def edit_step(path: Path, edit: Callable[[dict, dict], None]) -> None:
+    """Rewrite the checkpoint step file ``path`` after ``edit(arrays, header)``
+    changed its arrays (``z``, ``item_<i>``) or its header in place."""
+    with np.load(path) as data:
+        arrays = {k: data[k] for k in data.files}
+    header = json.loads(str(arrays["header"]))
+    edit(arrays, header)
+    arrays["header"] = np.array(json.dumps(header))
+    with open(path, "wb") as f:
+        np.savez(f, **arrays)
 
 
 def _close(a: np.ndarray, b: np.ndarray, scale: float, what: str) -> None:

@@ -15,6 +15,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from resume_tools import Killed
 
 import skfem_mortar.app.runner as runner
 from skfem_mortar.app.cli import main
@@ -229,3 +230,88 @@ def test_unrelated_files_are_never_removed(tmp_path, capsys):
         assert main(["run", *SHORT, "--out", str(out), *extra]) == 2
         assert "notes.txt" in _one_line(capsys.readouterr().err)
     assert sorted(p.name for p in out.iterdir()) == ["notes.txt"]
+
+
+# -- a kill while the lock is taken (issue 32) --------------------------------------
+
+def _old_empty_lock(out: Path, age_s: float) -> Path:
+    """The lock a kill between its creation and its content left (older
+    versions created it empty, then wrote it), ``age_s`` seconds ago."""
+    lock = out / LOCK_NAME
+    lock.write_bytes(b"")
+    os.utime(lock, (time.time() - age_s,) * 2)
+    return lock
+
+
+@pytest.mark.parametrize("flag", ["", "--resume", "--replace"])
+def test_an_empty_lock_a_minute_old_is_taken_over_with_a_note(tmp_path, capsys, caplog, flag):
+    out = tmp_path / "run"
+    assert main(["run", *SHORT, "--out", str(out)]) == 0
+    (out / "summary.json").unlink()  # killed after its last step
+    lock = _old_empty_lock(out, 3600.0)
+    argv = ["run", *SHORT, "--out", str(out)] + ([flag] if flag else [])
+    code = main(argv)
+    err = capsys.readouterr().err
+    assert "took over the stale lock" in caplog.text and "unreadable" in caplog.text
+    assert not lock.exists()
+    if flag:  # resumed or replaced: the run ends as any other
+        assert code == 0, err
+        assert json.loads((out / "summary.json").read_text())["converged"]
+    else:  # the lock is no longer what stops it: the other run's files are
+        assert code == 2 and "holds the files of another run" in _one_line(err)
+
+
+def test_a_young_unreadable_lock_is_refused_as_being_written(tmp_path, capsys):
+    out = tmp_path / "run"
+    out.mkdir()
+    # 1 s old: a run may be writing it (taken over from UNREADABLE_LOCK_AGE_S = 60 s on)
+    lock = _old_empty_lock(out, 1.0)
+    assert main(["run", *SHORT, "--out", str(out)]) == 2
+    assert "being written or unreadable" in _one_line(capsys.readouterr().err)
+    assert lock.exists() and lock.read_bytes() == b""
+    assert sorted(p.name for p in out.iterdir()) == [LOCK_NAME]
+
+
+def test_a_lock_is_never_seen_without_its_content(tmp_path, monkeypatch):
+    """The lock appears by a link of a written temporary file: a kill before
+    the link leaves no lock, and the lock is whole once it is there."""
+    out = tmp_path / "run"
+    out.mkdir()
+    real_link = os.link
+    seen = []
+
+    def killed_at_link(src, dst, **kw):
+        seen.append((Path(dst).exists(), json.loads(Path(src).read_text())["pid"]))
+        raise Killed  # the kill, before the lock is in place
+
+    monkeypatch.setattr(os, "link", killed_at_link)
+    with pytest.raises(Killed):
+        main(["run", *SHORT, "--out", str(out)])
+    assert seen == [(False, os.getpid())]  # the content was written before the link
+    assert not (out / LOCK_NAME).exists()
+    monkeypatch.setattr(os, "link", real_link)
+    assert main(["run", *SHORT, "--out", str(out)]) == 0
+
+
+def test_without_hard_links_the_lock_is_still_taken(tmp_path, monkeypatch, capsys):
+    def no_links(src, dst, **kw):
+        raise OSError(errno.EPERM, "Operation not permitted")
+
+    monkeypatch.setattr(os, "link", no_links)
+    out = tmp_path / "run"
+    assert main(["run", *SHORT, "--out", str(out)]) == 0
+    assert not (out / LOCK_NAME).exists()
+    assert not [p for p in out.iterdir() if p.name.startswith(LOCK_NAME)]
+
+
+def test_a_dead_runs_lock_does_not_stop_a_resume(tmp_path, capsys, caplog):
+    out = tmp_path / "run"
+    assert main(["run", *SHORT, "--out", str(out)]) == 0
+    (out / "summary.json").unlink()
+    gone = subprocess.Popen([sys.executable, "-c", "pass"])
+    gone.wait()  # reaped: its pid is no process now
+    (out / LOCK_NAME).write_text(json.dumps({"host": socket.gethostname(), "pid": gone.pid,
+                                             "started": "earlier", "command": "run"}))
+    assert main(["run", *SHORT, "--out", str(out), "--resume"]) == 0
+    assert "took over the stale lock" in caplog.text and str(gone.pid) in caplog.text
+    assert not (out / LOCK_NAME).exists()

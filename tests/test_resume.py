@@ -11,7 +11,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from resume_tools import assert_same_frames, assert_same_summary, copy_run, renames
+from resume_tools import assert_same_frames, assert_same_summary, copy_run, edit_step, renames
 
 from skfem_mortar.app.cli import main
 from skfem_mortar.output.io import read_checkpoint, read_series
@@ -101,16 +101,6 @@ def interrupted(finished, tmp_path):
     return out
 
 
-def _edit_step(path, edit):
-    with np.load(path) as data:
-        arrays = {k: data[k] for k in data.files}
-    header = json.loads(str(arrays["header"]))
-    edit(arrays, header)
-    arrays["header"] = np.array(json.dumps(header))
-    with open(path, "wb") as f:
-        np.savez(f, **arrays)
-
-
 def _item(arrays, header, key):
     return f"item_{header['items'].index(['contact', key])}"
 
@@ -130,30 +120,30 @@ def _edit_index(path, edit):
 
 
 CORRUPTIONS = {  # what is done to the checkpoint, which file is named, what it says
-    "state shape": (2, lambda p: _edit_step(p, lambda a, h: _set(a, "z", a["z"][:-1])),
+    "state shape": (2, lambda p: edit_step(p, lambda a, h: _set(a, "z", a["z"][:-1])),
                     r"state of shape \(\d+,\)"),
-    "state NaN": (2, lambda p: _edit_step(p, lambda a, h: a["z"].__setitem__(0, np.nan)),
+    "state NaN": (2, lambda p: edit_step(p, lambda a, h: a["z"].__setitem__(0, np.nan)),
                   "non-finite values in the state"),
-    "decreasing load factor": (2, lambda p: _edit_step(
+    "decreasing load factor": (2, lambda p: edit_step(
         p, lambda a, h: _set(h["record"], "load_factor", 0.1)), "must increase"),
-    "load factor above 1": (3, lambda p: _edit_step(
+    "load factor above 1": (3, lambda p: edit_step(
         p, lambda a, h: _set(h["record"], "load_factor", 1.5)), "must increase"),
-    "negative count": (1, lambda p: _edit_step(
+    "negative count": (1, lambda p: edit_step(
         p, lambda a, h: _set(h["record"], "newton_iterations", -1)), "integers >= 0"),
-    "another run's step": (1, lambda p: _edit_step(p, lambda a, h: _set(h, "run", "x")),
+    "another run's step": (1, lambda p: edit_step(p, lambda a, h: _set(h, "run", "x")),
                            "leftover of another run"),
     "truncated step": (1, _truncate, "not a readable step file"),
     "missing step": (2, lambda p: p.unlink(), "missing"),
     "oversized step": (2, lambda p: p.write_bytes(p.read_bytes() + bytes(2 << 20)),
                        "more than"),
-    "bad controller": (2, lambda p: _edit_step(
+    "bad controller": (2, lambda p: edit_step(
         p, lambda a, h: _set(h["controller"], "increment", 0.0)), r"increment must lie"),
-    "controller off the steps": (2, lambda p: _edit_step(
+    "controller off the steps": (2, lambda p: edit_step(
         p, lambda a, h: _set(h["controller"], "lf_prev", 0.5)), "does not fit"),
-    "item state shape": (2, lambda p: _edit_step(
+    "item state shape": (2, lambda p: edit_step(
         p, lambda a, h: _set(a, _item(a, h, "active"), np.ones(1, bool))),
         "entry 'active' has shape"),
-    "item state NaN": (2, lambda p: _edit_step(
+    "item state NaN": (2, lambda p: edit_step(
         p, lambda a, h: a[_item(a, h, "x0_slave")].__setitem__((0, 0), np.inf)),
         "non-finite or not numeric"),
     "truncated index": (None, _truncate, "not a readable index"),

@@ -11,6 +11,7 @@ import numpy as np
 from ..core.errors import ConvergenceError
 from ..solver.observers import CheckpointObserver, ContactCsv, Observer, SeriesObserver
 from ..scenes import Setup, get_scene
+from ..solver.newton import NewtonOptions
 from ..solver.stepping import Controller, Restart, Result, StepRecord, solve, stateful_items
 
 __all__ = ["build_scene", "run_scene"]
@@ -101,8 +102,10 @@ def run_scene(name: str, params: dict[str, Any] | None = None, method: str | Non
     resume : bool
         Continue from ``out/checkpoint/`` if it belongs to the same scene,
         method, parameters and steps (ValueError if it belongs to another run
-        or does not pass validation). The resumed run makes the same solves as
-        an uninterrupted one from the last checkpointed step on; a finished
+        or does not pass validation: a file that is not a step file of this
+        run, or a state that is not converged at its load factor,
+        :mod:`~skfem_mortar.solver.resume_check`). The resumed run makes the
+        same solves as an uninterrupted one from the last checkpointed step on; a finished
         run redoes its last step, so its outputs and metrics come out as they were.
     replace : bool
         Remove the files of the run ``out`` holds before starting (never a file
@@ -148,8 +151,6 @@ def _newton_with(kwargs: dict, linear: str) -> dict:
     Newton settings kept)."""
     from dataclasses import replace as _replace
 
-    from ..solver.newton import NewtonOptions
-
     opts = kwargs.pop("newton_options", None) or kwargs.get("newton") or NewtonOptions()
     return {**kwargs, "newton": _replace(opts, linear=linear)}
 
@@ -177,7 +178,8 @@ def _run_scene(name: str, params: dict[str, Any] | None, method: str | None,
     recorder = _Recorder(out, setup, meta) if out is not None else None
     earlier: list[np.ndarray] = []
     if recorder is not None:
-        restart = recorder.restart() if resume else None
+        restart = recorder.restart(kwargs.get("newton") or kwargs.get("newton_options")
+                                   ) if resume else None
         if restart is not None:
             earlier = list(recorder.earlier)
             kwargs["restart"] = restart
@@ -296,9 +298,11 @@ class _Recorder(Observer):
     def legacy(self) -> Path:
         return self.checkpoints.legacy
 
-    def restart(self) -> Restart | None:
+    def restart(self, newton: NewtonOptions | None = None) -> Restart | None:
         """The :class:`Restart` of a validated checkpoint of this run (None: none there,
-        or nothing to resume). A finished run restarts before its last step.
+        or nothing to resume). A finished run restarts before its last step, from
+        a state that is converged at its load factor (re-checked with the run's
+        Newton settings ``newton``, :mod:`~skfem_mortar.solver.resume_check`).
 
         Raises
         ------
@@ -306,7 +310,8 @@ class _Recorder(Observer):
             For a checkpoint of another run or one that fails validation,
             naming the file and what is wrong.
         """
-        from ..output.io import read_checkpoint
+        from ..output.checkpoint import read_checkpoint
+        from ..solver.resume_check import check_restart
 
         model = self.setup.model
         ck = read_checkpoint(self.checkpoint, self.meta, n=model.n,
@@ -332,12 +337,14 @@ class _Recorder(Observer):
             raise ValueError(f"checkpoint {source}: controller {ck.controllers[r]} does not "
                              f"fit the step records (load factor before {lfs[r - 1]!r}, "
                              f"increment {history[-1].increment!r})")
+        restart = Restart(ck.states[r].copy(), float(lfs[r]), history, ctl,
+                          previous=ck.states[r - 1].copy(), items=ck.items[r],
+                          source=f"checkpoint {source}")
+        check_restart(model, restart, ck.items[r - 1], newton)
         self.checkpoints.run, self.checkpoints.k = ck.run, r + 1
         self.records = list(history)
         self.earlier, self.lfs = list(ck.states[:r + 1]), list(lfs[:r + 1])
-        return Restart(ck.states[r].copy(), float(lfs[r]), history, ctl,
-                       previous=ck.states[r - 1].copy(), items=ck.items[r],
-                       source=f"checkpoint {source}")
+        return restart
 
     def begin(self, earlier: list[np.ndarray]) -> None:
         """Start the outputs: a fresh checkpoint and series, or (resumed) keep the

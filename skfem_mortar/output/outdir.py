@@ -1,12 +1,19 @@
 """An output directory holds one run: its lock and the manifest of its files.
 
-The lock ``DIR/.skfem-mortar.lock`` is created atomically (``O_CREAT | O_EXCL``)
-and holds, as JSON, the host, the process id (and, on Linux, that process's
+The lock ``DIR/.skfem-mortar.lock`` is created atomically with its content:
+written to a temporary file beside it, then linked into place (``os.link``
+fails if the lock exists), so no run ever sees a lock without its content.
+It holds, as JSON, the host, the process id (and, on Linux, that process's
 start time, so that a reused pid is not taken for the run), the start time,
 the command and a token. A second run on a locked directory is refused. A lock
 whose process is gone (same host, pid not alive) is stale: it is taken over
 with a one-line note. A lock taken on another host is never judged: the run is
-refused, naming that host.
+refused, naming that host. A lock that cannot be read (empty, not JSON, no
+host or pid: left by a kill while an older version wrote it, or on a file
+system without hard links, where it is created with ``O_CREAT | O_EXCL`` and
+then written) is being written while it is younger than
+:data:`UNREADABLE_LOCK_AGE_S` (60 s): the run is refused; older, it is stale
+and taken over with the same one-line note.
 
 The manifest ``DIR/.skfem-mortar-run.json`` names the run (its identity: scene,
 method, parameters, steps) and the top-level entries it writes (series, their
@@ -20,6 +27,7 @@ removed passes for a finished or resumable run), never a file it does not list.
 """
 from __future__ import annotations
 
+import errno
 import json
 import logging
 import os
@@ -39,6 +47,12 @@ MANIFEST_NAME = ".skfem-mortar-run.json"
 MANIFEST_FORMAT = "skfem-mortar outputs 1"
 #: a lock or manifest larger than this is not ours (bytes)
 MAX_META_BYTES = 1 << 20
+#: age (seconds, by its modification time) from which a lock that cannot be
+#: read is stale: writing one takes microseconds, so a lock unreadable for a
+#: minute was left by a kill between its creation and its content
+UNREADABLE_LOCK_AGE_S = 60.0
+#: the errors of ``os.link`` on a file system without hard links
+_NO_LINK = {errno.EPERM, errno.EOPNOTSUPP, errno.ENOTSUP, errno.ENOSYS, errno.EXDEV}
 #: the frame files of a series directory ``<name>/<name>_NNNN.vtu``
 _FRAME = re.compile(r"(?P<name>.+)_\d{4,}\.vtu")
 
@@ -106,7 +120,8 @@ def _describe_lock(held: dict) -> str:
 
 
 def _read_lock(path: Path) -> dict | None:
-    """The lock's content; None if it vanished; {} if unreadable (being written)."""
+    """The lock's content; None if it vanished; {} if unreadable (being written,
+    or not a lock: no host and pid)."""
     try:
         if path.stat().st_size > MAX_META_BYTES:
             return {}
@@ -115,7 +130,21 @@ def _read_lock(path: Path) -> dict | None:
         return None
     except (OSError, UnicodeDecodeError, json.JSONDecodeError):
         return {}
-    return held if isinstance(held, dict) else {}
+    if not isinstance(held, dict):
+        return {}
+    pid = held.get("pid")
+    if not (isinstance(held.get("host"), str) and isinstance(pid, int)
+            and not isinstance(pid, bool) and pid > 0):
+        return {}
+    return held
+
+
+def _age(path: Path) -> float | None:
+    """Seconds since ``path`` was last modified (None if it vanished)."""
+    try:
+        return time.time() - path.stat().st_mtime
+    except FileNotFoundError:
+        return None
 
 
 def _is_stale(held: dict) -> bool:
@@ -129,36 +158,42 @@ def _is_stale(held: dict) -> bool:
 
 def _take_over(path: Path, held: dict) -> None:
     """Move a stale lock aside; put it back if what was moved is not the lock judged
-    stale (another run took it over in between)."""
+    stale (another run took it over in between, or an unreadable lock is a new
+    one being written)."""
     aside = path.with_name(f"{LOCK_NAME}.{os.getpid()}.{os.urandom(4).hex()}.stale")
     try:
         os.rename(path, aside)
     except FileNotFoundError:
         return
-    moved = _read_lock(aside)
-    if moved != held:
+    moved, age = _read_lock(aside), _age(aside)
+    if moved != held or (not held and not (age or 0.0) >= UNREADABLE_LOCK_AGE_S):
         try:
             os.link(aside, path)
         except OSError:
             pass  # a newer lock is in place: the next attempt reads it
-    else:
+    elif held:
         _log.warning("%s: took over the stale lock of %s (that process is gone)",
                      path.parent, _describe_lock(held))
+    else:
+        _log.warning("%s: took over the stale lock %s (unreadable, %.0f s old: its run was "
+                     "killed while taking it)", path.parent, path.name, age)
     aside.unlink(missing_ok=True)
 
 
 def _busy(directory: Path, held: dict) -> OutputDirError:
     if not held:
         return OutputDirError(f"--out {directory} is in use: its lock {directory / LOCK_NAME} "
-                              "is being written or unreadable; remove it if no run uses "
-                              "the directory")
+                              "is being written or unreadable (taken over once "
+                              f"{UNREADABLE_LOCK_AGE_S:.0f} s old); try again then, or "
+                              "remove it if no run uses the directory")
     where = "" if held.get("host") == socket.gethostname() else " (another host: not checked)"
     return OutputDirError(f"--out {directory} is in use by the {_describe_lock(held)}{where}; "
                           "wait for it to end or use another --out")
 
 
-def _create_lock(path: Path, info: dict) -> bool:
-    """Create the lock file with ``info``; False if it exists."""
+def _write_new(path: Path, info: dict) -> bool:
+    """Create ``path`` (``O_CREAT | O_EXCL``) and write ``info`` into it; False if
+    it exists."""
     try:
         fd = os.open(path, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o644)
     except FileExistsError:
@@ -170,6 +205,34 @@ def _create_lock(path: Path, info: dict) -> bool:
         path.unlink(missing_ok=True)
         raise
     return True
+
+
+def _create_lock(path: Path, info: dict) -> bool:
+    """Create the lock file with ``info`` in one step (a written temporary file
+    linked into place); False if it exists.  Without hard links: created, then
+    written (an unreadable lock for that moment)."""
+    tmp = path.with_name(f"{LOCK_NAME}.{os.getpid()}.{os.urandom(4).hex()}.tmp")
+    try:
+        _write_new(tmp, info)
+        try:
+            os.link(tmp, path)
+        except FileExistsError:
+            return False
+        except OSError as exc:
+            if exc.errno not in _NO_LINK:
+                raise
+            return _write_new(path, info)
+        return True
+    finally:
+        tmp.unlink(missing_ok=True)
+
+
+def _sweep(directory: Path) -> None:
+    """Remove the lock's temporary files (``.tmp``, ``.stale``) that a kill left
+    (older than :data:`UNREADABLE_LOCK_AGE_S`; a younger one may be in use)."""
+    for p in directory.glob(f"{LOCK_NAME}.*"):
+        if p.suffix in (".tmp", ".stale") and (_age(p) or 0.0) >= UNREADABLE_LOCK_AGE_S:
+            p.unlink(missing_ok=True)
 
 
 def _acquire(directory: Path, command: str) -> str:
@@ -188,11 +251,12 @@ def _acquire(directory: Path, command: str) -> str:
             "token": token}
     for _ in range(5):  # a few rounds: a stale lock taken over, a lock that vanished
         if _create_lock(path, info):
+            _sweep(directory)
             return token
         held = _read_lock(path)
         if held is None:
             continue
-        if not _is_stale(held):
+        if not (_is_stale(held) if held else (_age(path) or 0.0) >= UNREADABLE_LOCK_AGE_S):
             raise _busy(directory, held)
         _take_over(path, held)
     raise _busy(directory, _read_lock(path) or {})
