@@ -15,6 +15,7 @@ contact pair means adding one item class.
 from __future__ import annotations
 
 import time
+import weakref
 from collections import defaultdict
 from dataclasses import dataclass, field
 from typing import Any, Callable, Iterable, Protocol, Sequence, runtime_checkable
@@ -22,6 +23,7 @@ from typing import Any, Callable, Iterable, Protocol, Sequence, runtime_checkabl
 import numpy as np
 import scipy.sparse as sp
 
+from .binding import bind, claim, layout
 from .coo import element_coo
 
 __all__ = ["Contribution", "Item", "ItemProtocol", "Output", "Body", "ContactTable", "Model",
@@ -523,40 +525,68 @@ class Model:
     ValueError
         For an item that is not an :class:`Item` or is listed twice, a body an
         item acts on that is missing, repeated body or pair names, or a
-        ``thickness`` that is not finite and > 0.
+        ``thickness`` that is not finite and > 0; at any use, for a model one
+        of whose items with a history (a contact pair) a later model took.
+
+    Notes
+    -----
+    Bodies, loads and boundary conditions may be in several models (one model
+    per contact method on the same bodies): each model writes its own layout
+    (offsets, thickness) into its items whenever it is used (:meth:`bind`), so
+    solving one model after building or solving another gives its own answer.
+    An item with a history (:attr:`Item.has_history`: a contact pair) belongs
+    to the model built last with it (:mod:`~skfem_mortar.core.binding`).
     """
 
     def __init__(self, items: Sequence[Item], thickness: float = 1.0):
         self.thickness = check_thickness(thickness)
-        self.items: list[Item] = list(items)
-        _check_items(self.items)
+        items = list(items)
+        _check_items(items)
         # bodies and contact pairs name output files and blocks: their names are unique
-        names = [it.name for it in self.items if it.dof_kind is not None]
+        names = [it.name for it in items if it.dof_kind is not None]
         dup = {n for n in names if names.count(n) > 1}
         if dup:
             raise ValueError(f"body and contact pair names must be unique, repeated: "
                              f"{sorted(dup)}")
-        for it in self.items:  # what the items' force helpers multiply by (Item.thickness)
-            it.thickness = self.thickness if it.per_thickness else 1.0
-        offset = 0
-        for kind in ("u", "lam"):
-            for it in self.items:
-                if it.dof_kind == kind:
-                    it.offset = offset
-                    offset += int(it.n_dofs)
-            if kind == "u":
-                self.n_u = offset
-        self.n = offset
+        self._items = items
+        self._ref = weakref.ref(self)  # the token of the layout the items hold
+        claim(self._ref, items)  # an item with a history belongs to this model now
+        # the model's own layout (offsets, thickness), written into the items
+        # at every use (bind): a body may be in several models
+        self._layout, self.n_u, self.n = layout(items, self.thickness)
         self.n_lam = self.n - self.n_u
+        self.bind()
         self.timers: dict[str, float] = defaultdict(float)
         # tangent assembly cache (see _tangent): the last index arrays of every
         # item, and the CSR pattern of the items whose indices did not change
-        self._last_idx: list[tuple[np.ndarray, np.ndarray] | None] = [None] * len(self.items)
-        self._varying = np.zeros(len(self.items), dtype=bool)
+        self._last_idx: list[tuple[np.ndarray, np.ndarray] | None] = [None] * len(items)
+        self._varying = np.zeros(len(items), dtype=bool)
         self._pattern: _Pattern | None = None
         #: how often the fixed pattern was built (the first time and at each
         #: change of a stable item's indices, e.g. a new contact reservation)
         self.pattern_builds = 0
+
+    @property
+    def items(self) -> list[Item]:
+        """The items, in the order given; reading them makes this model's
+        layout the items' own (:meth:`bind`), so every use of the model (the
+        solve's hooks, assembly, preflight, outputs, checkpoints) sees it."""
+        self.bind()
+        return self._items
+
+    def bind(self) -> "Model":
+        """Write this model's layout into its items (each body's and contact
+        pair's ``offset``, every item's ``thickness``) unless they hold it
+        already (an identity check per item); returns the model.
+
+        A body may be in several models (one per contact method, say): each
+        model binds at every use, so solving one after building or solving
+        another gives its own answer.  Call it before an item's own helper on
+        a state of this model (``body.x(z)``) after another model sharing the
+        item was used; a contact pair's helpers can bind their one model
+        themselves (:func:`~skfem_mortar.core.binding.rebind`)."""
+        bind(self, self._ref, self._layout)
+        return self
 
     # -- checkpoint ---------------------------------------------------------
     def state_dict(self) -> dict[str, np.ndarray]:
@@ -638,10 +668,10 @@ class Model:
 
     def __repr__(self) -> str:
         """One line: the items by kind and the unknowns ``n = n_u + n_lam``."""
-        kinds = [it.dof_kind for it in self.items]
+        kinds = [it.dof_kind for it in self._items]  # (no binding: a repr changes nothing)
         counts = {"u": kinds.count("u"), "lam": kinds.count("lam"), None: kinds.count(None)}
         tail = "" if self.thickness == 1.0 else f", thickness {self.thickness:g}"
-        return (f"Model({len(self.items)} items: {counts['u']} with displacements, "
+        return (f"Model({len(self._items)} items: {counts['u']} with displacements, "
                 f"{counts['lam']} with multipliers, {counts[None]} loads and constraints; "
                 f"{self.n} unknowns = {self.n_u} displacements + {self.n_lam} multipliers{tail})")
 
@@ -767,6 +797,9 @@ class Model:
                               for j, i in enumerate(stable))):
             pat = self._pattern = _Pattern(stable, [parts[i] for i in stable], self.n, pat)
             self.pattern_builds += 1
+        elif stable:  # equal indices, maybe new arrays (a body bound again): keep
+            # these, so that the next check is an identity test again
+            pat.idx = [(parts[i].k_rows, parts[i].k_cols) for i in stable]
         if not stable:
             pat = None
         rest = [p for i, p in enumerate(parts) if pat is None or i not in pat.items]
