@@ -345,97 +345,12 @@ class ContactTable(Protocol):
         ...
 
 
-def dof_indices(dofs: Any, n: int, what: str) -> np.ndarray:
-    """Integer dof indices in ``[0, n)`` from ``dofs`` (ValueError otherwise).
-
-    A boolean mask of length ``n`` is taken as the mask it is (its True
-    entries); any other boolean array, non-integer numbers, or indices
-    outside ``[0, n)`` are refused.
-    """
-    a = np.asarray(dofs)
-    if a.dtype == bool:
-        if a.shape != (n,):
-            raise ValueError(f"{what}: a boolean mask must have shape ({n},), got {a.shape}")
-        return np.flatnonzero(a)
-    a = a.ravel()
-    if a.size and not np.issubdtype(a.dtype, np.integer):
-        raise ValueError(f"{what} must be integers in [0, {n}), got {a.dtype} values")
-    a = a.astype(np.int64)
-    if a.size and (a.min() < 0 or a.max() >= n):
-        raise ValueError(f"{what} must lie in [0, {n}), got values in [{a.min()}, {a.max()}]")
-    return a
-
-
-def _check_repeats(value: np.ndarray, inverse: np.ndarray, first: np.ndarray,
-                   dofs: np.ndarray) -> None:
-    """A dof listed twice must be given the same value both times."""
-    kept = value[first][inverse.ravel()]  # the value of each dof's first listing
-    clash = value != kept
-    if np.any(clash):
-        k = int(np.flatnonzero(clash)[0])
-        raise ValueError(f"dof {dofs[k]} is listed twice with different values "
-                         f"({kept[k]} and {value[k]})")
-
-
-class Dirichlet(Item):
-    """Prescribed values of global unknowns, ramped with the load factor.
-
-    ``value(load_factor) = ramp * load_factor * value + (1 - ramp) * value``, or,
-    when ``value`` is a callable, ``value(load_factor)`` itself (a load path,
-    e.g. press a die down, then slide it).
-
-    Parameters
-    ----------
-    body : Item
-        The body whose unknowns are prescribed.
-    dofs : array of int
-        Indices *local to the body's block*.
-    value : float, array or callable
-        Final prescribed value(s) (displacement), or a function of the load
-        factor returning a scalar or one value per dof (in the order of ``dofs``).
-    ramp : bool
-        Scale the value with the load factor (default) or hold it fixed.
-    """
-
-    def __init__(self, body: Item, dofs: np.ndarray, value: float | np.ndarray = 0.0,
-                 ramp: bool = True, name: str = ""):
-        if not isinstance(body, Item) or body.dof_kind != "u":
-            raise ValueError(f"body must be a body of the model (a Solid, Cable, ...), "
-                             f"got {type(body).__name__}")
-        self.body = body
-        dofs = dof_indices(dofs, body.n_dofs, f"dofs of body {body.name!r}")
-        self.local_dofs, self._order, inverse = np.unique(dofs, return_index=True,
-                                                          return_inverse=True)
-        self.path = value if callable(value) else None
-        if self.path is not None:
-            value = np.asarray(self.path(0.0), dtype=float)
-        value = np.asarray(value, dtype=float)
-        if value.ndim and value.shape != dofs.shape:
-            raise ValueError(f"value must be a scalar or one value per dof ({dofs.size}), "
-                             f"got shape {value.shape}")
-        if not np.all(np.isfinite(value)):
-            raise ValueError(f"value must be finite (dirichlet on body {body.name!r})")
-        if value.ndim:  # keep values aligned with the sorted unique dofs
-            _check_repeats(value, inverse, self._order, dofs)
-            value = value[self._order]
-        if not np.all(np.isfinite(value)):
-            raise ValueError("value must be finite")
-        self.value = value
-        self.ramp = ramp
-        self.name = name or f"dirichlet_{body.name}"
-
-    def prescribed(self, load_factor: float) -> tuple[np.ndarray, np.ndarray]:
-        if self.path is not None:
-            vals = np.asarray(self.path(load_factor), dtype=float)
-            vals = vals[self._order] if vals.ndim else vals
-            if not np.all(np.isfinite(vals)):
-                raise ValueError(f"{self.name}: the prescribed path gave non-finite values "
-                                 f"at load factor {load_factor}")
-            return (self.body.offset + self.local_dofs,
-                    np.broadcast_to(vals, self.local_dofs.shape).astype(float))
-        scale = load_factor if self.ramp else 1.0
-        vals = np.broadcast_to(scale * self.value, self.local_dofs.shape).astype(float)
-        return self.body.offset + self.local_dofs, vals
+def __getattr__(name: str) -> Any:
+    # Dirichlet lives in .dirichlet (it subclasses Item); imported from here as before
+    if name == "Dirichlet":
+        from .dirichlet import Dirichlet
+        return Dirichlet
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
 def _check_items(items: list[Item]) -> None:
