@@ -108,6 +108,7 @@ class Item:
     The order of the calls in one solve::
 
         Model(items)                  referenced_bodies, dof_kind, n_dofs -> offset
+                                      (written again at each use: Model.bind)
         solve: prescribed(start)      the fixed dofs of the start state
                preflight              reads the items (skfem_mortar.contact.preflight)
                per attempt of a step:
@@ -129,7 +130,8 @@ class Item:
     n_dofs : int
         How many unknowns the item owns.
     offset : int
-        Global index of the item's first unknown (set by :class:`Model`).
+        Global index of the item's first unknown (set by :class:`Model`:
+        by the model used last when the item is in several, :meth:`Model.bind`).
     phase : str
         Timing bucket of its assembly: "bulk", "contact" or "loads".
     symmetric : bool
@@ -152,7 +154,8 @@ class Item:
         for a :attr:`per_thickness` item, else 1.  Items whose helpers report
         forces (``ContactPair.forces``, ``FollowerPressure.resultant``,
         ``TiePair.forces``) multiply them by it, so that those are totals over
-        ``H`` like the model's residual and reactions.  Default 1 (an item in no model).
+        ``H`` like the model's residual and reactions.  Default 1 (an item in
+        no model); an item in several models has that of the one used last.
     has_history : bool
         Declaration: the item carries state from one load step to the next
         (an active set), i.e. it keeps a :meth:`state_dict`.  Default: whether
