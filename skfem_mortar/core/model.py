@@ -15,6 +15,7 @@ contact pair means adding one item class.
 from __future__ import annotations
 
 import time
+import weakref
 from collections import defaultdict
 from dataclasses import dataclass, field
 from typing import Any, Callable, Iterable, Protocol, Sequence, runtime_checkable
@@ -22,6 +23,7 @@ from typing import Any, Callable, Iterable, Protocol, Sequence, runtime_checkabl
 import numpy as np
 import scipy.sparse as sp
 
+from .binding import bind, claim, layout
 from .coo import element_coo
 
 __all__ = ["Contribution", "Item", "ItemProtocol", "Output", "Body", "ContactTable", "Model",
@@ -106,6 +108,7 @@ class Item:
     The order of the calls in one solve::
 
         Model(items)                  referenced_bodies, dof_kind, n_dofs -> offset
+                                      (written again at each use: Model.bind)
         solve: prescribed(start)      the fixed dofs of the start state
                preflight              reads the items (skfem_mortar.contact.preflight)
                per attempt of a step:
@@ -127,7 +130,8 @@ class Item:
     n_dofs : int
         How many unknowns the item owns.
     offset : int
-        Global index of the item's first unknown (set by :class:`Model`).
+        Global index of the item's first unknown (set by :class:`Model`:
+        by the model used last when the item is in several, :meth:`Model.bind`).
     phase : str
         Timing bucket of its assembly: "bulk", "contact" or "loads".
     symmetric : bool
@@ -150,7 +154,8 @@ class Item:
         for a :attr:`per_thickness` item, else 1.  Items whose helpers report
         forces (``ContactPair.forces``, ``FollowerPressure.resultant``,
         ``TiePair.forces``) multiply them by it, so that those are totals over
-        ``H`` like the model's residual and reactions.  Default 1 (an item in no model).
+        ``H`` like the model's residual and reactions.  Default 1 (an item in
+        no model); an item in several models has that of the one used last.
     has_history : bool
         Declaration: the item carries state from one load step to the next
         (an active set), i.e. it keeps a :meth:`state_dict`.  Default: whether
@@ -343,97 +348,12 @@ class ContactTable(Protocol):
         ...
 
 
-def dof_indices(dofs: Any, n: int, what: str) -> np.ndarray:
-    """Integer dof indices in ``[0, n)`` from ``dofs`` (ValueError otherwise).
-
-    A boolean mask of length ``n`` is taken as the mask it is (its True
-    entries); any other boolean array, non-integer numbers, or indices
-    outside ``[0, n)`` are refused.
-    """
-    a = np.asarray(dofs)
-    if a.dtype == bool:
-        if a.shape != (n,):
-            raise ValueError(f"{what}: a boolean mask must have shape ({n},), got {a.shape}")
-        return np.flatnonzero(a)
-    a = a.ravel()
-    if a.size and not np.issubdtype(a.dtype, np.integer):
-        raise ValueError(f"{what} must be integers in [0, {n}), got {a.dtype} values")
-    a = a.astype(np.int64)
-    if a.size and (a.min() < 0 or a.max() >= n):
-        raise ValueError(f"{what} must lie in [0, {n}), got values in [{a.min()}, {a.max()}]")
-    return a
-
-
-def _check_repeats(value: np.ndarray, inverse: np.ndarray, first: np.ndarray,
-                   dofs: np.ndarray) -> None:
-    """A dof listed twice must be given the same value both times."""
-    kept = value[first][inverse.ravel()]  # the value of each dof's first listing
-    clash = value != kept
-    if np.any(clash):
-        k = int(np.flatnonzero(clash)[0])
-        raise ValueError(f"dof {dofs[k]} is listed twice with different values "
-                         f"({kept[k]} and {value[k]})")
-
-
-class Dirichlet(Item):
-    """Prescribed values of global unknowns, ramped with the load factor.
-
-    ``value(load_factor) = ramp * load_factor * value + (1 - ramp) * value``, or,
-    when ``value`` is a callable, ``value(load_factor)`` itself (a load path,
-    e.g. press a die down, then slide it).
-
-    Parameters
-    ----------
-    body : Item
-        The body whose unknowns are prescribed.
-    dofs : array of int
-        Indices *local to the body's block*.
-    value : float, array or callable
-        Final prescribed value(s) (displacement), or a function of the load
-        factor returning a scalar or one value per dof (in the order of ``dofs``).
-    ramp : bool
-        Scale the value with the load factor (default) or hold it fixed.
-    """
-
-    def __init__(self, body: Item, dofs: np.ndarray, value: float | np.ndarray = 0.0,
-                 ramp: bool = True, name: str = ""):
-        if not isinstance(body, Item) or body.dof_kind != "u":
-            raise ValueError(f"body must be a body of the model (a Solid, Cable, ...), "
-                             f"got {type(body).__name__}")
-        self.body = body
-        dofs = dof_indices(dofs, body.n_dofs, f"dofs of body {body.name!r}")
-        self.local_dofs, self._order, inverse = np.unique(dofs, return_index=True,
-                                                          return_inverse=True)
-        self.path = value if callable(value) else None
-        if self.path is not None:
-            value = np.asarray(self.path(0.0), dtype=float)
-        value = np.asarray(value, dtype=float)
-        if value.ndim and value.shape != dofs.shape:
-            raise ValueError(f"value must be a scalar or one value per dof ({dofs.size}), "
-                             f"got shape {value.shape}")
-        if not np.all(np.isfinite(value)):
-            raise ValueError(f"value must be finite (dirichlet on body {body.name!r})")
-        if value.ndim:  # keep values aligned with the sorted unique dofs
-            _check_repeats(value, inverse, self._order, dofs)
-            value = value[self._order]
-        if not np.all(np.isfinite(value)):
-            raise ValueError("value must be finite")
-        self.value = value
-        self.ramp = ramp
-        self.name = name or f"dirichlet_{body.name}"
-
-    def prescribed(self, load_factor: float) -> tuple[np.ndarray, np.ndarray]:
-        if self.path is not None:
-            vals = np.asarray(self.path(load_factor), dtype=float)
-            vals = vals[self._order] if vals.ndim else vals
-            if not np.all(np.isfinite(vals)):
-                raise ValueError(f"{self.name}: the prescribed path gave non-finite values "
-                                 f"at load factor {load_factor}")
-            return (self.body.offset + self.local_dofs,
-                    np.broadcast_to(vals, self.local_dofs.shape).astype(float))
-        scale = load_factor if self.ramp else 1.0
-        vals = np.broadcast_to(scale * self.value, self.local_dofs.shape).astype(float)
-        return self.body.offset + self.local_dofs, vals
+def __getattr__(name: str) -> Any:
+    # Dirichlet lives in .dirichlet (it subclasses Item); imported from here as before
+    if name == "Dirichlet":
+        from .dirichlet import Dirichlet
+        return Dirichlet
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
 def _check_items(items: list[Item]) -> None:
@@ -523,40 +443,68 @@ class Model:
     ValueError
         For an item that is not an :class:`Item` or is listed twice, a body an
         item acts on that is missing, repeated body or pair names, or a
-        ``thickness`` that is not finite and > 0.
+        ``thickness`` that is not finite and > 0; at any use, for a model one
+        of whose items with a history (a contact pair) a later model took.
+
+    Notes
+    -----
+    Bodies, loads and boundary conditions may be in several models (one model
+    per contact method on the same bodies): each model writes its own layout
+    (offsets, thickness) into its items whenever it is used (:meth:`bind`), so
+    solving one model after building or solving another gives its own answer.
+    An item with a history (:attr:`Item.has_history`: a contact pair) belongs
+    to the model built last with it (:mod:`~skfem_mortar.core.binding`).
     """
 
     def __init__(self, items: Sequence[Item], thickness: float = 1.0):
         self.thickness = check_thickness(thickness)
-        self.items: list[Item] = list(items)
-        _check_items(self.items)
+        items = list(items)
+        _check_items(items)
         # bodies and contact pairs name output files and blocks: their names are unique
-        names = [it.name for it in self.items if it.dof_kind is not None]
+        names = [it.name for it in items if it.dof_kind is not None]
         dup = {n for n in names if names.count(n) > 1}
         if dup:
             raise ValueError(f"body and contact pair names must be unique, repeated: "
                              f"{sorted(dup)}")
-        for it in self.items:  # what the items' force helpers multiply by (Item.thickness)
-            it.thickness = self.thickness if it.per_thickness else 1.0
-        offset = 0
-        for kind in ("u", "lam"):
-            for it in self.items:
-                if it.dof_kind == kind:
-                    it.offset = offset
-                    offset += int(it.n_dofs)
-            if kind == "u":
-                self.n_u = offset
-        self.n = offset
+        self._items = items
+        self._ref = weakref.ref(self)  # the token of the layout the items hold
+        claim(self._ref, items)  # an item with a history belongs to this model now
+        # the model's own layout (offsets, thickness), written into the items
+        # at every use (bind): a body may be in several models
+        self._layout, self.n_u, self.n = layout(items, self.thickness)
         self.n_lam = self.n - self.n_u
+        self.bind()
         self.timers: dict[str, float] = defaultdict(float)
         # tangent assembly cache (see _tangent): the last index arrays of every
         # item, and the CSR pattern of the items whose indices did not change
-        self._last_idx: list[tuple[np.ndarray, np.ndarray] | None] = [None] * len(self.items)
-        self._varying = np.zeros(len(self.items), dtype=bool)
+        self._last_idx: list[tuple[np.ndarray, np.ndarray] | None] = [None] * len(items)
+        self._varying = np.zeros(len(items), dtype=bool)
         self._pattern: _Pattern | None = None
         #: how often the fixed pattern was built (the first time and at each
         #: change of a stable item's indices, e.g. a new contact reservation)
         self.pattern_builds = 0
+
+    @property
+    def items(self) -> list[Item]:
+        """The items, in the order given; reading them makes this model's
+        layout the items' own (:meth:`bind`), so every use of the model (the
+        solve's hooks, assembly, preflight, outputs, checkpoints) sees it."""
+        self.bind()
+        return self._items
+
+    def bind(self) -> "Model":
+        """Write this model's layout into its items (each body's and contact
+        pair's ``offset``, every item's ``thickness``) unless they hold it
+        already (an identity check per item); returns the model.
+
+        A body may be in several models (one per contact method, say): each
+        model binds at every use, so solving one after building or solving
+        another gives its own answer.  Call it before an item's own helper on
+        a state of this model (``body.x(z)``) after another model sharing the
+        item was used; a contact pair's helpers can bind their one model
+        themselves (:func:`~skfem_mortar.core.binding.rebind`)."""
+        bind(self, self._ref, self._layout)
+        return self
 
     # -- checkpoint ---------------------------------------------------------
     def state_dict(self) -> dict[str, np.ndarray]:
@@ -638,10 +586,10 @@ class Model:
 
     def __repr__(self) -> str:
         """One line: the items by kind and the unknowns ``n = n_u + n_lam``."""
-        kinds = [it.dof_kind for it in self.items]
+        kinds = [it.dof_kind for it in self._items]  # (no binding: a repr changes nothing)
         counts = {"u": kinds.count("u"), "lam": kinds.count("lam"), None: kinds.count(None)}
         tail = "" if self.thickness == 1.0 else f", thickness {self.thickness:g}"
-        return (f"Model({len(self.items)} items: {counts['u']} with displacements, "
+        return (f"Model({len(self._items)} items: {counts['u']} with displacements, "
                 f"{counts['lam']} with multipliers, {counts[None]} loads and constraints; "
                 f"{self.n} unknowns = {self.n_u} displacements + {self.n_lam} multipliers{tail})")
 
@@ -767,6 +715,9 @@ class Model:
                               for j, i in enumerate(stable))):
             pat = self._pattern = _Pattern(stable, [parts[i] for i in stable], self.n, pat)
             self.pattern_builds += 1
+        elif stable:  # equal indices, maybe new arrays (a body bound again): keep
+            # these, so that the next check is an identity test again
+            pat.idx = [(parts[i].k_rows, parts[i].k_cols) for i in stable]
         if not stable:
             pat = None
         rest = [p for i, p in enumerate(parts) if pat is None or i not in pat.items]

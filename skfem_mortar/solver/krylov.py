@@ -58,6 +58,7 @@ import numpy as np
 import scipy.linalg as la
 import scipy.sparse as sp
 
+from ..core.validate import count
 from .linsolve import KeptFactors, factorize
 
 __all__ = ["LINEAR", "KrylovSolver", "KrylovCounts", "fgmres", "forcing",
@@ -240,9 +241,7 @@ class KrylovSolver:
     """
 
     def __init__(self, backend: str | None = None, max_iter: int = KRYLOV_MAX_ITER):
-        if not (isinstance(max_iter, (int, np.integer)) and max_iter >= 1):
-            raise ValueError(f"max_iter must be an integer >= 1, got {max_iter!r}")
-        self.backend, self.max_iter = backend, int(max_iter)
+        self.backend, self.max_iter = backend, count("max_iter", max_iter, 1)
         self.kept: KeptFactors | None = None
         self.counts = KrylovCounts()
 

@@ -43,6 +43,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..core.errors import InversionError
+from ..core.validate import count, flag, real
 from .krylov import FORCING_MAX, KRYLOV_MAX_ITER, LINEAR, KrylovSolver, choose_linear, forcing
 from .linsolve import solve_linear
 from ..core.model import Body, Model
@@ -98,26 +99,19 @@ class NewtonOptions:
     krylov_max_iter: int = KRYLOV_MAX_ITER
 
     def __post_init__(self):
-        if not (isinstance(self.max_iter, (int, np.integer)) and self.max_iter >= 1):
-            raise ValueError(f"max_iter must be an integer >= 1, got {self.max_iter!r}")
-        if not (0.0 < self.rtol < 1.0):
-            raise ValueError(f"rtol must lie in (0, 1), got {self.rtol!r}")
-        if not (np.isfinite(self.atol) and self.atol >= 0.0):
-            raise ValueError(f"atol must be a finite number >= 0, got {self.atol!r}")
-        if not (np.isfinite(self.divergence) and self.divergence > 1.0):
-            raise ValueError(f"divergence must be a finite number > 1, got {self.divergence!r}")
-        if not (isinstance(self.max_backtracks, (int, np.integer)) and self.max_backtracks >= 0):
-            raise ValueError(f"max_backtracks must be an integer >= 0, "
-                             f"got {self.max_backtracks!r}")
-        if self.linear not in LINEAR:
+        # each field checked and stored as its plain type: a bool is no count
+        # (max_iter=True), a string no number (rtol="1e-8"), 2.5 no count
+        self.max_iter = count("max_iter", self.max_iter, 1)
+        self.rtol = real("rtol", self.rtol, 0.0, 1.0, low_open=True, high_open=True)
+        self.atol = real("atol", self.atol, 0.0)
+        self.line_search = flag("line_search", self.line_search)
+        self.max_backtracks = count("max_backtracks", self.max_backtracks, 0)
+        self.divergence = real("divergence", self.divergence, 1.0, low_open=True)
+        if not isinstance(self.linear, str) or self.linear not in LINEAR:
             raise ValueError(f"linear must be one of {LINEAR}, got {self.linear!r}")
-        if not (isinstance(self.forcing_max, (int, float, np.floating))
-                and 0.0 < self.forcing_max < 1.0):
-            raise ValueError(f"forcing_max must lie in (0, 1), got {self.forcing_max!r}")
-        if not (isinstance(self.krylov_max_iter, (int, np.integer))
-                and not isinstance(self.krylov_max_iter, bool) and self.krylov_max_iter >= 1):
-            raise ValueError(f"krylov_max_iter must be an integer >= 1, "
-                             f"got {self.krylov_max_iter!r}")
+        self.forcing_max = real("forcing_max", self.forcing_max, 0.0, 1.0,
+                                low_open=True, high_open=True)
+        self.krylov_max_iter = count("krylov_max_iter", self.krylov_max_iter, 1)
 
 
 @dataclass

@@ -1,0 +1,232 @@
+"""Prescribed displacements: :class:`Dirichlet`, and node numbers against dof numbers.
+
+A 2D body numbers its unknowns per node and component (``node_dofs``, shape
+``(2, n_nodes)``), so node ``k`` is not dof ``k``.  ``Dirichlet(body, nodes=...)``
+takes node numbers (``mesh.boundary_nodes()``, ``mesh.nodes_satisfying(...)``)
+and makes the dofs (:func:`dofs_of_nodes`); ``Dirichlet(body, dofs)`` refuses
+node numbers passed as dofs where it can tell (:func:`node_numbers_as_dofs`).
+"""
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+from .model import Item
+
+__all__ = ["Dirichlet", "dofs_of_nodes", "node_numbers_as_dofs", "dof_indices"]
+
+_COMPONENTS = {None: (0, 1), 0: (0,), 1: (1,), "x": (0,), "y": (1,)}
+
+
+def dofs_of_nodes(body: Any, nodes: Any, component: int | str | None, what: str
+                  ) -> np.ndarray:
+    """The local dofs of ``nodes`` of ``body``, component-major
+    (``node_dofs[components][:, nodes].ravel()``: every x dof, then every y dof).
+
+    Raises
+    ------
+    ValueError
+        For a body without ``node_dofs``, a ``component`` not in
+        ``{None, 0, 1, "x", "y"}``, or nodes that are neither integers in
+        ``[0, n_nodes)`` nor a boolean mask of length ``n_nodes`` (``what``
+        names them).
+    """
+    if isinstance(component, (bool, np.bool_)) or component not in _COMPONENTS:
+        raise ValueError(f"component must be None (both), 0, 1, 'x' or 'y', got {component!r}")
+    nd = getattr(body, "node_dofs", None)
+    if nd is None:
+        raise ValueError(f"{what}: body {body.name!r} ({type(body).__name__}) has no "
+                         f"node_dofs; give dofs instead of nodes")
+    nd = np.asarray(nd, dtype=np.int64)
+    a = dof_indices(nodes, nd.shape[1], what)  # (the same rules: integers or a mask)
+    return nd[list(_COMPONENTS[component])][:, a].ravel()
+
+
+def _named_node_sets(mesh: Any) -> dict[str, np.ndarray]:
+    """The vertex set of each named boundary of ``mesh``."""
+    return {name: np.unique(mesh.facets[:, np.asarray(facets, dtype=np.int64)])
+            for name, facets in (getattr(mesh, "boundaries", None) or {}).items()}
+
+
+def node_numbers_as_dofs(body: Any, dofs: np.ndarray) -> str:
+    """Why the local ``dofs`` of a body with a mesh look like node numbers
+    ("" if they do not, or if the body has no mesh to tell by).
+
+    They do when there are 3 or more, every one is a vertex number
+    (``< n_nodes``) of a vertex on the boundary, and either
+
+    - read as dofs they hold a single component of an interior vertex
+      (``mesh.boundary_nodes()``, the nodes of an edge: a support is on the
+      boundary, and an interior point support holds both components), or
+    - they are exactly the vertices of a named boundary (``mesh.nodes_satisfying``
+      of a named edge) and read as dofs hold one component of some vertex.
+
+    Dofs a body method gives on the boundary (``dofs_on``) reach no interior
+    vertex, and ``dofs_at_nodes`` holds both components of each vertex; one
+    or two numbers (a vertex's two dofs, an edge's ends) are never refused.
+    Not told apart: vertex numbers that read as dofs are both components of
+    boundary vertices (the first four vertices of an edge numbered from 0 are
+    also both dofs of its first two): that is a support too.
+    """
+    mesh, nd = getattr(body, "mesh", None), getattr(body, "node_dofs", None)
+    if mesh is None or nd is None or not hasattr(mesh, "boundary_nodes"):
+        return ""
+    given = np.unique(dofs)
+    nd = np.asarray(nd, dtype=np.int64)
+    if given.size < 3 or given.max() >= nd.shape[1]:
+        return ""
+    bnodes = np.unique(mesh.boundary_nodes())
+    if not np.all(np.isin(given, bnodes)):
+        return ""
+    held = np.isin(nd, given)                                # (2, n_nodes)
+    half = held[0] != held[1]                                # one component held
+    inner = np.flatnonzero(half & ~np.isin(np.arange(nd.shape[1]), bnodes))
+    if inner.size:
+        v = int(inner[0])
+        k = int(nd[0, v] if held[0, v] else nd[1, v])
+        many = f"{inner.size} interior {'vertex' if inner.size == 1 else 'vertices'}"
+        return (f"read as dofs they hold one component of {many} (e.g. dof {k} of "
+                f"vertex {v}), while read as vertex numbers all {given.size} lie on "
+                f"the boundary")
+    for name, nodes in _named_node_sets(mesh).items():
+        if half.any() and np.array_equal(given, nodes):
+            return (f"they are exactly the vertex numbers of boundary {name!r}, and read "
+                    f"as dofs they hold one component of vertex {int(np.flatnonzero(half)[0])}")
+    return ""
+
+
+def dof_indices(dofs: Any, n: int, what: str) -> np.ndarray:
+    """Integer dof indices in ``[0, n)`` from ``dofs`` (ValueError otherwise).
+
+    A boolean mask of length ``n`` is taken as the mask it is (its True
+    entries); any other boolean array, non-integer numbers, or indices
+    outside ``[0, n)`` are refused.
+    """
+    a = np.asarray(dofs)
+    if a.dtype == bool:
+        if a.shape != (n,):
+            raise ValueError(f"{what}: a boolean mask must have shape ({n},), got {a.shape}")
+        return np.flatnonzero(a)
+    a = a.ravel()
+    if a.size and not np.issubdtype(a.dtype, np.integer):
+        raise ValueError(f"{what} must be integers in [0, {n}), got {a.dtype} values")
+    a = a.astype(np.int64)
+    if a.size and (a.min() < 0 or a.max() >= n):
+        raise ValueError(f"{what} must lie in [0, {n}), got values in [{a.min()}, {a.max()}]")
+    return a
+
+
+def _check_repeats(value: np.ndarray, inverse: np.ndarray, first: np.ndarray,
+                   dofs: np.ndarray) -> None:
+    """A dof listed twice must be given the same value both times."""
+    kept = value[first][inverse.ravel()]  # the value of each dof's first listing
+    clash = value != kept
+    if np.any(clash):
+        k = int(np.flatnonzero(clash)[0])
+        raise ValueError(f"dof {dofs[k]} is listed twice with different values "
+                         f"({kept[k]} and {value[k]})")
+
+
+def _given_dofs(body: Item, dofs: Any, nodes: Any, component: int | str | None) -> np.ndarray:
+    """The local dofs of a :class:`Dirichlet`: ``dofs`` checked (and refused
+    when they look like node numbers), or the dofs of ``nodes``."""
+    if (dofs is None) == (nodes is None):
+        raise ValueError(f"Dirichlet on body {body.name!r}: give either dofs (e.g. "
+                         f"body.dofs_on('top')) or nodes= (vertex numbers), not "
+                         f"{'both' if nodes is not None else 'neither'}")
+    if nodes is not None:
+        return dofs_of_nodes(body, nodes, component, f"nodes of body {body.name!r}")
+    if component is not None:
+        raise ValueError(f"component={component!r} goes with nodes=, not with dofs "
+                         f"(body.dofs_on(..., component) gives the dofs of one component)")
+    given = np.asarray(dofs)
+    out = dof_indices(dofs, body.n_dofs, f"dofs of body {body.name!r}")
+    why = "" if given.dtype == bool else node_numbers_as_dofs(body, out)
+    if why:
+        raise ValueError(f"dofs of body {body.name!r} look like node numbers: {why}. Node k "
+                         f"has the dofs body.node_dofs[:, k]: give the nodes as "
+                         f"Dirichlet(body, nodes=..., component=None|'x'|'y'), or dofs from "
+                         f"body.dofs_on(boundary) / body.dofs_at_nodes(nodes)")
+    return out
+
+
+class Dirichlet(Item):
+    """Prescribed values of global unknowns, ramped with the load factor.
+
+    ``value(load_factor) = ramp * load_factor * value + (1 - ramp) * value``, or,
+    when ``value`` is a callable, ``value(load_factor)`` itself (a load path,
+    e.g. press a die down, then slide it).
+
+    Parameters
+    ----------
+    body : Item
+        The body whose unknowns are prescribed.
+    dofs : array of int or bool, optional
+        Dof indices *local to the body's block*, as the body's methods give
+        them (``body.dofs_on("top")``, ``cable.support_dofs()``), or a boolean
+        mask of them.  Node numbers are not dofs (node ``k`` has the dofs
+        ``body.node_dofs[:, k]``): integers that look like the node numbers
+        of a boundary (:func:`node_numbers_as_dofs`) are refused; give those
+        as ``nodes``.
+    value : float, array or callable
+        Final prescribed value(s) (displacement), or a function of the load
+        factor returning a scalar or one value per dof (in the order of
+        ``dofs``; with ``nodes``: every x value, then every y value).
+    ramp : bool
+        Scale the value with the load factor (default) or hold it fixed.
+    nodes : array of int or bool, optional (keyword only)
+        Instead of ``dofs``: vertex numbers of the body (``mesh.boundary_nodes()``,
+        ``mesh.nodes_satisfying(...)``) or a boolean mask of its vertices,
+        with ``component``.
+    component : {None, 0, 1, "x", "y"} (keyword only)
+        With ``nodes``: both components (None, default) or one.
+
+    Raises
+    ------
+    ValueError
+        Neither or both of ``dofs`` and ``nodes``, ``component`` without
+        ``nodes``, indices out of range, node numbers given as ``dofs``,
+        non-finite values.
+    """
+
+    def __init__(self, body: Item, dofs: np.ndarray | None = None,
+                 value: float | np.ndarray = 0.0, ramp: bool = True, name: str = "", *,
+                 nodes: np.ndarray | None = None, component: int | str | None = None):
+        if not isinstance(body, Item) or body.dof_kind != "u":
+            raise ValueError(f"body must be a body of the model (a Solid, Cable, ...), "
+                             f"got {type(body).__name__}")
+        self.body = body
+        dofs = _given_dofs(body, dofs, nodes, component)
+        self.local_dofs, self._order, inverse = np.unique(dofs, return_index=True,
+                                                          return_inverse=True)
+        self.path = value if callable(value) else None
+        if self.path is not None:
+            value = np.asarray(self.path(0.0), dtype=float)
+        value = np.asarray(value, dtype=float)
+        if nodes is not None and value.ndim > 1:  # (components, nodes): x row, y row
+            value = value.ravel()
+        if value.ndim and value.shape != dofs.shape:
+            raise ValueError(f"value must be a scalar or one value per dof ({dofs.size}), "
+                             f"got shape {value.shape}")
+        if not np.all(np.isfinite(value)):
+            raise ValueError(f"value must be finite (dirichlet on body {body.name!r})")
+        if value.ndim:  # keep values aligned with the sorted unique dofs
+            _check_repeats(value, inverse, self._order, dofs)
+            value = value[self._order]
+        self.value = value
+        self.ramp = ramp
+        self.name = name or f"dirichlet_{body.name}"
+
+    def prescribed(self, load_factor: float) -> tuple[np.ndarray, np.ndarray]:
+        if self.path is not None:
+            vals = np.asarray(self.path(load_factor), dtype=float)
+            vals = vals.ravel()[self._order] if vals.ndim else vals
+            if not np.all(np.isfinite(vals)):
+                raise ValueError(f"{self.name}: the prescribed path gave non-finite values "
+                                 f"at load factor {load_factor}")
+            return (self.body.offset + self.local_dofs,
+                    np.broadcast_to(vals, self.local_dofs.shape).astype(float))
+        scale = load_factor if self.ramp else 1.0
+        vals = np.broadcast_to(scale * self.value, self.local_dofs.shape).astype(float)
+        return self.body.offset + self.local_dofs, vals
