@@ -108,10 +108,10 @@ def test_rigid_surfaces_refuse_non_finite_data(make, match):
 
 
 @pytest.mark.parametrize("kw, match", [
-    (dict(rtol=NAN), r"rtol must lie in \(0, 1\)"),
-    (dict(atol=INF), "atol must be a finite number >= 0"),
+    (dict(rtol=NAN), r"rtol must be a finite real number in \(0, 1\)"),
+    (dict(atol=INF), "atol must be a finite real number >= 0"),
     (dict(max_iter=0), "max_iter must be an integer >= 1"),
-    (dict(divergence=NAN), "divergence must be a finite number > 1"),
+    (dict(divergence=NAN), "divergence must be a finite real number > 1"),
     (dict(max_backtracks=-1), "max_backtracks must be an integer >= 0"),
 ])
 def test_newton_options_are_checked(kw, match):

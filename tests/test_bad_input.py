@@ -156,7 +156,7 @@ def test_nan_or_negative_cable_parameters(kw, match):
     (lambda s: RigidPlane((0, 0), (0, 1), length=-1.0), "length must be a finite number > 0"),
     (lambda s: RigidPlane((0, 0), (np.nan, 1)), "normal must be finite"),
     (lambda s: RigidCircle((0, 0), -1.0), "radius must be a finite number > 0"),
-    (lambda s: NewtonOptions(rtol=np.nan), r"rtol must lie in \(0, 1\)"),
+    (lambda s: NewtonOptions(rtol=np.nan), r"rtol must be a finite real number in \(0, 1\)"),
     (lambda s: NewtonOptions(max_iter=0), "max_iter must be an integer >= 1"),
 ])
 def test_nan_or_negative_parameters(make, match):
