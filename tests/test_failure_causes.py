@@ -23,7 +23,7 @@ import skfem
 from skfem_mortar import (Cable, ContactPair, Dirichlet, FollowerPressure, Model, NeoHooke,
                           Solid, Traction, solve)
 from skfem_mortar.contact.preflight import PreflightWarning
-from skfem_mortar.contact.surfaces import ContactSurface, RigidPlane
+from skfem_mortar.contact.surfaces import ContactSurface, RigidCircle, RigidPlane
 from skfem_mortar.core.errors import ConvergenceError
 
 METHODS = ("nts", "mortar", "mortar-dual")
@@ -67,15 +67,21 @@ def test_block_pressed_onto_the_plane_converges_without_a_cause():
     assert res.converged
 
 
-def _ring(tension_only=False, side="left", n=32):
+def _ring(tension_only=False, side="left", n=32, drum=None):
     """A counter-clockwise ring of radius 1 (EA 10) under a follower pressure 1 on
     ``side`` ("left": pointing into the ring, an external pressure), its rigid
-    motions held as in the ring scene; the scene's tangent floor 0.1 p R0."""
+    motions held as in the ring scene; the scene's tangent floor 0.1 p R0.
+    ``drum``: a contact method, for a rigid drum of radius 0.5 inside the ring
+    (the ring's inside the slave)."""
     ring = Cable.ring(1.0, n, EA=10.0, law="svk", tension_only=tension_only,
                       tension_floor=0.1, name="ring")
     nd = ring.node_dofs
-    return Model([ring, FollowerPressure(ring, 1.0, side=side, name="pressure"),
-                  Dirichlet(ring, [nd[0, 0], nd[1, 0], nd[1, n // 2]], name="supports")])
+    items = [ring, FollowerPressure(ring, 1.0, side=side, name="pressure"),
+             Dirichlet(ring, [nd[0, 0], nd[1, 0], nd[1, n // 2]], name="supports")]
+    if drum is not None:
+        items.append(ContactPair(ContactSurface.from_cable(ring, side="left"),
+                                 RigidCircle((0.0, 0.0), 0.5), method=drum, name="drum"))
+    return Model(items)
 
 
 def test_ring_under_external_pressure_names_the_compressed_cable():
@@ -99,6 +105,15 @@ def test_ring_in_compression_that_buckles_names_the_compressed_cable():
     assert err.value.step == 2
     assert "cable 'ring': the load puts 32 of its 32 elements in compression" in msg
     assert "32 of its 32 elements are shorter than their rest length" in msg
+
+
+@pytest.mark.parametrize("method", METHODS)
+def test_ring_pressed_towards_a_drum_names_the_compressed_cable(method):
+    """The same ring around a rigid drum of radius 0.5: the contact is open while
+    the ring shrinks, and the second step fails alike."""
+    with pytest.raises(ConvergenceError) as err:
+        solve(_ring(drum=method), 4)
+    assert "cable 'ring': the load puts 32 of its 32 elements in compression" in str(err.value)
 
 
 def test_ring_under_internal_pressure_converges():
