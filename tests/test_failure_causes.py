@@ -210,3 +210,14 @@ def test_bad_z0_is_refused_naming_z0(z0, match, monkeypatch):
     monkeypatch.setattr(Model, "assemble", lambda *a, **k: pytest.fail("assembled"))
     with pytest.raises(ValueError, match=match):
         solve(model, z0=value)
+
+
+def test_hertz_on_a_base_1e15_times_softer_is_no_longer_a_wrong_success():
+    """The hertz scene with the cylinder 1e15 times stiffer than its elastic base
+    (E = 2e17, E_base = 200) "converged" with NTS to a peak pressure of 0 (error
+    1.0): the cylinder's round-off floor (6.7e6) hid a residual above the load."""
+    from skfem_mortar.app.runner import run_scene
+    with pytest.warns(PreflightWarning, match="1e\\+15 times stiffer"):
+        with pytest.raises(ConvergenceError, match="converged only to round-off.*"
+                                                   "body 'cylinder' is 1e\\+15 times stiffer"):
+            run_scene("hertz", {"base": "elastic", "refine": -2, "E": 2e17}, method="nts")
