@@ -91,26 +91,22 @@ def stiffness_ratio_text(model: Any, z: np.ndarray, load_factor: float) -> list[
 # --------------------------------------------------------------------------- NTS patch test
 def _matching(pair: Any) -> bool:
     """Whether every master node where the surfaces meet coincides with a slave
-    node (within ``MATCH`` of the median slave segment length; reference
-    configuration): matching meshes, or a slave that refines the master, on
-    which NTS passes the patch test (measured: 6 on 6, 10 on 5, 12 on 4, 20 on 2,
-    quadratic 10 on 5 to round-off).  Where they meet: the master nodes within
-    the bounding box of the slave nodes nearest the master."""
-    seg_s, seg_m = polyline(pair.slave.segments), polyline(pair.master.segments)
+    node (reference configuration): matching meshes, or a slave that refines
+    the master, on which NTS passes the patch test (measured: 6 on 6, 10 on 5,
+    12 on 4, 20 on 2, quadratic 10 on 5 to round-off).
+
+    Each master node is projected on the slave chain (:func:`.nts.project`, linear
+    cost); where they meet: a projection within one median slave segment length
+    ``h``; coincident: its distance and its distance from the nearer end of the
+    slave segment both within ``MATCH h``."""
+    seg_s = polyline(pair.slave.segments)
     xs, xm = np.asarray(pair.slave.X, float), np.asarray(pair.master.X, float)
-    near, _ = nts.nearest_nodes(xs, seg_s, xm, seg_m, band=1.0)
-    if not near.any():
-        return True
-    ls = np.hypot(*(xs[:, seg_s[:, 1]] - xs[:, seg_s[:, 0]]))
-    tol = MATCH * float(np.median(ls))
-    ps = xs[:, np.flatnonzero(near)]
     pm = xm[:, np.unique(pair.master.segments)]
-    lo, hi = ps.min(axis=1) - tol, ps.max(axis=1) + tol
-    pm = pm[:, np.all((pm >= lo[:, None]) & (pm <= hi[:, None]), axis=0)]
-    if pm.shape[1] == 0:
-        return True
-    d = np.hypot(ps[0][:, None] - pm[0][None], ps[1][:, None] - pm[1][None])
-    return bool(np.all(d.min(axis=0) <= tol))
+    h = float(np.median(np.hypot(*(xs[:, seg_s[:, 1]] - xs[:, seg_s[:, 0]]))))
+    pr = nts.project(pm, xs, seg_s)
+    meet = pr["mask"] & (np.abs(pr["g"]) <= h)
+    off_end = np.minimum(np.abs(pr["xi"]), np.abs(1.0 - pr["xi"])) * pr["l"]
+    return bool(np.all((np.abs(pr["g"]) <= MATCH * h) & (off_end <= MATCH * h) | ~meet))
 
 
 def nts_patch_text(pair: Any) -> str:
