@@ -55,10 +55,30 @@ def test_block_pulled_off_the_plane_names_the_body_and_the_contact(method, drive
     with pytest.raises(ConvergenceError) as err:
         solve(_on_plane(method, drive=drive))
     msg = str(err.value)
-    assert ("body 'block': its translation in y held by contact 'floor' alone, and the load "
-            "on it") in msg
+    assert ("body 'block': its translation in y is held by contact 'floor' alone, and the "
+            "load on it") in msg
     assert "pulls it away from the master" in msg
     assert "the contact opens entirely and nothing holds the body" in msg
+
+
+@pytest.mark.parametrize("method", METHODS)
+def test_of_two_stacked_blocks_the_one_pulled_off_is_named(method):
+    """A block on a block on the plane, each held in x on its left side; the upper
+    one pulled up: it alone is named (the lower one is not loaded)."""
+    lower, upper = _block(name="lower"), _block(y0=0.5, name="upper")
+    items = [lower, upper, Traction(upper, "top", (0.0, 1.0)),
+             ContactPair(ContactSurface.from_solid(lower, "bottom"),
+                         RigidPlane((0.0, 0.0), (0.0, 1.0)), method=method, name="floor"),
+             ContactPair(ContactSurface.from_solid(upper, "bottom"),
+                         ContactSurface.from_solid(lower, "top"), method=method, name="stack")]
+    for b in (lower, upper):
+        left = np.flatnonzero(np.isclose(b.X[0], 0.0))
+        items.append(Dirichlet(b, b.dofs_at_nodes(left, component=0), name=f"{b.name}_side"))
+    with pytest.raises(ConvergenceError) as err:
+        solve(Model(items))
+    msg = str(err.value)
+    assert "body 'upper': its translation in y is held by contact 'stack' alone" in msg
+    assert "body 'lower'" not in msg
 
 
 def test_block_pressed_onto_the_plane_converges_without_a_cause():

@@ -154,26 +154,27 @@ def pulled_off(model: Any, z: np.ndarray, load_factor: float, fixed: np.ndarray)
     rows = [_touching_rows(p, z, load_factor, int(model.n), facing=True).rows for p in pairs]
     A = (N.T @ _times_modes(sp.vstack(rows), bodies).T) if rows else np.zeros((N.shape[1], 0))
     from scipy.optimize import nnls  # 0.3 s to import: only when a step is given up
-    resid = nnls(A, -b)[1] if A.shape[1] else float(np.linalg.norm(b))
-    if resid <= 1e-6 * np.linalg.norm(b):
+    r = A @ nnls(A, -b)[0] + b if A.shape[1] else b        # the load contact cannot balance
+    if np.linalg.norm(r) <= 1e-6 * np.linalg.norm(b):
         return []
-    return [_pulled_text(bodies, N, Mf, pairs)]
+    return [_pulled_text(bodies, N, N @ r, Mf, pairs)]
 
 
-def _pulled_text(bodies: list, N: np.ndarray, Mf: np.ndarray, pairs: list) -> str:
-    """The sentence of :func:`pulled_off`: the bodies, their free modes, the
-    pairs that touch them and the load's resultant on them."""
-    P = N @ N.T
+def _pulled_text(bodies: list, N: np.ndarray, u: np.ndarray, Mf: np.ndarray,
+                 pairs: list) -> str:
+    """The sentence of :func:`pulled_off`: the bodies the unbalanced load ``u``
+    (on the modes) moves, their free modes, the pairs that touch them and the
+    load's resultant on them."""
     names, parts = [], []
     for k, bd in enumerate(bodies):
-        if np.linalg.norm(P[3 * k:3 * k + 3, 3 * k:3 * k + 3]) <= 1e-6:
+        if np.linalg.norm(u[3 * k:3 * k + 3]) <= 1e-6 * np.linalg.norm(u):
             continue
         names.append(bd.item.name)
         on = [p.name for p in pairs if bd.item in (p.slave.body, p.master.body)]
         held = f"contact {', '.join(map(repr, on))}" if on else "no contact"
-        parts.append(f"body {bd.item.name!r}: its {_describe(bd, N[3 * k:3 * k + 3]).rsplit(' ', 1)[0]} "
-                     f"held by {held} alone, and the load on it (resultant "
-                     f"({Mf[3 * k]:.3g}, {Mf[3 * k + 1]:.3g})) pulls it away from the master")
+        parts.append(f"body {bd.item.name!r}: its {_describe(bd, N[3 * k:3 * k + 3])} held "
+                     f"by {held} alone, and the load on it (resultant ({Mf[3 * k]:.3g}, "
+                     f"{Mf[3 * k + 1]:.3g}) at this load factor) pulls it away from the master")
     return ("; ".join(parts) + ": no compressive contact force can balance that load, so the "
             "contact opens entirely and nothing holds the "
             + ("body" if len(names) == 1 else "bodies")
