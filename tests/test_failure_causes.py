@@ -241,3 +241,18 @@ def test_hertz_on_a_base_1e15_times_softer_is_no_longer_a_wrong_success():
         with pytest.raises(ConvergenceError, match="converged only to round-off.*"
                                                    "body 'cylinder' is 1e\\+15 times stiffer"):
             run_scene("hertz", {"base": "elastic", "refine": -2, "E": 2e17}, method="nts")
+
+
+def test_the_command_line_fails_with_exit_1_naming_the_cause(tmp_path, capsys):
+    """The same hertz run from the command line: a step failure, exit 1, the
+    cause on stderr after the stiffness-ratio warning."""
+    from skfem_mortar.app.cli import main
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", PreflightWarning)
+        code = main(["run", "hertz", "--method", "nts", "--set", "base=elastic", "--set",
+                     "refine=-2", "--set", "E=2e17", "--no-progress", "--out",
+                     str(tmp_path / "run")])
+    assert code == 1
+    err = capsys.readouterr().err
+    assert "skfem-mortar: failed: no convergence in load step" in err
+    assert "body 'cylinder' is 1e+15 times stiffer than body 'base'" in err
