@@ -39,8 +39,8 @@ MEASURED_RATIO = 1e6
 #: patch tests 11 to 47 %; mortar and mortar-dual pass all of them to round-off
 NTS_PATCH_ERRORS = "6 % to 47 %"
 
-#: a slave node matches a master node when they lie within this fraction of the
-#: median slave segment length (mesh generators place shared nodes to round-off)
+#: a master node coincides with a slave node when they lie within this fraction of
+#: the median slave segment length (mesh generators place shared nodes to round-off)
 MATCH = 1e-6
 
 
@@ -81,9 +81,9 @@ def stiffness_ratio_text(model: Any, z: np.ndarray, load_factor: float) -> list[
             f"contact {pair.name!r}: body {hi[1].name!r} is {hi[0] / lo[0]:.3g} times stiffer "
             f"than body {lo[1].name!r} ({what} {hi[0]:.3g} and {lo[0]:.3g}), beyond the "
             f"stiffness ratios the package has measured (up to {MEASURED_RATIO:g}); the stiff "
-            f"body's forces carry a round-off of about 1e-16 times its stiffness, in which "
-            f"the soft body's equilibrium is lost: make the stiff body at most "
-            f"{MEASURED_RATIO:g} times stiffer (it is rigid for the soft one already), or "
+            f"body's forces carry a round-off of about 1e-16 times its stiffness, which can "
+            f"exceed the load, and then equilibrium cannot be checked: make the stiff body "
+            f"at most {MEASURED_RATIO:g} times stiffer (it is rigid for the soft one already), or "
             f"replace it by a rigid surface (RigidPlane, RigidCircle) or Dirichlet data")
     return out
 

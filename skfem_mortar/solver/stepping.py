@@ -32,7 +32,8 @@ from .newton import NewtonOptions, NewtonReport
 from .newton import newton as newton_step
 from .observers import Callback, ContactCsv, Observer, ProgressBar, SeriesObserver, replay
 from .diagnosis import failure_causes, round_off_above_load
-from .arguments import MAX_STEPS, check_z0, validate as _validate  # noqa: F401 (MAX_STEPS: a public name here)
+# MAX_STEPS: a name of this module before the checks moved
+from .arguments import MAX_STEPS, check_z0, validate as _validate  # noqa: F401
 
 __all__ = ["Controller", "Restart", "StepRecord", "Result", "solve"]
 
