@@ -14,7 +14,9 @@ right answer; a model that cannot give one is refused before any work):
    other than the solids' and cables' own (a spring); otherwise the tangent
    is singular or the answer drifts.
 3. :func:`warn_methods`: where a method is known not to work for the
-   configuration (NTS with a slave coarser than the master), a
+   configuration (NTS with a slave coarser than the master, NTS on
+   non-matching deformable meshes: off the patch test) or two bodies in
+   contact lie beyond the measured stiffness ratio, a
    :class:`PreflightWarning` before the solve, naming the fix.
 
 Tolerances (all scale-free)
@@ -44,9 +46,6 @@ Tolerances (all scale-free)
 """
 from __future__ import annotations
 
-import os
-import sys
-import warnings
 from dataclasses import dataclass
 from typing import Any, Iterator
 
@@ -56,6 +55,7 @@ import scipy.sparse as sp
 from ..bodies.cable import Cable
 from ..bodies.solid import Solid
 from ..core.chain import polyline
+from ..core.errors import warn_at_user
 from ..core.model import Dirichlet, register_check
 from . import nts
 from .surfaces import RigidCircle, RigidPlane, segment_normals, tributary_lengths
@@ -82,7 +82,7 @@ def run(model: Any, z: np.ndarray, load_factor: float, fixed: np.ndarray) -> Non
     for pair in pairs:
         check_orientation(pair, z)
     check_rigid_modes(model, z, load_factor, fixed)
-    warn_methods(model)
+    warn_methods(model, z, load_factor)
 
 
 register_check(run)  # Model.preflight runs it (the core names no layer below it)
@@ -333,18 +333,20 @@ class _Touch:
     h: float               # mean slave segment length
 
 
-def _touching_rows(pair: Any, z: np.ndarray, load_factor: float, n: int) -> _Touch:
+def _touching_rows(pair: Any, z: np.ndarray, load_factor: float, n: int,
+                   facing: bool = False) -> _Touch:
     """Unit normal rows of the pair's touching slave nodes (global columns).
 
     Touching: the nodes of the pair's initial active set
-    (:meth:`ContactPair.initial_active`; on a resumed run its converged set).  Row of node ``k`` projecting on
+    (:meth:`ContactPair.initial_active`; on a resumed run its converged set);
+    with ``facing``, every slave node that faces the master, touching or not.  Row of node ``k`` projecting on
     master segment ``(1, 2)`` at ``xi``: ``n_m . (du_k - (1 - xi) du_1 - xi du_2)``
     (the NTS gap's derivative: what the frictionless normal holds), divided
     by its norm; a pair with friction adds the same rows along the tangent.
     """
     ev = pair.evaluate(z, tangent=False, with_lam=False)
     glen = pair.gap_length(ev)
-    touch = pair.initial_active(z, load_factor) & ev.mask
+    touch = ev.mask if facing else pair.initial_active(z, load_factor) & ev.mask
     xs, xm = pair.slave.x(z), pair.master.x(z)
     # on the chords of 3-node segments (polyline): a check's normal rows, not the gap
     nv = nts.evaluate(xs, polyline(pair.slave.segments), xm, polyline(pair.master.segments),
@@ -441,11 +443,22 @@ def check_rigid_modes(model: Any, z: np.ndarray, load_factor: float, fixed: np.n
     Modes of several bodies combine: a body held by contact with a free body
     is free with it.
     """
+    bodies, N, touching = free_combinations(model, z, load_factor, fixed)
+    if N.shape[1]:
+        raise ValueError(_free_message(bodies, N, np.asarray(fixed, dtype=np.int64), touching))
+
+
+def free_combinations(model: Any, z: np.ndarray, load_factor: float, fixed: np.ndarray,
+                      contact: bool = True) -> tuple[list[_Body], np.ndarray, dict]:
+    """The bodies' rigid modes (:func:`_rigid_modes`), the basis ``N`` (3 n_bodies, k)
+    of the combinations held by nothing (:func:`check_rigid_modes`) and the
+    touching rows of each contact pair by name; ``contact=False`` counts no
+    contact pair as holding anything (what holds the bodies besides contact)."""
     from .pair import ContactPair
     bodies = [_rigid_modes(b) for b in model.bodies
               if hasattr(b, "X") and hasattr(b, "node_dofs") and np.size(b.X)]
     if not bodies:
-        return
+        return bodies, np.zeros((0, 0)), {}
     n, ncols = int(model.n), 3 * len(bodies)
     fixed = np.asarray(fixed, dtype=np.int64)
     free = np.ones(model.n_u, dtype=bool)
@@ -456,9 +469,10 @@ def check_rigid_modes(model: Any, z: np.ndarray, load_factor: float, fixed: np.n
     touching: dict[str, tuple[Any, _Touch]] = {}
     for it in model.items:
         if isinstance(it, ContactPair):
-            tc = _touching_rows(it, z, load_factor, n)
-            touching[it.name] = (it, tc)
-            blocks.append(_chunks(_times_modes(tc.rows, bodies), HOLD))
+            if contact:
+                tc = _touching_rows(it, z, load_factor, n)
+                touching[it.name] = (it, tc)
+                blocks.append(_chunks(_times_modes(tc.rows, bodies), HOLD))
         elif it.dof_kind == "lam":
             c = it.assemble(z, load_factor, tangent=True)
             on = (c.k_rows >= it.offset) & (c.k_rows < it.offset + it.n_dofs) & (c.k_cols < model.n_u)
@@ -475,10 +489,7 @@ def check_rigid_modes(model: Any, z: np.ndarray, load_factor: float, fixed: np.n
                                                                      np.eye(ncols))
     s_all = np.zeros(ncols)
     s_all[:s.size] = s
-    N = Vt[s_all < 1.0].T                                   # (3 n_bodies, k) free combinations
-    if N.shape[1] == 0:
-        return
-    raise ValueError(_free_message(bodies, N, fixed, touching))
+    return bodies, Vt[s_all < 1.0].T, touching
 
 
 def _free_message(bodies: list[_Body], N: np.ndarray, fixed: np.ndarray,
@@ -601,23 +612,21 @@ def _fix(bd: _Body, modes: str) -> str:
 
 
 # --------------------------------------------------------------------------- methods
-def warn_methods(model: Any) -> None:
+def warn_methods(model: Any, z: np.ndarray | None = None, load_factor: float = 0.0) -> None:
     """A :class:`PreflightWarning` for every NTS pair with a known failure cause
     (:func:`skfem_mortar.contact.nts.failure_hints`: a slave coarser than the master
-    where they meet, nearly coincident slave nodes), naming the fix, before
-    the solve rather than after a cascade of step cuts."""
+    where they meet, nearly coincident slave nodes) or whose deformable meshes
+    do not match where they meet (:func:`.diagnosis.nts_patch_text`: off the
+    patch test), and for every pair of bodies stiffer one than the other beyond
+    the measured range (:func:`.diagnosis.stiffness_ratio_text`), naming the fix,
+    before the solve rather than after a cascade of step cuts."""
+    from .diagnosis import nts_patch_text, stiffness_ratio_text
     for pair in _contact_pairs(model):
         if pair.method == "nts":
-            hint = pair.discretization.failure_hint()  # nts.failure_hints (geometry only)
-            if hint:
-                warnings.warn(hint, PreflightWarning, stacklevel=_user_stacklevel())
-
-
-def _user_stacklevel() -> int:
-    """The ``stacklevel`` of the first caller outside this package (the user's
-    ``solve``), counted from the function that calls ``warnings.warn``."""
-    pkg = os.path.dirname(os.path.abspath(__file__))
-    frame, level = sys._getframe(1), 1  # the caller of warnings.warn: stacklevel 1
-    while frame is not None and os.path.abspath(frame.f_code.co_filename).startswith(pkg):
-        frame, level = frame.f_back, level + 1
-    return level
+            hints = [pair.discretization.failure_hint(),  # nts.failure_hints (geometry only)
+                     nts_patch_text(pair)]
+            if any(hints):
+                warn_at_user("; ".join(h for h in hints if h), PreflightWarning)
+    if z is not None:
+        for text in stiffness_ratio_text(model, z, load_factor):
+            warn_at_user(text, PreflightWarning)

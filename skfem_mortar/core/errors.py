@@ -1,7 +1,13 @@
 """Exceptions raised by skfem-mortar."""
 from __future__ import annotations
 
+import os
+import sys
+import warnings
 from typing import Any
+
+#: the package's directory (``.../skfem_mortar/``): frames in files under it are not the user's
+_PACKAGE = os.path.dirname(os.path.dirname(os.path.abspath(__file__))) + os.sep
 
 
 class SkfemMortarError(Exception):
@@ -45,3 +51,25 @@ class ConvergenceError(SkfemMortarError):
         super().__init__(
             f"no convergence in load step {step} at load factor {load_factor:.6g} "
             f"(iteration {iteration}: {reason}); residual history [{hist}]")
+
+
+def user_stacklevel() -> int:
+    """The ``stacklevel`` for a ``warnings.warn`` made by the caller of this function
+    that points at the first frame outside the package (the user's ``solve(...)``
+    or ``Model(...)``).  When every frame is the package's (its command line), the
+    outermost of them."""
+    frame, level = sys._getframe(1), 1  # the caller: stacklevel 1 of its warnings.warn
+    while frame.f_back is not None and _in_package(frame.f_code.co_filename):
+        frame, level = frame.f_back, level + 1
+    return level
+
+
+def _in_package(filename: str) -> bool:
+    return os.path.abspath(filename).startswith(_PACKAGE)
+
+
+def warn_at_user(message: str, category: type[Warning] = UserWarning) -> None:
+    """``warnings.warn(message, category)`` pointing at the user's line: the first
+    frame outside the package (:func:`user_stacklevel`), whatever the depth of
+    the package code that warns."""
+    warnings.warn(message, category, stacklevel=user_stacklevel())

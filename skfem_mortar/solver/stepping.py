@@ -18,7 +18,6 @@ from __future__ import annotations
 import logging
 import os
 import time
-import warnings
 from pathlib import Path
 from dataclasses import dataclass, field, replace
 from typing import Any, Callable, Sequence
@@ -26,12 +25,15 @@ from typing import Any, Callable, Sequence
 import numpy as np
 
 from ..contact import preflight as _preflight  # noqa: F401 (registers its checks: solve runs them)
-from ..core.errors import ConvergenceError
+from ..core.errors import ConvergenceError, warn_at_user
 from ..core.model import Item, Model, Output
 from .linsolve import forget_analyses
 from .newton import NewtonOptions, NewtonReport
 from .newton import newton as newton_step
 from .observers import Callback, ContactCsv, Observer, ProgressBar, SeriesObserver, replay
+from .diagnosis import failure_causes, round_off_above_load
+# MAX_STEPS: a name of this module before the checks moved
+from .arguments import MAX_STEPS, check_z0, validate as _validate  # noqa: F401
 
 __all__ = ["Controller", "Restart", "StepRecord", "Result", "solve"]
 
@@ -312,35 +314,6 @@ class Result:
                 f"</table></div>")
 
 
-#: the largest number of nominal load steps a solve accepts (a 1e6-step run of
-#: the smallest scene would take days; more is a typo)
-MAX_STEPS = 1_000_000
-
-
-def _number(v: Any) -> bool:
-    return isinstance(v, (int, float, np.integer, np.floating)) and not isinstance(v, bool)
-
-
-def _validate(n_steps: int, min_step: float, start: float, growth: float = 2.0,
-              easy_iterations: int = 4, easy_steps: int = 2,
-              increment: float | None = None) -> None:
-    """Refuse stepping arguments out of range (ValueError naming the argument)."""
-    if not (isinstance(n_steps, (int, np.integer)) and not isinstance(n_steps, bool)
-            and 1 <= n_steps <= MAX_STEPS):
-        raise ValueError(f"n_steps must be an integer in [1, {MAX_STEPS}], got {n_steps!r}")
-    if not (_number(min_step) and 0.0 < min_step <= 1.0):
-        raise ValueError(f"min_step must lie in (0, 1], got {min_step!r}")
-    if not (_number(start) and 0.0 <= start < 1.0):
-        raise ValueError(f"start must lie in [0, 1), got {start!r}")
-    if not (_number(growth) and 1.0 <= growth <= 1e3):
-        raise ValueError(f"growth must be a number in [1, 1000], got {growth!r}")
-    for name, v, lo in (("easy_iterations", easy_iterations, 0), ("easy_steps", easy_steps, 1)):
-        if not (isinstance(v, (int, np.integer)) and not isinstance(v, bool) and v >= lo):
-            raise ValueError(f"{name} must be an integer >= {lo}, got {v!r}")
-    if increment is not None and not (_number(increment) and 0.0 < increment <= 1.0):
-        raise ValueError(f"increment must lie in (0, 1], got {increment!r}")
-
-
 def solve(model: Model, n_steps: int = 1, *, newton_options: NewtonOptions | None = None,
           newton: NewtonOptions | None = None, min_step: float = 1e-4,
           growth: float = 2.0, easy_iterations: int = 4, easy_steps: int = 2,
@@ -418,14 +391,13 @@ def solve(model: Model, n_steps: int = 1, *, newton_options: NewtonOptions | Non
         z0, start, history = restart.z, restart.load_factor, restart.history
     _validate(n_steps, min_step, start, growth, easy_iterations, easy_steps, increment)
     if newton_options is not None:
-        warnings.warn("solve(newton_options=...) is deprecated, use solve(newton=...)",
-                      DeprecationWarning, stacklevel=2)
+        warn_at_user("solve(newton_options=...) is deprecated, use solve(newton=...)",
+                     DeprecationWarning)
     opts = newton_options or newton or NewtonOptions()
     watchers = _observers(observers, progress, callback)
     t_start = time.perf_counter()
-    z = model.zeros() if z0 is None else np.array(z0, dtype=float)
-    if z.shape != (model.n,):
-        raise ValueError(f"z0 must have shape ({model.n},), got {z.shape}")
+    z = model.zeros() if z0 is None else check_z0(z0, model.n,
+                                                  "z0" if restart is None else "restart.z")
     fixed, values = model.prescribed(start)
     z[fixed] = values
     nominal = 1.0 / n_steps
@@ -452,6 +424,10 @@ def solve(model: Model, n_steps: int = 1, *, newton_options: NewtonOptions | Non
             predictor = z_prev if extrapolate and lf > ctl.lf_prev else None
             trial, rep = _attempt(model, z, lf, target, opts, predictor, ctl.lf_prev)
             result.solve_time += rep.solve_time
+            if rep.converged:  # a residual above the load is no answer, at any increment
+                rep.reason = round_off_above_load(model, trial, target, rep)
+                if rep.reason:
+                    _give_up(model, step_no, target, rep, (z, lf))
             if rep.converged:
                 z_prev, z = z, trial
                 rec = _converged(model, z, target, rep, ctl)
@@ -471,7 +447,7 @@ def solve(model: Model, n_steps: int = 1, *, newton_options: NewtonOptions | Non
             ctl.cuts += 1
             ctl.n_easy = 0
             if ctl.increment < min_step * (1.0 - 1e-12):
-                _give_up(model, step_no, target, rep)
+                _give_up(model, step_no, target, rep, (z, lf))
         result.converged = True
         result.wall_time = time.perf_counter() - t_start
     finally:
@@ -541,8 +517,13 @@ def _grow(ctl: Controller, iterations: int, nominal: float, growth: float,
         ctl.n_easy = 0
 
 
-def _give_up(model: Model, step_no: int, target: float, rep: NewtonReport) -> None:
+def _give_up(model: Model, step_no: int, target: float, rep: NewtonReport,
+             last: tuple[np.ndarray, float]) -> None:
+    """Raise the step's ConvergenceError: Newton's reason, then the physical causes
+    the last converged state ``last = (z, load factor)`` and the target load
+    show (:func:`~skfem_mortar.solver.diagnosis.failure_causes`), then the items'
+    failure hints."""
+    causes = failure_causes(model, last[0], last[1], target)
     hints = [h for h in (it.failure_hint() for it in model.items) if h]
-    reason = "; ".join([rep.reason] + hints)
+    reason = "; ".join([rep.reason] + causes + hints)
     raise ConvergenceError(step_no, target, rep.iterations, rep.residual_norms, reason)
-
