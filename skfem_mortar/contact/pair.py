@@ -81,6 +81,18 @@ K_LAM = 1e-6
 #: attempt or the last converged tangential force is this close to its bound
 NEAR_BOUND = 0.98
 
+#: a step that starts with no slip bound (the first frictional one) has only a
+#: guess of its tangential multipliers' size ``p_ref`` (``c h^k``, docs/friction.md);
+#: a tracked Newton iteration re-fixes it to the iterate's largest bound when the two
+#: differ by more than this factor.  The tangential rows are ``C_t / p_ref`` with
+#: ``C_t ~ Xi * (error of lam_t)``, so Newton's residual test meets ``lam_t`` to
+#: about ``rtol * S * p_ref / Xi^2``: with the guess 1e5 times the bound (a pressing
+#: step of strain 1e-5) that is 1e-3 of the bound, above the KKT check's 1e-6, at
+#: every cut of the step alike (the bound shrinks with the step, the guess does not).
+#: Within a factor 2, ``lam_t`` is met as in every later step.  A row scale leaves
+#: Newton's iterates as they are; only its test changes.
+P_REF_FIT = 2.0
+
 #: the pair's own checkpoint entries (:meth:`ContactPair.state_dict`; the
 #: discretization's are beside them)
 _PAIR_STATE = ("started", "active", "c", "row_scale", "x0_slave", "x0_master", "tol_p")
@@ -434,6 +446,7 @@ class ContactPair(Item):
             self.statuses = StatusSet(slave.n_nodes, name, cycle_guard=cycle_guard)
             self._slip_history: dict[str, np.ndarray] | None = None
             self._p_ref: float | None = None
+            self._p_ref_guess = True  # p_ref not from a converged bound (_step_p_ref)
             self._reserved_t: tuple[Any, Any, FrictionReservation] | None = None
             self._converged_t: tuple | None = None  # (xs, xm, lam_t, data, history)
             #: times the slip's reserved pattern was widened (a slip across more
@@ -640,14 +653,22 @@ class ContactPair(Item):
         return rows, dofs.T.ravel().astype(np.int64), v.T.ravel()
 
     # -- friction ----------------------------------------------------------------
-    def _p_reference(self, ev: ContactEval, c: float) -> float:
+    def _p_reference(self, ev: ContactEval, c: float, xi: np.ndarray | None = None) -> float:
         """The tangential rows' pressure ``p_ref`` of the step (:meth:`_step_p_ref`;
         before any: ``c h^k``, ``h`` the mean tributary length, ``k = 1`` force
         multipliers, ``2`` traction ones: the multiplier a gap of one element
-        length would give)."""
+        length would give).  In a step whose start carries no slip bound that
+        is a guess, and the bounds ``xi`` of a Newton iteration re-fix it
+        (:data:`P_REF_FIT`)."""
         if self._p_ref is None:
             h = float(np.mean(ev.area[ev.area > 0])) if np.any(ev.area > 0) else 1.0
             self._p_ref = float(c * h ** (1 if self.multiplier_kind == "force" else 2))
+        top = float(xi.max(initial=0.0)) if xi is not None else 0.0
+        if self._p_ref_guess and top > 0 and not (
+                top / P_REF_FIT <= self._p_ref <= top * P_REF_FIT):
+            log.debug("%s: p_ref %.3g re-fixed to the iterate's largest slip bound %.3g",
+                      self.name, self._p_ref, top)
+            self._p_ref = top
         return self._p_ref
 
     def _step_p_ref(self, z: np.ndarray) -> None:
@@ -655,8 +676,10 @@ class ContactPair(Item):
         ``Xi`` there (the size of the tangential multipliers the step resolves,
         so its rows ``s_t C_t`` weigh a multiplier error like the normal rows
         do), or the default of :meth:`_p_reference` where no node carries a
-        bound yet.  Constant within the step: a row scale, it changes only when
-        Newton stops, never its iterates."""
+        bound yet.  Constant within a step that starts with a bound; a step
+        without one re-fixes its guess to the iterates' bounds (:data:`P_REF_FIT`).
+        A row scale changes when Newton stops, never its iterates."""
+        self._p_ref_guess = True
         if self.c is None:
             return
         lam = np.asarray(z)[self._normal]
@@ -666,6 +689,7 @@ class ContactPair(Item):
         xi = np.where(self.state.converged, xi, 0.0)
         if xi.max(initial=0.0) > 0:
             self._p_ref = float(xi.max())
+            self._p_ref_guess = False
 
     def _history(self, z: np.ndarray) -> dict[str, np.ndarray]:
         """The slip history of the last converged step (at the first step: of ``z``)."""
@@ -731,7 +755,7 @@ class ContactPair(Item):
         gd = self.global_dofs()
         n = self.slave.n_nodes
         rs = self._row_scale
-        st = rs / self._p_reference(ev, c)
+        st = rs / self._p_reference(ev, c, fr.bound if tangent else None)
         keep = gd >= 0
         fu = ev.G.T @ lam + sl.G.T @ lam_t
         idx = self.offset + np.arange(n)
