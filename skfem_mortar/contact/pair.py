@@ -61,6 +61,7 @@ from ..core.model import Contribution, Item
 from ..output.contact_output import ContactOutput
 from .search import distance_to_polyline
 from .surfaces import segment_lengths, tributary_lengths
+from .tributary import tributary_jacobian, tributary_pattern
 
 __all__ = ["ContactPair", "METHODS"]
 
@@ -683,7 +684,8 @@ class ContactPair(Item):
         if self.c is None:
             return
         lam = np.asarray(z)[self._normal]
-        weight = self._area0 if self.multiplier_kind == "force" else 1.0
+        weight = (tributary_lengths(self.slave.x(z), self.slave.segments)
+                  if self.multiplier_kind == "force" else 1.0)
         xi, _, _ = self._law.slip_bound(np.where(self.state.converged, lam, 0.0),
                                             np.zeros_like(lam), self.c, weight)
         xi = np.where(self.state.converged, xi, 0.0)
@@ -709,8 +711,8 @@ class ContactPair(Item):
         statuses of :class:`~skfem_mortar.contact.active_set.StatusSet`) at ``z``.
 
         ``Xi`` is the law's slip bound (Coulomb ``mu (lam_n - c g_n)``, Tresca
-        ``bound`` times the tributary length for force multipliers, times 1
-        for traction ones), ``c_t = c``; nodes outside the normal active set or
+        ``bound`` times the current tributary length for force multipliers,
+        times 1 for traction ones), ``c_t = c``; nodes outside the normal active set or
         the slip's ``mask`` are open.  ``track``: a Newton iteration (the
         statuses are updated); ``active`` defaults to the current normal set;
         ``history`` to the slip history of the last converged step.
@@ -724,9 +726,9 @@ class ContactPair(Item):
         active = self.active if active is None else active
         sl = self.discretization.slip(xs, xm, self._history(z) if history is None else history,
                                       lam_t if tangent else None, tangent, ev)
-        # Tresca's nodal bound: the traction bound times the reference tributary
-        # length for force multipliers (a fixed weight: no derivative), 1 for tractions
-        weight = self._area0 if self.multiplier_kind == "force" else 1.0
+        # Tresca's nodal bound: the traction bound times the current tributary length
+        # for force multipliers (its derivative: _bound_jacobian), 1 for tractions
+        weight = ev.area if self.multiplier_kind == "force" else 1.0
         on = active & sl.mask
         jac = self.friction_jacobian
         fr = complementarity(self._law, lam, lam_t, ev.g, sl.u, c, c, on, weight, jacobian=jac)
@@ -764,7 +766,11 @@ class ContactPair(Item):
                                            st * fr.C]))
         if not tangent:
             return out
-        B = (sp.diags(fr.d_u) @ sl.G + sp.diags(fr.d_g) @ ev.G).tocsr()
+        B = sp.diags(fr.d_u) @ sl.G + sp.diags(fr.d_g) @ ev.G
+        if self._moving_bound:
+            B = B + sp.diags(fr.d_bound * self._law.bound) @ tributary_jacobian(
+                xs, self.slave.segments, sl.G.shape[1])
+        B = B.tocsr()
         res = self._friction_reservation(z, gd)
         if res is not None:  # the triplets over the reserved patterns (explicit zeros)
             args = (ev.G, ev.H, sl.G, B, sl.H, active, c, rs, st, fr)
@@ -810,8 +816,11 @@ class ContactPair(Item):
         h = self._slip_history
         if (self._reserved_t is None or self._reserved_t[0] is not res_n
                 or self._reserved_t[1] is not h):
-            self._reserved_t = (res_n, h, FrictionReservation(
-                res_n, self.discretization.slip_pattern(h)))
+            P_t = self.discretization.slip_pattern(h)
+            if self._moving_bound:   # the bound's columns: the slave segments' nodes
+                P_t = P_t + tributary_pattern(self.slave.segments, self.slave.n_nodes,
+                                              P_t.shape[1])
+            self._reserved_t = (res_n, h, FrictionReservation(res_n, P_t))
         return self._reserved_t[2]
 
     def _reservation(self, z: np.ndarray, gd: np.ndarray) -> Reservation | None:
@@ -837,6 +846,12 @@ class ContactPair(Item):
         res = res.widened(ev.G, ev.H)
         self._reserved = (P, res)
         return res
+
+    @property
+    def _moving_bound(self) -> bool:
+        """Whether the step's slip bound moves with the slave: Tresca on force
+        multipliers (``bound`` times the current tributary length)."""
+        return isinstance(self._law, Tresca) and self.multiplier_kind == "force"
 
     # -- active set --------------------------------------------------------------
     @property
