@@ -82,15 +82,12 @@ K_LAM = 1e-6
 #: attempt or the last converged tangential force is this close to its bound
 NEAR_BOUND = 0.98
 
-#: a step that starts with no slip bound (the first frictional one) has only a
-#: guess of its tangential multipliers' size ``p_ref`` (``c h^k``, docs/friction.md);
-#: a tracked Newton iteration re-fixes it to the iterate's largest bound when the two
-#: differ by more than this factor.  The tangential rows are ``C_t / p_ref`` with
-#: ``C_t ~ Xi * (error of lam_t)``, so Newton's residual test meets ``lam_t`` to
-#: about ``rtol * S * p_ref / Xi^2``: with the guess 1e5 times the bound (a pressing
-#: step of strain 1e-5) that is 1e-3 of the bound, above the KKT check's 1e-6, at
-#: every cut of the step alike (the bound shrinks with the step, the guess does not).
-#: Within a factor 2, ``lam_t`` is met as in every later step.  A row scale leaves
+#: a step that starts with no slip bound has only a guess of ``p_ref`` (``c h^k``);
+#: a tracked iteration re-fixes it to the iterate's largest bound when the two differ
+#: by more than this factor.  The rows ``C_t / p_ref``, ``C_t ~ Xi * (error of
+#: lam_t)``, pass Newton's test with ``lam_t`` off by ``rtol S p_ref / Xi^2``: with a
+#: guess 1e5 times the bound (a pressing step of strain 1e-5) 1e-3 of the bound,
+#: which the KKT check (1e-6) refuses at every cut alike.  A row scale leaves
 #: Newton's iterates as they are; only its test changes.
 P_REF_FIT = 2.0
 
@@ -727,7 +724,7 @@ class ContactPair(Item):
         sl = self.discretization.slip(xs, xm, self._history(z) if history is None else history,
                                       lam_t if tangent else None, tangent, ev)
         # Tresca's nodal bound: the traction bound times the current tributary length
-        # for force multipliers (its derivative: _bound_jacobian), 1 for tractions
+        # for force multipliers (its derivative in _assemble_friction), 1 for tractions
         weight = ev.area if self.multiplier_kind == "force" else 1.0
         on = active & sl.mask
         jac = self.friction_jacobian
