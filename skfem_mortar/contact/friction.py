@@ -31,7 +31,8 @@ zeros)::
     C_t = max(Xi, |s|) lam_t - Xi s,
     Xi  = mu (lam_n - c_n g_n)         Coulomb  (the brief's ``mu (lam_n + c_n g_n)``
                                                  with ``g > 0`` open)
-    Xi  = bound * w                    Tresca   (``w`` the nodal weight, see :class:`Tresca`)
+    Xi  = bound * w                    Tresca   (``w`` the nodal weight on the current
+                                                 surface, see :class:`Tresca`)
 
 on the nodes whose normal row is active; elsewhere (open) ``C_t = lam_t``.
 Per node, with the status chosen as
@@ -51,7 +52,10 @@ the derivatives (exact on each branch) are::
     open:   dC/dlam_t = 1,  all others 0
 
 and ``dXi/dlam_n = mu``, ``dXi/dg_n = -mu c_n`` (Coulomb), 0 (Tresca), so
-``dC/dlam_n = dC/dXi dXi/dlam_n`` and ``dC/dg_n = dC/dXi dXi/dg_n``.
+``dC/dlam_n = dC/dXi dXi/dlam_n`` and ``dC/dg_n = dC/dXi dXi/dg_n``.  NTS's
+Tresca bound ``bound * a_A(x)`` moves with the slave: the pair adds
+``dC/dXi * bound * da_A/dx`` (:attr:`FrictionRows.d_bound`,
+:mod:`~skfem_mortar.contact.tributary`).
 
 Kinks, without regularization: ``|s|`` is never differentiated at ``s = 0``,
 because a slip node has ``|s| >= Xi > 0`` and ``s = 0`` lies inside the stick
@@ -203,20 +207,29 @@ class Tresca(_Starts):
     Parameters
     ----------
     bound : float
-        The bound, a traction per unit thickness (force / length^2 in plane
-        problems of unit thickness), finite and ``> 0``.
+        The bound, a traction: force per unit *current* area (per unit current
+        length and unit thickness in plane problems), finite and ``> 0``.
     start : float, optional
         The load factor after which friction acts, in ``[0, 1)`` (default 0);
         as :class:`Coulomb`'s.
 
     Notes
     -----
-    The nodal bound is ``bound * weight``, in the units of the tangential
-    multiplier: NTS multipliers are nodal forces, so ``weight`` is the
-    tributary length ``a_A``; mortar multipliers are tractions, so
-    ``weight = 1``, which is the ``D_AA``-weighted condition
-    ``|sum_B D_AB lam_t,B| <= D_AA bound`` for dual multipliers
-    (``D`` diagonal), and its nodal (collocated) form for standard ones.
+    One meaning for every method: ``bound`` bounds the Cauchy tangential
+    traction, the force per unit area of the deformed contact surface.  That
+    is the physical one (a shear strength of the interface acts on the area
+    that touches now, whatever the body's reference shape), and it is what the
+    mortar weak form integrates: its tractions act on the current slave
+    surface, so a sliding contact carries ``bound`` times the current contact
+    length.  The nodal bound is ``bound * weight``, in the units of the
+    tangential multiplier: mortar multipliers are tractions, ``weight = 1``
+    (the ``D_AA``-weighted condition ``|sum_B D_AB lam_t,B| <= D_AA bound`` for
+    dual multipliers, ``D`` diagonal, and its nodal form for standard ones);
+    NTS multipliers are nodal forces, ``weight`` the tributary length
+    ``a_A(x)`` on the current positions (its derivative enters the rows'
+    Jacobian, :mod:`skfem_mortar.contact.tributary`), 2- and 3-node segments
+    alike.  ``contact_data``'s ``tangential_traction`` is per current length
+    too, so a sliding node reads ``bound`` with every method.
     """
 
     bound: float
@@ -254,6 +267,9 @@ class FrictionRows:
     d_lam_n, d_lam_t, d_g, d_u : ndarray (n,)
         ``dC_t/dlam_n``, ``dC_t/dlam_t``, ``dC_t/dg_n``, ``dC_t/du_t`` (the branch
         of ``status``; the rows' Jacobian is diagonal in these).
+    d_bound : ndarray (n,)
+        ``dC_t/dXi``: with a bound that depends on the positions (NTS's Tresca
+        bound ``bound * a_A(x)``), the rows' Jacobian adds ``d_bound dXi/dx``.
     bound : ndarray (n,)
         The slip bound ``Xi`` (0 on open nodes).
     s : ndarray (n,)
@@ -268,6 +284,7 @@ class FrictionRows:
     d_u: np.ndarray
     bound: np.ndarray
     s: np.ndarray
+    d_bound: np.ndarray
 
     def where(self, code: int) -> np.ndarray:
         """The nodes of one status (bool per node)."""
@@ -304,8 +321,8 @@ def complementarity(law: FrictionLaw, lam_n: np.ndarray, lam_t: np.ndarray, g_n:
         The normal active set (the pair's, after its guards); default
         ``lam_n - c_n g_n >= 0``.  Inactive nodes are open.
     weight : float or ndarray (n,)
-        The nodal weight of a :class:`Tresca` bound (NTS: the tributary length,
-        mortar: 1); unused by :class:`Coulomb`.
+        The nodal weight of a :class:`Tresca` bound (NTS: the current tributary
+        length, mortar: 1); unused by :class:`Coulomb`.
     status : int ndarray (n,), optional
         Impose these branches (:data:`STICK`, :data:`SLIP`) instead of choosing
         them from ``|s|`` and ``Xi`` (the contact pair's first iteration of a
@@ -363,7 +380,7 @@ def complementarity(law: FrictionLaw, lam_n: np.ndarray, lam_t: np.ndarray, g_n:
     d_xi = np.where(stick, c_t * u_t, np.where(slip, -s, 0.0))
     return FrictionRows(C=C, status=st.astype(np.int8), d_lam_n=d_xi * dxi_dl,
                         d_lam_t=d_lt, d_g=d_xi * dxi_dg, d_u=d_u,
-                        bound=np.where(opened, 0.0, xi), s=s)
+                        bound=np.where(opened, 0.0, xi), s=s, d_bound=d_xi)
 
 
 def _projected(lam_t: np.ndarray, xi: np.ndarray) -> np.ndarray:

@@ -61,6 +61,7 @@ from ..core.model import Contribution, Item
 from ..output.contact_output import ContactOutput
 from .search import distance_to_polyline
 from .surfaces import segment_lengths, tributary_lengths
+from .tributary import tributary_jacobian, tributary_pattern
 
 __all__ = ["ContactPair", "METHODS"]
 
@@ -80,6 +81,15 @@ K_LAM = 1e-6
 #: (:meth:`ContactPair.failure_hint`) when every active node slides in the failed
 #: attempt or the last converged tangential force is this close to its bound
 NEAR_BOUND = 0.98
+
+#: a step that starts with no slip bound has only a guess of ``p_ref`` (``c h^k``);
+#: a tracked iteration re-fixes it to the iterate's largest bound when the two differ
+#: by more than this factor.  The rows ``C_t / p_ref``, ``C_t ~ Xi * (error of
+#: lam_t)``, pass Newton's test with ``lam_t`` off by ``rtol S p_ref / Xi^2``: with a
+#: guess 1e5 times the bound (a pressing step of strain 1e-5) 1e-3 of the bound,
+#: which the KKT check (1e-6) refuses at every cut alike.  A row scale leaves
+#: Newton's iterates as they are; only its test changes.
+P_REF_FIT = 2.0
 
 #: the pair's own checkpoint entries (:meth:`ContactPair.state_dict`; the
 #: discretization's are beside them)
@@ -438,6 +448,7 @@ class ContactPair(Item):
             self.statuses = StatusSet(slave.n_nodes, name, cycle_guard=cycle_guard)
             self._slip_history: dict[str, np.ndarray] | None = None
             self._p_ref: float | None = None
+            self._p_ref_guess = True  # p_ref not from a converged bound (_step_p_ref)
             self._reserved_t: tuple[Any, Any, FrictionReservation] | None = None
             self._converged_t: tuple | None = None  # (xs, xm, lam_t, data, history)
             #: times the slip's reserved pattern was widened (a slip across more
@@ -644,14 +655,22 @@ class ContactPair(Item):
         return rows, dofs.T.ravel().astype(np.int64), v.T.ravel()
 
     # -- friction ----------------------------------------------------------------
-    def _p_reference(self, ev: ContactEval, c: float) -> float:
+    def _p_reference(self, ev: ContactEval, c: float, xi: np.ndarray | None = None) -> float:
         """The tangential rows' pressure ``p_ref`` of the step (:meth:`_step_p_ref`;
         before any: ``c h^k``, ``h`` the mean tributary length, ``k = 1`` force
         multipliers, ``2`` traction ones: the multiplier a gap of one element
-        length would give)."""
+        length would give).  In a step whose start carries no slip bound that
+        is a guess, and the bounds ``xi`` of a Newton iteration re-fix it
+        (:data:`P_REF_FIT`)."""
         if self._p_ref is None:
             h = float(np.mean(ev.area[ev.area > 0])) if np.any(ev.area > 0) else 1.0
             self._p_ref = float(c * h ** (1 if self.multiplier_kind == "force" else 2))
+        top = float(xi.max(initial=0.0)) if xi is not None else 0.0
+        if self._p_ref_guess and top > 0 and not (
+                top / P_REF_FIT <= self._p_ref <= top * P_REF_FIT):
+            log.debug("%s: p_ref %.3g re-fixed to the iterate's largest slip bound %.3g",
+                      self.name, self._p_ref, top)
+            self._p_ref = top
         return self._p_ref
 
     def _step_p_ref(self, z: np.ndarray) -> None:
@@ -659,17 +678,21 @@ class ContactPair(Item):
         ``Xi`` there (the size of the tangential multipliers the step resolves,
         so its rows ``s_t C_t`` weigh a multiplier error like the normal rows
         do), or the default of :meth:`_p_reference` where no node carries a
-        bound yet.  Constant within the step: a row scale, it changes only when
-        Newton stops, never its iterates."""
+        bound yet.  Constant within a step that starts with a bound; a step
+        without one re-fixes its guess to the iterates' bounds (:data:`P_REF_FIT`).
+        A row scale changes when Newton stops, never its iterates."""
+        self._p_ref_guess = True
         if self.c is None:
             return
         lam = np.asarray(z)[self._normal]
-        weight = self._area0 if self.multiplier_kind == "force" else 1.0
+        weight = (tributary_lengths(self.slave.x(z), self.slave.segments)
+                  if self.multiplier_kind == "force" else 1.0)
         xi, _, _ = self._law.slip_bound(np.where(self.state.converged, lam, 0.0),
                                             np.zeros_like(lam), self.c, weight)
         xi = np.where(self.state.converged, xi, 0.0)
         if xi.max(initial=0.0) > 0:
             self._p_ref = float(xi.max())
+            self._p_ref_guess = False
 
     def _history(self, z: np.ndarray) -> dict[str, np.ndarray]:
         """The slip history of the last converged step (at the first step: of ``z``)."""
@@ -689,8 +712,8 @@ class ContactPair(Item):
         statuses of :class:`~skfem_mortar.contact.active_set.StatusSet`) at ``z``.
 
         ``Xi`` is the law's slip bound (Coulomb ``mu (lam_n - c g_n)``, Tresca
-        ``bound`` times the tributary length for force multipliers, times 1
-        for traction ones), ``c_t = c``; nodes outside the normal active set or
+        ``bound`` times the current tributary length for force multipliers,
+        times 1 for traction ones), ``c_t = c``; nodes outside the normal active set or
         the slip's ``mask`` are open.  ``track``: a Newton iteration (the
         statuses are updated); ``active`` defaults to the current normal set;
         ``history`` to the slip history of the last converged step.
@@ -704,9 +727,9 @@ class ContactPair(Item):
         active = self.active if active is None else active
         sl = self.discretization.slip(xs, xm, self._history(z) if history is None else history,
                                       lam_t if tangent else None, tangent, ev)
-        # Tresca's nodal bound: the traction bound times the reference tributary
-        # length for force multipliers (a fixed weight: no derivative), 1 for tractions
-        weight = self._area0 if self.multiplier_kind == "force" else 1.0
+        # Tresca's nodal bound: the traction bound times the current tributary length
+        # for force multipliers (its derivative in _assemble_friction), 1 for tractions
+        weight = ev.area if self.multiplier_kind == "force" else 1.0
         on = active & sl.mask
         jac = self.friction_jacobian
         fr = complementarity(self._law, lam, lam_t, ev.g, sl.u, c, c, on, weight, jacobian=jac)
@@ -735,7 +758,7 @@ class ContactPair(Item):
         gd = self.global_dofs()
         n = self.slave.n_nodes
         rs = self._row_scale
-        st = rs / self._p_reference(ev, c)
+        st = rs / self._p_reference(ev, c, fr.bound if tangent else None)
         keep = gd >= 0
         fu = ev.G.T @ lam + sl.G.T @ lam_t
         idx = self.offset + np.arange(n)
@@ -744,7 +767,11 @@ class ContactPair(Item):
                                            st * fr.C]))
         if not tangent:
             return out
-        B = (sp.diags(fr.d_u) @ sl.G + sp.diags(fr.d_g) @ ev.G).tocsr()
+        B = sp.diags(fr.d_u) @ sl.G + sp.diags(fr.d_g) @ ev.G
+        if self._moving_bound:
+            B = B + sp.diags(fr.d_bound * self._law.bound) @ tributary_jacobian(
+                xs, self.slave.segments, sl.G.shape[1])
+        B = B.tocsr()
         res = self._friction_reservation(z, gd)
         if res is not None:  # the triplets over the reserved patterns (explicit zeros)
             args = (ev.G, ev.H, sl.G, B, sl.H, active, c, rs, st, fr)
@@ -790,8 +817,11 @@ class ContactPair(Item):
         h = self._slip_history
         if (self._reserved_t is None or self._reserved_t[0] is not res_n
                 or self._reserved_t[1] is not h):
-            self._reserved_t = (res_n, h, FrictionReservation(
-                res_n, self.discretization.slip_pattern(h)))
+            P_t = self.discretization.slip_pattern(h)
+            if self._moving_bound:   # the bound's columns: the slave segments' nodes
+                P_t = P_t + tributary_pattern(self.slave.segments, self.slave.n_nodes,
+                                              P_t.shape[1])
+            self._reserved_t = (res_n, h, FrictionReservation(res_n, P_t))
         return self._reserved_t[2]
 
     def _reservation(self, z: np.ndarray, gd: np.ndarray) -> Reservation | None:
@@ -817,6 +847,12 @@ class ContactPair(Item):
         res = res.widened(ev.G, ev.H)
         self._reserved = (P, res)
         return res
+
+    @property
+    def _moving_bound(self) -> bool:
+        """Whether the step's slip bound moves with the slave: Tresca on force
+        multipliers (``bound`` times the current tributary length)."""
+        return isinstance(self._law, Tresca) and self.multiplier_kind == "force"
 
     # -- active set --------------------------------------------------------------
     @property
