@@ -155,3 +155,19 @@ def test_rebind_gives_a_pair_its_models_layout_back():
     rebind(p1)
     assert cable.offset == 0
     assert np.array_equal(p1.contact_data(r1.z)["pressure"], want)
+
+
+def test_a_pairs_outputs_read_its_own_models_layout():
+    """A user compares methods: m1 solved, m2 built (another layout) and solved,
+    then m1's pair asked for its pressure and forces at m1's answer: they read
+    m1's layout (without the pair's own rebind: an IndexError past m2's end)."""
+    bodies = _bodies()
+    items1, pair1 = _items(bodies, "mortar", "cable cushion")
+    m1 = Model(items1)
+    z1 = solve(m1, 4).z
+    p1, f1 = pair1.contact_data(z1)["pressure"].copy(), pair1.total_force(z1).copy()
+    items2, pair2 = _items(bodies, "nts", "d cable cushion")
+    solve(Model(items2), 4)
+    # the same evaluation at the same state and layout: bitwise the same numbers
+    assert np.array_equal(pair1.contact_data(z1)["pressure"], p1)
+    assert np.array_equal(pair1.total_force(z1), f1)

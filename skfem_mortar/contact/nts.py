@@ -373,12 +373,13 @@ def failure_hints(slave, master, name: str = "contact") -> str:
                              f"where they meet (median segment lengths {hs:.3g} > {hm:.3g}); "
                              f"single-pass NTS then pushes point forces into dents of the "
                              f"master and lets master nodes pass through the slave: make the "
-                             f"finer surface the slave, or refine the slave, or use mortar")
+                             f"finer surface the slave, or refine the slave, or use "
+                             f"method=\"mortar-dual\" (the default)")
     if ls.min() < 1e-4 * np.median(ls):
         hints.append(f"{name}: slave segments of nearly coincident nodes (shortest "
                      f"{ls.min():.3g}, median {np.median(ls):.3g}): their NTS constraints are "
                      f"nearly redundant and the saddle-point system nearly singular; merge "
-                     f"the nodes or use mortar")
+                     f"the nodes or use method=\"mortar-dual\" (the default)")
     return "; ".join(hints)
 
 

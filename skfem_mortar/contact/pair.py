@@ -51,6 +51,7 @@ import scipy.sparse as sp
 
 from .active_set import ActiveSet, StatusSet, chain_order, touching_nodes
 from .contact_eval import ContactEval
+from ..core.binding import rebind
 from . import BUILTIN_METHODS  # noqa: F401 (the former module offered the method names)
 from .discretization import (METHODS, FrictionDiscretization, PatternedDiscretization,
                              check_entries, make_method)  # METHODS: the registry's names
@@ -1013,6 +1014,7 @@ class ContactPair(Item):
         from the step's start, the statuses it converged with); at any other
         state the slip is measured from the last converged step and the
         statuses are the plain ones of :func:`~skfem_mortar.contact.friction.complementarity`."""
+        rebind(self)  # this pair's model's layout, if another model was used since
         lam_t = np.asarray(z)[self._tangential]
         conv = self._at_converged(z)
         if conv is not None:
@@ -1214,6 +1216,7 @@ class ContactPair(Item):
         ``tangential_traction``, ``slip`` (a length) and ``status`` (``"open"``,
         ``"stick"``, ``"slip"``) of :meth:`tangential_data`.
         """
+        rebind(self)  # this pair's model's layout, if another model was used since
         p, g, ev = self.pressure_and_gap(z)
         # round-off tension of a converged state (within the KKT tolerance) is
         # written as 0: outputs never show a negative pressure that is not there
@@ -1257,6 +1260,7 @@ class ContactPair(Item):
         split into the two surfaces (the force the other body exerts; the residual
         term is its negative), totals over the model's thickness ``H``
         (:attr:`~skfem_mortar.core.model.Item.thickness`)."""
+        rebind(self)  # this pair's model's layout, if another model was used since
         lam = np.asarray(z)[self._normal]
         ev = self.evaluate(z, tangent=True, with_lam=False)
         f = self.thickness * (ev.G.T @ lam)
@@ -1271,4 +1275,5 @@ class ContactPair(Item):
     def total_force(self, z: np.ndarray) -> np.ndarray:
         """Resultant (2,) of the contact force on the slave surface (a total over
         the model's thickness, as :meth:`forces`)."""
+        rebind(self)  # this pair's model's layout, if another model was used since
         return self.forces(z)[0].sum(axis=1)
