@@ -71,16 +71,19 @@ def test_the_same_item_twice_is_refused():
 
 
 @pytest.mark.parametrize("kw, match", [
-    (dict(method="nts", margn=0.1), r"unknown option 'margn' for method 'nts'; its options are.*"
-                      r"did you mean 'margin'\?"),
-    (dict(method="mortar", frcition=None), r"unknown option 'frcition' .*ContactPair's own "
-                                          r"keywords .*did you mean 'friction'\?"),
+    (dict(method="nts", margn=0.1), r"unknown option 'margn' for method 'nts': ContactPair "
+                      r"takes method, .* and method 'nts' the options .*did you mean 'margin'\?"),
+    (dict(method="mortar", frcition=None), r"unknown option 'frcition' .*ContactPair takes "
+                                          r".*did you mean 'friction'\?"),
+    (dict(methd="nts"), r"unknown option 'methd' .*did you mean 'method'\?"),
+    (dict(c="10"), r"c must be a finite real number > 0, got '10' \(str\)"),
+    (dict(touch_tolerance="0.1"), r"touch_tolerance must be a finite real number >= 0, got '0.1'"),
     (dict(method="mortar", n_gauss=0), r"n_gauss must be an integer in \[1, 10\]"),
     (dict(method="mortar", n_gauss=2.5), r"n_gauss must be an integer in \[1, 10\]"),
     (dict(margin=NAN), "margin must be a finite number > 0"),
     (dict(method="nts", stick=0.9), r"stick must be a number in \[0, 0.5\]"),
-    (dict(c=NAN), "c must be a finite number > 0"),
-    (dict(touch_tolerance=-1.0), "touch_tolerance must be a finite number >= 0"),
+    (dict(c=NAN), "c must be a finite real number > 0"),
+    (dict(touch_tolerance=-1.0), "touch_tolerance must be a finite real number >= 0"),
     (dict(accelerate="yes"), "accelerate must be True or False"),
     (dict(method="mortar-duall"), "method must be one of nts, mortar, mortar-dual"),
     (dict(segmentation="always"), "segmentation must be 'iteration' or 'step'"),
@@ -90,6 +93,17 @@ def test_contact_pair_options_are_checked_when_built(kw, match):
     with pytest.raises(ValueError, match=match):
         ContactPair(ContactSurface.from_solid(b, "bottom"), ContactSurface.from_solid(a, "top"),
                     **kw)
+
+
+def test_bodies_given_as_surfaces_are_refused_naming_the_role():
+    """A newcomer's ``ContactPair(upper, lower)`` with the bodies themselves (before:
+    TypeError "'slice' object is not callable")."""
+    a, b = block("a"), block("b", y0=0.5)
+    with pytest.raises(ValueError, match=r"^slave must be a contact surface "
+                                         r"\(ContactSurface.from_solid\(body, .*got Solid 'b'"):
+        ContactPair(b, ContactSurface.from_solid(a, "top"))
+    with pytest.raises(ValueError, match=r"^master must be a contact surface .*got Solid 'a'"):
+        ContactPair(ContactSurface.from_solid(b, "bottom"), a)
 
 
 @pytest.mark.parametrize("make, match", [

@@ -168,9 +168,9 @@ def test_nan_or_negative_contact_and_solver_parameters():
     s = _solid()
     slave = ContactSurface.from_solid(s, "top")
     plane = RigidPlane((0.0, 2.0), (0.0, -1.0))
-    with pytest.raises(ValueError, match="c must be a finite number > 0"):
+    with pytest.raises(ValueError, match="c must be a finite real number > 0"):
         ContactPair(slave, plane, c=-1.0)
-    with pytest.raises(ValueError, match="touch_tolerance must be a finite number >= 0"):
+    with pytest.raises(ValueError, match="touch_tolerance must be a finite real number >= 0"):
         ContactPair(slave, plane, touch_tolerance=np.nan)
     with pytest.raises(ValueError, match="method must be one of nts, mortar, mortar-dual"):
         ContactPair(slave, plane, method="penalty")

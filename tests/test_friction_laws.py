@@ -23,22 +23,22 @@ FD_TOL = 1e-7
 
 
 # ------------------------------------------------------------------ refusals
-@pytest.mark.parametrize("mu", [-0.1, np.nan, np.inf, "a", None])
+@pytest.mark.parametrize("mu", [-0.1, np.nan, np.inf, "a", None, "0.3", True])
 def test_coulomb_refuses_a_bad_coefficient(mu):
-    with pytest.raises(ValueError, match="mu must be a finite number >= 0"):
+    with pytest.raises(ValueError, match="mu must be a finite real number >= 0"):
         Coulomb(mu)
 
 
-@pytest.mark.parametrize("bound", [0.0, -1.0, np.inf, np.nan])
+@pytest.mark.parametrize("bound", [0.0, -1.0, np.inf, np.nan, "1.0"])
 def test_tresca_refuses_a_bad_bound(bound):
-    with pytest.raises(ValueError, match="bound must be a finite number > 0"):
+    with pytest.raises(ValueError, match="bound must be a finite real number > 0"):
         Tresca(bound)
 
 
-@pytest.mark.parametrize("start", [-0.1, 1.0, 1.5, np.nan, np.inf, "a", None])
+@pytest.mark.parametrize("start", [-0.1, 1.0, 1.5, np.nan, np.inf, "a", None, "0.5"])
 @pytest.mark.parametrize("law", [lambda s: Coulomb(0.3, start=s), lambda s: Tresca(1.0, start=s)])
 def test_laws_refuse_a_start_outside_the_load_range(law, start):
-    with pytest.raises(ValueError, match=r"start must be a finite number in \[0, 1\)"):
+    with pytest.raises(ValueError, match=r"start must be a finite real number in \[0, 1\)"):
         law(start)
 
 
@@ -63,9 +63,9 @@ def test_laws_are_frozen_and_compare_by_value():
 
 def test_complementarity_refuses_bad_parameters_and_shapes():
     z = np.zeros(3)
-    with pytest.raises(ValueError, match="c_n must be a finite number > 0"):
+    with pytest.raises(ValueError, match="c_n must be a finite real number > 0"):
         complementarity(Coulomb(0.3), z, z, z, z, 0.0, 1.0)
-    with pytest.raises(ValueError, match="c_t must be a finite number > 0"):
+    with pytest.raises(ValueError, match="c_t must be a finite real number > 0"):
         complementarity(Coulomb(0.3), z, z, z, z, 1.0, np.nan)
     with pytest.raises(ValueError, match="u_t must have the shape of lam_n"):
         complementarity(Coulomb(0.3), z, z, z, np.zeros(2), 1.0, 1.0)

@@ -56,7 +56,7 @@ def test_refusals():
     s = ContactSurface.from_solid(b, "bottom")
     with pytest.raises(ValueError, match="friction must be None, Coulomb"):
         ContactPair(s, plane, "nts", friction=0.3)
-    with pytest.raises(ValueError, match="mu must be a finite number >= 0"):
+    with pytest.raises(ValueError, match="mu must be a finite real number >= 0"):
         Coulomb(-0.1)
 
 

@@ -307,8 +307,8 @@ def make_method(method: str, slave: Any, master: Any, pair_name: str = "contact"
 
 
 #: the keywords ``ContactPair`` takes itself (a misspelt one reaches the method's options)
-PAIR_KEYWORDS = ("name", "c", "cycle_guard", "touch_tolerance", "segmentation", "accelerate",
-                 "friction")
+PAIR_KEYWORDS = ("method", "name", "c", "cycle_guard", "touch_tolerance", "segmentation",
+                 "accelerate", "friction")
 
 #: option name -> (check, allowed range as said in the refusal)
 OptionTable = dict[str, tuple[Callable[[Any], Any], str]]
@@ -317,12 +317,15 @@ OptionTable = dict[str, tuple[Callable[[Any], Any], str]]
 def check_options(method: str, options: dict, allowed: OptionTable) -> None:
     """Refuse an unknown or out-of-range option (ValueError naming it)."""
     for k, v in options.items():
+        if k in PAIR_KEYWORDS and k not in allowed:  # a pair keyword the pair hands on
+            raise ValueError(f"{k}={v!r} does not apply to method {method!r} (its options "
+                             f"are {sorted(allowed)})")
         if k not in allowed:
             close = difflib.get_close_matches(k, list(allowed) + list(PAIR_KEYWORDS), n=1)
             hint = f"; did you mean {close[0]!r}?" if close else ""
-            raise ValueError(f"unknown option {k!r} for method {method!r}; its options are "
-                             f"{sorted(allowed)} (and ContactPair's own keywords "
-                             f"{', '.join(PAIR_KEYWORDS)}){hint}")
+            raise ValueError(f"unknown option {k!r} for method {method!r}: ContactPair takes "
+                             f"{', '.join(PAIR_KEYWORDS)}, and method {method!r} the options "
+                             f"{sorted(allowed)}{hint}")
         check, what = allowed[k]
         try:
             ok = bool(check(v))

@@ -112,6 +112,8 @@ from typing import Union
 
 import numpy as np
 
+from ..core.validate import real
+
 __all__ = ["Coulomb", "Tresca", "FrictionLaw", "FrictionRows", "OPEN", "STICK", "SLIP",
            "STATUS_NAMES", "NO_FRICTION", "JACOBIANS", "complementarity"]
 
@@ -121,28 +123,15 @@ STATUS_NAMES = ("open", "stick", "slip")
 
 
 def _finite(name: str, value: float, low: float, strict: bool) -> float:
-    """``value`` as a float, ValueError naming ``name`` unless finite and above ``low``."""
-    try:
-        v = float(value)
-    except (TypeError, ValueError):
-        v = float("nan")
-    ok = np.isfinite(v) and (v > low if strict else v >= low)
-    if not ok:
-        raise ValueError(f"{name} must be a finite number {'>' if strict else '>='} {low:g}, "
-                         f"got {value!r}")
-    return v
+    """``value`` as a float, ValueError naming ``name`` unless a finite real number
+    above ``low`` (a string such as ``"0.3"`` is refused, not converted)."""
+    return real(name, value, low, low_open=strict)
 
 
 def _start(value: float) -> float:
-    """``start`` as a float, ValueError naming it unless finite and in ``[0, 1)``."""
-    try:
-        v = float(value)
-    except (TypeError, ValueError):
-        v = float("nan")
-    if not (np.isfinite(v) and 0.0 <= v < 1.0):
-        raise ValueError(f"start must be a finite number in [0, 1) (the load factor after "
-                         f"which friction acts), got {value!r}")
-    return v
+    """``start`` as a float, ValueError naming it unless a finite real number in ``[0, 1)``
+    (the load factor after which friction acts)."""
+    return real("start", value, 0.0, 1.0, high_open=True)
 
 
 class _Starts:

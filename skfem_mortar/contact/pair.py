@@ -52,6 +52,7 @@ import scipy.sparse as sp
 from .active_set import ActiveSet, StatusSet, chain_order, touching_nodes
 from .contact_eval import ContactEval
 from ..core.binding import rebind
+from ..core.validate import real
 from . import BUILTIN_METHODS  # noqa: F401 (the former module offered the method names)
 from .discretization import (METHODS, FrictionDiscretization, PatternedDiscretization,
                              check_entries, make_method)  # METHODS: the registry's names
@@ -312,6 +313,18 @@ class FrictionReservation:
         return FrictionReservation(self.normal.widened(G_n, H_n), t.P + _ones(G_t), extra)
 
 
+def _check_surface(role: str, surface: Any) -> None:
+    """ValueError naming ``role`` unless ``surface`` is a contact surface (a body,
+    a mesh or an array is not: the pair needs its nodes, segments and dofs)."""
+    if not (callable(getattr(surface, "dofs", None)) and hasattr(surface, "nodes")
+            and hasattr(surface, "body")):
+        what = type(surface).__name__
+        named = f" {surface.name!r}" if isinstance(getattr(surface, "name", None), str) else ""
+        raise ValueError(f"{role} must be a contact surface (ContactSurface.from_solid(body, "
+                         f"boundary), ContactSurface.from_cable(cable), RigidPlane, "
+                         f"RigidCircle), got {what}{named}")
+
+
 class ContactPair(Item):
     """Contact between a slave and a master surface with Lagrange multipliers,
     frictionless or with Coulomb or Tresca friction.
@@ -387,14 +400,16 @@ class ContactPair(Item):
                  **options: Any):
         if method not in METHODS:
             raise ValueError(f"method must be one of {', '.join(METHODS)}, got {method!r}")
+        _check_surface("slave", slave)
+        _check_surface("master", master)
         if slave.dofs() is None:
             raise ValueError("slave must be a deformable surface (a rigid surface is a master)")
         if slave is master or (slave.body is not None and slave.body is master.body
                                and np.array_equal(np.sort(slave.nodes), np.sort(master.nodes))):
             raise ValueError(f"slave and master must be two different surfaces, got the same "
                              f"surface {slave.name!r} twice")
-        if c is not None and not (np.isfinite(c) and c > 0):
-            raise ValueError(f"c must be a finite number > 0, got {c}")
+        if c is not None:
+            c = real("c", c, 0.0, low_open=True)
         self.slave, self.master, self.method, self.name = slave, master, method, name
         for flag, v in (("cycle_guard", cycle_guard), ("accelerate", accelerate)):
             if not isinstance(v, (bool, np.bool_)):
@@ -402,8 +417,7 @@ class ContactPair(Item):
         if segmentation not in ("iteration", "step"):
             raise ValueError(f"segmentation must be 'iteration' or 'step', got {segmentation!r}")
         self.segmentation = segmentation
-        if not (np.isfinite(touch_tolerance) and touch_tolerance >= 0):
-            raise ValueError(f"touch_tolerance must be a finite number >= 0, got {touch_tolerance}")
+        touch_tolerance = real("touch_tolerance", touch_tolerance, 0.0)
         if segmentation != "iteration":
             options = {**options, "segmentation": segmentation}
         if friction is not None and not isinstance(friction, (Coulomb, Tresca)):
