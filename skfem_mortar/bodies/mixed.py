@@ -73,7 +73,7 @@ from skfem.helpers import inv
 
 from .materials import NeoHooke, checked_det
 from ..core.model import Contribution
-from .solid import Solid, refuse_reduction
+from .solid import Solid, quadrature_order, refuse_reduction
 
 __all__ = ["MixedSolid", "mixed_stress_and_tangent"]
 
@@ -157,9 +157,7 @@ class MixedSolid(Solid):
         if not material.lmbda > 0.0:
             raise ValueError(f"material must have lmbda > 0 (nu > 0): the pressure equation "
                              f"divides by lmbda (got lmbda = {material.lmbda})")
-        if (isinstance(intorder, bool) or not isinstance(intorder, (int, np.integer))
-                or intorder < 2):
-            raise ValueError(f"intorder must be an integer >= 2 (got {intorder!r})")
+        intorder = quadrature_order(intorder, 2)
         check_mesh(mesh, f"mesh of {name!r}")
         self.mesh = mesh
         self.material = material

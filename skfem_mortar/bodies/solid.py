@@ -58,14 +58,20 @@ from .checks import check_mesh
 from ..core.coo import element_coo
 from .materials import PLANES, LinearElastic, Material
 from ..core.model import Contribution, Item
+from ..core.validate import count
+from ..core.validate_arrays import index_array
 
-__all__ = ["Solid", "ELEMENTS", "KINEMATICS", "boundary_facets", "constitutive_law",
-           "refuse_reduction"]
+__all__ = ["Solid", "ELEMENTS", "KINEMATICS", "MAX_INTORDER", "boundary_facets",
+           "constitutive_law", "quadrature_order", "refuse_reduction"]
 
 #: elements per block of the one-point tangent kernel (its temporaries then stay
 #: in the cache; measured at hertz ``refine=3``: 4096 to 16384 alike, 2x faster
 #: than all elements at once)
 CHUNK = 8192
+
+#: the highest quadrature order: scikit-fem's triangle rules stop at 19 (above,
+#: it raises NotImplementedError deep in the basis)
+MAX_INTORDER = 19
 
 #: the strain measures a solid offers
 KINEMATICS = ("finite", "small")
@@ -96,13 +102,15 @@ def material_stiffness(du, v, w):
 
 
 def boundary_facets(mesh: Mesh, boundary: str | np.ndarray,
-                    unknown: str = "unknown boundary {tag!r}; known tags: {known}"
-                    ) -> np.ndarray:
+                    unknown: str = "unknown boundary {tag!r}; known tags: {known}",
+                    name: str = "boundary") -> np.ndarray:
     """Facet indices (int64) of ``boundary``: a tag of ``mesh.boundaries`` or facet
-    indices as given (flattened, not range-checked).
+    indices as given (flattened), integers in ``[0, mesh.nfacets)``.
 
     An unknown tag raises ValueError with ``unknown`` formatted with the ``tag`` and
-    the sorted ``known`` tags (each caller keeps the wording of its parameter).
+    the sorted ``known`` tags (each caller keeps the wording of its parameter); indices
+    that are not integers (``1.5`` is refused, not truncated) or out of range raise
+    ValueError naming ``name``.
     """
     # not Mesh.normalize_facets: it sorts index lists (np.unique) and words its own error
     if isinstance(boundary, str):
@@ -110,7 +118,7 @@ def boundary_facets(mesh: Mesh, boundary: str | np.ndarray,
         if boundary not in known:
             raise ValueError(unknown.format(tag=boundary, known=known))
         return np.asarray(mesh.boundaries[boundary], dtype=np.int64)
-    return np.asarray(boundary, dtype=np.int64).ravel()
+    return index_array(name, boundary, int(mesh.nfacets)).ravel()
 
 
 def constitutive_law(material: Material, kinematics: str | None = None,
@@ -135,18 +143,28 @@ def constitutive_law(material: Material, kinematics: str | None = None,
     small_law = isinstance(material, LinearElastic)
     if kinematics is None:
         kinematics = "small" if small_law else "finite"
-    if kinematics not in KINEMATICS:
+    if not isinstance(kinematics, str) or kinematics not in KINEMATICS:
         raise ValueError(f"kinematics must be one of {', '.join(map(repr, KINEMATICS))} "
                          f"(got {kinematics!r})")
     if small_law and kinematics != "small":
         raise ValueError("kinematics must be 'small' for a LinearElastic material (it is "
                          "the small-strain law; for finite strain use SaintVenantKirchhoff "
                          f"or NeoHooke), got {kinematics!r}")
-    if plane not in PLANES:
+    if not isinstance(plane, str) or plane not in PLANES:
         raise ValueError(f"plane must be one of {', '.join(map(repr, PLANES))} "
                          f"(got {plane!r})")
     law = material.with_plane(plane)
     return (law.linearized() if kinematics == "small" else law), kinematics
+
+
+def quadrature_order(value: object, low: int) -> int:
+    """``intorder`` checked: an integer (``2.0`` refused) in ``[low, MAX_INTORDER]``,
+    ValueError naming it, the bound and why otherwise."""
+    order = count("intorder", value, low)
+    if order > MAX_INTORDER:
+        raise ValueError(f"intorder must be at most {MAX_INTORDER} (scikit-fem has no "
+                         f"higher triangle rule), got {order}")
+    return order
 
 
 def refuse_reduction(body: str, kinematics: str, plane: str) -> None:
@@ -175,7 +193,9 @@ def _component_rows(component: int | str | None) -> list[str] | None:
     if component is None:
         return None
     names = {0: "u^1", 1: "u^2", "x": "u^1", "y": "u^2"}
-    if component not in names:
+    # a bool or a float is refused (True == 1 would select y)
+    if not isinstance(component, (str, int, np.integer)) or isinstance(component, (bool, np.bool_)) \
+            or component not in names:
         raise ValueError(f"component must be None, 0, 1, 'x' or 'y' (got {component!r})")
     return [names[component]]
 
@@ -222,7 +242,7 @@ class Solid(Item):
     def __init__(self, mesh: Mesh, material: Material, element: str = "tri1",
                  name: str = "solid", intorder: int | None = None, *,
                  kinematics: str | None = None, plane: str = "strain"):
-        if element not in ELEMENTS:
+        if not isinstance(element, str) or element not in ELEMENTS:
             raise ValueError(f"element must be one of {sorted(ELEMENTS)} (got {element!r})")
         material, kinematics = constitutive_law(material, kinematics, plane)
         elem_cls, refdom, cell_type = ELEMENTS[element]
@@ -230,8 +250,8 @@ class Solid(Item):
             raise ValueError(f"element {element!r} needs a 2D mesh of "
                              f"{'triangles' if refdom == 'RefTri' else 'quadrilaterals'}, "
                              f"got {type(mesh).__name__}")
-        if intorder is not None and (int(intorder) != intorder or intorder < 1):
-            raise ValueError(f"intorder must be an integer >= 1 (got {intorder})")
+        if intorder is not None:
+            intorder = quadrature_order(intorder, 1)
         check_mesh(mesh, f"mesh of {name!r}")  # folded, zero-area, non-convex elements
         self.mesh = mesh
         self.material = material
@@ -344,9 +364,7 @@ class Solid(Item):
     def dofs_at_nodes(self, nodes: np.ndarray, component: int | str | None = None
                       ) -> np.ndarray:
         """Local dofs of a set of vertices (indices into ``X``)."""
-        nodes = np.asarray(nodes, dtype=np.int64).ravel()
-        if nodes.size and (nodes.min() < 0 or nodes.max() >= self.n_nodes):
-            raise ValueError(f"nodes must lie in [0, {self.n_nodes})")
+        nodes = index_array("nodes", nodes, self.n_nodes).ravel()
         rows = _component_rows(component)
         nd = self.node_dofs if rows is None else self.node_dofs[[0 if rows[0] == "u^1" else 1]]
         return np.unique(nd[:, nodes].ravel().astype(np.int64))

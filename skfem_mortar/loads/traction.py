@@ -13,6 +13,7 @@ from skfem import FacetBasis, LinearForm
 from skfem.helpers import dot
 
 from ..core.model import Contribution, Item
+from ..core.validate_arrays import index_array, real_array
 from ..bodies.solid import boundary_facets
 
 __all__ = ["Traction", "PointLoad"]
@@ -49,18 +50,23 @@ class Traction(Item):
                  traction: Sequence[float] | Callable[[np.ndarray], np.ndarray],
                  name: str = ""):
         facets = boundary_facets(body.mesh, boundary)
-        if facets.size and (facets.min() < 0 or facets.max() >= body.mesh.nfacets):
-            raise ValueError(f"boundary facets must lie in [0, {body.mesh.nfacets})")
+        if facets.size == 0:
+            raise ValueError("boundary must contain at least one facet")
+        inner = np.flatnonzero(body.mesh.f2t[1, facets] >= 0)
+        if inner.size:
+            raise ValueError(f"boundary must hold boundary facets (one adjacent element "
+                             f"each): {inner.size} of its {facets.size} facets are interior "
+                             f"facets (e.g. facet {int(facets[inner[0]])})")
+        if not callable(traction):
+            t0 = real_array("traction", traction)
+            if t0.shape != (2,):
+                raise ValueError(f"traction must be a 2-vector or a callable, got shape "
+                                 f"{t0.shape}")
         fb = FacetBasis(body.mesh, body.basis.elem, facets=facets)
         if callable(traction):
-            t = np.asarray(traction(fb.global_coordinates()), dtype=float)
+            t = real_array("traction", traction(fb.global_coordinates()))
         else:
-            t0 = np.asarray(traction, dtype=float)
-            if t0.shape != (2,):
-                raise ValueError("traction must be a 2-vector or a callable")
             t = t0[:, None, None] * np.ones((1,) + fb.global_coordinates().shape[1:])
-        if not np.all(np.isfinite(t)):
-            raise ValueError("traction must be finite")
         f = _traction_work.assemble(fb, t=t)
         self.body = body
         tag = boundary if isinstance(boundary, str) else "facets"
@@ -102,15 +108,18 @@ class PointLoad(Item):
 
     def __init__(self, body, local_dofs: np.ndarray, values: float | np.ndarray,
                  name: str = ""):
-        dofs = np.asarray(local_dofs, dtype=np.int64).ravel()
-        if dofs.size and (dofs.min() < 0 or dofs.max() >= body.n_dofs):
-            raise ValueError(f"local_dofs must lie in [0, {body.n_dofs})")
+        dofs = index_array("local_dofs", local_dofs, body.n_dofs).ravel()
+        twice = np.flatnonzero(np.bincount(dofs, minlength=body.n_dofs) > 1)
+        if twice.size:
+            raise ValueError(f"local_dofs must list each dof once, with its total force "
+                             f"(a repeated dof's load counts twice): dof {int(twice[0])} "
+                             f"is listed more than once ({twice.size} such)")
+        vals = real_array("values", values)
         try:
-            vals = np.broadcast_to(np.asarray(values, dtype=float), dofs.shape).copy()
+            vals = np.broadcast_to(vals, dofs.shape).copy()
         except ValueError:
-            raise ValueError("values must be a scalar or one value per local dof") from None
-        if not np.all(np.isfinite(vals)):
-            raise ValueError("values must be finite")
+            raise ValueError(f"values must be a scalar or one value per local dof "
+                             f"({dofs.size}), got shape {vals.shape}") from None
         self.body = body
         self.local_dofs = dofs
         self.values = vals
