@@ -25,6 +25,7 @@ import importlib
 import math
 import os
 import pkgutil
+import re
 import sys
 from dataclasses import dataclass, field
 from typing import Any, Callable, Sequence
@@ -62,6 +63,11 @@ MEMORY_SHARE = 0.5
 MAX_DOFS_ENV = "SKFEM_MORTAR_MAX_DOFS"
 
 _TINY = sys.float_info.min  # smallest normal float, 2.2e-308
+
+#: a number as the command line takes it: ASCII digits, an optional sign, decimal
+#: point and exponent.  Python's float() and int() also take "1_0" (its literal
+#: syntax for 10, more likely a typo of 1.0), other scripts' digits and "inf": refused
+_PLAIN_NUMBER = re.compile(r"[+-]?([0-9]+\.?[0-9]*|\.[0-9]+)([eE][+-]?[0-9]+)?")
 
 
 def _total_memory() -> int | None:
@@ -140,6 +146,11 @@ class Param:
             a value outside the range or not among the choices.
         """
         err = ValueError(f"parameter {self.name!r} must be {self.range_text()}, got {value!r}")
+        if self.kind in (int, float) and isinstance(value, str) \
+                and not _PLAIN_NUMBER.fullmatch(value.strip()):
+            raise ValueError(f"parameter {self.name!r} must be {self.range_text()}, got "
+                             f"{value!r} (not a plain number: digits with an optional sign, "
+                             f"decimal point and exponent, e.g. 10, 0.5, 1e3)")
         try:
             v = self._convert(value)
         except (TypeError, ValueError, OverflowError):
