@@ -67,13 +67,13 @@ import numpy as np
 import scipy.sparse as sp
 from skfem import Basis, ElementTriMini, ElementTriP1, ElementVector, MeshTri
 
-from .checks import check_mesh
+from .checks import check_mesh, quadrature_order
 from ..core.coo import element_coo
 from skfem.helpers import inv
 
 from .materials import NeoHooke, checked_det
 from ..core.model import Contribution
-from .solid import Solid, quadrature_order, refuse_reduction
+from .solid import Solid, refuse_reduction
 
 __all__ = ["MixedSolid", "mixed_stress_and_tangent"]
 

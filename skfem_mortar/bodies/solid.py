@@ -54,24 +54,19 @@ from skfem import (Basis, BilinearForm, ElementQuad1, ElementQuad2, ElementTriP1
                    ElementTriP2, ElementVector, LinearForm, Mesh)
 from skfem.helpers import ddot, grad
 
-from .checks import check_mesh
+from .checks import check_mesh, quadrature_order
 from ..core.coo import element_coo
 from .materials import PLANES, LinearElastic, Material
 from ..core.model import Contribution, Item
-from ..core.validate import count
 from ..core.validate_arrays import index_array
 
-__all__ = ["Solid", "ELEMENTS", "KINEMATICS", "MAX_INTORDER", "boundary_facets",
-           "constitutive_law", "quadrature_order", "refuse_reduction"]
+__all__ = ["Solid", "ELEMENTS", "KINEMATICS", "boundary_facets", "constitutive_law",
+           "refuse_reduction"]
 
 #: elements per block of the one-point tangent kernel (its temporaries then stay
 #: in the cache; measured at hertz ``refine=3``: 4096 to 16384 alike, 2x faster
 #: than all elements at once)
 CHUNK = 8192
-
-#: the highest quadrature order: scikit-fem's triangle rules stop at 19 (above,
-#: it raises NotImplementedError deep in the basis)
-MAX_INTORDER = 19
 
 #: the strain measures a solid offers
 KINEMATICS = ("finite", "small")
@@ -155,16 +150,6 @@ def constitutive_law(material: Material, kinematics: str | None = None,
                          f"(got {plane!r})")
     law = material.with_plane(plane)
     return (law.linearized() if kinematics == "small" else law), kinematics
-
-
-def quadrature_order(value: object, low: int) -> int:
-    """``intorder`` checked: an integer (``2.0`` refused) in ``[low, MAX_INTORDER]``,
-    ValueError naming it, the bound and why otherwise."""
-    order = count("intorder", value, low)
-    if order > MAX_INTORDER:
-        raise ValueError(f"intorder must be at most {MAX_INTORDER} (scikit-fem has no "
-                         f"higher triangle rule), got {order}")
-    return order
 
 
 def refuse_reduction(body: str, kinematics: str, plane: str) -> None:

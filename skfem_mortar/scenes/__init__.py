@@ -25,7 +25,6 @@ import importlib
 import math
 import os
 import pkgutil
-import re
 import sys
 from dataclasses import dataclass, field
 from typing import Any, Callable, Sequence
@@ -33,6 +32,7 @@ from typing import Any, Callable, Sequence
 import numpy as np
 
 from ..contact import BUILTIN_METHODS
+from ._parse import to_bool, to_int, plain_number
 
 __all__ = ["Param", "Derived", "Scene", "Setup", "get_scene", "list_scenes", "METHODS",
            "max_dofs", "MAX_STEPS", "SAFE_LOW", "SAFE_HIGH", "press_then_slide"]
@@ -63,11 +63,6 @@ MEMORY_SHARE = 0.5
 MAX_DOFS_ENV = "SKFEM_MORTAR_MAX_DOFS"
 
 _TINY = sys.float_info.min  # smallest normal float, 2.2e-308
-
-#: a number as the command line takes it: ASCII digits, an optional sign, decimal
-#: point and exponent.  Python's float() and int() also take "1_0" (its literal
-#: syntax for 10, more likely a typo of 1.0), other scripts' digits and "inf": refused
-_PLAIN_NUMBER = re.compile(r"[+-]?([0-9]+\.?[0-9]*|\.[0-9]+)([eE][+-]?[0-9]+)?")
 
 
 def _total_memory() -> int | None:
@@ -146,8 +141,7 @@ class Param:
             a value outside the range or not among the choices.
         """
         err = ValueError(f"parameter {self.name!r} must be {self.range_text()}, got {value!r}")
-        if self.kind in (int, float) and isinstance(value, str) \
-                and not _PLAIN_NUMBER.fullmatch(value.strip()):
+        if self.kind in (int, float) and isinstance(value, str) and not plain_number(value):
             raise ValueError(f"parameter {self.name!r} must be {self.range_text()}, got "
                              f"{value!r} (not a plain number: digits with an optional sign, "
                              f"decimal point and exponent, e.g. 10, 0.5, 1e3)")
@@ -176,9 +170,9 @@ class Param:
     def _convert(self, value: Any) -> Any:
         """``value`` as ``self.kind`` (TypeError/ValueError/OverflowError otherwise)."""
         if self.kind is bool:
-            return _to_bool(value)
+            return to_bool(value)
         if self.kind is int:
-            return _to_int(value)
+            return to_int(value)
         if self.kind is float:
             if isinstance(value, bool):
                 raise TypeError("a bool is not a number")
@@ -186,37 +180,6 @@ class Param:
         if isinstance(value, str) and not value.strip():
             raise ValueError("empty")
         return self.kind(value)
-
-
-def _to_bool(value: Any) -> bool:
-    """``1/0, true/false, yes/no, on/off`` (strings), a bool, or the numbers 0 and 1."""
-    if isinstance(value, str):
-        low = value.strip().lower()
-        if low not in ("1", "0", "true", "false", "yes", "no", "on", "off"):
-            raise ValueError(value)
-        return low in ("1", "true", "yes", "on")
-    if isinstance(value, (bool, np.bool_)):
-        return bool(value)
-    if isinstance(value, (int, float, np.integer, np.floating)) and value in (0, 1):
-        return bool(value)
-    raise ValueError(value)
-
-
-def _to_int(value: Any) -> int:
-    """An integer from an int, an integral float, or a string like ``"12"`` or ``"1e3"``."""
-    if isinstance(value, (bool, np.bool_)):
-        raise TypeError("a bool is not an integer")
-    if isinstance(value, str):
-        text = value.strip()
-        try:
-            return int(text)
-        except ValueError:
-            value = float(text)  # "1e3"; ValueError for anything else
-    if isinstance(value, (float, np.floating)):
-        if not float(value).is_integer():
-            raise ValueError(value)
-        return int(value)  # OverflowError for inf, ValueError for nan
-    return int(value)
 
 
 @dataclass(frozen=True)
