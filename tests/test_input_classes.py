@@ -259,3 +259,15 @@ def test_valid_inputs_still_build():
     s = _solid()
     assert PointLoad(s, np.array([0, 1]), 1).values.tolist() == [1.0, 1.0]
     assert RigidCircle((0, 0), 1, n_segments=np.int32(8)).segments.shape == (8, 2)
+
+
+# ------------------------------------------------------------------ objects of the wrong kind
+@pytest.mark.parametrize("make, name", [
+    (lambda: Solid("mesh", NeoHooke(E=1.0, nu=0.3)), "mesh"),
+    (lambda: Traction(Cable(LINE), "top", (0.0, 1.0)), "body"),
+    (lambda: PointLoad("cable", [0], 1.0), "body"),
+    (lambda: PointLoad(Cable(LINE), [], 1.0), "local_dofs"),
+])
+def test_an_object_of_the_wrong_kind_or_an_empty_load(make, name):
+    """An AttributeError deep inside (or, for no dofs, a load that did nothing) before."""
+    _refused(make, name)

@@ -231,6 +231,9 @@ class Solid(Item):
             raise ValueError(f"element must be one of {sorted(ELEMENTS)} (got {element!r})")
         material, kinematics = constitutive_law(material, kinematics, plane)
         elem_cls, refdom, cell_type = ELEMENTS[element]
+        if not isinstance(mesh, Mesh):
+            raise ValueError(f"mesh must be a skfem Mesh (MeshTri or MeshQuad), got "
+                             f"{type(mesh).__name__}")
         if mesh.dim() != 2 or mesh.elem.refdom.__name__ != refdom:
             raise ValueError(f"element {element!r} needs a 2D mesh of "
                              f"{'triangles' if refdom == 'RefTri' else 'quadrilaterals'}, "

@@ -49,6 +49,9 @@ class Traction(Item):
     def __init__(self, body, boundary: str | np.ndarray,
                  traction: Sequence[float] | Callable[[np.ndarray], np.ndarray],
                  name: str = ""):
+        if not (hasattr(body, "mesh") and hasattr(body, "basis")):
+            raise ValueError(f"body must be a Solid (a body with an skfem mesh and basis), "
+                             f"got {type(body).__name__}")
         facets = boundary_facets(body.mesh, boundary)
         if facets.size == 0:
             raise ValueError("boundary must contain at least one facet")
@@ -108,7 +111,13 @@ class PointLoad(Item):
 
     def __init__(self, body, local_dofs: np.ndarray, values: float | np.ndarray,
                  name: str = ""):
+        if not (isinstance(body, Item) and body.dof_kind == "u"):
+            raise ValueError(f"body must be a body of the model (a Solid, a Cable: an Item "
+                             f"with displacement dofs), got {type(body).__name__}")
         dofs = index_array("local_dofs", local_dofs, body.n_dofs).ravel()
+        if dofs.size == 0:
+            raise ValueError("local_dofs must hold at least one dof (a load on no dof "
+                             "does nothing)")
         twice = np.flatnonzero(np.bincount(dofs, minlength=body.n_dofs) > 1)
         if twice.size:
             raise ValueError(f"local_dofs must list each dof once, with its total force "
