@@ -38,7 +38,12 @@ slave node whose multiplier support meets the overlap carries ``lam_A = q``
 (the ``Phi_A`` sum to one there, for standard and dual multipliers), including
 the outer node of a partially overlapped slave element; slave nodes without a
 master partner carry no load.  The defaults (``offset = 0``,
-``top_width = 1``) are the aligned test of reference problem 5.
+``top_width = 1``) are the aligned test of reference problem 5.  At least two
+nodes of the upper block's bottom face (its vertices, and the mid nodes of
+quadratic elements) must lie over the lower block: the upper block is held
+vertically by contact alone and would rotate about a single node (with offset 0,
+``top_width <= n_top``, ``2 n_top`` for quadratic elements); other offsets and
+widths are refused up front (:func:`derived`), naming the range that works.
 ``segmentation`` (mortar only) rebuilds the mortar segments every Newton
 iteration or once per load step; nothing slides here, so both give the same.
 
