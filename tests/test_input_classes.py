@@ -205,11 +205,15 @@ def test_a_closed_cable_of_two_nodes_is_two_equal_elements():
 
 
 def test_a_dof_loaded_twice_and_a_facet_listed_twice():
+    """Each was counted twice: twice the load on that dof or facet, silently."""
     s = _solid()
     _refused(lambda: PointLoad(s, [3, 3], [1.0, 2.0]), "local_dofs")
-    facets = s.mesh.boundaries["top"]
-    msg = _refused(lambda: ContactSurface.from_solid(s, np.r_[facets, facets[:1]]), "boundary")
-    assert "listed more than once" in msg
+    top = s.mesh.boundaries["top"]
+    twice = np.r_[top, top[:1]]
+    for make, name in ((lambda: ContactSurface.from_solid(s, twice), "boundary"),
+                       (lambda: Traction(s, twice, (0.0, 1.0)), "boundary"),
+                       (lambda: FollowerPressure(s, 1.0, facets=twice), "facets")):
+        assert f"facet {top[0]} is listed more than once" in _refused(make, name)
 
 
 # ------------------------------------------------------------------ interior facets
@@ -235,6 +239,8 @@ def test_interior_facets_are_not_a_contact_surface():
         lambda: ContactSurface.from_solid(tagged, "middle"), "boundary")
     assert "4 of its 4 facets are interior" in _refused(lambda: Traction(s, line, (0.0, 1.0)),
                                                         "boundary")
+    assert "4 of its 4 facets are interior" in _refused(
+        lambda: FollowerPressure(s, 1.0, facets=line), "facets")
 
 
 # ------------------------------------------------------------------ lengths

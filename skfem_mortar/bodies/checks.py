@@ -11,7 +11,8 @@ import numpy as np
 
 from ..core.validate import count
 
-__all__ = ["check_mesh", "signed_areas", "quadrature_order", "MAX_INTORDER"]
+__all__ = ["check_mesh", "signed_areas", "quadrature_order", "check_boundary_facets",
+           "MAX_INTORDER"]
 
 #: the highest quadrature order: scikit-fem's triangle rules stop at 19 (above,
 #: it raises NotImplementedError deep in the basis)
@@ -117,3 +118,25 @@ def quadrature_order(value: object, low: int) -> int:
         raise ValueError(f"intorder must be at most {MAX_INTORDER} (scikit-fem has no "
                          f"higher triangle rule), got {order}")
     return order
+
+
+def check_boundary_facets(mesh, facets: np.ndarray, boundary: object, name: str = "boundary"
+                          ) -> None:
+    """ValueError unless ``facets`` (of the tag or indices ``boundary``) is not empty, lists
+    each facet once and holds boundary facets only, each belonging to exactly one element
+    (a facet between two elements is inside the body: a surface or a load on it would act
+    on the body from within; a facet listed twice would count twice).  The message names
+    ``name`` and the tag."""
+    which = f"{name} {boundary!r}" if isinstance(boundary, str) else name
+    if facets.size == 0:
+        raise ValueError(f"{which} must contain at least one facet")
+    twice = np.flatnonzero(np.bincount(facets) > 1)
+    if twice.size:
+        raise ValueError(f"{which} must list each facet once: facet {int(twice[0])} is "
+                         f"listed more than once ({twice.size} such)")
+    inner = facets[mesh.f2t[1, facets] >= 0]
+    if inner.size:
+        raise ValueError(f"{which} must hold boundary facets, each belonging to exactly one "
+                         f"element: {inner.size} of its {facets.size} facets are interior "
+                         f"(e.g. facet {int(inner[0])}, shared by elements "
+                         f"{int(mesh.f2t[0, inner[0]])} and {int(mesh.f2t[1, inner[0]])})")

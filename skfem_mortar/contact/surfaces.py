@@ -29,6 +29,7 @@ import scipy.sparse as sp
 from scipy.sparse.csgraph import connected_components
 
 from ..bodies.cable import MAX_ELEMENTS
+from ..bodies.checks import check_boundary_facets
 from ..bodies.solid import boundary_facets
 from ..core.validate import count, flag, real
 from ..core.validate_arrays import index_array, real_array
@@ -252,9 +253,7 @@ class ContactSurface:
                              f"{QUADRATIC_TRACE}, got element {element!r}")
         facets = boundary_facets(mesh, boundary,
                                  "boundary must be one of the mesh tags {known}, got {tag!r}")
-        if facets.size == 0:
-            raise ValueError("boundary must contain at least one facet")
-        _refuse_interior(mesh, facets, boundary)
+        check_boundary_facets(mesh, facets, boundary)
         # own orientation test: skfem's facets list their vertices sorted and its
         # oriented boundaries pick an element side, not a vertex order along the chain
         ends = mesh.facets[:, facets].T.copy()  # (n_f, 2)
@@ -301,24 +300,6 @@ class ContactSurface:
             el = el[:, ::-1]
         nodes, local = np.unique(el, return_inverse=True)
         return cls(cable, nodes, local.reshape(-1, 2), name=name or f"{cable.name}_{side}")
-
-
-def _refuse_interior(mesh: Any, facets: np.ndarray, boundary: Any) -> None:
-    """ValueError unless every facet is listed once and belongs to exactly one element
-    (a facet between two elements is inside the body: a surface on it would press
-    the body against itself)."""
-    which = f"boundary {boundary!r}" if isinstance(boundary, str) else \
-        "boundary (the facet indices given)"
-    twice = np.flatnonzero(np.bincount(facets) > 1)
-    if twice.size:
-        raise ValueError(f"{which} must list each facet once: facet {int(twice[0])} is "
-                         f"listed more than once ({twice.size} such)")
-    inner = facets[mesh.f2t[1, facets] >= 0]
-    if inner.size:
-        raise ValueError(f"{which} must hold boundary facets, each belonging to exactly one "
-                         f"element: {inner.size} of its {facets.size} facets are interior "
-                         f"(e.g. facet {int(inner[0])}, shared by elements "
-                         f"{int(mesh.f2t[0, inner[0]])} and {int(mesh.f2t[1, inner[0]])})")
 
 
 def _vector2(v: Any, name: str) -> np.ndarray:

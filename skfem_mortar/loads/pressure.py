@@ -142,18 +142,17 @@ def _solid_facet_chain(body, facets):
     """Local dofs (n_f, n_loc, 2) and reference coordinates of boundary facets,
     each oriented so that the body lies on its left (outward normal on the right).
     """
-    from ..bodies.solid import boundary_facets   # here: a cable's load needs no skfem
+    from ..bodies.checks import check_boundary_facets   # here: a cable's load needs no skfem
+    from ..bodies.solid import boundary_facets
 
     mesh, basis = body.mesh, body.basis
     if facets is None:
         raise ValueError("facets (a boundary name or facet indices) is required for a solid")
+    facets_in = facets
     facets = boundary_facets(mesh, facets,
                              "facets must be one of the mesh boundaries {known}, got {tag!r}",
                              name="facets")
-    if facets.size == 0:
-        raise ValueError(f"facets must be non-empty indices in [0, {mesh.facets.shape[1]})")
-    if np.any(mesh.f2t[1, facets] >= 0):
-        raise ValueError("facets must lie on the boundary (one adjacent element)")
+    check_boundary_facets(mesh, facets, facets_in, "facets")
     v = mesh.facets[:, facets].T.copy()                      # (n_f, 2) vertices
     nd = basis.nodal_dofs
     cols = [nd[:, v[:, 0]].T, nd[:, v[:, 1]].T]

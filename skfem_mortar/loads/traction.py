@@ -14,6 +14,7 @@ from skfem.helpers import dot
 
 from ..core.model import Contribution, Item
 from ..core.validate_arrays import index_array, real_array
+from ..bodies.checks import check_boundary_facets
 from ..bodies.solid import boundary_facets
 
 __all__ = ["Traction", "PointLoad"]
@@ -53,13 +54,7 @@ class Traction(Item):
             raise ValueError(f"body must be a Solid (a body with an skfem mesh and basis), "
                              f"got {type(body).__name__}")
         facets = boundary_facets(body.mesh, boundary)
-        if facets.size == 0:
-            raise ValueError("boundary must contain at least one facet")
-        inner = np.flatnonzero(body.mesh.f2t[1, facets] >= 0)
-        if inner.size:
-            raise ValueError(f"boundary must hold boundary facets (one adjacent element "
-                             f"each): {inner.size} of its {facets.size} facets are interior "
-                             f"facets (e.g. facet {int(facets[inner[0]])})")
+        check_boundary_facets(body.mesh, facets, boundary)
         if not callable(traction):
             t0 = real_array("traction", traction)
             if t0.shape != (2,):
