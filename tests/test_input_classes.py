@@ -277,3 +277,16 @@ def test_valid_inputs_still_build():
 def test_an_object_of_the_wrong_kind_or_an_empty_load(make, name):
     """An AttributeError deep inside (or, for no dofs, a load that did nothing) before."""
     _refused(make, name)
+
+
+def test_a_facet_mask_is_read_as_a_mask():
+    """A boolean facet mask (scikit-fem style) selects its True facets; before, its 0/1
+    values were read as facets 0 and 1.  A mask of another length is refused."""
+    s = _solid()
+    mask = np.zeros(s.mesh.nfacets, dtype=bool)
+    mask[s.mesh.boundaries["top"]] = True
+    by_tag, by_mask = Traction(s, "top", (0.0, 1.0)), Traction(s, mask, (0.0, 1.0))
+    np.testing.assert_array_equal(by_mask.force, by_tag.force)
+    assert ContactSurface.from_solid(s, mask).segments.shape == (4, 2)
+    assert "booleans" in _refused(lambda: Traction(s, mask[:-1], (0.0, 1.0)), "boundary")
+

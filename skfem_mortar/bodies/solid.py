@@ -99,12 +99,14 @@ def material_stiffness(du, v, w):
 def boundary_facets(mesh: Mesh, boundary: str | np.ndarray,
                     unknown: str = "unknown boundary {tag!r}; known tags: {known}",
                     name: str = "boundary") -> np.ndarray:
-    """Facet indices (int64) of ``boundary``: a tag of ``mesh.boundaries`` or facet
-    indices as given (flattened), integers in ``[0, mesh.nfacets)``.
+    """Facet indices (int64) of ``boundary``: a tag of ``mesh.boundaries``, facet
+    indices as given (flattened), integers in ``[0, mesh.nfacets)``, or a boolean mask
+    of shape ``(mesh.nfacets,)`` (its True facets, as scikit-fem users pass them).
 
     An unknown tag raises ValueError with ``unknown`` formatted with the ``tag`` and
     the sorted ``known`` tags (each caller keeps the wording of its parameter); indices
-    that are not integers (``1.5`` is refused, not truncated) or out of range raise
+    that are not integers (``1.5`` is refused, not truncated; a mask of another shape
+    too: its 0/1 values were read as facets 0 and 1) or out of range raise
     ValueError naming ``name``.
     """
     # not Mesh.normalize_facets: it sorts index lists (np.unique) and words its own error
@@ -113,6 +115,9 @@ def boundary_facets(mesh: Mesh, boundary: str | np.ndarray,
         if boundary not in known:
             raise ValueError(unknown.format(tag=boundary, known=known))
         return np.asarray(mesh.boundaries[boundary], dtype=np.int64)
+    mask = np.asarray(boundary)
+    if mask.dtype.kind == "b" and mask.shape == (mesh.nfacets,):
+        return np.flatnonzero(mask).astype(np.int64)
     return index_array(name, boundary, int(mesh.nfacets)).ravel()
 
 
