@@ -288,5 +288,7 @@ def test_a_facet_mask_is_read_as_a_mask():
     by_tag, by_mask = Traction(s, "top", (0.0, 1.0)), Traction(s, mask, (0.0, 1.0))
     np.testing.assert_array_equal(by_mask.force, by_tag.force)
     assert ContactSurface.from_solid(s, mask).segments.shape == (4, 2)
+    np.testing.assert_array_equal(s.dofs_on(mask), s.dofs_on("top"))
+    assert "integers in [0, " in _refused(lambda: s.dofs_on([0.5]), "boundary")
     assert "booleans" in _refused(lambda: Traction(s, mask[:-1], (0.0, 1.0)), "boundary")
 

@@ -349,6 +349,8 @@ class Solid(Item):
         """
         if isinstance(boundary, str):
             boundary_facets(self.mesh, boundary)        # an unknown tag raises
+        elif not callable(boundary):                    # indices or a mask, checked
+            boundary = boundary_facets(self.mesh, boundary)
         view = self.basis.get_dofs(boundary)
         rows = _component_rows(component)
         out = view.all() if rows is None else view.all(rows)
