@@ -273,6 +273,8 @@ def test_valid_inputs_still_build():
     (lambda: Traction(Cable(LINE), "top", (0.0, 1.0)), "body"),
     (lambda: PointLoad("cable", [0], 1.0), "body"),
     (lambda: PointLoad(Cable(LINE), [], 1.0), "local_dofs"),
+    (lambda: ContactSurface.from_solid(Cable(LINE), "top"), "solid"),
+    (lambda: ContactSurface.from_cable(_solid(), "left"), "cable"),
 ])
 def test_an_object_of_the_wrong_kind_or_an_empty_load(make, name):
     """An AttributeError deep inside (or, for no dofs, a load that did nothing) before."""

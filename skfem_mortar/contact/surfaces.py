@@ -245,6 +245,9 @@ class ContactSurface:
         boundary : str or int ndarray
             A tag of ``solid.mesh.boundaries`` or facet indices.
         """
+        if not (hasattr(solid, "mesh") and hasattr(solid, "X") and hasattr(solid, "node_dofs")):
+            raise ValueError(f"solid must be a Solid (a body with an skfem mesh), got "
+                             f"{type(solid).__name__}")
         mesh = solid.mesh
         element = getattr(solid, "element", "tri1")
         if element not in LINEAR_TRACE + QUADRATIC_TRACE:
@@ -293,6 +296,8 @@ class ContactSurface:
             normal is the outward normal of the surface.  "right" keeps the
             element order (right-hand normal); "left" flips it.
         """
+        if not (hasattr(cable, "elements") and hasattr(cable, "closed")):
+            raise ValueError(f"cable must be a Cable, got {type(cable).__name__}")
         if not isinstance(side, str) or side not in ("left", "right"):
             raise ValueError(f"side must be 'left' or 'right', got {side!r}")
         el = np.asarray(cable.elements, dtype=np.int64).reshape(-1, 2)
