@@ -110,9 +110,9 @@ def test_bodies_given_as_surfaces_are_refused_naming_the_role():
     (lambda: RigidPlane((NAN, 0.0), (0.0, 1.0)), "point must be finite"),
     (lambda: RigidPlane((0.0, 0.0), (0.0, INF)), "normal must be finite"),
     (lambda: RigidPlane((0.0, 0.0), (0.0, 0.0)), "normal must be a finite non-zero vector"),
-    (lambda: RigidPlane((0.0, 0.0), (0.0, 1.0), length=INF), "length must be a finite"),
+    (lambda: RigidPlane((0.0, 0.0), (0.0, 1.0), length=INF), "length must be a finite real"),
     (lambda: RigidCircle((0.0, NAN), 1.0), "center must be finite"),
-    (lambda: RigidCircle((0.0, 0.0), NAN), "radius must be a finite number > 0"),
+    (lambda: RigidCircle((0.0, 0.0), NAN), "radius must be a finite real number > 0"),
     (lambda: ContactSurface(None, None, [[0, 1]], X=np.array([[0.0, NAN], [0.0, 0.0]])),
      "must be finite"),
 ])

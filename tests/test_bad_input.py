@@ -128,10 +128,10 @@ def test_solid_rejects_an_inverted_mesh():
 
 # --------------------------------------------------------------------------- numbers
 @pytest.mark.parametrize("kw,match", [
-    ({"E": np.nan, "nu": 0.3}, "E must be > 0"),
-    ({"E": -1.0, "nu": 0.3}, "E must be > 0"),
-    ({"E": 1.0, "nu": np.nan}, r"nu must lie in the open interval \(-1, 0.5\)"),
-    ({"E": 1.0, "nu": 0.5}, r"nu must lie in the open interval \(-1, 0.5\)"),
+    ({"E": np.nan, "nu": 0.3}, "E must be a finite real number > 0, got nan"),
+    ({"E": -1.0, "nu": 0.3}, "E must be a finite real number > 0, got -1.0"),
+    ({"E": 1.0, "nu": np.nan}, r"nu must be a finite real number in \(-1, 0.5\), got nan"),
+    ({"E": 1.0, "nu": 0.5}, r"nu must be a finite real number in \(-1, 0.5\), got 0.5"),
 ])
 def test_nan_or_negative_material_parameters(kw, match):
     for cls in (NeoHooke, SaintVenantKirchhoff):
@@ -140,10 +140,10 @@ def test_nan_or_negative_material_parameters(kw, match):
 
 
 @pytest.mark.parametrize("kw,match", [
-    ({"EA": np.nan}, "EA must be finite and > 0"),
-    ({"EA": -1.0}, "EA must be finite and > 0"),
-    ({"tension_floor": np.nan}, "tension_floor must be finite and >= 0"),
-    ({"slack_stiffness": -1.0}, "slack_stiffness must be >= 0"),
+    ({"EA": np.nan}, "EA must be a finite real number > 0, got nan"),
+    ({"EA": -1.0}, "EA must be a finite real number > 0, got -1.0"),
+    ({"tension_floor": np.nan}, "tension_floor must be a finite real number >= 0, got nan"),
+    ({"slack_stiffness": -1.0}, "slack_stiffness must be a finite real number >= 0, got -1.0"),
 ])
 def test_nan_or_negative_cable_parameters(kw, match):
     with pytest.raises(ValueError, match=match):
@@ -151,11 +151,11 @@ def test_nan_or_negative_cable_parameters(kw, match):
 
 
 @pytest.mark.parametrize("make,match", [
-    (lambda s: FollowerPressure(s, np.nan, facets="top"), "pressure must be finite"),
+    (lambda s: FollowerPressure(s, np.nan, facets="top"), "pressure must be a finite real number, got nan"),
     (lambda s: Dirichlet(s, s.dofs_on("bottom"), np.nan), "value must be finite"),
-    (lambda s: RigidPlane((0, 0), (0, 1), length=-1.0), "length must be a finite number > 0"),
+    (lambda s: RigidPlane((0, 0), (0, 1), length=-1.0), "length must be a finite real number > 0, got -1.0"),
     (lambda s: RigidPlane((0, 0), (np.nan, 1)), "normal must be finite"),
-    (lambda s: RigidCircle((0, 0), -1.0), "radius must be a finite number > 0"),
+    (lambda s: RigidCircle((0, 0), -1.0), "radius must be a finite real number > 0, got -1.0"),
     (lambda s: NewtonOptions(rtol=np.nan), r"rtol must be a finite real number in \(0, 1\)"),
     (lambda s: NewtonOptions(max_iter=0), "max_iter must be an integer >= 1"),
 ])

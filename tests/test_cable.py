@@ -270,7 +270,7 @@ def test_bad_geometry_and_helpers():
         Cable.between((0, 0), (1, 0), -1.0, 4)
     with pytest.raises(ValueError, match="start_sag"):
         Cable.between((0, 0), (1, 0), 1.0, 4, start_sag=0.0)
-    with pytest.raises(ValueError, match="side must be"):
+    with pytest.raises(ValueError, match="bulge must be"):
         Cable.between((0, 0), (1, 0), 2.0, 4, bulge="up")
     with pytest.raises(ValueError, match="closed ring has no end"):
         Cable.ring(1.0, 8).support_dofs()

@@ -83,3 +83,31 @@ def test_bad_parameters():
         run_scene("cable_flat", params={"length0": 3.0, "plane_gap": 0.2})
     with pytest.raises(ValueError, match="law"):
         run_scene("cable_flat", params={"law": "rubber"})
+
+
+# ------------------------------------------------------------------ issue 32, class 8
+def test_a_null_exact_value_is_explained():
+    """pressure = 10 (what ``--set pressure=1_0`` gave) lies below the pressure at which
+    the free cable reaches the plane: no contact, no exact values.  They were written
+    as null without a word; the metric ``exact_note`` now says why and from which
+    pressure on contact starts (the free arc through both supports tangent to the
+    plane: radius 1.25, length 2.3182, tension 100 (2.3182 / 2 - 1), over 1.25)."""
+    m = run_scene("cable_flat", params={"pressure": 10.0}, method="nts")["metrics"]
+    assert m["n_active"] == 0 and m["contact_force"] == 0.0
+    assert m["contact_force_exact"] is None and m["tension_error"] is None
+    assert m["exact_note"].startswith("no exact values: at pressure 10 the free cable does "
+                                      "not reach the plane (contact starts above pressure "
+                                      "12.7295")
+    a, d, L0, EA = 1.0, 0.5, 2.0, 100.0
+    r = (a * a + d * d) / (2 * d)
+    assert f"{EA * (2 * r * math.atan2(a, r - d) / L0 - 1) / r:.6g}" == "12.7295"
+    # with contact the exact values are there and no note is written
+    m = run_scene("cable_flat", params={"pressure": 13.0}, method="nts")["metrics"]
+    assert m["contact_force_exact"] > 0 and "exact_note" not in m
+
+
+def test_an_underscored_number_is_refused():
+    """``--set pressure=1_0`` ran with pressure 10 (Python's float() reads "1_0" as 10)."""
+    with pytest.raises(ValueError, match=r"parameter 'pressure' must be a float in \(0, inf\), "
+                                         r"got '1_0' \(not a plain number"):
+        run_scene("cable_flat", params={"pressure": "1_0"})

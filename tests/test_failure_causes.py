@@ -161,7 +161,7 @@ def test_stiffness_ratio_1e15_warns_before_and_fails_naming_the_ratio(method):
     msg = str(err.value)
     # it used to "converge" with the stiff block's residual (0.02-0.05) above the load
     assert "the step converged only to round-off: its residual" in msg
-    assert "is larger than the step's load" in msg
+    assert "is larger than the step's force level" in msg
     assert "body 'top' is 1e+15 times stiffer than body 'base'" in msg
 
 

@@ -86,3 +86,39 @@ def test_nts_slave_node_on_a_master_vertex_converges():
     r = run_scene("patch", params={"n_top": 20, "n_bottom": 16}, method="nts")
     assert r["converged"] and r["steps"][0]["newton_iterations"] <= 4
     assert 0.01 < r["metrics"]["pressure_error"] < 0.2  # NTS: O(1) mismatch error (0.072)
+
+
+# ------------------------------------------------------------------ issue 32, class 8
+# top_width = 10 lay inside the stated range (0, 10] and was refused by the preflight
+# as "rigid modes held by nothing": with n_top = 5 only the upper block's node at
+# x = 0 lay over the lower block [0, 1], and the upper block, held vertically by
+# contact alone, rotated about it.  The scene now states the true range (at least two
+# of the upper block's bottom nodes over the lower block) and refuses before building.
+@pytest.mark.parametrize("params", [
+    {"top_width": 5.0},                          # n_top = 5: nodes at x = 0 and 1
+    {"offset": 0.8},                             # nodes at x = 0.8 and 1
+    {"offset": -0.8},                            # nodes at x = 0 and 0.2
+    {"element": "tri2", "top_width": 10.0},      # the mid node at x = 1 counts
+    {"top_width": 0.001},                        # the smallest overlap, 1e-3 of the width
+])
+def test_the_ends_of_the_overlap_range_run(params):
+    """Mortar at the ends of the range: the uniform state to round-off (measured
+    1e-14 and below; 1e-8 as elsewhere in this file's mortar tests, a margin)."""
+    r = run_scene("patch", params=params, method="mortar")
+    assert r["converged"]
+    assert r["metrics"]["pressure_error"] < 1e-8
+
+
+@pytest.mark.parametrize("params, name, allowed", [
+    ({"top_width": 10.0}, "top_width", "[0.001, 5]"),
+    ({"top_width": 5.001}, "top_width", "[0.001, 5]"),
+    ({"offset": 0.8001}, "offset", "[-0.8, 0.8]"),
+    ({"offset": -0.8001}, "offset", "[-0.8, 0.8]"),
+    ({"element": "quad2", "n_top": 4, "top_width": 8.001}, "top_width", "[0.001, 8]"),
+])
+def test_beyond_the_ends_of_the_overlap_range_is_refused_up_front(params, name, allowed):
+    with pytest.raises(ValueError) as info:
+        build_scene("patch", params)
+    msg = str(info.value)
+    assert msg.startswith(f"parameter {name!r} must lie in about {allowed}"), msg
+    assert "bottom nodes over the lower block = 1 must lie in [2, inf]" in msg

@@ -43,6 +43,9 @@ CLI_CASES = [
     ("hertz", "E=1e308"), ("hertz", "load=1e-308"), ("hertz", "refine=1e9"),
     ("ironing", "n_steps=1e9"), ("ironing", "E_block=1e308"), ("ironing", "t_press=0"),
     ("seed", "n_cable=1000000000"), ("seed", "gap=1e308"), ("seed", "cushion_width=-1"),
+    # issue 32: "1_0" ran as 10 (Python's number syntax); top_width = 10, inside the
+    # stated range, was refused only by the preflight as "rigid modes held by nothing"
+    ("cable_flat", "pressure=1_0"), ("patch", "top_width=10"), ("patch", "n_top=2e0_0"),
 ]
 
 

@@ -59,9 +59,9 @@ def test_model_multiplies_every_item_but_point_loads_by_the_thickness():
                                - fp, rtol=0, atol=1e-16)
 
 
-@pytest.mark.parametrize("bad", [0.0, -1.0, np.nan, np.inf, "thick", None])
+@pytest.mark.parametrize("bad", [0.0, -1.0, np.nan, np.inf, "thick", None, "2", True])
 def test_thickness_must_be_finite_and_positive(bad):
-    with pytest.raises(ValueError, match="thickness must be a finite number > 0"):
+    with pytest.raises(ValueError, match="thickness must be a finite real number > 0"):
         _model(bad)
 
 

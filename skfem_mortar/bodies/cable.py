@@ -24,17 +24,65 @@ from .cable_laws import LAWS, CableLaw, get_law, newton_rtol  # noqa: F401 (publ
 from ..core.errors import InversionError
 from ..core.model import Contribution, Item
 from ..core.chain import segment_lengths
+from ..core.validate import count, flag, real
+from ..core.validate_arrays import index_array, real_array
 
-__all__ = ["CableLaw", "LAWS", "get_law", "Cable", "newton_rtol", "side_sign"]
+__all__ = ["CableLaw", "LAWS", "get_law", "Cable", "newton_rtol", "side_sign", "MAX_ELEMENTS"]
+
+#: the most elements :meth:`Cable.between` and :meth:`Cable.ring` build: one
+#: assembly of a model holding the cable peaks near 2.2 kB per element
+#: (measured at 1e6 elements), so about 22 GB at this bound (the scenes stop
+#: at 1e6); above it the count is a typo, refused before anything is allocated
+MAX_ELEMENTS = 10_000_000
 
 
-def side_sign(side: str | int) -> int:
-    """+1 for "left" (normal = tangent turned by +90 degrees), -1 for "right"."""
-    if side in ("left", 1, +1):
-        return 1
-    if side in ("right", -1):
-        return -1
-    raise ValueError(f"side must be 'left' or 'right' (or +1 / -1), got {side!r}")
+def element_count(value: object, low: int) -> int:
+    """``n_elements`` checked: an integer (``2.5`` refused, not truncated) in
+    ``[low, MAX_ELEMENTS]``, ValueError naming it, the bound and why otherwise."""
+    n = count("n_elements", value, low)
+    if n > MAX_ELEMENTS:
+        raise ValueError(f"n_elements must be at most MAX_ELEMENTS = {MAX_ELEMENTS} (one "
+                         f"assembly takes about 2.2 kB per element: 22 GB there), got {n}")
+    return n
+
+
+def _per_element(name: str, value: object, n_el: int) -> np.ndarray:
+    """A finite value > 0 per element from a number or an array of ``n_el`` numbers."""
+    a = real_array(name, value, 0.0, low_open=True)
+    if a.ndim > 1 or (a.ndim == 1 and a.shape[0] != n_el):
+        raise ValueError(f"{name} must be a number or one number per element, shape "
+                         f"({n_el},), got shape {a.shape}")
+    return np.broadcast_to(a, (n_el,)).copy()
+
+
+def _refuse_duplicates(elements: np.ndarray) -> None:
+    """ValueError naming the first two elements that join the same two nodes (either
+    order: the pair's stiffness would count twice) or an element joining a node to itself."""
+    same = np.flatnonzero(elements[:, 0] == elements[:, 1])
+    if same.size:
+        raise ValueError(f"elements must join two different nodes: element "
+                         f"{int(same[0])} joins node {int(elements[same[0], 0])} to itself")
+    key = np.sort(elements, axis=1)
+    _, first, inverse = np.unique(key, axis=0, return_index=True, return_inverse=True)
+    inverse = inverse.ravel()
+    dup = np.flatnonzero(first[inverse] != np.arange(len(elements)))
+    if dup.size:
+        k = int(dup[0])
+        j = int(first[inverse[k]])
+        raise ValueError(f"elements must list each node pair once (a duplicate doubles "
+                         f"its stiffness): elements {j} and {k} both join nodes "
+                         f"{tuple(int(i) for i in elements[j])} ({dup.size} duplicate(s))")
+
+
+def side_sign(side: str | int, name: str = "side") -> int:
+    """+1 for "left" (normal = tangent turned by +90 degrees), -1 for "right"
+    (the integers +1 and -1 too; a bool or a float is refused, naming ``name``)."""
+    if isinstance(side, str) and side in ("left", "right"):
+        return 1 if side == "left" else -1
+    if isinstance(side, (int, np.integer)) and not isinstance(side, (bool, np.bool_)) \
+            and side in (1, -1):
+        return int(side)
+    raise ValueError(f"{name} must be 'left' or 'right' (or +1 / -1), got {side!r}")
 
 
 class Cable(Item):
@@ -68,6 +116,15 @@ class Cable(Item):
         the tangent uses ``max(N, load_factor * N_f) / l (I - t t^T)`` (see
         Notes).  Default 0 (exact tangent everywhere).
     name : str
+
+    Raises
+    ------
+    ValueError
+        Naming the parameter: a number that is not a finite real number in its
+        range (a string such as ``"1"``, a bool, NaN or infinity), a flag that is
+        not a bool, node indices that are not integers in ``[0, n_nodes)``, an
+        element listed twice (the same node pair in either order: its stiffness
+        would count twice), ``EA`` or ``rest_length`` of the wrong length.
 
     Notes
     -----
@@ -108,36 +165,30 @@ class Cable(Item):
                  rest_length: float | np.ndarray | None = None,
                  slack_stiffness: float = 1.0, tension_floor: float = 0.0,
                  name: str = "cable"):
-        X = np.array(X, dtype=float)
+        X = real_array("X", X)
         if X.ndim != 2 or X.shape[0] != 2 or X.shape[1] < 2:
             raise ValueError(f"X must have shape (2, n_nodes) with n_nodes >= 2, got {X.shape}")
-        if not np.all(np.isfinite(X)):
-            raise ValueError("X must be finite")
         n = X.shape[1]
+        closed = flag("closed", closed)
         if elements is None:
             k = np.arange(n)
             elements = np.column_stack([k, np.roll(k, -1)]) if closed else \
                 np.column_stack([k[:-1], k[1:]])
-        elements = np.array(elements, dtype=np.int64)
+        elements = index_array("elements", elements, n)
         if elements.ndim != 2 or elements.shape[1] != 2 or len(elements) == 0:
-            raise ValueError("elements must have shape (n_el, 2) with n_el >= 1")
-        if elements.min() < 0 or elements.max() >= n:
-            raise ValueError(f"elements must hold node indices in [0, {n})")
+            raise ValueError(f"elements must have shape (n_el, 2) with n_el >= 1, "
+                             f"got {elements.shape}")
+        _refuse_duplicates(elements)
         self.X = X
         self.elements = elements
-        self.closed = bool(closed)
+        self.closed = closed
         self.law = get_law(law)
-        self.tension_only = bool(tension_only)
-        if not slack_stiffness >= 0.0:
-            raise ValueError(f"slack_stiffness must be >= 0, got {slack_stiffness}")
-        self.slack_stiffness = float(slack_stiffness)
-        if not (np.isfinite(tension_floor) and tension_floor >= 0.0):
-            raise ValueError(f"tension_floor must be finite and >= 0, got {tension_floor}")
-        self.tension_floor = float(tension_floor)
+        self.tension_only = flag("tension_only", tension_only)
+        # finite: an infinite slack tangent makes every slack row inf (the solve NaN)
+        self.slack_stiffness = real("slack_stiffness", slack_stiffness, 0.0)
+        self.tension_floor = real("tension_floor", tension_floor, 0.0)
         n_el = len(elements)
-        self.EA = np.broadcast_to(np.asarray(EA, dtype=float), (n_el,)).copy()
-        if not np.all(np.isfinite(self.EA)) or np.any(self.EA <= 0.0):
-            raise ValueError("EA must be finite and > 0")
+        self.EA = _per_element("EA", EA, n_el)
         chord = segment_lengths(X, elements)
         if np.any(chord <= 1e-12 * max(float(np.max(chord)), np.finfo(float).tiny)):
             k = int(np.argmin(chord))
@@ -147,11 +198,7 @@ class Cable(Item):
         self._dX = X[:, elements[:, 1]] - X[:, elements[:, 0]]
         if rest_length is None:
             rest_length = chord
-        self.rest_length = np.broadcast_to(np.asarray(rest_length, dtype=float),
-                                           (n_el,)).copy()
-        if not np.all(np.isfinite(self.rest_length)) or np.any(self.rest_length <= 0.0):
-            raise ValueError("rest_length must be finite and > 0 "
-                             "(no two consecutive nodes may coincide)")
+        self.rest_length = _per_element("rest_length", rest_length, n_el)
         self.name = name
         self.n_nodes = n
         self.n_dofs = 2 * n
@@ -163,12 +210,12 @@ class Cable(Item):
     def from_points(cls, points: np.ndarray, *, closed: bool = False, **kw) -> "Cable":
         """A polyline through ``points`` (n, 2) (or (2, n); a (2, 2) array is read
         as two points, row-wise), stress free as given; ``kw`` as for :class:`Cable`."""
-        P = np.asarray(points, dtype=float)
+        P = real_array("points", points)
         if P.ndim == 2 and P.shape[1] == 2 and P.shape[0] != 2:
             P = P.T
         elif P.ndim == 2 and P.shape == (2, 2):
             P = P.T  # two points given row-wise
-        return cls(P, closed=closed, **kw)
+        return cls(P, closed=flag("closed", closed), **kw)
 
     @classmethod
     def ring(cls, radius0: float, n_elements: int, *,
@@ -178,11 +225,9 @@ class Cable(Item):
         Stress free as built (rest lengths ``2 radius0 sin(pi / n)``).  The
         outward normal is on the *right* of the chain direction.
         """
-        if not radius0 > 0:
-            raise ValueError(f"radius0 must be > 0, got {radius0}")
-        n = int(n_elements)
-        if n < 3:
-            raise ValueError(f"n_elements must be >= 3 for a ring, got {n_elements}")
+        radius0 = real("radius0", radius0, 0.0, low_open=True)
+        n = element_count(n_elements, 3)
+        center = _point("center", center)
         phi = 2.0 * np.pi * np.arange(n) / n
         X = np.vstack([center[0] + radius0 * np.cos(phi),
                        center[1] + radius0 * np.sin(phi)])
@@ -217,20 +262,24 @@ class Cable(Item):
         * ``length0 < span``: straight, pre-stretched (rest length ``length0 / n``).
 
         Supports: pin both ends with ``Dirichlet(cable, cable.support_dofs())``.
+
+        Raises
+        ------
+        ValueError
+            Naming the parameter: ``start``, ``end`` not two distinct points of finite
+            numbers, ``length0`` not a finite number > 0, ``n_elements`` not an integer
+            in ``[1, MAX_ELEMENTS]`` (checked before anything is allocated),
+            ``start_sag`` outside ``(0, 0.5]``, ``bulge`` not a side.
         """
-        p0 = np.asarray(start, dtype=float).reshape(2)
-        p1 = np.asarray(end, dtype=float).reshape(2)
+        n = element_count(n_elements, 1)
+        p0, p1 = _point("start", start), _point("end", end)
         span = float(np.hypot(*(p1 - p0)))
         if not span > 0:
-            raise ValueError("start and end must differ")
-        if not length0 > 0:
-            raise ValueError(f"length0 must be > 0, got {length0}")
-        n = int(n_elements)
-        if n < 1:
-            raise ValueError(f"n_elements must be >= 1, got {n_elements}")
-        if not 0.0 < start_sag <= 0.5:
-            raise ValueError(f"start_sag must lie in (0, 0.5], got {start_sag}")
-        sign = side_sign(bulge)
+            raise ValueError(f"start and end must differ, got {p0.tolist()} twice")
+        length0 = real("length0", length0, 0.0, low_open=True)
+        start_sag = real("start_sag", start_sag, 0.0, 0.5, low_open=True)
+        span_rtol = real("span_rtol", span_rtol, 0.0, 1.0)
+        sign = side_sign(bulge, "bulge")
         rest = length0 / n
         X = None
         if length0 > span * (1.0 + span_rtol):
@@ -261,7 +310,7 @@ class Cable(Item):
             if self.closed:
                 raise ValueError("a closed ring has no end nodes: pass nodes explicitly")
             nodes = [self.elements[0, 0], self.elements[-1, 1]]
-        nodes = np.atleast_1d(np.asarray(nodes, dtype=np.int64))
+        nodes = np.atleast_1d(index_array("nodes", nodes, self.n_nodes))
         return self.node_dofs[:, nodes].T.ravel()
 
     def element_dofs(self) -> np.ndarray:
@@ -352,6 +401,14 @@ class Cable(Item):
 
 
 # -- start geometries ---------------------------------------------------------
+def _point(name: str, value: object) -> np.ndarray:
+    """A point (x, y) of finite real numbers, ValueError naming ``name`` otherwise."""
+    a = real_array(name, value)
+    if a.shape != (2,):
+        raise ValueError(f"{name} must be a point (x, y), got shape {a.shape}")
+    return a
+
+
 def _arc_points(p0, p1, radius, half_angle, n, sign):
     """n+1 points on a circular arc from p0 to p1 with central half-angle
     ``half_angle`` (in (0, pi)), bulging to the side ``sign`` (+1 left)."""

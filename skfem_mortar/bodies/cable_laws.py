@@ -9,6 +9,7 @@ from typing import Callable
 import numpy as np
 
 from ..core.errors import InversionError
+from ..core.validate import real
 
 __all__ = ["CableLaw", "LAWS", "get_law", "newton_rtol"]
 
@@ -33,6 +34,14 @@ class CableLaw:
     force: Callable[[np.ndarray, np.ndarray], np.ndarray]
     stiffness: Callable[[np.ndarray, np.ndarray], np.ndarray]
 
+    def __post_init__(self) -> None:
+        if not isinstance(self.name, str) or not self.name:
+            raise ValueError(f"name must be a non-empty string, got {self.name!r}")
+        for what in ("force", "stiffness"):
+            if not callable(getattr(self, what)):
+                raise ValueError(f"{what} must be a function of (stretch, EA), got "
+                                 f"{getattr(self, what)!r}")
+
 
 def _log_positive(stretch: np.ndarray) -> np.ndarray:
     if np.any(stretch <= 0.0):
@@ -56,7 +65,7 @@ def get_law(law: str | CableLaw) -> CableLaw:
     """Return the :class:`CableLaw` named ``law`` (one of :data:`LAWS`)."""
     if isinstance(law, CableLaw):
         return law
-    if law not in LAWS:
+    if not isinstance(law, str) or law not in LAWS:
         raise ValueError(f"law must be one of {sorted(LAWS)}, got {law!r}")
     return LAWS[law]
 
@@ -85,6 +94,7 @@ def newton_rtol(EA: float, tension: float, rtol: float = 1e-10) -> float:
     rtol : float
         The tolerance wanted where round-off allows it.
     """
-    if not (tension > 0 and EA > 0):
-        raise ValueError(f"EA and tension must be > 0, got {EA}, {tension}")
-    return max(float(rtol), 1e3 * np.finfo(float).eps * float(EA) / float(tension))
+    EA = real("EA", EA, 0.0, low_open=True)
+    tension = real("tension", tension, 0.0, low_open=True)
+    rtol = real("rtol", rtol, 0.0, 1.0, low_open=True, high_open=True)
+    return max(rtol, 1e3 * np.finfo(float).eps * EA / tension)

@@ -1,4 +1,4 @@
-"""Input checks that belong to no single item: mesh validity.
+"""Input checks that belong to no single item: mesh validity, the quadrature order.
 
 scikit-fem integrates with ``|det J|``, so an element whose vertices are listed
 in the wrong order (a folded mesh) or an element of zero area is not caught by
@@ -9,7 +9,14 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["check_mesh", "signed_areas"]
+from ..core.validate import count
+
+__all__ = ["check_mesh", "signed_areas", "quadrature_order", "check_boundary_facets",
+           "MAX_INTORDER"]
+
+#: the highest quadrature order: scikit-fem's triangle rules stop at 19 (above,
+#: it raises NotImplementedError deep in the basis)
+MAX_INTORDER = 19
 
 #: an element is degenerate below this fraction of the mean element area
 AREA_TOL = 1e-12
@@ -101,3 +108,35 @@ def check_mesh(mesh, name: str = "mesh") -> None:
         raise ValueError(f"{name}: inverted element(s): elements {int(e[0])} and {int(e[1])} "
                          f"lie on the same side of their shared facet {int(folded[0])} "
                          f"({folded.size} such facets); the mesh folds over itself")
+
+
+def quadrature_order(value: object, low: int) -> int:
+    """``intorder`` checked: an integer (``2.0`` refused) in ``[low, MAX_INTORDER]``,
+    ValueError naming it, the bound and why otherwise."""
+    order = count("intorder", value, low)
+    if order > MAX_INTORDER:
+        raise ValueError(f"intorder must be at most {MAX_INTORDER} (scikit-fem has no "
+                         f"higher triangle rule), got {order}")
+    return order
+
+
+def check_boundary_facets(mesh, facets: np.ndarray, boundary: object, name: str = "boundary"
+                          ) -> None:
+    """ValueError unless ``facets`` (of the tag or indices ``boundary``) is not empty, lists
+    each facet once and holds boundary facets only, each belonging to exactly one element
+    (a facet between two elements is inside the body: a surface or a load on it would act
+    on the body from within; a facet listed twice would count twice).  The message names
+    ``name`` and the tag."""
+    which = f"{name} {boundary!r}" if isinstance(boundary, str) else name
+    if facets.size == 0:
+        raise ValueError(f"{which} must contain at least one facet")
+    twice = np.flatnonzero(np.bincount(facets) > 1)
+    if twice.size:
+        raise ValueError(f"{which} must list each facet once: facet {int(twice[0])} is "
+                         f"listed more than once ({twice.size} such)")
+    inner = facets[mesh.f2t[1, facets] >= 0]
+    if inner.size:
+        raise ValueError(f"{which} must hold boundary facets, each belonging to exactly one "
+                         f"element: {inner.size} of its {facets.size} facets are interior "
+                         f"(e.g. facet {int(inner[0])}, shared by elements "
+                         f"{int(mesh.f2t[0, inner[0]])} and {int(mesh.f2t[1, inner[0]])})")

@@ -33,6 +33,7 @@ import numpy as np
 from skfem.helpers import det, inv
 
 from ..core.errors import InversionError
+from ..core.validate import real
 
 __all__ = ["Material", "NeoHooke", "SaintVenantKirchhoff", "LinearElastic", "Lame",
            "lame_from_young", "checked_det", "plane_stress_lambda", "PLANES"]
@@ -59,14 +60,11 @@ def lame_from_young(E: float, nu: float) -> Lame:
     Raises
     ------
     ValueError
-        If ``E <= 0`` or ``nu`` is outside ``(-1, 0.5)``.
+        If ``E`` is not a finite real number > 0 or ``nu`` not one in ``(-1, 0.5)``
+        (a string such as ``"100"`` or a bool is refused, not converted).
     """
-    E = float(E)
-    nu = float(nu)
-    if not np.isfinite(E) or E <= 0.0:
-        raise ValueError(f"E must be > 0 (got {E})")
-    if not np.isfinite(nu) or not -1.0 < nu < 0.5:
-        raise ValueError(f"nu must lie in the open interval (-1, 0.5) (got {nu})")
+    E = real("E", E, 0.0, low_open=True)
+    nu = real("nu", nu, -1.0, 0.5, low_open=True, high_open=True)
     return Lame(E / (2.0 * (1.0 + nu)), E * nu / ((1.0 + nu) * (1.0 - 2.0 * nu)))
 
 
@@ -137,11 +135,9 @@ class Material:
                 raise ValueError("E and nu must be given together")
             mu, lmbda = lame_from_young(E, nu)
         elif mu is not None and lmbda is not None:
-            mu, lmbda = float(mu), float(lmbda)
-            if not np.isfinite(mu) or mu <= 0.0:
-                raise ValueError(f"mu must be > 0 (got {mu})")
-            if not np.isfinite(lmbda) or lmbda <= -2.0 * mu / 3.0:
-                raise ValueError(f"lmbda must be > -2 mu / 3 = {-2.0 * mu / 3.0} (got {lmbda})")
+            mu = real("mu", mu, 0.0, low_open=True)
+            # > -2 mu / 3: a positive bulk modulus (the set -1 < nu < 0.5)
+            lmbda = real("lmbda", lmbda, -2.0 * mu / 3.0, low_open=True)
         else:
             raise ValueError("give either (E, nu) or (mu, lmbda)")
         self.mu = mu
@@ -160,7 +156,7 @@ class Material:
         ValueError
             If ``plane`` is not one of :data:`PLANES`.
         """
-        if plane not in PLANES:
+        if not isinstance(plane, str) or plane not in PLANES:
             raise ValueError(f"plane must be one of {', '.join(map(repr, PLANES))} "
                              f"(got {plane!r})")
         if plane == self.plane:

@@ -67,7 +67,7 @@ import numpy as np
 import scipy.sparse as sp
 from skfem import Basis, ElementTriMini, ElementTriP1, ElementVector, MeshTri
 
-from .checks import check_mesh
+from .checks import check_mesh, quadrature_order
 from ..core.coo import element_coo
 from skfem.helpers import inv
 
@@ -157,9 +157,7 @@ class MixedSolid(Solid):
         if not material.lmbda > 0.0:
             raise ValueError(f"material must have lmbda > 0 (nu > 0): the pressure equation "
                              f"divides by lmbda (got lmbda = {material.lmbda})")
-        if (isinstance(intorder, bool) or not isinstance(intorder, (int, np.integer))
-                or intorder < 2):
-            raise ValueError(f"intorder must be an integer >= 2 (got {intorder!r})")
+        intorder = quadrature_order(intorder, 2)
         check_mesh(mesh, f"mesh of {name!r}")
         self.mesh = mesh
         self.material = material

@@ -54,10 +54,11 @@ from skfem import (Basis, BilinearForm, ElementQuad1, ElementQuad2, ElementTriP1
                    ElementTriP2, ElementVector, LinearForm, Mesh)
 from skfem.helpers import ddot, grad
 
-from .checks import check_mesh
+from .checks import check_mesh, quadrature_order
 from ..core.coo import element_coo
 from .materials import PLANES, LinearElastic, Material
 from ..core.model import Contribution, Item
+from ..core.validate_arrays import index_array
 
 __all__ = ["Solid", "ELEMENTS", "KINEMATICS", "boundary_facets", "constitutive_law",
            "refuse_reduction"]
@@ -96,13 +97,17 @@ def material_stiffness(du, v, w):
 
 
 def boundary_facets(mesh: Mesh, boundary: str | np.ndarray,
-                    unknown: str = "unknown boundary {tag!r}; known tags: {known}"
-                    ) -> np.ndarray:
-    """Facet indices (int64) of ``boundary``: a tag of ``mesh.boundaries`` or facet
-    indices as given (flattened, not range-checked).
+                    unknown: str = "unknown boundary {tag!r}; known tags: {known}",
+                    name: str = "boundary") -> np.ndarray:
+    """Facet indices (int64) of ``boundary``: a tag of ``mesh.boundaries``, facet
+    indices as given (flattened), integers in ``[0, mesh.nfacets)``, or a boolean mask
+    of shape ``(mesh.nfacets,)`` (its True facets, as scikit-fem users pass them).
 
     An unknown tag raises ValueError with ``unknown`` formatted with the ``tag`` and
-    the sorted ``known`` tags (each caller keeps the wording of its parameter).
+    the sorted ``known`` tags (each caller keeps the wording of its parameter); indices
+    that are not integers (``1.5`` is refused, not truncated; a mask of another shape
+    too: its 0/1 values were read as facets 0 and 1) or out of range raise
+    ValueError naming ``name``.
     """
     # not Mesh.normalize_facets: it sorts index lists (np.unique) and words its own error
     if isinstance(boundary, str):
@@ -110,7 +115,10 @@ def boundary_facets(mesh: Mesh, boundary: str | np.ndarray,
         if boundary not in known:
             raise ValueError(unknown.format(tag=boundary, known=known))
         return np.asarray(mesh.boundaries[boundary], dtype=np.int64)
-    return np.asarray(boundary, dtype=np.int64).ravel()
+    mask = np.asarray(boundary)
+    if mask.dtype.kind == "b" and mask.shape == (mesh.nfacets,):
+        return np.flatnonzero(mask).astype(np.int64)
+    return index_array(name, boundary, int(mesh.nfacets)).ravel()
 
 
 def constitutive_law(material: Material, kinematics: str | None = None,
@@ -135,14 +143,14 @@ def constitutive_law(material: Material, kinematics: str | None = None,
     small_law = isinstance(material, LinearElastic)
     if kinematics is None:
         kinematics = "small" if small_law else "finite"
-    if kinematics not in KINEMATICS:
+    if not isinstance(kinematics, str) or kinematics not in KINEMATICS:
         raise ValueError(f"kinematics must be one of {', '.join(map(repr, KINEMATICS))} "
                          f"(got {kinematics!r})")
     if small_law and kinematics != "small":
         raise ValueError("kinematics must be 'small' for a LinearElastic material (it is "
                          "the small-strain law; for finite strain use SaintVenantKirchhoff "
                          f"or NeoHooke), got {kinematics!r}")
-    if plane not in PLANES:
+    if not isinstance(plane, str) or plane not in PLANES:
         raise ValueError(f"plane must be one of {', '.join(map(repr, PLANES))} "
                          f"(got {plane!r})")
     law = material.with_plane(plane)
@@ -175,7 +183,9 @@ def _component_rows(component: int | str | None) -> list[str] | None:
     if component is None:
         return None
     names = {0: "u^1", 1: "u^2", "x": "u^1", "y": "u^2"}
-    if component not in names:
+    # a bool or a float is refused (True == 1 would select y)
+    if not isinstance(component, (str, int, np.integer)) or isinstance(component, (bool, np.bool_)) \
+            or component not in names:
         raise ValueError(f"component must be None, 0, 1, 'x' or 'y' (got {component!r})")
     return [names[component]]
 
@@ -222,16 +232,19 @@ class Solid(Item):
     def __init__(self, mesh: Mesh, material: Material, element: str = "tri1",
                  name: str = "solid", intorder: int | None = None, *,
                  kinematics: str | None = None, plane: str = "strain"):
-        if element not in ELEMENTS:
+        if not isinstance(element, str) or element not in ELEMENTS:
             raise ValueError(f"element must be one of {sorted(ELEMENTS)} (got {element!r})")
         material, kinematics = constitutive_law(material, kinematics, plane)
         elem_cls, refdom, cell_type = ELEMENTS[element]
+        if not isinstance(mesh, Mesh):
+            raise ValueError(f"mesh must be a skfem Mesh (MeshTri or MeshQuad), got "
+                             f"{type(mesh).__name__}")
         if mesh.dim() != 2 or mesh.elem.refdom.__name__ != refdom:
             raise ValueError(f"element {element!r} needs a 2D mesh of "
                              f"{'triangles' if refdom == 'RefTri' else 'quadrilaterals'}, "
                              f"got {type(mesh).__name__}")
-        if intorder is not None and (int(intorder) != intorder or intorder < 1):
-            raise ValueError(f"intorder must be an integer >= 1 (got {intorder})")
+        if intorder is not None:
+            intorder = quadrature_order(intorder, 1)
         check_mesh(mesh, f"mesh of {name!r}")  # folded, zero-area, non-convex elements
         self.mesh = mesh
         self.material = material
@@ -336,6 +349,8 @@ class Solid(Item):
         """
         if isinstance(boundary, str):
             boundary_facets(self.mesh, boundary)        # an unknown tag raises
+        elif not callable(boundary):                    # indices or a mask, checked
+            boundary = boundary_facets(self.mesh, boundary)
         view = self.basis.get_dofs(boundary)
         rows = _component_rows(component)
         out = view.all() if rows is None else view.all(rows)
@@ -344,9 +359,7 @@ class Solid(Item):
     def dofs_at_nodes(self, nodes: np.ndarray, component: int | str | None = None
                       ) -> np.ndarray:
         """Local dofs of a set of vertices (indices into ``X``)."""
-        nodes = np.asarray(nodes, dtype=np.int64).ravel()
-        if nodes.size and (nodes.min() < 0 or nodes.max() >= self.n_nodes):
-            raise ValueError(f"nodes must lie in [0, {self.n_nodes})")
+        nodes = index_array("nodes", nodes, self.n_nodes).ravel()
         rows = _component_rows(component)
         nd = self.node_dofs if rows is None else self.node_dofs[[0 if rows[0] == "u^1" else 1]]
         return np.unique(nd[:, nodes].ravel().astype(np.int64))

@@ -28,12 +28,20 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.sparse.csgraph import connected_components
 
+from ..bodies.cable import MAX_ELEMENTS
+from ..bodies.checks import check_boundary_facets
 from ..bodies.solid import boundary_facets
+from ..core.validate import count, flag, real
+from ..core.validate_arrays import index_array, real_array
 from ..core.chain import segment_lengths, segment_normals, segments_at_nodes, tributary_lengths
 
 __all__ = ["ContactSurface", "RigidPlane", "RigidCircle", "chain_segments",
            "segment_lengths", "segment_normals", "tributary_lengths", "segments_at_nodes",
            "LINEAR_TRACE", "QUADRATIC_TRACE"]
+
+#: the most segments a rigid surface is built with (:class:`RigidPlane`,
+#: :class:`RigidCircle`): as many as the finest cable has elements
+MAX_SEGMENTS = MAX_ELEMENTS
 
 #: solid elements whose boundary trace is linear between facet vertices: tri1,
 #: quad1 and the mixed "mini" triangle (P1 + bubble, the bubble vanishes on facets)
@@ -138,35 +146,31 @@ class ContactSurface:
                  local_dofs: np.ndarray | None = None):
         self.body = body
         self.name = name
-        segments = np.asarray(segments, dtype=np.int64)
-        if segments.ndim != 2 or segments.shape[1] not in (2, 3):
-            segments = segments.reshape(-1, 2)
         if body is None:
             if X is None:
                 raise ValueError("X (2, n) is required for a rigid surface")
-            self._X = np.asarray(X, dtype=float)
+            self._X = real_array("X (the rigid surface's coordinates)", X)
             if self._X.ndim != 2 or self._X.shape[0] != 2:
                 raise ValueError(f"X must have shape (2, n), got {self._X.shape}")
-            if not np.all(np.isfinite(self._X)):
-                raise ValueError("X (the rigid surface's coordinates) must be finite")
             n = self._X.shape[1]
             self.nodes = None
             self._local = None
             self._vertices = False
         else:
-            self.nodes = np.asarray(nodes, dtype=np.int64).ravel()
-            n = self.nodes.size
             self._vertices = local_dofs is None
             if local_dofs is None:
-                if n and (self.nodes.min() < 0 or self.nodes.max() >= body.n_nodes):
-                    raise ValueError(f"nodes must lie in [0, {body.n_nodes})")
+                self.nodes = index_array("nodes", nodes, body.n_nodes).ravel()
+                n = self.nodes.size
                 self._local = np.asarray(body.node_dofs)[:, self.nodes]
                 self._X = np.asarray(body.X, dtype=float)[:, self.nodes]
-            else:
-                self._local = np.asarray(local_dofs, dtype=np.int64).reshape(2, n)
-                self._X = np.asarray(X, dtype=float).reshape(2, n)
-        if segments.size and (segments.min() < 0 or segments.max() >= n):
-            raise ValueError(f"segments must index surface nodes in [0, {n})")
+            else:   # -1 marks a node that is not a vertex
+                self.nodes = np.asarray(nodes, dtype=np.int64).ravel()
+                n = self.nodes.size
+                self._local = index_array("local_dofs", local_dofs, body.n_dofs).reshape(2, n)
+                self._X = real_array("X", X).reshape(2, n)
+        segments = index_array("segments", segments, n)
+        if segments.ndim != 2 or segments.shape[1] not in (2, 3):
+            segments = segments.reshape(-1, 2)
         order, self.closed = chain_segments(segments[:, :2], n)
         self.segments = segments[order]
         if np.any(segment_lengths(self._X, self.segments) <= 0):
@@ -241,6 +245,9 @@ class ContactSurface:
         boundary : str or int ndarray
             A tag of ``solid.mesh.boundaries`` or facet indices.
         """
+        if not (hasattr(solid, "mesh") and hasattr(solid, "X") and hasattr(solid, "node_dofs")):
+            raise ValueError(f"solid must be a Solid (a body with an skfem mesh), got "
+                             f"{type(solid).__name__}")
         mesh = solid.mesh
         element = getattr(solid, "element", "tri1")
         if element not in LINEAR_TRACE + QUADRATIC_TRACE:
@@ -249,10 +256,7 @@ class ContactSurface:
                              f"{QUADRATIC_TRACE}, got element {element!r}")
         facets = boundary_facets(mesh, boundary,
                                  "boundary must be one of the mesh tags {known}, got {tag!r}")
-        if facets.size == 0:
-            raise ValueError("boundary must contain at least one facet")
-        if facets.min() < 0 or facets.max() >= mesh.facets.shape[1]:
-            raise ValueError(f"facet indices must lie in [0, {mesh.facets.shape[1]})")
+        check_boundary_facets(mesh, facets, boundary)
         # own orientation test: skfem's facets list their vertices sorted and its
         # oriented boundaries pick an element side, not a vertex order along the chain
         ends = mesh.facets[:, facets].T.copy()  # (n_f, 2)
@@ -292,7 +296,9 @@ class ContactSurface:
             normal is the outward normal of the surface.  "right" keeps the
             element order (right-hand normal); "left" flips it.
         """
-        if side not in ("left", "right"):
+        if not (hasattr(cable, "elements") and hasattr(cable, "closed")):
+            raise ValueError(f"cable must be a Cable, got {type(cable).__name__}")
+        if not isinstance(side, str) or side not in ("left", "right"):
             raise ValueError(f"side must be 'left' or 'right', got {side!r}")
         el = np.asarray(cable.elements, dtype=np.int64).reshape(-1, 2)
         if side == "left":
@@ -303,13 +309,20 @@ class ContactSurface:
 
 def _vector2(v: Any, name: str) -> np.ndarray:
     """A finite 2-vector (ValueError naming ``name`` otherwise)."""
-    try:
-        a = np.asarray(v, dtype=float).reshape(2)
-    except (TypeError, ValueError):
-        raise ValueError(f"{name} must be a 2-vector (x, y), got {v!r}") from None
-    if not np.all(np.isfinite(a)):
-        raise ValueError(f"{name} must be finite, got {v!r}")
+    a = real_array(name, v)
+    if a.shape != (2,):
+        raise ValueError(f"{name} must be a 2-vector (x, y), got {v!r}")
     return a
+
+
+def _segment_count(value: Any, low: int) -> int:
+    """``n_segments`` checked: an integer in ``[low, MAX_SEGMENTS]`` (ValueError naming
+    it, the bound and why otherwise), before any coordinate is allocated."""
+    n = count("n_segments", value, low)
+    if n > MAX_SEGMENTS:
+        raise ValueError(f"n_segments must be at most MAX_SEGMENTS = {MAX_SEGMENTS} (a "
+                         f"rigid surface as fine as the finest cable, MAX_ELEMENTS), got {n}")
+    return n
 
 
 class RigidPlane(ContactSurface):
@@ -331,11 +344,8 @@ class RigidPlane(ContactSurface):
         nn = np.linalg.norm(normal)
         if not np.isfinite(nn) or nn == 0:
             raise ValueError("normal must be a finite non-zero vector")
-        if not (np.isfinite(length) and length > 0):
-            raise ValueError(f"length must be a finite number > 0, got {length}")
-        if int(n_segments) != n_segments or n_segments < 1:
-            raise ValueError(f"n_segments must be an integer >= 1, got {n_segments}")
-        n_segments = int(n_segments)
+        length = real("length", length, 0.0, low_open=True)
+        n_segments = _segment_count(n_segments, 1)
         normal = normal / nn
         t = np.array([-normal[1], normal[0]])
         s = np.linspace(-0.5 * length, 0.5 * length, n_segments + 1)
@@ -365,19 +375,18 @@ class RigidCircle(ContactSurface):
     def __init__(self, center: tuple[float, float], radius: float, n_segments: int = 256,
                  arc: tuple[float, float] | None = None, name: str = "circle",
                  inside: bool = False):
-        if not (np.isfinite(radius) and radius > 0):
-            raise ValueError(f"radius must be a finite number > 0, got {radius}")
-        if int(n_segments) != n_segments or n_segments < 3:
-            raise ValueError(f"n_segments must be an integer >= 3, got {n_segments}")
-        n_segments = int(n_segments)
+        radius = real("radius", radius, 0.0, low_open=True)
+        n_segments = _segment_count(n_segments, 3)
         center = _vector2(center, "center")
+        inside = flag("inside", inside)
         if arc is None:
             th = np.linspace(0.0, 2 * np.pi, n_segments, endpoint=False)
             seg = np.column_stack([np.arange(n_segments), np.roll(np.arange(n_segments), -1)])
         else:
-            th0, th1 = map(float, arc)
+            th0, th1 = _vector2(arc, "arc")
             if not th1 > th0:
-                raise ValueError("arc must be (theta0, theta1) with theta1 > theta0")
+                raise ValueError(f"arc must be (theta0, theta1) with theta1 > theta0, "
+                                 f"got {arc!r}")
             th = np.linspace(th0, th1, n_segments + 1)
             seg = np.column_stack([np.arange(n_segments), np.arange(1, n_segments + 1)])
         X = center[:, None] + radius * np.vstack([np.cos(th), np.sin(th)])

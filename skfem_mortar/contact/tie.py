@@ -71,6 +71,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from ..core.model import Contribution, Item
+from ..core.validate import count, flag
 from . import mortar
 from .preflight import nodal_normals
 from .surfaces import ContactSurface
@@ -163,13 +164,8 @@ class TiePair(Item):
                                np.array_equal(np.sort(slave.nodes), np.sort(master.nodes))):
             raise ValueError(f"slave and master must be two different surfaces, got "
                              f"{slave.name!r} twice")
-        if not isinstance(dual, (bool, np.bool_)):
-            raise ValueError(f"dual must be True or False, got {dual!r}")
-        if not isinstance(n_gauss, (int, np.integer)) or isinstance(n_gauss, bool) \
-                or not 1 <= n_gauss <= 10:
-            raise ValueError(f"n_gauss must be an integer in [1, 10], got {n_gauss!r}")
         self.slave, self.master, self.name = slave, master, name
-        self.dual, self.n_gauss = bool(dual), int(n_gauss)
+        self.dual, self.n_gauss = flag("dual", dual), count("n_gauss", n_gauss, 1, 10)
         self.n_dofs = 2 * slave.n_nodes
         self._merged = np.zeros(slave.n_nodes, dtype=bool)  # prescribed slave nodes
         self._integrate()

@@ -25,9 +25,11 @@ import scipy.sparse as sp
 
 from .binding import bind, claim, layout
 from .coo import element_coo
+from .validate import real
 
+# Dirichlet (core.dirichlet) is still offered here, lazily (module __getattr__)
 __all__ = ["Contribution", "Item", "ItemProtocol", "Output", "Body", "ContactTable", "Model",
-           "Dirichlet", "register_check"]
+           "register_check"]
 
 
 @dataclass
@@ -389,14 +391,9 @@ def register_check(check: Callable[["Model", np.ndarray, float, np.ndarray], Non
 
 
 def check_thickness(thickness: float) -> float:
-    """``thickness`` as a float, ValueError unless finite and > 0."""
-    try:
-        H = float(thickness)
-    except (TypeError, ValueError):
-        raise ValueError(f"thickness must be a finite number > 0, got {thickness!r}") from None
-    if not (np.isfinite(H) and H > 0.0):
-        raise ValueError(f"thickness must be a finite number > 0, got {thickness!r}")
-    return H
+    """``thickness`` as a float, ValueError unless a finite real number > 0 (a
+    string such as ``"2"`` or a bool is refused, not converted)."""
+    return real("thickness", thickness, 0.0, low_open=True)
 
 
 def _times(c: Contribution, H: float) -> Contribution:

@@ -25,6 +25,7 @@ import numpy as np
 
 from ..bodies.cable import side_sign
 from ..core.model import Contribution, Item
+from ..core.validate import flag, real
 
 __all__ = ["FollowerPressure", "facet_load_matrix"]
 
@@ -86,13 +87,10 @@ class FollowerPressure(Item):
                  facets: str | np.ndarray | None = None, ramp: bool = True,
                  load_stiffness: bool = True,
                  name: str | None = None):
-        pressure = float(pressure)
-        if not np.isfinite(pressure):
-            raise ValueError(f"pressure must be finite, got {pressure}")
         self.body = body
-        self.pressure = pressure
-        self.ramp = bool(ramp)
-        self.load_stiffness = bool(load_stiffness)
+        self.pressure = real("pressure", pressure)
+        self.ramp = flag("ramp", ramp)
+        self.load_stiffness = flag("load_stiffness", load_stiffness)
         self.name = name or f"pressure_{getattr(body, 'name', 'body')}"
         if hasattr(body, "elements") and hasattr(body, "closed"):
             if facets is not None:
@@ -104,7 +102,7 @@ class FollowerPressure(Item):
                                    body.node_dofs[:, el[:, 1]].T], axis=1)
             self._X = np.stack([body.X[:, el[:, 0]].T, body.X[:, el[:, 1]].T], axis=1)
         elif hasattr(body, "basis") and hasattr(body, "mesh"):
-            if side not in (None, "inward", "outward"):
+            if not (side is None or (isinstance(side, str) and side in ("inward", "outward"))):
                 raise ValueError(f"side must be 'inward' or 'outward' for a solid, got {side!r}")
             self.sign = -1 if side == "outward" else 1
             self._dofs, self._X = _solid_facet_chain(body, facets)
@@ -144,17 +142,17 @@ def _solid_facet_chain(body, facets):
     """Local dofs (n_f, n_loc, 2) and reference coordinates of boundary facets,
     each oriented so that the body lies on its left (outward normal on the right).
     """
-    from ..bodies.solid import boundary_facets   # here: a cable's load needs no skfem
+    from ..bodies.checks import check_boundary_facets   # here: a cable's load needs no skfem
+    from ..bodies.solid import boundary_facets
 
     mesh, basis = body.mesh, body.basis
     if facets is None:
         raise ValueError("facets (a boundary name or facet indices) is required for a solid")
+    facets_in = facets
     facets = boundary_facets(mesh, facets,
-                             "facets must be one of the mesh boundaries {known}, got {tag!r}")
-    if facets.size == 0 or facets.min() < 0 or facets.max() >= mesh.facets.shape[1]:
-        raise ValueError(f"facets must be non-empty indices in [0, {mesh.facets.shape[1]})")
-    if np.any(mesh.f2t[1, facets] >= 0):
-        raise ValueError("facets must lie on the boundary (one adjacent element)")
+                             "facets must be one of the mesh boundaries {known}, got {tag!r}",
+                             name="facets")
+    check_boundary_facets(mesh, facets, facets_in, "facets")
     v = mesh.facets[:, facets].T.copy()                      # (n_f, 2) vertices
     nd = basis.nodal_dofs
     cols = [nd[:, v[:, 0]].T, nd[:, v[:, 1]].T]

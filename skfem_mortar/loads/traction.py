@@ -13,6 +13,8 @@ from skfem import FacetBasis, LinearForm
 from skfem.helpers import dot
 
 from ..core.model import Contribution, Item
+from ..core.validate_arrays import index_array, real_array
+from ..bodies.checks import check_boundary_facets
 from ..bodies.solid import boundary_facets
 
 __all__ = ["Traction", "PointLoad"]
@@ -48,19 +50,21 @@ class Traction(Item):
     def __init__(self, body, boundary: str | np.ndarray,
                  traction: Sequence[float] | Callable[[np.ndarray], np.ndarray],
                  name: str = ""):
+        if not (hasattr(body, "mesh") and hasattr(body, "basis")):
+            raise ValueError(f"body must be a Solid (a body with an skfem mesh and basis), "
+                             f"got {type(body).__name__}")
         facets = boundary_facets(body.mesh, boundary)
-        if facets.size and (facets.min() < 0 or facets.max() >= body.mesh.nfacets):
-            raise ValueError(f"boundary facets must lie in [0, {body.mesh.nfacets})")
+        check_boundary_facets(body.mesh, facets, boundary)
+        if not callable(traction):
+            t0 = real_array("traction", traction)
+            if t0.shape != (2,):
+                raise ValueError(f"traction must be a 2-vector or a callable, got shape "
+                                 f"{t0.shape}")
         fb = FacetBasis(body.mesh, body.basis.elem, facets=facets)
         if callable(traction):
-            t = np.asarray(traction(fb.global_coordinates()), dtype=float)
+            t = real_array("traction", traction(fb.global_coordinates()))
         else:
-            t0 = np.asarray(traction, dtype=float)
-            if t0.shape != (2,):
-                raise ValueError("traction must be a 2-vector or a callable")
             t = t0[:, None, None] * np.ones((1,) + fb.global_coordinates().shape[1:])
-        if not np.all(np.isfinite(t)):
-            raise ValueError("traction must be finite")
         f = _traction_work.assemble(fb, t=t)
         self.body = body
         tag = boundary if isinstance(boundary, str) else "facets"
@@ -102,15 +106,24 @@ class PointLoad(Item):
 
     def __init__(self, body, local_dofs: np.ndarray, values: float | np.ndarray,
                  name: str = ""):
-        dofs = np.asarray(local_dofs, dtype=np.int64).ravel()
-        if dofs.size and (dofs.min() < 0 or dofs.max() >= body.n_dofs):
-            raise ValueError(f"local_dofs must lie in [0, {body.n_dofs})")
+        if not (isinstance(body, Item) and body.dof_kind == "u"):
+            raise ValueError(f"body must be a body of the model (a Solid, a Cable: an Item "
+                             f"with displacement dofs), got {type(body).__name__}")
+        dofs = index_array("local_dofs", local_dofs, body.n_dofs).ravel()
+        if dofs.size == 0:
+            raise ValueError("local_dofs must hold at least one dof (a load on no dof "
+                             "does nothing)")
+        twice = np.flatnonzero(np.bincount(dofs, minlength=body.n_dofs) > 1)
+        if twice.size:
+            raise ValueError(f"local_dofs must list each dof once, with its total force "
+                             f"(a repeated dof's load counts twice): dof {int(twice[0])} "
+                             f"is listed more than once ({twice.size} such)")
+        vals = real_array("values", values)
         try:
-            vals = np.broadcast_to(np.asarray(values, dtype=float), dofs.shape).copy()
+            vals = np.broadcast_to(vals, dofs.shape).copy()
         except ValueError:
-            raise ValueError("values must be a scalar or one value per local dof") from None
-        if not np.all(np.isfinite(vals)):
-            raise ValueError("values must be finite")
+            raise ValueError(f"values must be a scalar or one value per local dof "
+                             f"({dofs.size}), got shape {vals.shape}") from None
         self.body = body
         self.local_dofs = dofs
         self.values = vals

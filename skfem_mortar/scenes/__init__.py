@@ -32,6 +32,7 @@ from typing import Any, Callable, Sequence
 import numpy as np
 
 from ..contact import BUILTIN_METHODS, DEFAULT_METHOD
+from ._parse import to_bool, to_int, plain_number
 
 __all__ = ["Param", "Derived", "Scene", "Setup", "get_scene", "list_scenes", "METHODS",
            "max_dofs", "MAX_STEPS", "SAFE_LOW", "SAFE_HIGH", "press_then_slide"]
@@ -140,6 +141,10 @@ class Param:
             a value outside the range or not among the choices.
         """
         err = ValueError(f"parameter {self.name!r} must be {self.range_text()}, got {value!r}")
+        if self.kind in (int, float) and isinstance(value, str) and not plain_number(value):
+            raise ValueError(f"parameter {self.name!r} must be {self.range_text()}, got "
+                             f"{value!r} (not a plain number: digits with an optional sign, "
+                             f"decimal point and exponent, e.g. 10, 0.5, 1e3)")
         try:
             v = self._convert(value)
         except (TypeError, ValueError, OverflowError):
@@ -165,9 +170,9 @@ class Param:
     def _convert(self, value: Any) -> Any:
         """``value`` as ``self.kind`` (TypeError/ValueError/OverflowError otherwise)."""
         if self.kind is bool:
-            return _to_bool(value)
+            return to_bool(value)
         if self.kind is int:
-            return _to_int(value)
+            return to_int(value)
         if self.kind is float:
             if isinstance(value, bool):
                 raise TypeError("a bool is not a number")
@@ -175,37 +180,6 @@ class Param:
         if isinstance(value, str) and not value.strip():
             raise ValueError("empty")
         return self.kind(value)
-
-
-def _to_bool(value: Any) -> bool:
-    """``1/0, true/false, yes/no, on/off`` (strings), a bool, or the numbers 0 and 1."""
-    if isinstance(value, str):
-        low = value.strip().lower()
-        if low not in ("1", "0", "true", "false", "yes", "no", "on", "off"):
-            raise ValueError(value)
-        return low in ("1", "true", "yes", "on")
-    if isinstance(value, (bool, np.bool_)):
-        return bool(value)
-    if isinstance(value, (int, float, np.integer, np.floating)) and value in (0, 1):
-        return bool(value)
-    raise ValueError(value)
-
-
-def _to_int(value: Any) -> int:
-    """An integer from an int, an integral float, or a string like ``"12"`` or ``"1e3"``."""
-    if isinstance(value, (bool, np.bool_)):
-        raise TypeError("a bool is not an integer")
-    if isinstance(value, str):
-        text = value.strip()
-        try:
-            return int(text)
-        except ValueError:
-            value = float(text)  # "1e3"; ValueError for anything else
-    if isinstance(value, (float, np.floating)):
-        if not float(value).is_integer():
-            raise ValueError(value)
-        return int(value)  # OverflowError for inf, ValueError for nan
-    return int(value)
 
 
 @dataclass(frozen=True)

@@ -11,8 +11,11 @@ radius ``r = T / p`` tangent to the plane at ``(+-c, d)``.  With
     (a - c)^2 + (r - d)^2 = r^2,   L = 2 c + 2 r theta,   p r = N(L / L0),
 
 one equation in ``r`` after eliminating ``c = a - sqrt(2 r d - d^2)``; contact
-force ``2 c p``.  Valid while ``0 < c < a``; otherwise the exact values are
-reported as null.
+force ``2 c p``.  Valid while ``0 < c < a`` and ``d / 2 < r <= r_touch``; otherwise
+the exact values are reported as null and the metric ``exact_note`` says why
+(:func:`flat_exact_note`): below the pressure ``N(L_t / L0) / r_touch`` at which the
+free arc of radius ``r_touch = (a^2 + d^2) / (2 d)`` (length ``L_t``) just touches
+the plane there is no contact at all.
 
 The cable surface facing the plane (its left side, ``+y``) is the slave, the
 plane (one long segment) the master.  ``segmentation`` (mortar only) rebuilds the
@@ -36,7 +39,7 @@ from ..core.model import Dirichlet, Model
 from ..contact.surfaces import ContactSurface, RigidPlane
 from . import METHODS, Param, Scene, Setup, cable_dofs, cable_quantities, positive, ratio
 
-__all__ = ["SCENE", "build", "flat_exact"]
+__all__ = ["SCENE", "build", "flat_exact", "flat_exact_note"]
 
 
 def flat_exact(half_span: float, length0: float, EA: float, pressure: float,
@@ -77,6 +80,32 @@ def flat_exact(half_span: float, length0: float, EA: float, pressure: float,
             "contact_force": 2 * c * p}
 
 
+def touch_pressure(half_span: float, length0: float, EA: float, plane_gap: float,
+                   law: str) -> float:
+    """The pressure at which the free arc just touches the plane: ``N(L_t / L0) / r_t``
+    for the arc of radius ``r_t = (a^2 + d^2) / (2 d)`` through both supports tangent
+    to the plane, of length ``L_t = 2 r_t atan2(a, r_t - d)``; below it, no contact."""
+    a, d = half_span, plane_gap
+    r_touch = (a * a + d * d) / (2 * d)
+    length = 2 * r_touch * np.arctan2(a, r_touch - d)
+    return float(get_law(law).force(np.array(length / length0), EA)) / r_touch
+
+
+def flat_exact_note(half_span: float, length0: float, EA: float, pressure: float,
+                    plane_gap: float, law: str) -> str:
+    """Why :func:`flat_exact` has no values at these parameters (one sentence)."""
+    p_touch = touch_pressure(half_span, length0, EA, plane_gap, law)
+    if pressure <= p_touch:
+        return (f"no exact values: at pressure {pressure:.6g} the free cable does not "
+                f"reach the plane (contact starts above pressure {p_touch:.6g}, where "
+                f"the free arc just touches it), so this run has no contact")
+    return (f"no exact values: the exact solution covers free arcs of radius between "
+            f"plane_gap / 2 = {0.5 * plane_gap:.6g} and (half_span^2 + plane_gap^2) / "
+            f"(2 plane_gap) = {(half_span ** 2 + plane_gap ** 2) / (2 * plane_gap):.6g} "
+            f"with the contact inside the span; these parameters (a cable of length0 = "
+            f"{length0:.6g}) leave that range")
+
+
 def build(params: dict, method: str | None = None) -> Setup:
     """Cable, follower pressure, pinned supports, rigid plane and the contact pair."""
     a, L0, EA, p, d = (float(params[k]) for k in
@@ -110,6 +139,8 @@ def build(params: dict, method: str | None = None) -> Setup:
         xs = slave.x(z)[0][comp]
         half = float(0.5 * (xs.max() - xs.min())) if comp.any() else 0.0
         out = {"n_active": int(act.sum())}
+        if exact is None:   # a null exact value is explained, not left silent
+            out["exact_note"] = flat_exact_note(a, L0, EA, p, d, law)
         for q, val in (("contact_force", force), ("contact_half_width", half),
                        ("tension", tension)):
             out[q] = val

@@ -38,7 +38,12 @@ slave node whose multiplier support meets the overlap carries ``lam_A = q``
 (the ``Phi_A`` sum to one there, for standard and dual multipliers), including
 the outer node of a partially overlapped slave element; slave nodes without a
 master partner carry no load.  The defaults (``offset = 0``,
-``top_width = 1``) are the aligned test of reference problem 5.
+``top_width = 1``) are the aligned test of reference problem 5.  At least two
+nodes of the upper block's bottom face (its vertices, and the mid nodes of
+quadratic elements) must lie over the lower block: the upper block is held
+vertically by contact alone and would rotate about a single node (with offset 0,
+``top_width <= n_top``, ``2 n_top`` for quadratic elements); other offsets and
+widths are refused up front (:func:`derived`), naming the range that works.
 ``segmentation`` (mortar only) rebuilds the mortar segments every Newton
 iteration or once per load step; nothing slides here, so both give the same.
 
@@ -57,6 +62,8 @@ vertical reaction of the lower block's support, from the residual) against
 """
 from __future__ import annotations
 
+import math
+
 import numpy as np
 from skfem import MeshQuad, MeshTri
 
@@ -67,7 +74,8 @@ from ..core.model import Dirichlet, Model
 from ..bodies.solid import KINEMATICS, Solid
 from ..contact.surfaces import ContactSurface
 from ..loads.traction import PointLoad
-from . import METHODS, Param, Scene, Setup, grid_dofs, lame_quantities, positive, ratio
+from . import (METHODS, Derived, Param, Scene, Setup, grid_dofs, lame_quantities, positive,
+               ratio)
 
 __all__ = ["SCENE", "build"]
 
@@ -141,11 +149,7 @@ def build(params: dict, method: str | None = None) -> Setup:
     """Two blocks, pressure, supports and the contact pair; metric: the pressure error."""
     q, nu = float(params["pressure"]), float(params["nu"])
     s, wt = float(params["offset"]), float(params["top_width"])
-    lo, hi = max(0.0, s), min(WIDTH, s + wt)
-    if hi - lo < 1e-3 * WIDTH:
-        raise ValueError(f"offset and top_width must leave the blocks overlapping: "
-                         f"offset in ({-wt:g}, {WIDTH:g}) for top_width = {wt:g}, "
-                         f"got offset = {s:g} (overlap {max(hi - lo, 0.0):g})")
+    lo, hi = max(0.0, s), min(WIDTH, s + wt)   # an overlap of two nodes at least (derived)
     method = method or "nts"
     element = params["element"]
     kin = params.get("kinematics", "finite")
@@ -209,11 +213,30 @@ def estimate_dofs(params: dict) -> int:
                for n in (int(params["n_top"]), int(params["n_bottom"])))
 
 
+def nodes_over_base(params: dict) -> int:
+    """How many nodes of the upper block's bottom face (vertices, and mid nodes of
+    quadratic elements) lie over the lower block ``[0, WIDTH]``."""
+    s, wt = float(params["offset"]), float(params["top_width"])
+    n = int(params["n_top"]) * (2 if params["element"].endswith("2") else 1)
+    x = s + wt * np.arange(n + 1) / n
+    tol = 1e-12 * WIDTH
+    return int(np.count_nonzero((x >= -tol) & (x <= WIDTH + tol)))
+
+
 def derived(params: dict) -> list:
-    """Both blocks' Lame parameters, the pressure, and the strain scale ``pressure / E``
-    of each block at most 10 (beyond, the block is crushed flat)."""
+    """Both blocks' Lame parameters, the pressure, the strain scale ``pressure / E``
+    of each block at most 10 (beyond, the block is crushed flat), and the overlap:
+    at least two of the upper block's bottom nodes over the lower block (the upper
+    block is held vertically by contact alone: on one node it would rotate freely,
+    "rigid modes held by nothing") and an overlap of at least 1e-3 of the width."""
     q, nu = float(params["pressure"]), float(params["nu"])
-    out = [positive("pressure", q, "pressure"),
+    s, wt = float(params["offset"]), float(params["top_width"])
+    overlap = min(WIDTH, s + wt) - max(0.0, s)
+    out = [Derived("the upper block's bottom nodes over the lower block",
+                   nodes_over_base(params), ("top_width", "offset", "n_top"), 2, math.inf),
+           ratio("the overlap of the blocks / the width", overlap / WIDTH,
+                 ("offset", "top_width"), 1e-3, 1.0),
+           positive("pressure", q, "pressure"),
            positive("the total load pressure thickness", q * float(params["thickness"]),
                     "pressure", "thickness")]
     for name in ("E_top", "E_bottom"):
@@ -245,10 +268,13 @@ SCENE = Scene(
               "segments) or quadratic (3-node segments, the facets' mid nodes in contact)", str,
               choices=("tri1", "quad1", "tri2", "quad2")),
         Param("offset", 0.0, "x of the upper block's left edge (the lower block spans "
-              "[0, 1]); != 0 shifts the slave against the master", float,
+              "[0, 1]); != 0 shifts the slave against the master; at least two nodes of "
+              "the upper block's bottom must lie over the lower block", float,
               low=-WIDTH, high=WIDTH, low_inclusive=False, high_inclusive=False),
         Param("top_width", WIDTH, "width of the upper (slave) block; > 1 makes the slave "
-              "surface longer than the master", float, low=0.0, high=10.0,
+              "surface longer than the master; at least two nodes of its bottom must lie "
+              "over the lower block (offset 0: top_width <= n_top, or 2 n_top for "
+              "quadratic elements)", float, low=0.0, high=10.0,
               low_inclusive=False),
         Param("segmentation", "iteration", "mortar only: rebuild the mortar segments every "
               "Newton iteration, or once per load step (frozen during the step)", str,
