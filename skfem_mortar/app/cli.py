@@ -186,7 +186,8 @@ def _cmd_demo(args: argparse.Namespace) -> int:
 
 def _cmd_study(args: argparse.Namespace) -> int:
     from ..output.outdir import output_lock
-    from .study import check_repeat, check_tolerances, plan_study, run_study
+    from .study import run_study
+    from .study_plan import check_repeat, check_tolerances, plan_study
 
     options = dict(methods=args.method or None, sets=args.sets, steps=args.steps,
                    solvers=args.solver, metric=args.metric, quick=args.quick)
