@@ -209,7 +209,7 @@ def plot_bench(report: dict, path: str | Path) -> Path:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from ..output.plot import _save
+    from ..output.plot_common import _save
 
     scenes = list(report["scenes"])
     fig, axes = plt.subplots(1, max(1, len(scenes)), figsize=(5.5 * max(1, len(scenes)), 5.0),
