@@ -14,9 +14,10 @@ import skfem
 from skfem_mortar import Cable, Dirichlet, FollowerPressure, Model, NeoHooke, Solid
 from skfem_mortar.app.bench import plot_bench
 from skfem_mortar.loads.traction import Traction
-from skfem_mortar.output.plot import (CONSTANT_SPREAD, PRESSURE_WORDS, _thin, _value,
-                                      colour_ticks, plot_pressure, relative_spread, render,
-                                      tick_labels)
+from skfem_mortar.output.plot import (CONSTANT_SPREAD, PRESSURE_WORDS, colour_ticks,
+                                      plot_pressure, relative_spread, render, tick_labels)
+from skfem_mortar.output.plot_common import _value
+from skfem_mortar.output.plot_geometry import _thin
 
 N_CABLE = 6  # cable elements
 
@@ -232,14 +233,15 @@ def _keep_figures(monkeypatch):
     """The figures the line plots would save, kept (and closed) instead."""
     import matplotlib.pyplot as plt
 
-    from skfem_mortar.output import plot
+    from skfem_mortar.output import plot_common, plot_lines
 
     seen = []
 
     def keep(fig, path):
         seen.append(fig)
         plt.close(fig)
-    monkeypatch.setattr(plot, "_save", keep)
+    monkeypatch.setattr(plot_lines, "_save", keep)  # plot_pressure's
+    monkeypatch.setattr(plot_common, "_save", keep)  # plot_bench's (imported when called)
     return seen
 
 

@@ -89,7 +89,7 @@ def test_result_save_writes_what_the_observers_write_during_the_solve(tmp_path):
 
 
 def test_a_checkpoint_observer_writes_one_step_per_state(tmp_path):
-    from skfem_mortar.output.io import read_checkpoint
+    from skfem_mortar.output.checkpoint import read_checkpoint
 
     model = _springs()
     meta = {"scene": "springs"}

@@ -20,7 +20,8 @@ from resume_tools import Killed
 import skfem_mortar.app.runner as runner
 from skfem_mortar.app.cli import main
 from skfem_mortar.core.errors import ConvergenceError
-from skfem_mortar.output.io import read_checkpoint, read_series
+from skfem_mortar.output.checkpoint import read_checkpoint
+from skfem_mortar.output.io import read_series
 from skfem_mortar.output.outdir import LOCK_NAME, MANIFEST_NAME, read_manifest
 
 ROOT = Path(__file__).resolve().parents[1]

@@ -103,7 +103,7 @@ def test_an_element_without_a_lagrange_trace_is_refused():
 
 
 def test_pictures_draw_three_node_traces_as_curves():
-    from skfem_mortar.output.plot import _shapes
+    from skfem_mortar.output.plot_geometry import _shapes
     X = np.array([[0.0, 1.0, 0.5], [0.0, 0.0, 0.3]]).T            # start, end, mid
     _, lines, where = _shapes(X, [("line3", np.array([[0, 1, 2]]))])
     assert where == [1]

@@ -14,7 +14,8 @@ import pytest
 from resume_tools import assert_same_frames, assert_same_summary, copy_run, edit_step, renames
 
 from skfem_mortar.app.cli import main
-from skfem_mortar.output.io import read_checkpoint, read_series
+from skfem_mortar.output.checkpoint import read_checkpoint
+from skfem_mortar.output.io import read_series
 from skfem_mortar.app.runner import run_scene
 
 ARGS = ["block", "--set", "refine=5", "--set", "stretch=1.8", "--steps", "40"]

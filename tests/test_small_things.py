@@ -21,7 +21,7 @@ from skfem_mortar.app.cli import main
 from skfem_mortar.app.runner import build_scene, load_factor_value, run_scene
 from skfem_mortar.output import views
 from skfem_mortar.output.contact_output import ContactOutput
-from skfem_mortar.output.io import read_checkpoint
+from skfem_mortar.output.checkpoint import read_checkpoint
 from skfem_mortar.solver import observers
 
 

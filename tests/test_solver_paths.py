@@ -6,7 +6,8 @@ import pytest
 
 from skfem_mortar.app.bench import run_bench
 from skfem_mortar.app.runner import run_scene
-from skfem_mortar.app.study import parse_solvers, run_study, solver_path
+from skfem_mortar.app.study import run_study
+from skfem_mortar.app.study_plan import parse_solvers, solver_path
 
 #: one-step hertz at refine=-1 (about 2,400 unknowns): small, and the kept factors
 #: answer its settled iterations (tests/test_krylov.py)

@@ -7,10 +7,10 @@ import os
 
 import pytest
 
-from skfem_mortar.app import runner, study
+from skfem_mortar.app import runner, study, study_measures, study_rows
 from skfem_mortar.app.cli import main
-from skfem_mortar.app.study import (GRIDS, SOLVER_ENV, error_measures, plan_study,
-                                    run_study, timing_stats)
+from skfem_mortar.app.study import GRIDS, error_measures, plan_study, run_study, timing_stats
+from skfem_mortar.app.study_rows import SOLVER_ENV
 from skfem_mortar.app.study_report import pareto_figure, recommend, write_report
 from skfem_mortar.scenes import list_scenes
 from skfem_mortar.solver import linsolve
@@ -83,7 +83,7 @@ def test_reference_measures_against_the_reference_values():
                                   "contact_length": 1.0})}
     refs = {"seed": {"values": {"contact_force": 2.0, "max_indentation": 0.0,
                                 "contact_length": None}}}
-    out = study._measures(row, refs)
+    out = study_measures._measures(row, refs)
     assert list(out) == ["contact_force_error", "max_indentation_error", "contact_length_error"]
     assert out["contact_force_error"] == pytest.approx(0.1, rel=1e-12)  # round-off of 0.2/2
     assert out["max_indentation_error"] is None and out["contact_length_error"] is None
@@ -128,7 +128,7 @@ class FakeRuns:
 def fake(monkeypatch):
     def make(durations):
         f = FakeRuns(durations)
-        monkeypatch.setattr(study, "_clock", f.clock)
+        monkeypatch.setattr(study_rows, "_clock", f.clock)
         monkeypatch.setattr(runner, "run_scene", f.run_scene)
         return f
     return make

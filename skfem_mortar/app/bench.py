@@ -46,7 +46,7 @@ print(json.dumps(s))
 
 def _one(scene: str, params: dict, method: str | None, steps: int | None,
          path: str | None = None) -> dict:
-    from .study import solver_path
+    from .study_plan import solver_path
 
     backend, linear = solver_path(path) if path else (None, None)
     spec = json.dumps({"scene": scene, "params": params, "method": method, "steps": steps,
@@ -144,7 +144,7 @@ def run_bench(out: str | Path, scenes: Sequence[str] = ("hertz", "seed"),
               solvers: Sequence[str] | None = None) -> dict:
     """Run the sizes of each scene; write ``bench.json`` and ``bench.png`` into ``out``.
 
-    ``solvers``: solver paths (:func:`~skfem_mortar.app.study.parse_solvers`, e.g.
+    ``solvers``: solver paths (:func:`~skfem_mortar.app.study_plan.parse_solvers`, e.g.
     ``["pardiso", "pardiso+krylov"]``; default: the default backend, direct).
     With several, every path runs every size and ``report["scenes"]`` has an
     entry ``"scene (path)"`` per path, each with its own slopes.
@@ -163,7 +163,7 @@ def run_bench(out: str | Path, scenes: Sequence[str] = ("hertz", "seed"),
     """
     from ..output.io import write_json
 
-    from .study import parse_solvers
+    from .study_plan import parse_solvers
 
     table = QUICK if quick else SIZES
     check_inputs(scenes, method, max_dofs, steps, table)
@@ -209,7 +209,7 @@ def plot_bench(report: dict, path: str | Path) -> Path:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from ..output.plot import _save
+    from ..output.plot_common import _save
 
     scenes = list(report["scenes"])
     fig, axes = plt.subplots(1, max(1, len(scenes)), figsize=(5.5 * max(1, len(scenes)), 5.0),

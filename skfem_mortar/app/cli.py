@@ -186,7 +186,8 @@ def _cmd_demo(args: argparse.Namespace) -> int:
 
 def _cmd_study(args: argparse.Namespace) -> int:
     from ..output.outdir import output_lock
-    from .study import check_repeat, check_tolerances, plan_study, run_study
+    from .study import run_study
+    from .study_plan import check_repeat, check_tolerances, plan_study
 
     options = dict(methods=args.method or None, sets=args.sets, steps=args.steps,
                    solvers=args.solver, metric=args.metric, quick=args.quick)
@@ -251,11 +252,25 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument("-v", "--verbose", action="store_true", help="log solver details")
     sub = parser.add_subparsers(dest="command", required=True)
     steps = _int_at_least(1)
+    _add_scenes(sub)
+    _add_run(sub, steps)
+    _add_study(sub)
+    _add_bench(sub, steps)
+    _add_demo(sub)
+    for sp in sub.choices.values():
+        sp.set_defaults(parser=sp)  # its errors name the command
+    return parser
 
+
+def _add_scenes(sub) -> None:
+    """The ``scenes`` sub-command and its arguments."""
     p = sub.add_parser("scenes", help="list scenes, their parameters and defaults")
     p.add_argument("--json", action="store_true")
     p.set_defaults(func=_cmd_scenes)
 
+
+def _add_run(sub, steps: Callable[[str], int]) -> None:
+    """The ``run`` sub-command and its arguments (``steps``: the load steps' type)."""
     names = ", ".join(_scene_names())
     p = sub.add_parser("run", help="run a scene",
                        description=f"Run a scene: {names}. `skfem-mortar scenes` lists "
@@ -280,6 +295,9 @@ def build_parser() -> argparse.ArgumentParser:
                         "4e4 unknowns on)")
     p.set_defaults(func=_cmd_run)
 
+
+def _add_study(sub) -> None:
+    """The ``study`` sub-command and its arguments."""
     p = sub.add_parser("study", help="speed-accuracy grid: error against wall time")
     p.add_argument("--scene", action="append", required=True, help="scene (repeatable)")
     p.add_argument("--method", action="append", choices=BUILTIN_METHODS,
@@ -311,6 +329,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--no-progress", action="store_true")
     p.set_defaults(func=_cmd_study)
 
+
+def _add_bench(sub, steps: Callable[[str], int]) -> None:
+    """The ``bench`` sub-command and its arguments (``steps``: the load steps' type)."""
     p = sub.add_parser("bench", help="per-phase timings and peak memory at growing sizes")
     p.add_argument("--scene", action="append", choices=["hertz", "seed"])
     p.add_argument("--method", choices=BUILTIN_METHODS, default=DEFAULT_METHOD,
@@ -326,6 +347,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--no-progress", action="store_true")
     p.set_defaults(func=_cmd_bench)
 
+
+def _add_demo(sub) -> None:
+    """The ``demo`` sub-command and its arguments."""
     p = sub.add_parser("demo", help="run the demo scene and write its outputs")
     p.add_argument("--out", type=_out_dir, default="skfem-mortar-demo")
     p.add_argument("--method", choices=BUILTIN_METHODS, default=DEFAULT_METHOD,
@@ -334,9 +358,6 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--replace", action="store_true",
                    help="remove the files of an earlier run in --out first")
     p.set_defaults(func=_cmd_demo)
-    for sp in sub.choices.values():
-        sp.set_defaults(parser=sp)  # its errors name the command
-    return parser
 
 
 def _one_line_warning(message, category, filename, lineno, line=None) -> str:

@@ -246,7 +246,7 @@ class _Recorder(Observer):
     step, plus the bookkeeping of the output directory (claim, resume, the
     summary of a failed run).
 
-    See :mod:`skfem_mortar.output.io` for the checkpoint layout: a step's file is
+    See :mod:`skfem_mortar.output.checkpoint` for the checkpoint layout: a step's file is
     written before the index that lists it, so a kill leaves a valid checkpoint.
     It is started by :meth:`begin` before the solve (a resumed run's frames are
     checked and completed there), so its :meth:`on_start` has nothing to do.

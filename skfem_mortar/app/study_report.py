@@ -145,7 +145,7 @@ def pareto_figure(rows: Sequence[Mapping], plotted: Mapping[str, str | None] | N
 def pareto_plot(rows: Sequence[Mapping], path: str | Path,
                 plotted: Mapping[str, str | None] | None = None) -> Path:
     """Write :func:`pareto_figure` to ``path`` (PNG)."""
-    from ..output.plot import _save
+    from ..output.plot_common import _save
 
     return _save(pareto_figure(rows, plotted), path)
 

@@ -1,4 +1,5 @@
 """The output layer: what a solve writes. The contact output of a pair (:mod:`.contact_output`),
-atomic files and checkpoints (:mod:`.io`), one run per output directory (:mod:`.outdir`) and
-pictures (:mod:`.plot`).
+atomic files (:mod:`.io`), checkpoints (:mod:`.checkpoint`), one run per output directory
+(:mod:`.outdir`), pictures (:mod:`.plot`: the model figure; :mod:`.plot_lines`,
+:mod:`.plot_geometry`, :mod:`.plot_draw`, :mod:`.plot_common`) and pyvista views (:mod:`.views`).
 """

@@ -16,7 +16,6 @@ writes them), named ``header``, ``z`` and ``item_<i>``, whose array headers
 bytes the member holds, ``z`` a float64 vector of the model's size.  Anything
 else (a plain ``.npy``, another zip, a truncated file, a header claiming more
 than the file holds) is refused naming the file, nothing allocated for it.
-(These names are also offered by :mod:`skfem_mortar.output.io`.)
 """
 from __future__ import annotations
 

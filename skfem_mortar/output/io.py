@@ -1,6 +1,6 @@
-"""Output files, written atomically: result series (PVD + VTU), summary.json,
-contact.csv, and the checkpoint a run resumes from (written and read by
-:mod:`skfem_mortar.output.checkpoint`, whose names this module offers too).
+"""Output files, written atomically: result series (PVD + VTU), summary.json and
+contact.csv (the checkpoint a run resumes from is written and read by
+:mod:`skfem_mortar.output.checkpoint`, which imports this module).
 
 Every file is first written under a temporary name in the target directory and
 then renamed (``os.replace`` is atomic on POSIX), so a reader never sees a
@@ -19,8 +19,7 @@ from typing import Any, Iterator, Sequence
 import numpy as np
 
 __all__ = ["atomic_path", "write_json", "write_contact_csv", "SeriesWriter", "read_series", "frame_mesh",
-           "vtu_text", "Checkpoint", "write_checkpoint", "read_checkpoint", "clear_checkpoint",
-           "prune_checkpoint"]
+           "vtu_text"]
 
 
 @contextmanager
@@ -295,19 +294,3 @@ def read_series(path: str | os.PathLike) -> list[tuple[float, "object"]]:
     return [(float(ds.get("timestep")), meshio.read(path.parent / ds.get("file")))
             for ds in root.iter("DataSet")]
 
-
-# -- checkpoint: in skfem_mortar.output.checkpoint, its names offered here too ----
-
-_CHECKPOINT_NAMES = ("CHECKPOINT_FORMAT", "MAX_STEPS", "MAX_INDEX_BYTES", "Checkpoint",
-                     "write_checkpoint", "read_checkpoint", "clear_checkpoint",
-                     "prune_checkpoint")
-
-
-def __getattr__(name: str) -> Any:
-    """The checkpoint's names (:mod:`skfem_mortar.output.checkpoint`), imported
-    when first asked for (that module imports this one)."""
-    if name in _CHECKPOINT_NAMES:
-        from . import checkpoint
-
-        return getattr(checkpoint, name)
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

@@ -378,7 +378,7 @@ def _describe_run(man: dict) -> str:
 def _remove_dir(path: Path) -> None:
     """A listed directory: the checkpoint's files or a series' frames and temporary
     files; the directory itself if that empties it (a user's file in it stays)."""
-    from .io import clear_checkpoint
+    from .checkpoint import clear_checkpoint
 
     if path.is_symlink() or not path.is_dir():
         path.unlink(missing_ok=True)

@@ -166,7 +166,7 @@ class SeriesObserver(Observer):
 
 
 class CheckpointObserver(Observer):
-    """A checkpoint step file per converged step (:mod:`skfem_mortar.output.io`): the
+    """A checkpoint step file per converged step (:mod:`skfem_mortar.output.checkpoint`): the
     state, the step record, the step-size controller and the items' states.
 
     A step's file is written before the index that lists it, so a kill
@@ -205,7 +205,7 @@ class CheckpointObserver(Observer):
 
     def start(self, z: np.ndarray) -> None:
         """A fresh checkpoint: the old one goes, a new run id, step 0 (``z``)."""
-        from ..output.io import clear_checkpoint
+        from ..output.checkpoint import clear_checkpoint
 
         clear_checkpoint(self.directory)
         self.legacy.unlink(missing_ok=True)
@@ -216,7 +216,7 @@ class CheckpointObserver(Observer):
     def write(self, z: np.ndarray, record: "StepRecord | None" = None) -> None:
         """Step ``self.k`` (then the next): the first write of a resumed run also
         drops the step files its index does not list."""
-        from ..output.io import prune_checkpoint, write_checkpoint
+        from ..output.checkpoint import prune_checkpoint, write_checkpoint
 
         k = self.k
         items = {name: it.state_dict() for name, it in self.items.items()} if k else None
