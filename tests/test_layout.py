@@ -1,104 +1,73 @@
-"""The layered layout (docs/architecture.md): every former module path still imports.
-
-A moved module's old path warns (DeprecationWarning) and is the very module object of its
-new path, so private names and monkeypatching through the old path keep working. The
-former modules ``skfem_mortar.contact`` and ``skfem_mortar.loads`` are packages now that
-resolve the old module's names to the same objects. ``import skfem_mortar`` stays lazy.
+"""The layered layout (docs/architecture.md): the package's top level holds only
+``__init__.py`` (the former flat module paths are gone, issue 33), the layers import in
+one direction, and ``import skfem_mortar`` stays lazy.
 """
-import importlib
+import ast
+import importlib.machinery
+import pathlib
 import subprocess
 import sys
-import warnings
 
 import pytest
 
-MOVED = {
-    "model": "core.model", "errors": "core.errors", "coo": "core.coo", "timing": "core.timing",
-    "materials": "bodies.materials", "solid": "bodies.solid", "mixed": "bodies.mixed",
-    "sri": "bodies.sri", "cable": "bodies.cable", "cable_laws": "bodies.cable_laws",
-    "checks": "bodies.checks",
-    "traction": "loads.traction",
-    "surfaces": "contact.surfaces", "search": "contact.search",
-    "discretization": "contact.discretization", "nts": "contact.nts",
-    "mortar_method": "contact.mortar_method", "mortar": "contact.mortar",
-    "mortar_segmentation": "contact.mortar_segmentation", "jets": "contact.jets",
-    "contact_eval": "contact.contact_eval", "active_set": "contact.active_set",
-    "preflight": "contact.preflight",
-    "newton": "solver.newton", "stepping": "solver.stepping", "linsolve": "solver.linsolve",
-    "observers": "solver.observers",
-    "contact_output": "output.contact_output", "io": "output.io", "outdir": "output.outdir",
-    "plot": "output.plot",
-    "runner": "app.runner", "cli": "app.cli", "demo": "app.demo", "study": "app.study",
-    "study_report": "app.study_report", "bench": "app.bench",
-}
+import skfem_mortar
 
-#: former module -> (its new module, the names it offered)
-RENAMED = {
-    "contact": ("contact.pair", ["ContactPair", "METHODS", "log"]),
-    "loads": ("loads.pressure", ["FollowerPressure", "facet_load_matrix"]),
-}
+ROOT = pathlib.Path(skfem_mortar.__file__).parent
+
+#: the former flat module paths (removed in issue 33; CHANGELOG says where each went)
+FORMER = ("active_set", "bench", "cable", "cable_laws", "checks", "cli", "contact_eval",
+          "contact_output", "coo", "demo", "discretization", "errors", "io", "jets",
+          "linsolve", "materials", "mixed", "model", "mortar", "mortar_method",
+          "mortar_segmentation", "newton", "nts", "observers", "outdir", "plot", "preflight",
+          "runner", "search", "solid", "sri", "stepping", "study", "study_report",
+          "surfaces", "timing", "traction")
 
 
-@pytest.mark.parametrize("old", sorted(MOVED))
-def test_old_path_warns_and_is_the_new_module(old):
-    new = importlib.import_module(f"skfem_mortar.{MOVED[old]}")
-    sys.modules.pop(f"skfem_mortar.{old}", None)
-    with pytest.warns(DeprecationWarning,
-                      match=rf"skfem_mortar\.{old} moved to skfem_mortar\.{MOVED[old]};"):
-        shim = importlib.import_module(f"skfem_mortar.{old}")
-    assert shim is new
-    assert sys.modules[f"skfem_mortar.{old}"] is new
+def test_the_top_level_holds_only_the_package_init():
+    assert sorted(p.name for p in ROOT.glob("*.py")) == ["__init__.py"]
 
 
-@pytest.mark.parametrize("old", sorted(RENAMED))
-def test_former_module_names_resolve_to_the_same_objects(old):
-    new_name, names = RENAMED[old]
-    new = importlib.import_module(f"skfem_mortar.{new_name}")
-    with warnings.catch_warnings():
-        warnings.simplefilter("error")
-        package = importlib.import_module(f"skfem_mortar.{old}")
-    for name in names + list(package.__all__):
-        assert getattr(package, name) is getattr(new, name)
-    with pytest.raises(AttributeError, match="no attribute 'Nope'"):
-        package.Nope  # noqa: B018
+@pytest.mark.parametrize("old", FORMER)
+def test_a_former_flat_path_is_gone(old):
+    # looked up in the package's own folder (an editable install of another
+    # checkout would find that checkout's files through its own finder)
+    assert importlib.machinery.PathFinder.find_spec(f"skfem_mortar.{old}",
+                                                    skfem_mortar.__path__) is None
 
 
-def test_submodules_of_a_former_module_are_not_its_names():
+def test_the_layer_packages_offer_only_their_own_names():
+    """``skfem_mortar.contact`` and ``skfem_mortar.loads`` were modules once; they are
+    packages now and no longer stand for them: a name of ``contact.pair`` or
+    ``loads.pressure`` is imported from there (or from the top level)."""
+    import skfem_mortar.contact as contact
+    import skfem_mortar.loads as loads
+
+    assert sorted(contact.__all__) == ["BUILTIN_METHODS", "DEFAULT_METHOD"]
+    for package, name in ((contact, "ContactPair"), (contact, "METHODS"),
+                          (loads, "FollowerPressure"), (loads, "facet_load_matrix")):
+        with pytest.raises(AttributeError):
+            getattr(package, name)
+
+
+def test_submodules_of_a_layer_package_import_from_it():
     from skfem_mortar.contact import nts, pair
 
     assert nts.__name__ == "skfem_mortar.contact.nts"
     assert pair.ContactPair.__module__ == "skfem_mortar.contact.pair"
 
 
-def test_import_is_lazy_and_old_cli_path_runs():
-    """The packages of the former modules load nothing either until a name is asked."""
+def test_import_is_lazy_and_the_cli_runs():
+    """``import skfem_mortar`` and the layer packages load nothing until a name is asked
+    (the command line reads ``BUILTIN_METHODS`` without loading the contact code)."""
     code = ("import sys, skfem_mortar, skfem_mortar.contact, skfem_mortar.loads; "
             "print(' '.join(sorted(m for m in sys.modules if m.startswith('skfem_mortar.'))))")
     loaded = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                             check=True).stdout.split()
-    assert loaded == ["skfem_mortar._former", "skfem_mortar.contact", "skfem_mortar.loads"]
-    proc = subprocess.run([sys.executable, "-W", "default", "-m", "skfem_mortar.cli", "--help"],
-                          capture_output=True, text=True)
+    assert loaded == ["skfem_mortar.contact", "skfem_mortar.loads"]
+    proc = subprocess.run([sys.executable, "-W", "error::DeprecationWarning", "-m",
+                           "skfem_mortar.app.cli", "--help"], capture_output=True, text=True)
     assert proc.returncode == 0, proc.stderr
     assert "usage: skfem-mortar" in proc.stdout
-    assert "skfem_mortar.cli moved to skfem_mortar.app.cli" in proc.stderr
-
-
-def test_every_moved_module_has_a_shim():
-    import pathlib
-
-    import skfem_mortar
-
-    root = pathlib.Path(skfem_mortar.__file__).parent
-    layers = {p.parent.name for p in root.glob("*/__init__.py")} - {"scenes"}
-    moved = {f"{layer}.{p.stem}" for layer in layers for p in (root / layer).glob("*.py")
-             if p.stem != "__init__"}
-    # every module the move created has a former path (a shim); modules added
-    # after the move (core.chain, ...) have none and need none
-    former_homes = set(MOVED.values()) | {new for new, _ in RENAMED.values()}
-    assert former_homes <= moved
-    for old in MOVED:
-        assert (root / f"{old}.py").is_file(), old
 
 
 #: the layers in import order: a module imports only from its own layer and the
@@ -109,8 +78,6 @@ LAYERS = ("core", "output", "bodies", "loads", "contact", "solver", "scenes", "a
 def _package_imports(path):
     """The ``skfem_mortar`` subpackages a module imports, at top level or inside
     functions (``from ..x import``, ``from skfem_mortar.x import``)."""
-    import ast
-
     tree = ast.parse(path.read_text())
     found = set()
     for node in ast.walk(tree):
@@ -123,14 +90,9 @@ def _package_imports(path):
 
 
 def test_the_layers_import_in_one_direction():
-    import pathlib
-
-    import skfem_mortar
-
-    root = pathlib.Path(skfem_mortar.__file__).parent
     against = []
     for k, layer in enumerate(LAYERS):
-        for path in sorted((root / layer).glob("*.py")):
+        for path in sorted((ROOT / layer).glob("*.py")):
             for target in _package_imports(path) & set(LAYERS):
                 if LAYERS.index(target) > k:
                     against.append(f"{layer}/{path.name} -> {target}")

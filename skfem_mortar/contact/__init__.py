@@ -6,15 +6,11 @@ node-to-segment (:mod:`.nts`; onto curved 3-node segments :mod:`.nts_quadratic`)
 contact (:mod:`.mortar_method`, with the kernel in :mod:`.mortar`, :mod:`.mortar_segmentation`
 and :mod:`.jets`; for 3-node segments :mod:`.mortar_quadratic` and
 :mod:`.mortar_quadratic_segmentation`), mesh tying (:mod:`.tie`), the contact pair
-(:mod:`.pair`, :class:`ContactPair`), its evaluation record (:mod:`.contact_eval`), the active set
+(:mod:`.pair`, :class:`~.pair.ContactPair`), its evaluation record (:mod:`.contact_eval`), the active set
 (:mod:`.active_set`) and the preflight checks (:mod:`.preflight`).
-
-This package also stands for the former module ``skfem_mortar.contact`` (now :mod:`.pair`):
-every name of that module resolves here, lazily, to the same object.
 """
-from .._former import forward
 
-__all__ = ["ContactPair", "METHODS", "BUILTIN_METHODS"]  # and DEFAULT_METHOD
+__all__ = ["BUILTIN_METHODS", "DEFAULT_METHOD"]
 
 #: the contact methods that come with the package (registered by
 #: :mod:`.discretization`; the scenes and the command line offer these); here,
@@ -26,5 +22,3 @@ BUILTIN_METHODS = ("nts", "mortar", "mortar-dual")
 #: (NTS is 6 to 47 % off on it) and gives pressures without standard mortar's
 #: alternating edge tail (docs/methods.rst)
 DEFAULT_METHOD = "mortar-dual"
-
-__getattr__ = forward(__name__, __path__, "pair")
