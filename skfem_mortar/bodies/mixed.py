@@ -71,7 +71,8 @@ from .checks import check_mesh, quadrature_order
 from ..core.coo import element_coo
 from skfem.helpers import inv
 
-from .materials import NeoHooke, checked_det
+from .deformation import checked_det
+from .hyperelastic import NeoHooke
 from ..core.model import Contribution
 from .solid import Solid, refuse_reduction
 

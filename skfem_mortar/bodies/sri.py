@@ -28,7 +28,8 @@ import numpy as np
 from skfem import Basis, ElementQuad1, ElementVector, MeshQuad, MeshTri
 from skfem.helpers import grad, inv
 
-from .materials import NeoHooke, checked_det
+from .deformation import checked_det
+from .hyperelastic import NeoHooke
 from ..core.model import Contribution
 from .solid import Solid, internal_force, material_stiffness, refuse_reduction
 

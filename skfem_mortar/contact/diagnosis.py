@@ -1,6 +1,6 @@
 """What the contact layer can tell about a model that will not solve, or did not.
 
-Read by the preflight (:mod:`.preflight`, warnings before the solve) and by
+Read by the preflight (:mod:`.preflight_methods`, warnings before the solve) and by
 :func:`skfem_mortar.solver.stepping.solve` when it gives a step up (the
 physical cause added to the :class:`~skfem_mortar.core.errors.ConvergenceError`):
 
@@ -22,7 +22,8 @@ import scipy.sparse as sp
 
 from ..core.chain import polyline
 from . import nts
-from .preflight import _describe, _times_modes, _touching_rows, free_combinations
+from .preflight_pairs import contact_pairs
+from .preflight_rigid import _describe, _times_modes, _touching_rows, free_combinations
 
 __all__ = ["MEASURED_RATIO", "NTS_PATCH_ERRORS", "stiffness_ratio_text", "nts_patch_text",
            "pulled_off"]
@@ -63,9 +64,8 @@ def stiffness_ratio_text(model: Any, z: np.ndarray, load_factor: float) -> list[
     """One sentence per contact pair between two bodies whose stiffness ratio
     exceeds :data:`MEASURED_RATIO`: Young's moduli when both are solids with one,
     else the mean tangent diagonals (both force per length)."""
-    from .pair import ContactPair
     out = []
-    for pair in (it for it in model.items if isinstance(it, ContactPair)):
+    for pair in contact_pairs(model):
         a, b = pair.slave.body, pair.master.body
         if a is None or b is None or a is b:
             continue
@@ -129,7 +129,7 @@ def pulled_off(model: Any, z: np.ndarray, load_factor: float, fixed: np.ndarray)
     pulls away from it, one sentence each group ([] if none).
 
     With ``N`` the combinations of rigid modes that nothing but contact holds
-    (:func:`~.preflight.free_combinations` with ``contact=False``), ``f`` the
+    (:func:`~.preflight_rigid.free_combinations` with ``contact=False``), ``f`` the
     external load and ``C`` the unit normal rows of every slave node facing a
     master (positive: the gap opens; a frictionless contact force is ``C^T lam``,
     ``lam >= 0``), the load is balanced along ``N`` only if
@@ -139,7 +139,6 @@ def pulled_off(model: Any, z: np.ndarray, load_factor: float, fixed: np.ndarray)
     Pairs with friction, whose tangential force is bounded otherwise, are left
     out (no sentence for a body they touch).
     """
-    from .pair import ContactPair
     bodies, N, _ = free_combinations(model, z, load_factor, fixed, contact=False)
     if N.size == 0 or N.shape[1] == 0:
         return []
@@ -148,7 +147,7 @@ def pulled_off(model: Any, z: np.ndarray, load_factor: float, fixed: np.ndarray)
     b = N.T @ Mf
     if not np.linalg.norm(b) > 1e-12 * max(np.linalg.norm(f), np.finfo(float).tiny):
         return []
-    pairs = [it for it in model.items if isinstance(it, ContactPair)]
+    pairs = contact_pairs(model)
     if any(getattr(p, "friction", None) is not None for p in pairs):
         return []
     rows = [_touching_rows(p, z, load_factor, int(model.n), facing=True).rows for p in pairs]

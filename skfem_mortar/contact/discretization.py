@@ -37,9 +37,11 @@ iterations and load steps; a method without the hook still works (its
 triplets follow ``G`` and ``H`` as they come, and the pattern changes with them).
 
 A new method is one class and one :func:`register_method` call; nothing in
-the pair changes.  The built-ins are ``"nts"`` (:class:`skfem_mortar.contact.nts.NTS`),
-``"mortar"`` and ``"mortar-dual"`` (:class:`skfem_mortar.contact.mortar_method.Mortar`
-with ``dual=False`` / ``True``).
+the pair changes.  The built-ins register where they are defined: ``"nts"``
+(:class:`skfem_mortar.contact.nts.NTS`, in :mod:`.nts`), ``"mortar"`` and ``"mortar-dual"``
+(:class:`skfem_mortar.contact.mortar_method.Mortar` with ``dual=False`` / ``True``, in
+:mod:`.mortar_method`); :mod:`.methods` imports both (the pair imports it), and this
+module imports neither.
 """
 from __future__ import annotations
 
@@ -346,19 +348,3 @@ def check_entries(owner: str, state: dict[str, np.ndarray],
         if a.dtype.kind == "f" and not np.all(np.isfinite(a)):
             raise ValueError(f"{owner}: checkpoint entry {k!r} is not finite")
 
-
-# -- the built-in methods (imported when first built: nts and mortar_method import this module)
-def _nts(slave: Any, master: Any, **options: Any) -> ContactDiscretization:
-    from .nts import NTS
-    return NTS(slave, master, **options)
-
-
-def _mortar(dual: bool) -> Factory:
-    def factory(slave: Any, master: Any, **options: Any) -> ContactDiscretization:
-        from .mortar_method import Mortar
-        return Mortar(slave, master, dual=dual, **options)
-    return factory
-
-
-for _name, _factory in zip(BUILTIN_METHODS, (_nts, _mortar(False), _mortar(True))):
-    register_method(_name, _factory)

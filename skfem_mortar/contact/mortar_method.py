@@ -22,8 +22,9 @@ import scipy.sparse as sp
 from . import mortar, mortar_quadratic
 from .active_set import normal_nodal_force
 from .contact_eval import ContactEval
-from .discretization import (ContactDiscretization, OptionTable, check_options, covers,
-                             pattern_matrix, reserved_keys)
+from . import nts  # noqa: F401 (registers "nts" first: the built-ins in BUILTIN_METHODS order)
+from .discretization import (ContactDiscretization, Factory, OptionTable, check_options, covers,
+                             pattern_matrix, register_method, reserved_keys)
 from .mortar_quadratic_segmentation import candidate_pairs, order_of
 from .mortar_quadratic_segmentation import segment as segment_curved
 from .mortar_segmentation import Segmentation, segment
@@ -438,3 +439,14 @@ class Mortar(ContactDiscretization):
         if ev.G is None:
             return None, True
         return normal_nodal_force(ev.G, lam, self.slave.n_nodes), True
+
+
+# -- registered where they are defined (:mod:`.methods` imports this module)
+def _mortar(dual: bool) -> Factory:
+    def factory(slave: Any, master: Any, **options: Any) -> ContactDiscretization:
+        return Mortar(slave, master, dual=dual, **options)
+    return factory
+
+
+register_method("mortar", _mortar(False))
+register_method("mortar-dual", _mortar(True))

@@ -19,24 +19,8 @@ and the second variation is the symmetric 6 x 6 matrix
 
 (from ``dn/dt = -e n^T / l`` and ``dxi/dq = c / l - (g / l^2) a``).
 
-Projection and partner search
------------------------------
-Every call redoes the search (:func:`skfem_mortar.contact.search.node_segment_pairs`,
-O(n log n)): candidates are the master segments whose bounding boxes, inflated
-by ``margin``, contain the slave node, plus the two segments at the master
-vertex nearest to it (a kd-tree query), so a node far from every box (deep
-penetration after a large Newton step) still finds its partner.  Of the
-candidates the one at the smallest distance from its clipped projection
-``x^M(clip(xi, 0, 1))`` wins; ties (a node facing a convex vertex between two
-segments, both clipped to it) go to the segment whose unclipped ``xi`` is
-nearest to ``[0, 1]``.  The gap is then the distance to that segment's line
-with the unclipped ``xi`` (a smooth function for a fixed segment; the switch of
-segment at a vertex makes g_N non-smooth there -- the known NTS defect;
-:class:`NTS` passes the previous iteration's segments as ``prefer`` so that a
-node keeps its segment within a small hysteresis ``stick``).  A node
-whose projection falls off the free end of an open master chain
-(``xi < -end_tolerance`` on the first segment or ``xi > 1 + end_tolerance`` on
-the last) has left the master surface: ``mask`` is False and it stays inactive.
+Projection and partner search: :mod:`.nts_projection`.
+
 
 Two-pass NTS is left out on purpose: with both surfaces acting as slave and
 master, a matching (or nearly matching) interface gets two nearly identical
@@ -54,8 +38,8 @@ import scipy.sparse as sp
 
 from .contact_eval import ContactEval
 from .discretization import (ContactDiscretization, OptionTable, check_entries, check_options,
-                             covers, pattern_matrix, reserved_keys)
-from .search import nearest_vertex, node_segment_pairs
+                             covers, pattern_matrix, register_method, reserved_keys)
+from .nts_projection import LOCK_STICK, candidates, choose_segments, project
 from ..core.chain import polyline
 from ..core.coo import element_coo
 from .surfaces import segment_lengths, segment_normals, segments_at_nodes, tributary_lengths
@@ -64,9 +48,6 @@ __all__ = ["NTS", "evaluate", "project", "candidates", "choose_segments", "RESER
            "nearest_nodes", "vertex_trap"]
 
 log = logging.getLogger("skfem_mortar.contact.pair")  # the pair's log, as before the split
-
-LOCK_STICK = 0.5
-"""Hysteresis width (fraction of the segment length) of a node locked at a reflex vertex."""
 
 
 #: the reserved pattern (:meth:`NTS.pattern`) holds the master segments whose boxes,
@@ -92,148 +73,6 @@ def _check(x: np.ndarray, seg: np.ndarray, what: str) -> tuple[np.ndarray, np.nd
         raise ValueError(f"{what} segments must index nodes in [0, {x.shape[1]})")
     return x, seg
 
-
-def candidates(xs: np.ndarray, xm: np.ndarray, seg_m: np.ndarray, margin: float,
-               halo: int = 0) -> np.ndarray:
-    """The candidate (slave node, master segment) pairs of the projection, as sorted
-    keys ``node * n_seg + segment``: the segments whose boxes, inflated by ``margin``,
-    hold the node, and the two segments at the master vertex nearest to it (so a
-    node far from every box, deep penetration after a large Newton step, still
-    finds its partner), with ``halo`` chain neighbours on each side of those two.
-    """
-    n_s, n_seg = xs.shape[1], len(seg_m)
-    i_n, i_e = node_segment_pairs(xs, xm, seg_m, margin)
-    seg_of_end, seg_of_start = segments_at_nodes(seg_m, xm.shape[1])
-    _, jn = nearest_vertex(xm, xs)
-    k2 = np.concatenate([np.arange(n_s), np.arange(n_s)])
-    e2 = np.concatenate([seg_of_start[jn], seg_of_end[jn]])
-    near = [e2]
-    back, ahead = e2, e2
-    for _ in range(halo):  # previous segment of e: ending[seg[e, 0]]; next: starting[seg[e, 1]]
-        back = np.where(back >= 0, seg_of_end[seg_m[np.maximum(back, 0), 0]], -1)
-        ahead = np.where(ahead >= 0, seg_of_start[seg_m[np.maximum(ahead, 0), 1]], -1)
-        near += [back, ahead]
-    e2 = np.concatenate(near)
-    k2 = np.tile(k2, len(near))
-    ok = e2 >= 0
-    return np.unique(np.concatenate([i_n * n_seg + i_e, k2[ok] * n_seg + e2[ok]]))
-
-
-
-def choose_segments(i_n: np.ndarray, i_e: np.ndarray, xi: np.ndarray, dist: np.ndarray,
-                    n_s: int, prefer: np.ndarray | None = None, stick: float = 0.05,
-                    lock: np.ndarray | None = None) -> np.ndarray:
-    """The winning candidate of every slave node that has one (shared by the linear
-    and the curved projection, :func:`project` and
-    :func:`skfem_mortar.contact.nts_quadratic.project`).
-
-    Among the candidate pairs ``(i_n, i_e)`` (slave node, master segment) with the
-    parameter ``xi`` along the segment (``[0, 1]`` inside, unclipped) and the
-    distance ``dist`` to the clipped projection, each node keeps its ``prefer``
-    segment while ``xi`` on it lies in ``[-stick, 1 + stick]`` (locked nodes:
-    ``[-LOCK_STICK, 1 + LOCK_STICK]``); otherwise the smallest ``dist`` wins,
-    ties to the smaller overshoot ``max(-xi, xi - 1, 0)``, then the lower index.
-
-    Returns
-    -------
-    int ndarray
-        Indices into the candidate arrays, one per node with a candidate, in
-        increasing node order.
-    """
-    over = np.maximum(np.maximum(-xi, xi - 1.0), 0.0)
-    if prefer is not None:
-        prefer = np.asarray(prefer, dtype=np.int64).ravel()
-        if prefer.shape != (n_s,):
-            raise ValueError(f"prefer must have shape ({n_s},), got {prefer.shape}")
-        inside = (xi >= -stick) & (xi <= 1.0 + stick)
-        if lock is not None:
-            lock = np.asarray(lock, dtype=bool).ravel()
-            if lock.shape != (n_s,):
-                raise ValueError(f"lock must have shape ({n_s},), got {lock.shape}")
-            inside |= lock[i_n] & (xi >= -LOCK_STICK) & (xi <= 1.0 + LOCK_STICK)
-        keep = (i_e == prefer[i_n]) & inside
-    else:
-        keep = np.zeros(i_n.shape, dtype=bool)
-    order = np.lexsort((over, dist, ~keep, i_n))
-    return order[np.unique(i_n[order], return_index=True)[1]]
-
-
-def project(xs: np.ndarray, xm: np.ndarray, seg_m: np.ndarray, margin: float | None = None,
-            end_tolerance: float = 1e-8, prefer: np.ndarray | None = None,
-            stick: float = 0.05, lock: np.ndarray | None = None) -> dict:
-    """Closest-point projection of every slave node on the master chain.
-
-    Parameters
-    ----------
-    xs : ndarray (2, n_s)
-        Slave node coordinates.
-    xm : ndarray (2, n_m)
-        Master node coordinates.
-    seg_m : int ndarray (n_seg, 2)
-        Master segments, oriented (outward normal on the right).
-    margin : float, optional
-        Box inflation of the search (default: the median master segment length).
-    end_tolerance : float
-        Tolerance on ``xi`` at the free ends of an open master chain (>= 0).
-    prefer : int ndarray (n_s,), optional
-        The segment of each node at the previous iteration (-1: none).  It is
-        kept while the node's ``xi`` on it stays in ``[-stick, 1 + stick]``
-        (hysteresis: a node at a master vertex with a kink would otherwise
-        jump between the two segments from one Newton iteration to the next
-        and Newton would never converge).
-    stick : float
-        Hysteresis width, a fraction of the segment length (>= 0).
-    lock : bool ndarray (n_s,), optional
-        Nodes that keep their ``prefer`` segment while their ``xi`` stays in
-        ``[-LOCK_STICK, 1 + LOCK_STICK]`` (the closest-point projection then
-        continues onto the segment's extension line).  Used by
-        :class:`NTS` for a node caught at a reflex vertex of the master (see docs/robustness.md).
-
-    Returns
-    -------
-    dict with ``segment`` (n_s,) master segment index, ``xi`` (n_s,) unclipped
-    parameter, ``mask`` (n_s,) bool, ``n``/``e`` (2, n_s) master normal and
-    tangent, ``l`` (n_s,) segment length, ``g`` (n_s,) normal gap.
-    """
-    if not (np.isfinite(stick) and stick >= 0):
-        raise ValueError(f"stick must be a finite number >= 0, got {stick}")
-    if not (np.isfinite(end_tolerance) and end_tolerance >= 0):
-        raise ValueError(f"end_tolerance must be a finite number >= 0, got {end_tolerance}")
-    n_s, n_m = xs.shape[1], xm.shape[1]
-    nrm, lm = segment_normals(xm, seg_m)
-    if margin is None:
-        margin = float(np.median(lm)) if lm.size else 0.0
-    seg_of_end, seg_of_start = segments_at_nodes(seg_m, n_m)
-    key = candidates(xs, xm, seg_m, margin)
-    i_n, i_e = key // len(seg_m), key % len(seg_m)
-    # projection on each candidate
-    x1, x2 = xm[:, seg_m[i_e, 0]], xm[:, seg_m[i_e, 1]]
-    t = x2 - x1
-    l2 = np.sum(t * t, axis=0)
-    d1 = xs[:, i_n] - x1
-    xi = np.sum(d1 * t, axis=0) / l2
-    xp = np.where(xi <= 0, x1, np.where(xi >= 1, x2, x1 + xi * t))
-    dist = np.hypot(*(xs[:, i_n] - xp))
-    best = choose_segments(i_n, i_e, xi, dist, n_s, prefer, stick, lock)
-    k, e, xi = i_n[best], i_e[best], xi[best]
-    segment = np.full(n_s, -1, dtype=np.int64)
-    segment[k] = e
-    xi_all = np.zeros(n_s)
-    xi_all[k] = xi
-    mask = segment >= 0
-    # has the node left the free end of an open master chain?
-    is_first = seg_of_end[seg_m[:, 0]] < 0
-    is_last = seg_of_start[seg_m[:, 1]] < 0
-    es = np.where(mask, segment, 0)
-    off = (is_first[es] & (xi_all < -end_tolerance)) | (is_last[es] & (xi_all > 1 + end_tolerance))
-    mask &= ~off
-    n = nrm[:, es]
-    l = lm[es]
-    ev = (xm[:, seg_m[es, 1]] - xm[:, seg_m[es, 0]]) / l
-    g = np.sum((xs - xm[:, seg_m[es, 0]]) * n, axis=0)
-    g = np.where(mask, g, 0.0)
-    return {"segment": np.where(mask, segment, -1), "xi": xi_all, "mask": mask,
-            "n": n, "e": ev, "l": l, "g": g}
 
 
 def evaluate(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarray,
@@ -631,3 +470,11 @@ class NTS(ContactDiscretization):
                                   if state["prefer"].size else None)
         self._lock_converged = (np.array(state["lock"], dtype=bool)
                                 if state["lock"].size else None)
+
+
+# -- registered where it is defined (:mod:`.methods` imports this module)
+def _nts(slave: Any, master: Any, **options: Any) -> ContactDiscretization:
+    return NTS(slave, master, **options)
+
+
+register_method("nts", _nts)

@@ -48,6 +48,7 @@ from ..core.chain import curve_points, segments_at_nodes, tributary_lengths
 from ..core.coo import element_coo
 from .contact_eval import ContactEval
 from .jets import Jet, at_gauss, sqrt
+from .nts_projection import candidates, choose_segments
 
 __all__ = ["evaluate", "project", "project_values", "projection_jets", "arc_length",
            "curve_values", "N_NEWTON", "XI_LIMIT", "N_ARC"]
@@ -120,7 +121,6 @@ def project(xs: np.ndarray, xm: np.ndarray, seg_m: np.ndarray, margin: float | N
     projection; ``l`` the segment's chord length), plus ``xi_curve`` (the
     parameter in ``[-1, 1]``).
     """
-    from .nts import candidates, choose_segments
     if not (np.isfinite(stick) and stick >= 0):
         raise ValueError(f"stick must be a finite number >= 0, got {stick}")
     if not (np.isfinite(end_tolerance) and end_tolerance >= 0):

@@ -53,9 +53,8 @@ from .active_set import ActiveSet, StatusSet, chain_order, touching_nodes
 from .contact_eval import ContactEval
 from ..core.binding import rebind
 from ..core.validate import real
-from . import BUILTIN_METHODS  # noqa: F401 (the former module offered the method names)
-from .discretization import (METHODS, FrictionDiscretization, PatternedDiscretization,
-                             check_entries, make_method)  # METHODS: the registry's names
+from .discretization import FrictionDiscretization, PatternedDiscretization, check_entries
+from .methods import METHODS, make_method  # METHODS: the registry's names, the built-ins in it
 from .friction import (NO_FRICTION, OPEN, SLIP, STATUS_NAMES, STICK, Coulomb, FrictionRows,
                        Tresca, complementarity)
 from . import preflight as _preflight  # noqa: F401 (registers the checks Model.preflight runs)

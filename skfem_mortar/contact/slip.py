@@ -95,7 +95,7 @@ from . import mortar, mortar_quadratic, nts_quadratic
 from .jets import Jet
 from .mortar_quadratic_segmentation import nodal_normal_jets
 from .mortar_segmentation import nodal_normals
-from .nts import project
+from .nts_projection import project
 from ..core.chain import segments_at_nodes
 
 __all__ = ["SlipEval", "nts_slip", "mortar_slip", "mortar_history", "MORTAR_HISTORY",
