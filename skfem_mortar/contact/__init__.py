@@ -12,8 +12,9 @@ and :mod:`.jets`; for 3-node segments :mod:`.mortar_quadratic` and
 
 __all__ = ["BUILTIN_METHODS", "DEFAULT_METHOD"]
 
-#: the contact methods that come with the package (registered by
-#: :mod:`.discretization`; the scenes and the command line offer these); here,
+#: the contact methods that come with the package (registered where they are
+#: defined, :mod:`.nts` and :mod:`.mortar_method`, which :mod:`.methods` imports;
+#: the scenes and the command line offer these); here,
 #: so that the command line learns them without importing the contact code
 BUILTIN_METHODS = ("nts", "mortar", "mortar-dual")
 

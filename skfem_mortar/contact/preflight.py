@@ -32,7 +32,6 @@ import numpy as np
 from ..core.model import register_check
 from .preflight_methods import PreflightWarning, warn_methods
 from .preflight_orientation import FACING, check_orientation, check_surface
-from .preflight_orientation import nodal_normals  # noqa: F401 (the tie imports it from here)
 from .preflight_pairs import contact_pairs
 from .preflight_rigid import HOLD, SPRING, check_rigid_modes
 

@@ -73,7 +73,7 @@ import scipy.sparse as sp
 from ..core.model import Contribution, Item
 from ..core.validate import count, flag
 from . import mortar
-from .preflight import nodal_normals
+from .preflight_orientation import nodal_normals
 from .surfaces import ContactSurface
 
 __all__ = ["TiePair", "TieOutput"]
