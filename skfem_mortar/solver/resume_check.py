@@ -40,7 +40,8 @@ from ..core.errors import InversionError
 from ..core.model import Model
 from .newton import (STAGNATION_RESIDUAL, NewtonOptions, _violations, excess_norm,
                      round_off_floor, step_scale)
-from .stepping import Restart, restore_items
+from .states import restore_items
+from .stepping import Restart
 
 __all__ = ["check_restart", "measure"]
 
