@@ -189,7 +189,7 @@ class Model:
         contact pairs: every item declares a symmetric tangent, or (a contact
         pair) ``symmetrizable`` (its rows ``c G`` are a multiple of its columns
         ``-G^T`` and its ``H`` is symmetric), so scaling those rows makes the
-        system symmetric (:func:`~skfem_mortar.solver.linsolve.symmetrize`)."""
+        system symmetric (:func:`~skfem_mortar.solver.symmetrization.symmetrize`)."""
         return all(it.symmetric or getattr(it, "symmetrizable", False) for it in self.items)
 
     def analysis_coupling(self, z: np.ndarray, free: np.ndarray

@@ -154,7 +154,7 @@ def round_off_floor(model: Model, z: np.ndarray, K, free: np.ndarray) -> np.ndar
     which the row's force is round-off (``L`` the largest coordinate of a body
     node at ``z``).  Per row, so that a body 1e6 times stiffer than another
     does not lend its round-off to the soft body's rows.  The bodies give their
-    positions through the :class:`~skfem_mortar.core.model.Body` protocol."""
+    positions through the :class:`~skfem_mortar.core.item.Body` protocol."""
     length = 0.0
     for body in model.bodies:
         if isinstance(body, Body):

@@ -13,7 +13,7 @@ The same observers write a finished :class:`~skfem_mortar.solver.stepping.Result
 (:func:`replay`, used by ``Result.save``) and serve the command-line runner
 (:mod:`skfem_mortar.app.runner`, which adds the resume bookkeeping of its output
 directory).  The output layer reads items only through the output protocol
-(:class:`~skfem_mortar.core.model.Output`, :class:`~skfem_mortar.core.model.ContactTable`).
+(:class:`~skfem_mortar.core.item.Output`, :class:`~skfem_mortar.core.item.ContactTable`).
 """
 from __future__ import annotations
 
@@ -248,7 +248,7 @@ class ContactCsv(Observer):
     when the solve failed), :func:`~skfem_mortar.output.io.write_contact_csv`.
 
     ``contact``: ``callable(z) -> dict`` (a pair's ``contact_data``) or a
-    :class:`~skfem_mortar.core.model.ContactTable`; default at :meth:`on_start`: the
+    :class:`~skfem_mortar.core.item.ContactTable`; default at :meth:`on_start`: the
     model's first contact pair (none: nothing is written).
     """
 

@@ -11,7 +11,7 @@ restored:
     accepts (a residual stalled at round-off); ``S`` is the step's force scale
     (:func:`~skfem_mortar.solver.newton.step_scale`, at the state before it and
     its load factor, as Newton took it) and ``floor`` the rows' round-off;
-(b) every item's own conditions (:meth:`~skfem_mortar.core.model.Item.violation`,
+(b) every item's own conditions (:meth:`~skfem_mortar.core.item.Item.violation`,
     e.g. a contact pair's KKT conditions) at that scale;
 (c) no inverted element at the state or the one before it.
 

@@ -10,7 +10,7 @@ falls below ``min_step`` a :class:`ConvergenceError` is raised.
 
 The increment in force and its counters are a :class:`Controller`; a
 :class:`Restart` (the last converged state, the steps so far, the controller and
-every item's :meth:`~skfem_mortar.core.model.Item.state_dict`) continues a run
+every item's :meth:`~skfem_mortar.core.item.Item.state_dict`) continues a run
 exactly where a checkpoint left it.
 """
 from __future__ import annotations
@@ -196,7 +196,7 @@ class Result:
 
     def outputs(self) -> list[Output]:
         """What can be written or drawn: the bodies, then the slave surface of each
-        contact pair (pressure and gap), by the items' :meth:`~skfem_mortar.core.model.Item.outputs`."""
+        contact pair (pressure and gap), by the items' :meth:`~skfem_mortar.core.item.Item.outputs`."""
         outs = self.model.outputs()
         return ([o for o in outs if isinstance(o, Item)]
                 + [o for o in outs if not isinstance(o, Item)])
