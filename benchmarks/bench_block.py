@@ -27,7 +27,8 @@ import scipy.sparse.linalg as spla
 from skfem import MeshTri
 
 from skfem_mortar.bodies.materials import NeoHooke
-from skfem_mortar.core.model import Dirichlet, Model
+from skfem_mortar.core.dirichlet import Dirichlet
+from skfem_mortar.core.model import Model
 from skfem_mortar.bodies.solid import Solid, internal_force, material_stiffness
 
 

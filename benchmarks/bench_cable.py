@@ -25,7 +25,8 @@ import numpy as np
 from skfem_mortar.bodies.cable import Cable
 from skfem_mortar.solver.linsolve import solve_linear
 from skfem_mortar.loads.pressure import FollowerPressure
-from skfem_mortar.core.model import Dirichlet, Model
+from skfem_mortar.core.dirichlet import Dirichlet
+from skfem_mortar.core.model import Model
 from skfem_mortar.solver.newton import NewtonOptions
 from skfem_mortar.solver.stepping import solve
 

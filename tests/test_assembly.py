@@ -6,7 +6,8 @@ import scipy.sparse as sp
 from skfem import MeshQuad, MeshTri
 
 from skfem_mortar.bodies.materials import NeoHooke, SaintVenantKirchhoff
-from skfem_mortar.core.model import Contribution, Item, Model
+from skfem_mortar.core.item import Contribution, Item
+from skfem_mortar.core.model import Model
 from skfem_mortar.bodies.solid import Solid
 
 

@@ -6,7 +6,8 @@ import pytest
 from skfem_mortar.bodies.cable import LAWS, Cable, get_law, newton_rtol
 from skfem_mortar.core.errors import ConvergenceError, InversionError
 from skfem_mortar.loads.pressure import FollowerPressure
-from skfem_mortar.core.model import Dirichlet, Model
+from skfem_mortar.core.dirichlet import Dirichlet
+from skfem_mortar.core.model import Model
 from skfem_mortar.solver.newton import NewtonOptions
 from skfem_mortar.scenes.ring import ring_radius
 from skfem_mortar.solver.stepping import solve

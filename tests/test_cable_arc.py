@@ -11,7 +11,8 @@ from skfem_mortar.solver.newton import NewtonOptions
 from skfem_mortar.app.runner import run_scene
 from skfem_mortar.bodies.cable import Cable
 from skfem_mortar.loads.pressure import FollowerPressure
-from skfem_mortar.core.model import Dirichlet, Model
+from skfem_mortar.core.dirichlet import Dirichlet
+from skfem_mortar.core.model import Model
 from skfem_mortar.scenes.cable_arc import arc_discrete, arc_exact
 from skfem_mortar.solver.stepping import solve
 

@@ -7,7 +7,9 @@ from skfem import MeshTri
 
 from skfem_mortar.contact.pair import ContactPair
 from skfem_mortar.bodies.materials import NeoHooke
-from skfem_mortar.core.model import Contribution, Dirichlet, Item, Model
+from skfem_mortar.core.dirichlet import Dirichlet
+from skfem_mortar.core.item import Contribution, Item
+from skfem_mortar.core.model import Model
 from skfem_mortar.solver.newton import NewtonOptions
 from skfem_mortar.bodies.solid import Solid
 from skfem_mortar.solver.stepping import solve

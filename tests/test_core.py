@@ -3,7 +3,8 @@ import numpy as np
 import pytest
 
 from skfem_mortar.core.errors import ConvergenceError
-from skfem_mortar.core.model import Dirichlet, Model
+from skfem_mortar.core.dirichlet import Dirichlet
+from skfem_mortar.core.model import Model
 from skfem_mortar.solver.newton import NewtonOptions
 from skfem_mortar.solver.stepping import solve
 

@@ -15,7 +15,8 @@ from skfem_mortar.contact.contact_eval import ContactEval
 from skfem_mortar.contact.discretization import (ContactDiscretization, make_method, register_method,
                                          registered_methods, unregister_method)
 from skfem_mortar.bodies.materials import NeoHooke
-from skfem_mortar.core.model import Dirichlet, Model
+from skfem_mortar.core.dirichlet import Dirichlet
+from skfem_mortar.core.model import Model
 from skfem_mortar.bodies.solid import Solid
 from skfem_mortar.solver.stepping import solve
 from skfem_mortar.contact.surfaces import ContactSurface, RigidPlane, tributary_lengths

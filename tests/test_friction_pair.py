@@ -12,7 +12,8 @@ from skfem_mortar.bodies.solid import Solid
 from skfem_mortar.contact.friction import OPEN, SLIP, STICK, complementarity
 from skfem_mortar.contact.pair import ContactPair
 from skfem_mortar.contact.surfaces import ContactSurface, RigidPlane
-from skfem_mortar.core.model import Dirichlet, Model
+from skfem_mortar.core.dirichlet import Dirichlet
+from skfem_mortar.core.model import Model
 from skfem_mortar.solver.newton import NewtonOptions
 from skfem_mortar.solver.stepping import solve
 

@@ -4,7 +4,7 @@ import pytest
 from skfem import MeshTri
 
 from skfem_mortar.core.coo import element_coo
-from skfem_mortar.core.model import Contribution
+from skfem_mortar.core.item import Contribution
 from skfem_mortar.bodies.solid import boundary_facets
 from skfem_mortar.contact.surfaces import segment_lengths, segment_normals, segments_at_nodes
 

@@ -14,7 +14,7 @@ import scipy.sparse.linalg as spla
 
 from skfem_mortar.app.runner import build_scene
 from skfem_mortar.contact.pair import ContactPair
-from skfem_mortar.solver import linsolve
+from skfem_mortar.solver import linsolve, pardiso
 from skfem_mortar.solver.linsolve import available_backends, symmetrize
 from skfem_mortar.solver.newton import NewtonOptions
 from skfem_mortar.solver.stepping import solve
@@ -101,13 +101,13 @@ def test_symmetric_pardiso_refines_only_after_perturbed_pivots(monkeypatch):
     factors at 1.7e5 unknowns): here none are perturbed, no step is taken, and
     the answer still passes the residual check."""
     monkeypatch.setattr(linsolve, "SYMMETRIC", True)
-    linsolve._pardiso_solvers.clear()
+    pardiso._pardiso_solvers.clear()
     A, b, mult = contact_system(inactive=(2,))
     x = linsolve.solve_linear(A, b, backend="pardiso", multipliers=mult)
-    s = linsolve._pardiso_solvers[-2]
+    s = pardiso._pardiso_solvers[-2]
     assert s.perturbed == 0 and s.solver.get_iparm(7) == 0  # iparm(7): steps taken
     assert s.factorizations == s.solves == 1
-    assert np.linalg.norm(A @ x - b) <= linsolve.PARDISO_RTOL * np.linalg.norm(b)
+    assert np.linalg.norm(A @ x - b) <= pardiso.PARDISO_RTOL * np.linalg.norm(b)
 
 
 def test_single_precision_factors_are_refined_to_the_residual_check(monkeypatch):
@@ -119,14 +119,14 @@ def test_single_precision_factors_are_refined_to_the_residual_check(monkeypatch)
         pytest.skip("pypardiso not installed")
     monkeypatch.setattr(linsolve, "SYMMETRIC", True)
     monkeypatch.setattr(linsolve, "SINGLE_ABOVE", 0)
-    linsolve._pardiso_solvers.clear()
+    pardiso._pardiso_solvers.clear()
     A, b, mult = contact_system(n=400, m=30, inactive=(2, 7))
     x = linsolve.solve_linear(A, b, backend="pardiso", multipliers=mult)
-    s = linsolve._pardiso_solvers[(-2, "single")]
-    assert -2 not in linsolve._pardiso_solvers  # no fallback to double precision
+    s = pardiso._pardiso_solvers[(-2, "single")]
+    assert -2 not in pardiso._pardiso_solvers  # no fallback to double precision
     assert s.solver.get_iparm(28) == 1 and s.single
-    assert np.linalg.norm(A @ x - b) <= linsolve.PARDISO_RTOL * np.linalg.norm(b)
-    assert s.factorizations == 1 and 1 <= s.solves - 1 <= linsolve.REFINE_STEPS_SINGLE
+    assert np.linalg.norm(A @ x - b) <= pardiso.PARDISO_RTOL * np.linalg.norm(b)
+    assert s.factorizations == 1 and 1 <= s.solves - 1 <= pardiso.REFINE_STEPS_SINGLE
     sym = symmetrize(A.tocsr(), b, mult)
     y = s._run(sym.U, sym.b, 33)  # the factors' own answer, unrefined
     assert np.linalg.norm(A @ y - b) > 1e-12 * np.linalg.norm(b)
@@ -146,7 +146,7 @@ def _run(scene, params, method, path, rtol, monkeypatch):
     monkeypatch.setattr(linsolve, "SYMMETRIC", path in ("pardiso-symmetric", "pardiso-single"))
     # single precision at every size on its path (by default from 5e4 unknowns), never elsewhere
     monkeypatch.setattr(linsolve, "SINGLE_ABOVE", 0 if path == "pardiso-single" else 10**12)
-    linsolve._pardiso_solvers.clear()  # fresh counters
+    pardiso._pardiso_solvers.clear()  # fresh counters
     setup = build_scene(scene, params, method)[0]
     opts = dict(setup.solve_options)
     opts["newton"] = NewtonOptions(rtol=rtol)
@@ -154,7 +154,7 @@ def _run(scene, params, method, path, rtol, monkeypatch):
         warnings.simplefilter("ignore")  # the preflight's NTS warning
         res = solve(setup.model, setup.n_steps or 10, **opts)
     pair = next(it for it in setup.model.items if isinstance(it, ContactPair))
-    counts = {m: (s.analyses, s.factorizations) for m, s in linsolve._pardiso_solvers.items()}
+    counts = {m: (s.analyses, s.factorizations) for m, s in pardiso._pardiso_solvers.items()}
     return setup.model, res, pair.active.copy(), counts
 
 
@@ -219,13 +219,13 @@ def test_symmetric_analysis_survives_the_active_set_changes(base, monkeypatch):
     reused analysis pivoted badly at ``refine=3``: a new analysis anyway)."""
     monkeypatch.setenv("SKFEM_MORTAR_SOLVER", "pardiso")
     monkeypatch.setattr(linsolve, "SYMMETRIC", True)
-    linsolve._pardiso_solvers.clear()  # fresh counters
+    pardiso._pardiso_solvers.clear()  # fresh counters
     setup = build_scene("hertz", {"base": base, "refine": -1}, "mortar")[0]
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         res = solve(setup.model, 1, **setup.solve_options)
     assert res.converged and len(res.steps) == 1
-    s = linsolve._pardiso_solvers[-2]
+    s = pardiso._pardiso_solvers[-2]
     iterations = res.steps[0].newton_iterations
     assert s.analyses == setup.model.pattern_builds < iterations
     assert s.factorizations == s.solves == iterations  # every answer the first one

@@ -12,7 +12,8 @@ from skfem import MeshQuad, MeshTri
 from skfem_mortar.bodies.cable import Cable
 from skfem_mortar.loads.pressure import FollowerPressure, facet_load_matrix
 from skfem_mortar.bodies.materials import NeoHooke
-from skfem_mortar.core.model import Dirichlet, Model
+from skfem_mortar.core.dirichlet import Dirichlet
+from skfem_mortar.core.model import Model
 from skfem_mortar.solver.newton import NewtonOptions
 from skfem_mortar.bodies.solid import Solid
 from skfem_mortar.solver.stepping import solve

@@ -201,7 +201,7 @@ def test_unique_keys_and_union_are_numpys(m, n):
     """The pattern's own sorts (scipy's row bucketing, a merge of sorted runs)
     give what ``np.unique`` gives: the sorted unique keys, each triplet's place
     among them, and each key array's place in the union."""
-    from skfem_mortar.core.model import _union, _unique_keys
+    from skfem_mortar.core.pattern import _union, _unique_keys
     rng = np.random.default_rng(m)
     rows, cols = rng.integers(0, n, m), rng.integers(0, n, m)
     keys, inv = _unique_keys(rows, cols, n)
@@ -221,7 +221,8 @@ def test_pattern_sums_as_one_bincount_of_all_triplets():
     sums are those of one ``bincount`` of all triplets in the items' order, to
     the last bit (no tolerance: the same additions in the same order), also
     after a rebuild for one item's new indices."""
-    from skfem_mortar.core.model import Contribution, _Pattern
+    from skfem_mortar.core.item import Contribution
+    from skfem_mortar.core.pattern import _Pattern
     rng = np.random.default_rng(3)
     n = 60
 
@@ -253,7 +254,7 @@ def test_element_keys_are_the_triplets_keys(element, offset):
     from skfem_mortar.bodies.materials import NeoHooke
     from skfem_mortar.bodies.solid import Solid
     from skfem_mortar.core.coo import element_coo
-    from skfem_mortar.core.model import _element_keys, _unique_keys
+    from skfem_mortar.core.pattern import _element_keys, _unique_keys
     mesh = (MeshQuad() if element.startswith("quad") else MeshTri()).refined(2)
     s = Solid(mesh, NeoHooke(E=1.0, nu=0.3), element=element)
     n = offset + s.n_dofs + 3

@@ -15,7 +15,7 @@ import skfem
 from skfem_mortar import (Cable, ContactPair, Dirichlet, FollowerPressure, Model, NeoHooke,
                           Solid, Traction)
 from skfem_mortar.contact.pair import METHODS  # the method names: nts, mortar, mortar-dual
-from skfem_mortar.core.model import Contribution, Item
+from skfem_mortar.core.item import Contribution, Item
 from skfem_mortar.contact.preflight import PreflightWarning
 from skfem_mortar.app.runner import build_scene
 from skfem_mortar.scenes import get_scene, list_scenes

@@ -9,8 +9,9 @@ from skfem import MeshQuad, MeshTri
 from skfem_mortar.output.contact_output import ContactOutput
 from skfem_mortar.bodies.materials import NeoHooke
 from skfem_mortar.bodies.mixed import MixedSolid
-from skfem_mortar.core.model import (ContactTable, Contribution, Dirichlet, Item, ItemProtocol,
-                                Model, Output)
+from skfem_mortar.core.dirichlet import Dirichlet
+from skfem_mortar.core.item import ContactTable, Contribution, Item, ItemProtocol, Output
+from skfem_mortar.core.model import Model
 from skfem_mortar.solver.newton import NewtonOptions
 from skfem_mortar.app.runner import run_scene
 from skfem_mortar.bodies.sri import SRISolid
@@ -197,7 +198,7 @@ def test_the_loaded_declarations_are_true_of_the_residuals(solved_models):
 def test_the_body_protocol_of_built_in_bodies(solved_models):
     """Every built-in body gives its vertex positions (the Body protocol); a user
     body without them is a body all the same and lends no length to the floor."""
-    from skfem_mortar.core.model import Body
+    from skfem_mortar.core.item import Body
     from skfem_mortar.solver.newton import ROUND_OFF, round_off_floor
 
     for it, z, model in _items(solved_models):

@@ -241,7 +241,8 @@ from skfem_mortar.bodies.solid import Solid  # noqa: E402
 from skfem_mortar.contact.friction import SLIP, STICK  # noqa: E402
 from skfem_mortar.contact.pair import ContactPair  # noqa: E402
 from skfem_mortar.contact.surfaces import ContactSurface, RigidPlane  # noqa: E402
-from skfem_mortar.core.model import Dirichlet, Model  # noqa: E402
+from skfem_mortar.core.dirichlet import Dirichlet  # noqa: E402
+from skfem_mortar.core.model import Model  # noqa: E402
 from skfem_mortar.scenes.slide import _PathTraction  # noqa: E402
 from skfem_mortar.solver.stepping import solve  # noqa: E402
 from test_friction_pair import _check_tangent, _mixed_multipliers  # noqa: E402

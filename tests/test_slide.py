@@ -12,7 +12,8 @@ from skfem_mortar.bodies.materials import NeoHooke
 from skfem_mortar.bodies.solid import Solid
 from skfem_mortar.contact.pair import ContactPair
 from skfem_mortar.contact.surfaces import ContactSurface
-from skfem_mortar.core.model import Dirichlet, Model
+from skfem_mortar.core.dirichlet import Dirichlet
+from skfem_mortar.core.model import Model
 from skfem_mortar.output.contact_output import STATUS_CODES
 from skfem_mortar.contact.friction import STATUS_NAMES
 from skfem_mortar.output.io import read_series

@@ -6,7 +6,8 @@ from skfem import MeshQuad, MeshTri
 
 from skfem_mortar.core.errors import InversionError
 from skfem_mortar.bodies.materials import NeoHooke, SaintVenantKirchhoff
-from skfem_mortar.core.model import Dirichlet, Model
+from skfem_mortar.core.dirichlet import Dirichlet
+from skfem_mortar.core.model import Model
 from skfem_mortar.scenes.block import block_mesh
 from skfem_mortar.bodies.solid import Solid
 from skfem_mortar.loads.traction import PointLoad, Traction

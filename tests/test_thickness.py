@@ -7,7 +7,8 @@ from skfem import MeshTri
 from skfem_mortar.app.runner import run_scene
 from skfem_mortar.bodies.materials import NeoHooke
 from skfem_mortar.bodies.solid import Solid
-from skfem_mortar.core.model import Dirichlet, Model
+from skfem_mortar.core.dirichlet import Dirichlet
+from skfem_mortar.core.model import Model
 from skfem_mortar.loads.pressure import FollowerPressure
 from skfem_mortar.loads.traction import PointLoad, Traction
 

@@ -12,7 +12,7 @@ from skfem_mortar import Dirichlet, Model, NeoHooke, Solid, TiePair, solve
 from skfem_mortar.app.runner import build_scene, run_scene
 from skfem_mortar.contact.surfaces import ContactSurface, RigidPlane
 from skfem_mortar.contact.tie import TieOutput
-from skfem_mortar.core.model import Output
+from skfem_mortar.core.item import Output
 from skfem_mortar.scenes.block import exact_uniaxial
 
 MATERIAL = NeoHooke(E=100.0, nu=0.3)

@@ -9,7 +9,7 @@ import skfem
 
 from skfem_mortar import (Cable, ConvergenceError, ContactPair, Dirichlet, FollowerPressure,
                           Model, NeoHooke, NewtonOptions, Solid, solve)
-from skfem_mortar.core.model import Item
+from skfem_mortar.core.item import Item
 from skfem_mortar.solver.newton import excess_norm, round_off_floor, step_scale
 from skfem_mortar.contact.surfaces import ContactSurface, RigidPlane
 

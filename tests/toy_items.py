@@ -1,7 +1,7 @@
 """Small analytic items used to test the solver independently of any body."""
 import numpy as np
 
-from skfem_mortar.core.model import Contribution, Item
+from skfem_mortar.core.item import Contribution, Item
 
 
 class Spring(Item):

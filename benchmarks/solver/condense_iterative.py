@@ -103,7 +103,7 @@ def condensed(K, b, mult, repeat: int) -> dict:
     of the pivot columns (``G_N``; its off-diagonal part, relative, is
     reported), ``x_piv = -D^-1 G_R x_R`` and ``C = Z^T A Z``; PARDISO's Cholesky
     of ``C`` in double and in single precision, and its LDL^T in single."""
-    from skfem_mortar.solver import linsolve
+    from skfem_mortar.solver import linsolve, pardiso
     sym = linsolve.symmetrize(K, b, mult)
     U = sym.U
     S = (U + U.T - sp.diags(U.diagonal())).tocsr()
@@ -134,7 +134,7 @@ def condensed(K, b, mult, repeat: int) -> dict:
     upper.sort_indices()
     rhs = np.ones(C.shape[0])
     for mtype, single in ((2, False), (2, True), (-2, True)):
-        chol = linsolve._Pardiso(mtype, single)
+        chol = pardiso._Pardiso(mtype, single)
         key = ("condensed_cholesky_" if mtype == 2 else "condensed_ldlt_") + (
             "single" if single else "double")
 

@@ -78,6 +78,10 @@ def main(argv=None) -> dict:
     from skfem_mortar.core import model as model_mod
     from skfem_mortar.core import timing
     from skfem_mortar.solver import linsolve, newton, stepping
+    try:  # the PARDISO instance in its own module (before: in linsolve)
+        from skfem_mortar.solver import pardiso as pardiso_mod
+    except ImportError:
+        pardiso_mod = linsolve
     from skfem_mortar.solver.stepping import solve
 
     params = {}
@@ -123,7 +127,7 @@ def main(argv=None) -> dict:
         reports.append(rep)
         return rep
     stepping.newton_step = step
-    pardiso_cls = getattr(linsolve, "_Pardiso", None)
+    pardiso_cls = getattr(pardiso_mod, "_Pardiso", None)
     if pardiso_cls is not None:
         real_run = pardiso_cls._run
 
@@ -200,7 +204,7 @@ def main(argv=None) -> dict:
                hasattr(r, k) for r in reports) else "absent"
                for k in ("factorizations", "krylov_iterations", "krylov_solves", "fallbacks")}}
     # nonzeros of the last factor (iparm(18)) and perturbed pivots (iparm(14))
-    handles = dict(getattr(linsolve, "_pardiso_solvers", {}))
+    handles = dict(getattr(pardiso_mod, "_pardiso_solvers", {}))
     if getattr(linsolve, "_pardiso_solver", None) is not None:
         handles[11] = linsolve._pardiso_solver
     out["pardiso_factors"] = {str(m): {"factor_nnz": int(h.solver.get_iparm(18)),

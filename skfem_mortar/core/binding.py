@@ -8,7 +8,7 @@ layout and writes it again into its items whenever it is used
 (:func:`bind`: every read of ``Model.items``), which costs one identity check
 per item while the layout is already there.
 
-An item with a history (:attr:`~skfem_mortar.core.model.Item.has_history`: a
+An item with a history (:attr:`~skfem_mortar.core.item.Item.has_history`: a
 contact pair's active set, friction state) belongs to one model at a time: the
 one built last with it (:func:`claim`).  An earlier model that holds it is
 refused from then on (ValueError at its next use, :func:`bind`): two models
@@ -26,7 +26,7 @@ import weakref
 from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:  # pragma: no cover
-    from .model import Item, Model
+    from .item import Item  # (Model: a name in the annotations only, no import)
 
 __all__ = ["claim", "layout", "bind", "rebind"]
 

@@ -12,7 +12,7 @@ from typing import Any
 
 import numpy as np
 
-from .model import Item
+from .item import Item
 
 __all__ = ["Dirichlet", "dofs_of_nodes", "node_numbers_as_dofs", "dof_indices"]
 

@@ -2,7 +2,7 @@
 
 :func:`failure_causes` is asked by :func:`~skfem_mortar.solver.stepping.solve`
 when a step fails even at the smallest increment; its sentences join the
-items' :meth:`~skfem_mortar.core.model.Item.failure_hint` in the
+items' :meth:`~skfem_mortar.core.item.Item.failure_hint` in the
 :class:`~skfem_mortar.core.errors.ConvergenceError`.  Each reads the last
 converged state and the load the failed step aimed at, never the failed
 iterate (a diverged Newton iterate has been thrown 1e10 away: its gaps and

@@ -46,7 +46,8 @@ from ..core.errors import InversionError
 from ..core.validate import count, flag, real
 from .krylov import FORCING_MAX, KRYLOV_MAX_ITER, LINEAR, KrylovSolver, choose_linear, forcing
 from .linsolve import solve_linear
-from ..core.model import Body, Model
+from ..core.item import Body
+from ..core.model import Model
 
 __all__ = ["NewtonOptions", "NewtonReport", "newton"]
 
@@ -153,7 +154,7 @@ def round_off_floor(model: Model, z: np.ndarray, K, free: np.ndarray) -> np.ndar
     which the row's force is round-off (``L`` the largest coordinate of a body
     node at ``z``).  Per row, so that a body 1e6 times stiffer than another
     does not lend its round-off to the soft body's rows.  The bodies give their
-    positions through the :class:`~skfem_mortar.core.model.Body` protocol."""
+    positions through the :class:`~skfem_mortar.core.item.Body` protocol."""
     length = 0.0
     for body in model.bodies:
         if isinstance(body, Body):
@@ -238,19 +239,8 @@ def newton(model: Model, z: np.ndarray, load_factor: float, free: np.ndarray,
             ref = max(rnorm, report.scale, report.floor)
         settled = False
         if it > 0 or not fixed.size:
-            settled = all(item.settled() for item in model.items)
-            done = settled and excess_norm(Rf, floor) <= tol
-            if not done and settled and _stagnated_at_round_off(model, z, free, last, report,
-                                                                report.scale):
-                log.info("residual %.3e stagnates at round-off (tolerance %.3e)", rnorm, tol)
-                report.roundoff = done = True
+            settled, done = _test(model, z, free, Rf, floor, tol, last, report, it)
             if done:
-                report.iterations = it
-                report.reason = _violations(model, z, max(report.scale, report.floor))
-                report.converged = not report.reason
-                if report.reason:
-                    report.roundoff = False
-                    log.info("residual converged, but %s", report.reason)
                 return report
         if it == opt.max_iter:
             report.reason = f"no convergence in {opt.max_iter} iterations"
@@ -261,26 +251,11 @@ def newton(model: Model, z: np.ndarray, load_factor: float, free: np.ndarray,
             report.iterations = it
             return report
         t0 = time.perf_counter()
-        mult = (free >= model.n_u) if symmetric else None
-        hint = (lambda z=z: model.analysis_coupling(z, free)) if symmetric else None
-        try:
-            if krylov is None:
-                dzf = solve_linear(model.free_block(K, free), -Rf, multipliers=mult, hint=hint)
-                report.factorizations += 1
-            else:
-                eta = forcing(report.residual_norms, eta, report.scale, tol, opt.forcing_max)
-                dzf = krylov.solve(model.free_block(K, free), -Rf, eta, multipliers=mult,
-                                   reuse=settled, hint=hint)
-        except InversionError as exc:
-            report.reason = str(exc)
+        dzf, eta = _update(model, z, K, free, Rf, symmetric, krylov, eta, settled, tol, opt,
+                           report)
+        if dzf is None:
             report.iterations = it
             return report
-        finally:
-            if krylov is not None:
-                c = krylov.counts
-                report.factorizations, report.krylov_iterations = (c.factorizations,
-                                                                   c.krylov_iterations)
-                report.krylov_solves, report.fallbacks = c.krylov_solves, c.fallbacks
         report.solve_time += time.perf_counter() - t0
         if it == 0 and fixed.size:
             z[fixed] += dz_fixed
@@ -291,6 +266,57 @@ def newton(model: Model, z: np.ndarray, load_factor: float, free: np.ndarray,
         last = (dzf, alpha)
         report.iterations = it + 1
     return report  # pragma: no cover (loop always returns)
+
+
+def _test(model: Model, z: np.ndarray, free: np.ndarray, Rf: np.ndarray, floor: np.ndarray,
+          tol: float, last: tuple[np.ndarray, float] | None, report: NewtonReport,
+          it: int) -> tuple[bool, bool]:
+    """The convergence test of iteration ``it`` (module docstring): whether every
+    item is settled, and whether the step is done (then ``report`` says how)."""
+    rnorm = report.residual_norms[-1]
+    settled = all(item.settled() for item in model.items)
+    done = settled and excess_norm(Rf, floor) <= tol
+    if not done and settled and _stagnated_at_round_off(model, z, free, last, report,
+                                                        report.scale):
+        log.info("residual %.3e stagnates at round-off (tolerance %.3e)", rnorm, tol)
+        report.roundoff = done = True
+    if done:
+        report.iterations = it
+        report.reason = _violations(model, z, max(report.scale, report.floor))
+        report.converged = not report.reason
+        if report.reason:
+            report.roundoff = False
+            log.info("residual converged, but %s", report.reason)
+    return settled, done
+
+
+def _update(model: Model, z: np.ndarray, K, free: np.ndarray, Rf: np.ndarray,
+            symmetric: bool, krylov: KrylovSolver | None, eta: float | None, settled: bool,
+            tol: float, opt: NewtonOptions, report: NewtonReport
+            ) -> tuple[np.ndarray | None, float | None]:
+    """The Newton update of the free unknowns, ``K_ff dz_f = -R_f`` (direct, or
+    Krylov to the forcing term, which is returned too); None when the linear
+    solve fails (``report.reason`` says why)."""
+    mult = (free >= model.n_u) if symmetric else None
+    hint = (lambda z=z: model.analysis_coupling(z, free)) if symmetric else None
+    try:
+        if krylov is None:
+            dzf = solve_linear(model.free_block(K, free), -Rf, multipliers=mult, hint=hint)
+            report.factorizations += 1
+        else:
+            eta = forcing(report.residual_norms, eta, report.scale, tol, opt.forcing_max)
+            dzf = krylov.solve(model.free_block(K, free), -Rf, eta, multipliers=mult,
+                               reuse=settled, hint=hint)
+    except InversionError as exc:
+        report.reason = str(exc)
+        return None, eta
+    finally:
+        if krylov is not None:
+            c = krylov.counts
+            report.factorizations, report.krylov_iterations = (c.factorizations,
+                                                               c.krylov_iterations)
+            report.krylov_solves, report.fallbacks = c.krylov_solves, c.fallbacks
+    return dzf, eta
 
 
 def _violations(model: Model, z: np.ndarray, scale: float) -> str:

@@ -13,7 +13,7 @@ The same observers write a finished :class:`~skfem_mortar.solver.stepping.Result
 (:func:`replay`, used by ``Result.save``) and serve the command-line runner
 (:mod:`skfem_mortar.app.runner`, which adds the resume bookkeeping of its output
 directory).  The output layer reads items only through the output protocol
-(:class:`~skfem_mortar.core.model.Output`, :class:`~skfem_mortar.core.model.ContactTable`).
+(:class:`~skfem_mortar.core.item.Output`, :class:`~skfem_mortar.core.item.ContactTable`).
 """
 from __future__ import annotations
 
@@ -24,11 +24,13 @@ from typing import TYPE_CHECKING, Callable, Iterable, Sequence
 
 import numpy as np
 
-from ..core.model import ContactTable
+from ..core.item import ContactTable
 
-if TYPE_CHECKING:  # no import at run time: stepping imports this module
-    from ..core.model import Model, Output
-    from .stepping import Result, StepRecord
+if TYPE_CHECKING:  # pragma: no cover
+    from ..core.item import Output
+    from ..core.model import Model
+# Result and StepRecord (solver.stepping) are names in annotations only: stepping
+# imports this module, never the other way
 
 __all__ = ["Observer", "Callback", "ProgressBar", "SeriesObserver", "CheckpointObserver",
            "ContactCsv", "replay"]
@@ -180,7 +182,7 @@ class CheckpointObserver(Observer):
         The run's identity (scene, method, parameters, steps).
     items : dict
         ``{name: item}`` whose ``state_dict()`` go into each step
-        (:func:`~skfem_mortar.solver.stepping.stateful_items`; default at
+        (:func:`~skfem_mortar.solver.states.stateful_items`; default at
         :meth:`on_start`: the model's).
     run : str
         The run's id ("" for a fresh one, drawn at :meth:`start`).
@@ -231,7 +233,7 @@ class CheckpointObserver(Observer):
 
     def on_start(self, model, z, load_factor) -> None:
         if self.items is None:
-            from .stepping import stateful_items
+            from .states import stateful_items
 
             self.items = stateful_items(model)
         if not self.run:
@@ -246,7 +248,7 @@ class ContactCsv(Observer):
     when the solve failed), :func:`~skfem_mortar.output.io.write_contact_csv`.
 
     ``contact``: ``callable(z) -> dict`` (a pair's ``contact_data``) or a
-    :class:`~skfem_mortar.core.model.ContactTable`; default at :meth:`on_start`: the
+    :class:`~skfem_mortar.core.item.ContactTable`; default at :meth:`on_start`: the
     model's first contact pair (none: nothing is written).
     """
 

@@ -11,7 +11,7 @@ restored:
     accepts (a residual stalled at round-off); ``S`` is the step's force scale
     (:func:`~skfem_mortar.solver.newton.step_scale`, at the state before it and
     its load factor, as Newton took it) and ``floor`` the rows' round-off;
-(b) every item's own conditions (:meth:`~skfem_mortar.core.model.Item.violation`,
+(b) every item's own conditions (:meth:`~skfem_mortar.core.item.Item.violation`,
     e.g. a contact pair's KKT conditions) at that scale;
 (c) no inverted element at the state or the one before it.
 
@@ -40,7 +40,8 @@ from ..core.errors import InversionError
 from ..core.model import Model
 from .newton import (STAGNATION_RESIDUAL, NewtonOptions, _violations, excess_norm,
                      round_off_floor, step_scale)
-from .stepping import Restart, restore_items
+from .states import restore_items
+from .stepping import Restart
 
 __all__ = ["check_restart", "measure"]
 

@@ -10,7 +10,7 @@ falls below ``min_step`` a :class:`ConvergenceError` is raised.
 
 The increment in force and its counters are a :class:`Controller`; a
 :class:`Restart` (the last converged state, the steps so far, the controller and
-every item's :meth:`~skfem_mortar.core.model.Item.state_dict`) continues a run
+every item's :meth:`~skfem_mortar.core.item.Item.state_dict`) continues a run
 exactly where a checkpoint left it.
 """
 from __future__ import annotations
@@ -26,8 +26,10 @@ import numpy as np
 
 from ..contact import preflight as _preflight  # noqa: F401 (registers its checks: solve runs them)
 from ..core.errors import ConvergenceError, warn_at_user
-from ..core.model import Item, Model, Output
-from .linsolve import forget_analyses
+from ..core.item import Item, Output
+from ..core.model import Model
+from .pardiso import forget_analyses
+from .states import MODEL_STATE, restore_items, stateful_items  # noqa: F401 (offered here too)
 from .newton import NewtonOptions, NewtonReport
 from .newton import newton as newton_step
 from .observers import Callback, ContactCsv, Observer, ProgressBar, SeriesObserver, replay
@@ -117,51 +119,6 @@ class Restart:
     source: str = "restart"
 
 
-#: the key of the model's own state among the item states of a checkpoint
-MODEL_STATE = "__model__"
-
-
-def stateful_items(model: Model) -> dict[str, object]:
-    """The items of ``model`` that keep a state (a non-empty ``state_dict``), by
-    name, and the model itself under ``MODEL_STATE``.
-
-    Raises
-    ------
-    ValueError
-        When two of them share a name (their states could not be told apart).
-    """
-    out: dict[str, object] = {MODEL_STATE: model}  # the model's own (tangent pattern)
-    for item in model.items:
-        if item.state_dict():
-            if item.name in out:
-                raise ValueError(f"two items with a state share the name {item.name!r}")
-            out[item.name] = item
-    return out
-
-
-def restore_items(model: Model, states: dict[str, dict[str, np.ndarray]],
-                  source: str = "restart") -> None:
-    """``load_state_dict`` of every stateful item of ``model`` from ``states``.
-
-    Raises
-    ------
-    ValueError
-        Naming ``source`` and what does not fit: an unknown item, a missing
-        one, or the item's own refusal.
-    """
-    items = stateful_items(model)
-    unknown = sorted(set(states) - set(items))
-    if unknown:
-        raise ValueError(f"{source}: states of unknown items {unknown}")
-    for name, item in items.items():
-        if name not in states:
-            raise ValueError(f"{source}: no state of item {name!r}")
-        try:
-            item.load_state_dict(states[name])
-        except ValueError as exc:
-            raise ValueError(f"{source}: {exc}") from None
-
-
 @dataclass
 class StepRecord:
     """One converged load step (``controller``: the step-size controller after
@@ -239,7 +196,7 @@ class Result:
 
     def outputs(self) -> list[Output]:
         """What can be written or drawn: the bodies, then the slave surface of each
-        contact pair (pressure and gap), by the items' :meth:`~skfem_mortar.core.model.Item.outputs`."""
+        contact pair (pressure and gap), by the items' :meth:`~skfem_mortar.core.item.Item.outputs`."""
         outs = self.model.outputs()
         return ([o for o in outs if isinstance(o, Item)]
                 + [o for o in outs if not isinstance(o, Item)])
