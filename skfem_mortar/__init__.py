@@ -16,7 +16,7 @@ __version__ = "0.1.0"  # the one source of the version (pyproject.toml reads it)
 # public name -> module; resolved lazily so that `import skfem_mortar` and the
 # command line start fast and a module that has not landed yet breaks nothing else
 _EXPORTS = {
-    "Model": "core.model", "Item": "core.model", "Dirichlet": "core.dirichlet", "Contribution": "core.model",
+    "Model": "core.model", "Item": "core.item", "Dirichlet": "core.dirichlet", "Contribution": "core.item",
     "solve": "solver.stepping", "Result": "solver.stepping", "StepRecord": "solver.stepping",
     "NewtonOptions": "solver.newton",
     "ConvergenceError": "core.errors", "InversionError": "core.errors",

@@ -22,7 +22,7 @@ from ..core.lazy import brentq
 
 from .cable_laws import LAWS, CableLaw, get_law, newton_rtol  # noqa: F401 (public here too)
 from ..core.errors import InversionError
-from ..core.model import Contribution, Item
+from ..core.item import Contribution, Item
 from ..core.chain import segment_lengths
 from ..core.validate import count, flag, real
 from ..core.validate_arrays import index_array, real_array

@@ -73,7 +73,7 @@ from skfem.helpers import inv
 
 from .deformation import checked_det
 from .hyperelastic import NeoHooke
-from ..core.model import Contribution
+from ..core.item import Contribution
 from .solid import Solid, refuse_reduction
 
 __all__ = ["MixedSolid", "mixed_stress_and_tangent"]

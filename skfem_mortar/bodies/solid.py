@@ -57,7 +57,7 @@ from skfem.helpers import ddot, grad
 from .checks import check_mesh, quadrature_order
 from ..core.coo import element_coo
 from .materials import PLANES, LinearElastic, Material
-from ..core.model import Contribution, Item
+from ..core.item import Contribution, Item
 from ..core.validate_arrays import index_array
 
 __all__ = ["Solid", "ELEMENTS", "KINEMATICS", "boundary_facets", "constitutive_law",

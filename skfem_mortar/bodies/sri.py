@@ -30,7 +30,7 @@ from skfem.helpers import grad, inv
 
 from .deformation import checked_det
 from .hyperelastic import NeoHooke
-from ..core.model import Contribution
+from ..core.item import Contribution
 from .solid import Solid, internal_force, material_stiffness, refuse_reduction
 
 __all__ = ["SRISolid", "split_to_quads", "ONE_POINT"]

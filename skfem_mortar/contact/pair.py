@@ -58,7 +58,7 @@ from .methods import METHODS, make_method  # METHODS: the registry's names, the 
 from .friction import (NO_FRICTION, OPEN, SLIP, STATUS_NAMES, STICK, Coulomb, FrictionRows,
                        Tresca, complementarity)
 from . import preflight as _preflight  # noqa: F401 (registers the checks Model.preflight runs)
-from ..core.model import Contribution, Item
+from ..core.item import Contribution, Item
 from ..output.contact_output import ContactOutput
 from .search import distance_to_polyline
 from .surfaces import segment_lengths, tributary_lengths

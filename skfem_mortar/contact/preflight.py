@@ -29,7 +29,7 @@ from typing import Any
 
 import numpy as np
 
-from ..core.model import register_check
+from ..core.checks import register_check
 from .preflight_methods import PreflightWarning, warn_methods
 from .preflight_orientation import FACING, check_orientation, check_surface
 from .preflight_pairs import contact_pairs

@@ -70,7 +70,7 @@ from typing import Any, NamedTuple
 import numpy as np
 import scipy.sparse as sp
 
-from ..core.model import Contribution, Item
+from ..core.item import Contribution, Item
 from ..core.validate import count, flag
 from . import mortar
 from .preflight_orientation import nodal_normals

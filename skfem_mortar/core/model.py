@@ -24,7 +24,6 @@ import scipy.sparse as sp
 
 from .binding import bind, claim, layout
 from .checks import _MODEL_CHECKS, _check_items, check_thickness, register_check
-from .dirichlet import Dirichlet  # noqa: F401 (contact.preflight imports it from here)
 from .item import Body, ContactTable, Contribution, Item, ItemProtocol, Output
 from .pattern import _Pattern, _cat, _same
 

@@ -24,7 +24,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..bodies.cable import side_sign
-from ..core.model import Contribution, Item
+from ..core.item import Contribution, Item
 from ..core.validate import flag, real
 
 __all__ = ["FollowerPressure", "facet_load_matrix"]

@@ -12,7 +12,7 @@ import numpy as np
 from skfem import FacetBasis, LinearForm
 from skfem.helpers import dot
 
-from ..core.model import Contribution, Item
+from ..core.item import Contribution, Item
 from ..core.validate_arrays import index_array, real_array
 from ..bodies.checks import check_boundary_facets
 from ..bodies.solid import boundary_facets

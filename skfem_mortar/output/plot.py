@@ -70,7 +70,7 @@ def figure(setup, result, path: str | os.PathLike, title: str = "",
     ``result.model``.  Reads only ``setup.outputs`` and ``setup.contact`` of
     the :class:`~skfem_mortar.scenes.Setup`.
     """
-    from ..core.model import Item
+    from ..core.item import Item
 
     return draw([o for o in setup.outputs if isinstance(o, Item)], result.states[0],
                 result.z, path, title=title, window_size=window_size,

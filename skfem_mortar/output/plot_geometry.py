@@ -79,7 +79,7 @@ def _supports(items: Sequence, load_factor: float) -> list[dict]:
     """Per body held by ``Dirichlet`` items: its node classes (``"xy"``: both
     components held at 0, ``"x"``, ``"y"``: one, ``"driven"``: a non-zero
     prescribed value) as boolean masks over its nodes."""
-    from ..core.model import Dirichlet
+    from ..core.dirichlet import Dirichlet
 
     per_body: dict[int, dict] = {}
     for it in items:

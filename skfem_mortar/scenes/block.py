@@ -30,7 +30,8 @@ from skfem import MeshQuad, MeshTri
 
 from ..bodies.materials import (PLANES, LinearElastic, Material, NeoHooke,
                                 SaintVenantKirchhoff, lame_from_young)
-from ..core.model import Dirichlet, Model
+from ..core.dirichlet import Dirichlet
+from ..core.model import Model
 from ..bodies.solid import ELEMENTS, KINEMATICS, Solid, constitutive_law
 from . import Param, Scene, Setup, grid_dofs, lame_quantities
 

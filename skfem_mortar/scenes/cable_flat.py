@@ -35,7 +35,8 @@ from ..core.lazy import brentq
 from ..bodies.cable import LAWS, Cable, get_law
 from ..contact.pair import ContactPair
 from ..loads.pressure import FollowerPressure
-from ..core.model import Dirichlet, Model
+from ..core.dirichlet import Dirichlet
+from ..core.model import Model
 from ..contact.surfaces import ContactSurface, RigidPlane
 from . import METHODS, Param, Scene, Setup, cable_dofs, cable_quantities, positive, ratio
 

@@ -84,7 +84,8 @@ from skfem import MeshQuad, MeshQuad2, MeshTri, MeshTri2
 
 from ..contact.pair import ContactPair
 from ..bodies.materials import NeoHooke
-from ..core.model import Dirichlet, Model
+from ..core.dirichlet import Dirichlet
+from ..core.model import Model
 from ..bodies.solid import KINEMATICS, Solid
 from ..contact.surfaces import ContactSurface, tributary_lengths
 from ..loads.traction import Traction

@@ -65,7 +65,8 @@ from skfem import MeshQuad
 from ..contact.friction import SLIP, STICK, Coulomb
 from ..contact.pair import ContactPair
 from ..bodies.materials import NeoHooke
-from ..core.model import Dirichlet, Model
+from ..core.dirichlet import Dirichlet
+from ..core.model import Model
 from ..bodies.solid import Solid
 from ..contact.surfaces import ContactSurface
 from . import (MAX_STEPS, METHODS, Param, Scene, Setup, grid_dofs, lame_quantities,

@@ -133,7 +133,8 @@ from ..bodies.solid import Solid
 from ..contact.friction import SLIP, STICK, Coulomb
 from ..contact.pair import ContactPair
 from ..contact.surfaces import ContactSurface, tributary_lengths
-from ..core.model import Dirichlet, Model
+from ..core.dirichlet import Dirichlet
+from ..core.model import Model
 from . import MAX_STEPS, METHODS, Param, Scene, Setup, lame_quantities, positive, ratio
 from .hertz import A_OVER_R, graded_block, graded_quarter_disk, hertz_exact
 from .slide import SCENE as _SLIDE  # the friction coefficient and t_press parameters

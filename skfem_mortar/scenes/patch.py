@@ -70,7 +70,8 @@ from skfem import MeshQuad, MeshTri
 from ..contact.pair import ContactPair
 from ..loads.pressure import FollowerPressure
 from ..bodies.materials import NeoHooke
-from ..core.model import Dirichlet, Model
+from ..core.dirichlet import Dirichlet
+from ..core.model import Model
 from ..bodies.solid import KINEMATICS, Solid
 from ..contact.surfaces import ContactSurface
 from ..loads.traction import PointLoad

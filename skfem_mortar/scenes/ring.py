@@ -31,7 +31,8 @@ from ..core.lazy import brentq
 
 from ..bodies.cable import LAWS, Cable, get_law, newton_rtol
 from ..loads.pressure import FollowerPressure
-from ..core.model import Dirichlet, Model
+from ..core.dirichlet import Dirichlet
+from ..core.model import Model
 from ..solver.newton import NewtonOptions
 from . import Param, Scene, Setup, cable_dofs, cable_quantities, positive
 

@@ -34,7 +34,8 @@ from ..contact.friction import SLIP, STICK, Coulomb
 from ..contact.pair import ContactPair
 from ..loads.pressure import FollowerPressure
 from ..bodies.materials import NeoHooke
-from ..core.model import Dirichlet, Model
+from ..core.dirichlet import Dirichlet
+from ..core.model import Model
 from ..bodies.solid import Solid
 from ..contact.surfaces import ContactSurface
 from . import (METHODS, Param, Scene, Setup, cable_dofs, cable_quantities, grid_dofs,

@@ -58,7 +58,8 @@ from ..bodies.solid import Solid
 from ..contact.friction import SLIP, STICK, Coulomb
 from ..contact.pair import ContactPair
 from ..contact.surfaces import ContactSurface, RigidPlane
-from ..core.model import Dirichlet, Model
+from ..core.dirichlet import Dirichlet
+from ..core.model import Model
 from ..loads.traction import Traction
 from . import (MAX_STEPS, METHODS, Param, Scene, Setup, grid_dofs, lame_quantities, positive,
                press_then_slide, ratio)

@@ -40,7 +40,8 @@ from ..bodies.materials import NeoHooke
 from ..bodies.solid import Solid, internal_force
 from ..contact.surfaces import ContactSurface, tributary_lengths
 from ..contact.tie import TiePair
-from ..core.model import Dirichlet, Model
+from ..core.dirichlet import Dirichlet
+from ..core.model import Model
 from ..loads.traction import Traction
 from . import Param, Scene, Setup, grid_dofs, lame_quantities, positive, ratio
 
