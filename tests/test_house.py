@@ -249,3 +249,17 @@ def test_the_circle_finder_finds_a_circle_through_any_kind_of_import():
 ])
 def test_which_modules_count(name, counted):
     assert _counted(name) is counted
+
+
+def test_architecture_lists_every_module():
+    """docs/architecture.md, "The modules": one line per module of the package, so
+    that the tree a reader sees is the tree there is (a new module without its
+    line, or a line for a module gone, fails)."""
+    import re
+
+    doc = (ROOT.parent / "docs" / "architecture.md").read_text(encoding="utf-8")
+    section = doc.split("## The modules", 1)[1].split("\n## ", 1)[0]
+    listed = set(re.findall(r"^\| `([\w/]+\.py)` \|", section, re.M))
+    present = {p.relative_to(ROOT).as_posix() for p in ROOT.rglob("*.py")}
+    assert present - listed == set(), f"modules without a line: {sorted(present - listed)}"
+    assert listed - present == set(), f"lines for no module: {sorted(listed - present)}"

@@ -1,6 +1,6 @@
 """The study's error measures of a row: the scene's own metrics, or the relative
-deviation from a fine mortar reference run (computed once per scene and
-physics-axis variant, cached in ``references.json``).
+deviation from a fine reference run with the default method, dual mortar
+(computed once per scene and physics-axis variant, cached in ``references.json``).
 """
 from __future__ import annotations
 
