@@ -1,5 +1,5 @@
 """The bodies layer: internal forces and tangents. Hyperelastic materials (:mod:`.materials`),
 plane-strain solids (:mod:`.solid`), MINI u-p triangles (:mod:`.mixed`), selectively reduced
 quads (:mod:`.sri`), nonlinear cables and their axial laws (:mod:`.cable`, :mod:`.cable_laws`)
-and mesh checks (:mod:`.checks`). Imports only from the core layer.
+and mesh checks (:mod:`skfem_mortar.bodies.checks`). Imports only from the core layer.
 """

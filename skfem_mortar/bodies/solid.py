@@ -191,7 +191,7 @@ def _component_rows(component: int | str | None) -> list[str] | None:
 
 
 class Solid(Item):
-    """A 2D elastic body: an :class:`~skfem_mortar.core.model.Item` with ``dof_kind="u"``.
+    """A 2D elastic body: an :class:`~skfem_mortar.core.item.Item` with ``dof_kind="u"``.
 
     Parameters
     ----------

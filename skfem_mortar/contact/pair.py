@@ -1272,7 +1272,7 @@ class ContactPair(Item):
         """Contact forces ``(2, n)`` on the slave and on the master nodes: ``H G^T lam``
         split into the two surfaces (the force the other body exerts; the residual
         term is its negative), totals over the model's thickness ``H``
-        (:attr:`~skfem_mortar.core.model.Item.thickness`)."""
+        (:attr:`~skfem_mortar.core.item.Item.thickness`)."""
         rebind(self)  # this pair's model's layout, if another model was used since
         lam = np.asarray(z)[self._normal]
         ev = self.evaluate(z, tangent=True, with_lam=False)

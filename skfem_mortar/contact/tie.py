@@ -308,7 +308,7 @@ class TiePair(Item):
         Their resultants cancel exactly (``sum_B D_AB = sum_C M_AC`` for every tied
         ``A``); their moments about any point cancel up to ``sum_A g0_A x lam_A`` where
         the constraint holds (module doc).  Totals over the model's thickness
-        ``H`` (:attr:`~skfem_mortar.core.model.Item.thickness`): both times ``H``.
+        ``H`` (:attr:`~skfem_mortar.core.item.Item.thickness`): both times ``H``.
         """
         lam = self.thickness * self.traction(z)
         return (self.D.T @ lam.T).T, -(self.M.T @ lam.T).T

@@ -130,7 +130,7 @@ class FollowerPressure(Item):
 
     def resultant(self, z: np.ndarray, load_factor: float = 1.0) -> np.ndarray:
         """Total applied force (2,) = sum of the nodal loads ``f_a``, over the
-        model's thickness ``H`` (:attr:`~skfem_mortar.core.model.Item.thickness`)."""
+        model's thickness ``H`` (:attr:`~skfem_mortar.core.item.Item.thickness`)."""
         c = self.thickness * self.sign * self.current_pressure(load_factor)
         dofs = self.body.offset + self._flat
         x = self._X.reshape(len(dofs), -1) + np.asarray(z)[dofs]

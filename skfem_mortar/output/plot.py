@@ -96,7 +96,7 @@ def render(bodies: Sequence, z0: np.ndarray, z1: np.ndarray, *, contact=None,
     Parameters
     ----------
     bodies : sequence of Output
-        Drawn as meshes (:class:`~skfem_mortar.core.model.Output`): solids
+        Drawn as meshes (:class:`~skfem_mortar.core.item.Output`): solids
         coloured by von Mises stress, cables by tension, each with its key.
     z0, z1 : ndarray
         The unknowns of the left and the right panel.

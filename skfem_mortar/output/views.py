@@ -63,7 +63,7 @@ def prepare_offscreen() -> None:
 
 
 def to_pyvista(outputs: Sequence, z: np.ndarray, deformed: bool = True):
-    """The outputs (bodies, contact surfaces: :class:`~skfem_mortar.core.model.Output`)
+    """The outputs (bodies, contact surfaces: :class:`~skfem_mortar.core.item.Output`)
     at the unknowns ``z`` as a ``pyvista.MultiBlock``, one block per output with its
     point and cell fields, for interactive views in a notebook (``.plot()``) or
     anything else pyvista does.  ``deformed``: the points moved by their
