@@ -6,7 +6,9 @@ import numpy as np
 import pytest
 
 import readme_scene
-from skfem_mortar import Dirichlet, Model, solve
+import skfem
+
+from skfem_mortar import Dirichlet, LinearElastic, Model, Solid, solve
 
 
 _cushion = readme_scene.cushion
@@ -110,3 +112,35 @@ def test_a_model_clamped_by_nodes_solves_as_the_one_clamped_by_dofs():
     by_dofs = peak(lambda b: Dirichlet(b, b.dofs_on("top"), name="clamp"))
     by_nodes = peak(lambda b: Dirichlet(b, nodes=_top(b.mesh), name="clamp"))
     assert np.array_equal(by_dofs, by_nodes) and by_dofs.max() > 0
+
+
+def test_an_edge_support_with_an_interior_pin_is_not_taken_for_node_numbers():
+    """y held on the left edge plus an x pin at an interior vertex (dofs the body
+    gave): on a 4 x 3 quad mesh they are [1, 3, 5, 8], all of them also boundary
+    vertex numbers, but as vertices they do not run along the boundary, so they
+    are read as the dofs they are (the first version of the check refused them)."""
+    mesh = skfem.MeshQuad.init_tensor(np.linspace(0, 1, 4), np.linspace(0, 1, 3)).with_defaults()
+    body = Solid(mesh, LinearElastic(E=1.0, nu=0.3), element="quad1", name="b")
+    inner = np.setdiff1d(np.arange(mesh.p.shape[1]), mesh.boundary_nodes())
+    dofs = np.concatenate([body.dofs_on("left", "y"), body.dofs_at_nodes(inner[:1], "x")])
+    assert np.array_equal(Dirichlet(body, dofs).local_dofs, np.unique(dofs))
+    # the mistake the check is for is still refused on the same mesh
+    top = mesh.nodes_satisfying(lambda x: np.isclose(x[1], 1.0))
+    with pytest.raises(ValueError, match="look like node numbers"):
+        Dirichlet(body, top)
+
+
+def test_node_values_in_the_node_major_layout_are_refused():
+    """Per-node values as (nodes, components) would interleave x and y: refused,
+    naming the shape wanted; (components, nodes) pairs each node's x and y."""
+    mesh = skfem.MeshQuad.init_tensor(np.linspace(0, 1, 4), np.linspace(0, 1, 3)).with_defaults()
+    body = Solid(mesh, LinearElastic(E=1.0, nu=0.3), element="quad1", name="b")
+    top = mesh.nodes_satisfying(lambda x: np.isclose(x[1], 1.0))
+    ux = np.arange(1.0, top.size + 1)
+    with pytest.raises(ValueError, match=r"value given per node must have shape \(2, 4\)"):
+        Dirichlet(body, nodes=top, value=np.column_stack([ux, -ux]))
+    d = Dirichlet(body, nodes=top, value=np.vstack([ux, -ux]))
+    dofs, vals = d.prescribed(1.0)
+    nd = body.node_dofs[:, top]
+    lookup = dict(zip(dofs - body.offset, vals))
+    assert [lookup[k] for k in nd[0]] == list(ux) and [lookup[k] for k in nd[1]] == list(-ux)

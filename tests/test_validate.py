@@ -39,3 +39,8 @@ def test_flag_refuses_non_bools(bad):
     with pytest.raises(ValueError, match="^progress must be True or False"):
         flag("progress", bad)
     assert flag("progress", np.True_) is True
+
+
+def test_an_integer_beyond_floats_range_is_refused_not_a_traceback():
+    with pytest.raises(ValueError, match=r"^E must be a finite real number > 0, got an integer of 401 digits"):
+        real("E", 10**400, 0.0, low_open=True)

@@ -88,8 +88,9 @@ NEAR_BOUND = 0.98
 #: by more than this factor.  The rows ``C_t / p_ref``, ``C_t ~ Xi * (error of
 #: lam_t)``, pass Newton's test with ``lam_t`` off by ``rtol S p_ref / Xi^2``: with a
 #: guess 1e5 times the bound (a pressing step of strain 1e-5) 1e-3 of the bound,
-#: which the KKT check (1e-6) refuses at every cut alike.  A row scale leaves
-#: Newton's iterates as they are; only its test changes.
+#: which the KKT check (1e-6) refuses at every cut alike.  With a direct solve a row
+#: scale leaves Newton's iterates as they are and changes only its test (a line
+#: search's residual norm and a Krylov solve's forcing term see it too).
 P_REF_FIT = 2.0
 
 #: the pair's own checkpoint entries (:meth:`ContactPair.state_dict`; the
@@ -694,7 +695,8 @@ class ContactPair(Item):
         do), or the default of :meth:`_p_reference` where no node carries a
         bound yet.  Constant within a step that starts with a bound; a step
         without one re-fixes its guess to the iterates' bounds (:data:`P_REF_FIT`).
-        A row scale changes when Newton stops, never its iterates."""
+        With a direct solve a row scale changes when Newton stops, not its
+        iterates (a line search's or a Krylov solve's steps may change)."""
         self._p_ref_guess = True
         if self.c is None:
             return

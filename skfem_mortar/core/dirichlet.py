@@ -49,12 +49,25 @@ def _named_node_sets(mesh: Any) -> dict[str, np.ndarray]:
             for name, facets in (getattr(mesh, "boundaries", None) or {}).items()}
 
 
+def _along_boundary(mesh: Any, vertices: np.ndarray) -> bool:
+    """Whether each of ``vertices`` that is a corner of a boundary facet shares a
+    boundary facet with another of them (a run along the boundary)."""
+    ends = np.asarray(mesh.facets, dtype=np.int64)[:2, mesh.boundary_facets()]
+    inside = np.isin(ends, vertices)
+    corners = np.isin(vertices, ends)
+    linked = np.isin(vertices, ends[:, inside.all(axis=0)])
+    return bool(np.all(linked | ~corners))
+
+
 def node_numbers_as_dofs(body: Any, dofs: np.ndarray) -> str:
     """Why the local ``dofs`` of a body with a mesh look like node numbers
     ("" if they do not, or if the body has no mesh to tell by).
 
     They do when there are 3 or more, every one is a vertex number
-    (``< n_nodes``) of a vertex on the boundary, and either
+    (``< n_nodes``) of a vertex on the boundary, read as vertices they run along
+    the boundary (each shares a boundary facet with another: what
+    ``mesh.nodes_satisfying`` of an edge and ``mesh.boundary_nodes()`` give;
+    ``dofs_on`` of an edge plus a pin inside reads as scattered vertices), and either
 
     - read as dofs they hold a single component of an interior vertex
       (``mesh.boundary_nodes()``, the nodes of an edge: a support is on the
@@ -77,7 +90,7 @@ def node_numbers_as_dofs(body: Any, dofs: np.ndarray) -> str:
     if given.size < 3 or given.max() >= nd.shape[1]:
         return ""
     bnodes = np.unique(mesh.boundary_nodes())
-    if not np.all(np.isin(given, bnodes)):
+    if not np.all(np.isin(given, bnodes)) or not _along_boundary(mesh, given):
         return ""
     held = np.isin(nd, given)                                # (2, n_nodes)
     half = held[0] != held[1]                                # one component held
@@ -128,6 +141,19 @@ def _check_repeats(value: np.ndarray, inverse: np.ndarray, first: np.ndarray,
                          f"({kept[k]} and {value[k]})")
 
 
+def _node_values(value: np.ndarray, n_dofs: int, component: int | str | None) -> np.ndarray:
+    """Values given per node as ``(components, nodes)`` (an x row and a y row),
+    flat in the order of the dofs; ValueError naming ``value`` for any other
+    shape (a node-major ``(nodes, components)`` array would interleave x and y)."""
+    k = len(_COMPONENTS[component])
+    want = (k, n_dofs // k)
+    if value.shape != want:
+        raise ValueError(f"value given per node must have shape {want} (one row per "
+                         f"component, one column per node; transpose a (nodes, "
+                         f"components) array), got shape {value.shape}")
+    return value.ravel()
+
+
 def _given_dofs(body: Item, dofs: Any, nodes: Any, component: int | str | None) -> np.ndarray:
     """The local dofs of a :class:`Dirichlet`: ``dofs`` checked (and refused
     when they look like node numbers), or the dofs of ``nodes``."""
@@ -147,7 +173,8 @@ def _given_dofs(body: Item, dofs: Any, nodes: Any, component: int | str | None) 
         raise ValueError(f"dofs of body {body.name!r} look like node numbers: {why}. Node k "
                          f"has the dofs body.node_dofs[:, k]: give the nodes as "
                          f"Dirichlet(body, nodes=..., component=None|'x'|'y'), or dofs from "
-                         f"body.dofs_on(boundary) / body.dofs_at_nodes(nodes)")
+                         f"body.dofs_on(boundary) / body.dofs_at_nodes(nodes) (dofs that are "
+                         f"meant, read so, pass as a boolean mask over the body's dofs)")
     return out
 
 
@@ -205,7 +232,7 @@ class Dirichlet(Item):
             value = np.asarray(self.path(0.0), dtype=float)
         value = np.asarray(value, dtype=float)
         if nodes is not None and value.ndim > 1:  # (components, nodes): x row, y row
-            value = value.ravel()
+            value = _node_values(value, dofs.size, component)
         if value.ndim and value.shape != dofs.shape:
             raise ValueError(f"value must be a scalar or one value per dof ({dofs.size}), "
                              f"got shape {value.shape}")

@@ -46,7 +46,10 @@ def real(name: str, value: Any, low: float | None = None, high: float | None = N
             f"{_bounds(low, high, low_open, high_open)}").rstrip()
     if not is_real(value):
         raise ValueError(f"{what}, got {value!r} ({type(value).__name__})")
-    v = float(value)
+    try:
+        v = float(value)
+    except OverflowError:  # an int beyond float's range (10**400)
+        raise ValueError(f"{what}, got an integer of {len(str(int(value)))} digits") from None
     if math.isnan(v) or (finite and math.isinf(v)):
         raise ValueError(f"{what}, got {value!r}")
     if low is not None and (v < low or (low_open and v == low)):

@@ -156,6 +156,25 @@ def _is_stale(held: dict) -> bool:
     return not _alive(pid, start if isinstance(start, str) else None)
 
 
+def _put_back(aside: Path, path: Path) -> None:
+    """Put a live lock that was moved aside back in its place, never over a lock
+    that a third run created meanwhile (then the moved one is kept aside, named
+    in a warning: two runs may both believe they hold the directory)."""
+    try:
+        os.link(aside, path)
+        aside.unlink(missing_ok=True)
+        return
+    except FileExistsError:
+        pass
+    except OSError:  # no hard links here: a rename, where no lock has appeared
+        if not path.exists():
+            os.replace(aside, path)
+            return
+    _log.warning("%s: a lock moved aside as stale was another run's, and a third run has "
+                 "taken the directory meanwhile; the moved lock is kept as %s",
+                 path.parent, aside.name)
+
+
 def _take_over(path: Path, held: dict) -> None:
     """Move a stale lock aside; put it back if what was moved is not the lock judged
     stale (another run took it over in between, or an unreadable lock is a new
@@ -167,10 +186,8 @@ def _take_over(path: Path, held: dict) -> None:
         return
     moved, age = _read_lock(aside), _age(aside)
     if moved != held or (not held and not (age or 0.0) >= UNREADABLE_LOCK_AGE_S):
-        try:
-            os.link(aside, path)
-        except OSError:
-            pass  # a newer lock is in place: the next attempt reads it
+        _put_back(aside, path)
+        return
     elif held:
         _log.warning("%s: took over the stale lock of %s (that process is gone)",
                      path.parent, _describe_lock(held))

@@ -4,13 +4,16 @@ A checkpoint's step file holds a state ``z`` the run says is converged at the
 load factor of its record.  Before a resume starts from it, the state is
 judged by the test Newton passed it with (:mod:`skfem_mortar.solver.newton`,
 module docstring), on a copy of the model with the items' checkpointed states
-restored:
+restored; the tangent, the force scale and the round-off floor are taken at the
+state before the step (Newton took them at its predictor: the margin measured
+on every checkpoint of the suite, 7e-5 of the tolerance at most, is far from
+that difference):
 
 (a) equilibrium: ``|| max(|R_f(z)| - floor, 0) || <= max(rtol * S, atol,
     STAGNATION_RESIDUAL * S)``, the last term the loosest residual Newton
     accepts (a residual stalled at round-off); ``S`` is the step's force scale
     (:func:`~skfem_mortar.solver.newton.step_scale`, at the state before it and
-    its load factor, as Newton took it) and ``floor`` the rows' round-off;
+    its load factor) and ``floor`` the rows' round-off;
 (b) every item's own conditions (:meth:`~skfem_mortar.core.item.Item.violation`,
     e.g. a contact pair's KKT conditions) at that scale;
 (c) no inverted element at the state or the one before it.
