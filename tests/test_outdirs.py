@@ -321,28 +321,28 @@ def test_a_dead_runs_lock_does_not_stop_a_resume(tmp_path, capsys, caplog):
 def _moved_live_lock(tmp_path):
     """A directory whose lock is another run's live lock, and the 'held' content a
     taker judged stale a moment earlier (another lock: so it must be put back)."""
-    from skfem_mortar.output import outdir
+    from skfem_mortar.output import lock
 
     path = tmp_path / LOCK_NAME
     live = {"host": socket.gethostname(), "pid": os.getpid(), "command": "run", "token": "live"}
     path.write_text(json.dumps(live))
-    return outdir, path, {**live, "token": "judged-stale"}
+    return lock, path, {**live, "token": "judged-stale"}
 
 
 def test_a_live_lock_moved_aside_is_put_back_without_hard_links(tmp_path, monkeypatch):
-    outdir, path, judged = _moved_live_lock(tmp_path)
+    lock, path, judged = _moved_live_lock(tmp_path)
 
     def no_links(src, dst, **kw):
         raise OSError(errno.EPERM, "Operation not permitted")
 
     monkeypatch.setattr(os, "link", no_links)
-    outdir._take_over(path, judged)
+    lock._take_over(path, judged)
     assert json.loads(path.read_text())["token"] == "live"      # back in its place
     assert [p.name for p in tmp_path.iterdir()] == [LOCK_NAME]  # nothing left aside
 
 
 def test_a_live_lock_is_never_put_back_over_a_third_runs_lock(tmp_path, monkeypatch, caplog):
-    outdir, path, judged = _moved_live_lock(tmp_path)
+    lock, path, judged = _moved_live_lock(tmp_path)
     real_link = os.link
 
     def third_run_first(src, dst, **kw):  # a third run creates its lock in between
@@ -350,7 +350,7 @@ def test_a_live_lock_is_never_put_back_over_a_third_runs_lock(tmp_path, monkeypa
         return real_link(src, dst, **kw)
 
     monkeypatch.setattr(os, "link", third_run_first)
-    outdir._take_over(path, judged)
+    lock._take_over(path, judged)
     assert json.loads(path.read_text())["token"] == "third"     # not overwritten
     kept = [p for p in tmp_path.iterdir() if p.name != LOCK_NAME]
     assert len(kept) == 1 and json.loads(kept[0].read_text())["token"] == "live"
