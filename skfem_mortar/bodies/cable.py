@@ -156,6 +156,7 @@ class Cable(Item):
     """
 
     dof_kind = "u"
+    geometries = ("plane",)   # the others in their own issues
     loaded = False  # its residual does not depend on the load factor
     phase = "bulk"
 

@@ -11,25 +11,25 @@ __all__ = ["checked_det"]
 
 
 def _finite(F: np.ndarray) -> np.ndarray:
-    """``F`` as floats of shape ``(2, 2, ...)``; InversionError if not finite."""
+    """``F`` as floats of shape ``(d, d, ...)``, ``d`` 2 or 3; InversionError if not finite."""
     F = np.asarray(F, dtype=float)
-    if F.shape[:2] != (2, 2):
-        raise ValueError(f"F must have shape (2, 2, ...), got {F.shape}")
+    if F.shape[:2] not in ((2, 2), (3, 3)):
+        raise ValueError(f"F must have shape (2, 2, ...) or (3, 3, ...), got {F.shape}")
     if not np.all(np.isfinite(F)):
         raise InversionError("non-finite deformation gradient")
     return F
 
 
 def _eye(F: np.ndarray) -> np.ndarray:
-    """The 2 x 2 identity broadcast against the trailing axes of ``F``."""
-    return np.eye(2)[(...,) + (np.newaxis,) * (F.ndim - 2)]
+    """The ``d x d`` identity (``d = F.shape[0]``) broadcast against the trailing axes of ``F``."""
+    return np.eye(F.shape[0])[(...,) + (np.newaxis,) * (F.ndim - 2)]
 
 
 def checked_det(F: np.ndarray) -> np.ndarray:
     """``J = det F``; raise :class:`InversionError` if any ``J <= 0`` or non-finite."""
     F = np.asarray(F, dtype=float)
-    if F.shape[:2] != (2, 2):
-        raise ValueError(f"F must have shape (2, 2, ...), got {F.shape}")
+    if F.shape[:2] not in ((2, 2), (3, 3)):
+        raise ValueError(f"F must have shape (2, 2, ...) or (3, 3, ...), got {F.shape}")
     J = det(F)   # skfem.helpers: the same products as our own 2 x 2 formula, bit for bit
     if not np.all(np.isfinite(J)):
         raise InversionError("non-finite deformation gradient")

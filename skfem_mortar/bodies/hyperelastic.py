@@ -68,7 +68,7 @@ class NeoHooke(Material):
             If the iteration does not converge (``h' <= 0``: a state beyond the
             material's stability limit, possible only for ``lambda < 0``).
         """
-        if self.plane != "stress":
+        if self.plane != "stress" or np.shape(F)[0] == 3:
             return np.zeros(np.shape(F)[2:])
         if lnJ is None:
             lnJ = np.log(checked_det(F))
@@ -99,7 +99,7 @@ class NeoHooke(Material):
         FiT = np.swapaxes(Fi, 0, 1)           # F^-T
         lnJ = np.log(J)
         lam_vol = self.lmbda                  # coefficient of F^-T (x) F^-T in A
-        if self.plane == "stress":
+        if self.plane == "stress" and F.shape[0] == 2:
             t = self.log_stretch_zz(F, lnJ)
             lnJ = lnJ + t                     # ln J_3 = ln (J F_zz)
             y2 = np.exp(2.0 * t)
@@ -111,8 +111,8 @@ class NeoHooke(Material):
         # outer products by broadcasting (faster than einsum on large arrays)
         A = ((self.mu - self.lmbda * lnJ) * Fi[None, :, :, None] * FiT[:, None, None, :]
              + lam_vol * FiT[:, :, None, None] * FiT[None, None, :, :])
-        for i in range(2):
-            for J in range(2):
+        for i in range(F.shape[0]):
+            for J in range(F.shape[0]):
                 A[i, J, i, J] += self.mu          # mu delta_ik delta_JL
         return P, A
 
@@ -122,14 +122,18 @@ class NeoHooke(Material):
         F = np.asarray(F, dtype=float)
         lnJ = np.log(checked_det(F))
         trC = np.einsum("iJ...,iJ...->...", F, F)
-        if self.plane == "stress":
+        if self.plane == "stress" and F.shape[0] == 2:
             t = self.log_stretch_zz(F, lnJ)
             lnJ = lnJ + t
             trC = trC + np.exp(2.0 * t) - 1.0
-        return 0.5 * self.mu * (trC - 2.0 - 2.0 * lnJ) + 0.5 * self.lmbda * lnJ ** 2
+        # the 2D plane-strain sum lacks F_zz^2 = 1: tr C - 2 there, tr C - 3 in 3D
+        return (0.5 * self.mu * (trC - float(F.shape[0]) - 2.0 * lnJ)
+                + 0.5 * self.lmbda * lnJ ** 2)
 
     def stress_zz(self, F: np.ndarray) -> np.ndarray:
         J = checked_det(F)
+        if np.shape(F)[0] == 3:
+            return self.cauchy(F)[0][2, 2]
         if self.plane == "stress":
             return np.zeros_like(J)
         return self.lmbda * np.log(J) / J
@@ -160,11 +164,12 @@ class SaintVenantKirchhoff(Material):
 
     def _pk2(self, F: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         C = np.einsum("kI...,kJ...->IJ...", F, F)
-        trE = 0.5 * (C[0, 0] + C[1, 1] - 2.0)
-        lm = self.lmbda_plane
+        d = F.shape[0]
+        trE = 0.5 * (C[0, 0] + C[1, 1] - 2.0) if d == 2 else 0.5 * (np.trace(C) - 3.0)
+        lm = self.lmbda_plane if d == 2 else self.lmbda
         S = self.mu * (C - _eye(F))
-        S[0, 0] += lm * trE
-        S[1, 1] += lm * trE
+        for i in range(d):
+            S[i, i] += lm * trE
         return S, trE
 
     def stress_and_tangent(self, F: np.ndarray, tangent: bool = True
@@ -177,11 +182,12 @@ class SaintVenantKirchhoff(Material):
             return P, None
         B = np.einsum("iM...,kM...->ik...", F, F)
         # outer products by broadcasting (faster than einsum on large arrays)
-        A = (self.lmbda_plane * F[:, :, None, None] * F[None, None, :, :]
+        lm = self.lmbda_plane if F.shape[0] == 2 else self.lmbda
+        A = (lm * F[:, :, None, None] * F[None, None, :, :]
              + self.mu * F[:, None, None, :] * np.swapaxes(F, 0, 1)[None, :, :, None])
-        for i in range(2):
+        for i in range(F.shape[0]):
             A[i, :, i, :] += S                           # delta_ik S_JL
-            for J in range(2):
+            for J in range(F.shape[0]):
                 A[i, J, :, J] += self.mu * B[i]          # mu B_ik delta_JL
         return P, A
 
@@ -192,6 +198,9 @@ class SaintVenantKirchhoff(Material):
         checked_det(F)
         C = np.einsum("kI...,kJ...->IJ...", F, F)
         E = 0.5 * (C - _eye(F))
+        if F.shape[0] == 3:
+            return (0.5 * self.lmbda * np.trace(E) ** 2
+                    + self.mu * np.einsum("IJ...,IJ...->...", E, E))
         trE = E[0, 0] + E[1, 1]
         return 0.5 * self.lmbda_plane * trE ** 2 + self.mu * np.einsum("IJ...,IJ...->...", E, E)
 
@@ -199,7 +208,7 @@ class SaintVenantKirchhoff(Material):
         """``F_zz = sqrt(1 + 2 E_zz)`` (plane stress; InversionError where
         ``1 + 2 E_zz <= 0``), 1 in plane strain."""
         F = np.asarray(F, dtype=float)
-        if self.plane != "stress":
+        if self.plane != "stress" or F.shape[0] == 3:
             return np.ones(F.shape[2:])
         _, trE = self._pk2(F)
         c33 = 1.0 - 2.0 * self.lmbda * trE / (self.lmbda + 2.0 * self.mu)
@@ -210,6 +219,8 @@ class SaintVenantKirchhoff(Material):
 
     def stress_zz(self, F: np.ndarray) -> np.ndarray:
         J = checked_det(F)
+        if np.shape(F)[0] == 3:
+            return self.cauchy(F)[0][2, 2]
         if self.plane == "stress":
             return np.zeros_like(J)
         _, trE = self._pk2(np.asarray(F, dtype=float))

@@ -127,8 +127,13 @@ class Material:
 
     # -- post-processing ---------------------------------------------------
     def cauchy(self, F: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """Cauchy stress ``sigma = P F^T / (J F_zz)`` (2, 2, ...) and ``sigma_zz`` (...)."""
+        """Cauchy stress ``sigma = P F^T / (J F_zz)`` (2, 2, ...) and ``sigma_zz`` (...);
+        for a 3 x 3 ``F`` (3D, or a 2D body's ``F`` with its out-of-plane stretch)
+        ``sigma = P F^T / J`` (3, 3, ...) and its ``sigma[2, 2]``."""
         J = checked_det(F)
+        if np.shape(F)[0] == 3:
+            sigma = np.einsum("iJ...,kJ...->ik...", self.stress(F), F) / J
+            return sigma, sigma[2, 2]
         if self.plane == "stress":
             J = J * self.stretch_zz(F)
         P = self.stress(F)
@@ -138,8 +143,11 @@ class Material:
     def von_mises(self, F: np.ndarray) -> np.ndarray:
         """``sqrt(((s_xx - s_yy)^2 + (s_yy - s_zz)^2 + (s_zz - s_xx)^2) / 2 + 3 s_xy^2)``."""
         s, szz = self.cauchy(F)
+        shear = 3.0 * s[0, 1] ** 2
+        if s.shape[0] == 3:   # + 3 (s_yz^2 + s_zx^2)
+            shear = shear + 3.0 * (s[1, 2] ** 2 + s[2, 0] ** 2)
         return np.sqrt(0.5 * ((s[0, 0] - s[1, 1]) ** 2 + (s[1, 1] - szz) ** 2
-                              + (szz - s[0, 0]) ** 2) + 3.0 * s[0, 1] ** 2)
+                              + (szz - s[0, 0]) ** 2) + shear)
 
 
 class LinearElastic(Material):
@@ -174,14 +182,15 @@ class LinearElastic(Material):
     def stress_and_tangent(self, F: np.ndarray, tangent: bool = True
                            ) -> tuple[np.ndarray, np.ndarray | None]:
         eps = self.strain(F)
-        lm = self.lmbda_plane
+        d = eps.shape[0]
+        lm = self.lmbda_plane if d == 2 else self.lmbda
         sigma = 2.0 * self.mu * eps
-        tr = eps[0, 0] + eps[1, 1]
-        sigma[0, 0] += lm * tr
-        sigma[1, 1] += lm * tr
+        tr = eps[0, 0] + eps[1, 1] if d == 2 else np.trace(eps)
+        for i in range(d):
+            sigma[i, i] += lm * tr
         if not tangent:
             return sigma, None
-        I = np.eye(2)
+        I = np.eye(d)
         A0 = (lm * I[:, :, None, None] * I[None, None, :, :]
               + self.mu * (I[:, None, :, None] * I[None, :, None, :]
                            + I[:, None, None, :] * I[None, :, :, None]))
@@ -192,6 +201,9 @@ class LinearElastic(Material):
     def energy(self, F: np.ndarray) -> np.ndarray:
         """``W = lambda_p/2 (tr eps)^2 + mu eps : eps``."""
         eps = self.strain(F)
+        if eps.shape[0] == 3:
+            return (0.5 * self.lmbda * np.trace(eps) ** 2
+                    + self.mu * np.einsum("IJ...,IJ...->...", eps, eps))
         tr = eps[0, 0] + eps[1, 1]
         return 0.5 * self.lmbda_plane * tr ** 2 + self.mu * np.einsum("IJ...,IJ...->...",
                                                                       eps, eps)
@@ -203,6 +215,8 @@ class LinearElastic(Material):
     def strain_zz(self, F: np.ndarray) -> np.ndarray:
         """``eps_zz``: 0 (plane strain) or ``-lambda tr eps / (lambda + 2 mu)``."""
         eps = self.strain(F)
+        if eps.shape[0] == 3:
+            return eps[2, 2]
         if self.plane != "stress":
             return np.zeros(eps.shape[2:])
         return -self.lmbda * (eps[0, 0] + eps[1, 1]) / (self.lmbda + 2.0 * self.mu)
@@ -214,6 +228,8 @@ class LinearElastic(Material):
     def stress_zz(self, F: np.ndarray) -> np.ndarray:
         """``sigma_zz = lambda tr eps`` (plane strain) or 0 (plane stress)."""
         eps = self.strain(F)
+        if eps.shape[0] == 3:
+            return self.stress(F)[2, 2]
         if self.plane == "stress":
             return np.zeros(eps.shape[2:])
         return self.lmbda * (eps[0, 0] + eps[1, 1])

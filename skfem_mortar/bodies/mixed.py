@@ -145,6 +145,8 @@ class MixedSolid(Solid):
     element = "mini"
     dof_kind = "u"
     phase = "bulk"
+    geometries = ("plane",)
+    _geometry = "plane"
 
     def __init__(self, mesh: MeshTri, material: NeoHooke, name: str = "solid",
                  intorder: int = 4, *, kinematics: str = "finite", plane: str = "strain"):

@@ -55,6 +55,8 @@ from skfem import (Basis, BilinearForm, ElementQuad1, ElementQuad2, ElementTriP1
 from skfem.helpers import ddot, grad
 
 from .checks import check_mesh, quadrature_order
+from .geometry_terms import TERMS, terms_of
+from .hoop import hoop_gradient, hoop_residual, hoop_tangent
 from ..core.coo import element_coo
 from .materials import PLANES, LinearElastic, Material
 from ..core.item import Contribution, Item
@@ -253,28 +255,56 @@ class Solid(Item):
         self.element = element
         self.name = name
         self._cell_type = cell_type
-        if intorder is None and element == "tri1":
-            # the centroid: exact for piecewise constant integrands (skfem's
-            # lowest triangle rule has three points)
-            kw = {"quadrature": (np.array([[1.0 / 3.0], [1.0 / 3.0]]), np.array([0.5]))}
-        else:
-            kw = {} if intorder is None else {"intorder": int(intorder)}
-        self.basis = Basis(mesh, ElementVector(elem_cls()), **kw)
-        self._kernel_data()
+        self._elem_cls, self._intorder = elem_cls, intorder
+        self._geometry = "plane"
+        self._make_basis()
         self.n_dofs = int(self.basis.N)
         self._n_nodes = int(mesh.nvertices)
         every = self.basis.get_dofs(elements=np.arange(mesh.nelements))
         self.dof_component = np.zeros(self.n_dofs, dtype=np.int64)
         self.dof_component[np.asarray(every.all(["u^2"]), dtype=np.int64)] = 1
 
+    # -- the geometry (the model's, :mod:`.geometry_terms`) -------------------
+    @property
+    def geometries(self) -> tuple[str, ...]:
+        """The geometries this solid works in: those with kernel terms."""
+        return tuple(TERMS)
+
+    @property
+    def geometry(self) -> str:
+        """The model's geometry; setting another rebuilds the basis and kernel data."""
+        return self._geometry
+
+    @geometry.setter
+    def geometry(self, value: str) -> None:
+        if value != self._geometry:
+            terms_of(value)
+            self._geometry = value
+            self._make_basis()
+
+    def _make_basis(self) -> None:
+        """The vector basis (its quadrature from the geometry's terms) and the kernel data."""
+        terms = terms_of(self._geometry)
+        kw = terms.quadrature(self.element, self._intorder)
+        if not kw and self.element == "tri1" and self._geometry == "plane":
+            # the centroid: exact for piecewise constant integrands (skfem's
+            # lowest triangle rule has three points)
+            kw = {"quadrature": (np.array([[1.0 / 3.0], [1.0 / 3.0]]), np.array([0.5]))}
+        self.basis = Basis(self.mesh, ElementVector(self._elem_cls()), **kw)
+        self._kernel_data()
+
     def _kernel_data(self) -> None:
-        """Cache what every assembly needs: local dofs, components, ``dN`` and ``dx``."""
+        """Cache what every assembly needs: local dofs, components, ``dN``, ``dx``
+        (times the geometry's weight) and the hoop term (:mod:`.geometry_terms`)."""
         b = self.basis
         self._edofs = np.asarray(b.element_dofs, dtype=np.int64)       # (n_loc, n_el)
         grads = [np.asarray(b.basis[l][0].grad) for l in range(b.Nbfun)]  # (2, 2, n_el, n_qp)
         self._comp = np.array([int(np.argmax(np.abs(g).sum(axis=(1, 2, 3)))) for g in grads])
         self._dN = np.stack([g[c] for g, c in zip(grads, self._comp)])  # (n_loc, 2, n_el, n_qp)
-        self._dx = np.asarray(b.dx)                                      # (n_el, n_qp)
+        terms = terms_of(self._geometry)
+        weight = terms.weight(b)
+        self._dx = np.asarray(b.dx) if weight is None else np.asarray(b.dx) * weight
+        self._hoop = terms.hoop(b, self._comp)          # None or (n_loc, n_el, n_qp)
         self._dNdx = self._dN * self._dx                                 # the residual's
         # each component's local dofs and dN (copies: Grad u reads them every call)
         self._by_component = [(self._edofs[self._comp == c], self._dN[self._comp == c])
@@ -368,10 +398,11 @@ class Solid(Item):
     def deformation_gradient(self, z: np.ndarray) -> np.ndarray:
         """``F = I + Grad u`` on all quadrature points, shape ``(2, 2, n_el, n_qp)``,
         for the global unknowns ``z`` (every method taking ``z`` expects the global vector)."""
-        F = self._grad_u(np.asarray(self.u(z), dtype=float))
+        u = np.asarray(self.u(z), dtype=float)
+        F = self._grad_u(u)
         F[0, 0] += 1.0
         F[1, 1] += 1.0
-        return F
+        return F if self._hoop is None else hoop_gradient(F, u, self._edofs, self._hoop)
 
     def internal_force(self, z: np.ndarray) -> np.ndarray:
         """Internal force ``int Grad v : P dV`` on the body's dofs (length ``n_dofs``)
@@ -384,11 +415,18 @@ class Solid(Item):
         F = self.deformation_gradient(z)
         P, A = self.material.stress_and_tangent(F, tangent=tangent)
         re = self._residuals(P)
+        if self._hoop is not None:
+            re += hoop_residual(P, self._hoop, self._dx)
         r = np.bincount(self._edofs.ravel(), weights=re.ravel(), minlength=self.n_dofs)
         if not tangent:
             return Contribution.from_local(self.offset, r)
-        ke = (self._tangents_one_point(A) if self._dx.shape[1] == 1 and self._comp_slices
-              else self._tangents(A * self._dx))
+        if self._hoop is not None:
+            ke = self._tangents(A[:2, :2, :2, :2] * self._dx)
+            ke += hoop_tangent(A, self._dN, self._comp, self._hoop, self._dx)
+        elif self._dx.shape[1] == 1 and self._comp_slices:
+            ke = self._tangents_one_point(A)
+        else:
+            ke = self._tangents(A * self._dx)
         rows, cols = self._tangent_index()
         out = Contribution.from_local(self.offset, r)
         out.k_rows, out.k_cols, out.k_vals = rows, cols, ke.ravel()
@@ -399,8 +437,8 @@ class Solid(Item):
         """Element residuals ``r_e[l] = sum_q P[c_l, J] dN[l, J] dx``, ``(n_loc, n_el)``;
         with one quadrature point the two-term sums of ``einsum`` written by
         component (no copy ``P[comp]``, as :meth:`_tangents_one_point`)."""
-        if self._dx.shape[1] != 1 or not self._comp_slices:
-            return np.einsum("lJeq,lJeq->le", P[self._comp], self._dNdx)
+        if self._dx.shape[1] != 1 or not self._comp_slices or self._hoop is not None:
+            return np.einsum("lJeq,lJeq->le", P[:2, :2][self._comp], self._dNdx)
         dNdx = self._dNdx[..., 0]
         re = np.empty(dNdx[:, 0].shape)
         for k, on in self._comp_slices:

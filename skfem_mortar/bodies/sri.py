@@ -79,6 +79,8 @@ class SRISolid(Solid):
     full neo-Hookean Cauchy stress at the 2 x 2 points, smoothed per element.
     """
 
+    geometries = ("plane",)
+
     def __init__(self, mesh: MeshQuad, material: NeoHooke, name: str = "solid", *,
                  kinematics: str = "finite", plane: str = "strain"):
         refuse_reduction(type(self).__name__, kinematics, plane)

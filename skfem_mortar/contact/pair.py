@@ -388,6 +388,7 @@ class ContactPair(Item):
     """
 
     dof_kind = "lam"
+    geometries = ("plane",)   # the others in their own issues
     loaded = False  # its residual does not depend on the load factor
     #: K_lamu = c G on active rows against K_ulam = -G^T (and H): not symmetric
     symmetric = False

@@ -146,6 +146,7 @@ class TiePair(Item):
     """
 
     dof_kind = "lam"
+    geometries = ("plane",)   # the others in their own issues
     loaded = False  # its residual does not depend on the load factor
     symmetric = True  # K_ulam = -B^T, K_lamu = -B
     has_history = False  # D and M depend only on the reference configuration

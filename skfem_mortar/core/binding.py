@@ -52,8 +52,9 @@ def claim(ref: "weakref.ref[Model]", items: list["Item"]) -> None:
             it.__dict__[_OWNER] = ref
 
 
-def layout(items: list["Item"], thickness: float) -> tuple[list[tuple[Any, ...]], int, int]:
-    """Each item's ``(item, offset or None, thickness)`` in a model of these
+def layout(items: list["Item"], thickness: float, geometry: str = "plane"
+           ) -> tuple[list[tuple[Any, ...]], int, int]:
+    """Each item's ``(item, offset or None, thickness, geometry)`` in a model of these
     items (displacement blocks first, in order, then the multiplier blocks),
     the number of displacement unknowns and of all unknowns."""
     offsets: dict[int, int] = {}
@@ -65,19 +66,20 @@ def layout(items: list["Item"], thickness: float) -> tuple[list[tuple[Any, ...]]
                 n += int(it.n_dofs)
         if kind == "u":
             n_u = n
-    rows = [(it, offsets.get(id(it)), thickness if it.per_thickness else 1.0) for it in items]
+    rows = [(it, offsets.get(id(it)), thickness if it.per_thickness else 1.0, geometry)
+            for it in items]
     return rows, n_u, n
 
 
 def bind(model: "Model", ref: "weakref.ref[Model]", rows: list[tuple[Any, ...]]) -> None:
     """Write the layout ``rows`` of :func:`layout` into the items unless every
     item holds it already (``ref``: the model's weak reference, the token)."""
-    for it, _, _ in rows:
+    for it, *_ in rows:
         if it.__dict__.get(_BOUND) is not ref:
             break
     else:
         return
-    for it, _, _ in rows:
+    for it, *_ in rows:
         if it.has_history and it.__dict__.get(_OWNER) is not ref:
             raise ValueError(
                 f"item {it.name!r} ({type(it).__name__}) keeps a state from step to step "
@@ -85,10 +87,12 @@ def bind(model: "Model", ref: "weakref.ref[Model]", rows: list[tuple[Any, ...]])
                 f"that model now, so this one can no longer be used; build a new "
                 f"{type(it).__name__} for each model (bodies, loads and boundary "
                 f"conditions may be shared)")
-    for it, offset, H in rows:
+    for it, offset, H, geometry in rows:
         if offset is not None:
             it.offset = offset
         it.thickness = H
+        if it.geometry != geometry:   # a body rebuilds its geometry's kernel data
+            it.geometry = geometry
         it.__dict__[_BOUND] = ref
 
 

@@ -146,6 +146,14 @@ class Item:
         ``TiePair.forces``) multiply them by it, so that those are totals over
         ``H`` like the model's residual and reactions.  Default 1 (an item in
         no model); an item in several models has that of the one used last.
+    geometry : str
+        Set by the :class:`Model` the item is in: its geometry, ``"plane"``,
+        ``"axisymmetric"`` or ``"3d"`` (:mod:`~skfem_mortar.core.geometry`).
+        Default ``"plane"`` (an item in no model).  A body whose integrals
+        depend on it rebuilds what it caches when it changes.
+    geometries : tuple of str or None
+        Declaration: the geometries the item works in; a model of another
+        geometry refuses it, naming it.  Default None: any (a user's item).
     has_history : bool
         Declaration: the item carries state from one load step to the next
         (an active set), i.e. it keeps a :meth:`state_dict`.  Default: whether
@@ -161,6 +169,8 @@ class Item:
     loaded: bool = True
     per_thickness: bool = True
     thickness: float = 1.0
+    geometry: str = "plane"
+    geometries: tuple[str, ...] | None = None
 
     @property
     def has_history(self) -> bool:

@@ -23,6 +23,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from .binding import bind, claim, layout
+from .geometry import model_geometry
 from .checks import _MODEL_CHECKS, _check_items, check_thickness, register_check
 from .item import Body, ContactTable, Contribution, Item, ItemProtocol, Output
 from .pattern import _Pattern, _cat, _same
@@ -70,13 +71,19 @@ class Model:
         ``TiePair.forces``, ``FollowerPressure.resultant``) are totals too;
         a body's ``internal_force`` (its element residual) stays per unit
         thickness.  With ``H = 1`` nothing is multiplied.
+    geometry : {None, "plane", "axisymmetric", "3d"}
+        The geometry (:mod:`~skfem_mortar.core.geometry`), handed to the items
+        like the thickness (:attr:`Item.geometry`).  Default: ``"3d"`` when a
+        body is on a 3D mesh, else ``"plane"``.  An item built for another
+        geometry is refused, naming it.
 
     Raises
     ------
     ValueError
         For an item that is not an :class:`Item` or is listed twice, a body an
-        item acts on that is missing, repeated body or pair names, or a
-        ``thickness`` that is not finite and > 0; at any use, for a model one
+        item acts on that is missing, repeated body or pair names, a
+        ``thickness`` that is not finite and > 0, a ``geometry`` not allowed
+        (:func:`~skfem_mortar.core.geometry.model_geometry`); at any use, for a model one
         of whose items with a history (a contact pair) a later model took.
 
     Notes
@@ -89,10 +96,12 @@ class Model:
     to the model built last with it (:mod:`~skfem_mortar.core.binding`).
     """
 
-    def __init__(self, items: Sequence[Item], thickness: float = 1.0):
+    def __init__(self, items: Sequence[Item], thickness: float = 1.0,
+                 geometry: str | None = None):
         self.thickness = check_thickness(thickness)
         items = list(items)
         _check_items(items)
+        self.geometry = model_geometry(geometry, items, self.thickness)
         # bodies and contact pairs name output files and blocks: their names are unique
         names = [it.name for it in items if it.dof_kind is not None]
         dup = {n for n in names if names.count(n) > 1}
@@ -104,7 +113,7 @@ class Model:
         claim(self._ref, items)  # an item with a history belongs to this model now
         # the model's own layout (offsets, thickness), written into the items
         # at every use (bind): a body may be in several models
-        self._layout, self.n_u, self.n = layout(items, self.thickness)
+        self._layout, self.n_u, self.n = layout(items, self.thickness, self.geometry)
         self.n_lam = self.n - self.n_u
         self.bind()
         self.timers: dict[str, float] = defaultdict(float)

@@ -80,6 +80,7 @@ class FollowerPressure(Item):
 
     dof_kind = None
     phase = "loads"
+    geometries = ("plane",)   # the others in their own issues
     #: the load follows the surface: its tangent is not symmetric
     symmetric = False
 

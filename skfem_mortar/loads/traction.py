@@ -46,6 +46,7 @@ class Traction(Item):
     """
 
     phase = "loads"
+    geometries = ("plane",)   # the others in their own issues
 
     def __init__(self, body, boundary: str | np.ndarray,
                  traction: Sequence[float] | Callable[[np.ndarray], np.ndarray],
