@@ -15,6 +15,14 @@ LAWS = [NeoHooke(E=10.0, nu=0.3), SaintVenantKirchhoff(E=10.0, nu=0.3),
 FD_RTOL = 1e-7
 
 
+def _central(f, F, k, L, h=1e-6):
+    """``(f(F + h e_kL) - f(F - h e_kL)) / 2h``."""
+    Fp, Fm = F.copy(), F.copy()
+    Fp[k, L] += h
+    Fm[k, L] -= h
+    return (f(Fp) - f(Fm)) / (2 * h)
+
+
 def _F(n=5, seed=0):
     rng = np.random.default_rng(seed)
     return np.eye(3)[:, :, None] + 0.2 * rng.standard_normal((3, 3, n))
@@ -25,13 +33,9 @@ def test_tangent_3d_matches_finite_differences(law):
     F = _F()
     P, A = law.stress_and_tangent(F)
     assert P.shape == (3, 3, 5) and A.shape == (3, 3, 3, 3, 5)
-    h = 1e-6
     for k in range(3):
         for L in range(3):
-            Fp, Fm = F.copy(), F.copy()
-            Fp[k, L] += h
-            Fm[k, L] -= h
-            fd = (law.stress(Fp) - law.stress(Fm)) / (2 * h)
+            fd = _central(law.stress, F, k, L)
             assert np.abs(fd - A[:, :, k, L]).max() <= FD_RTOL * np.abs(A).max()
 
 
@@ -39,13 +43,9 @@ def test_tangent_3d_matches_finite_differences(law):
 def test_stress_3d_is_the_energy_derivative(law):
     F = _F(seed=1)
     P = law.stress(F)
-    h = 1e-6
     for k in range(3):
         for L in range(3):
-            Fp, Fm = F.copy(), F.copy()
-            Fp[k, L] += h
-            Fm[k, L] -= h
-            fd = (law.energy(Fp) - law.energy(Fm)) / (2 * h)
+            fd = _central(law.energy, F, k, L)
             assert np.abs(fd - P[k, L]).max() <= FD_RTOL * np.abs(P).max()
 
 
