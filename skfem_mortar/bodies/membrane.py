@@ -104,7 +104,7 @@ class Membrane(Item):
         self.name = name
         self.pole = _snap_axis(X, name)
         if np.any(self.pole[elements].all(axis=1)):
-            raise ValueError(f"{name}: an element lies on the axis (both nodes at R = 0)")
+            raise ValueError(f"membrane {name!r}: an element lies on the axis (both nodes at R = 0)")
         self.X, self.elements = X, elements
         self.H = real("H", H, 0.0, low_open=True)
         self.law = membrane_law(law, mu, E, nu)
@@ -229,7 +229,7 @@ def _snap_axis(X: np.ndarray, name: str) -> np.ndarray:
     size = float(np.max(np.ptp(X, axis=1)))
     tol = AXIS_RTOL * max(size, float(np.max(np.abs(X))))
     if X[0].min() < -tol:
-        raise ValueError(f"{name}: a node lies left of the axis (R < 0), the smallest R "
+        raise ValueError(f"membrane {name!r}: a node lies left of the axis (R < 0), the smallest R "
                          f"is {X[0].min():.6g}; an axisymmetric body needs R >= 0")
     pole = np.abs(X[0]) <= tol
     X[0, pole] = 0.0
