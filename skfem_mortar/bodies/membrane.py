@@ -180,19 +180,19 @@ class Membrane(Item):
         c = 2 * np.pi * self.H * self.rest_length[:, None] * _W * self._Rq   # (n_el, 2)
         t = (d / length).T                                               # (n_el, 2)
         g1 = np.hstack([-t, t]) / self.rest_length[:, None]              # (n_el, 4)
-        g2 = np.zeros(c.shape + (4,))
-        g2[..., 0], g2[..., 2] = _NQ[0] / self._Rq, _NQ[1] / self._Rq    # (n_el, 2, 4)
-        r = (c * W1).sum(axis=1)[:, None] * g1 + np.einsum("eq,eqa->ea", c * W2, g2)
+        NR = _NQ.T[None] / self._Rq[..., None]          # g2_q's entries at r_i, r_j (n_el, 2, 2)
+        r = (c * W1).sum(axis=1)[:, None] * g1
+        r[:, ::2] += np.einsum("eq,eqa->ea", c * W2, NR)
         dofs = self.offset + self.element_dofs()
         if not np.all(np.isfinite(r)):
             raise InversionError(f"{self.name}: non-finite membrane forces")
         if not tangent:
             return Contribution.from_dofs(dofs, r)
-        g1g1 = np.einsum("ea,eb->eab", g1, g1)
-        g12 = np.einsum("ea,eqb->eqab", g1, g2)
-        k = ((c * W11).sum(axis=1)[:, None, None] * g1g1
-             + np.einsum("eq,eqab->eab", c * W12, g12 + g12.transpose(0, 1, 3, 2))
-             + np.einsum("eq,eqa,eqb->eab", c * W22, g2, g2))
+        k = (c * W11).sum(axis=1)[:, None, None] * np.einsum("ea,eb->eab", g1, g1)
+        h = np.zeros_like(g1)
+        h[:, ::2] = np.einsum("eq,eqa->ea", c * W12, NR)                 # sum_q c W_12 g2_q
+        k += np.einsum("ea,eb->eab", g1, h) + np.einsum("ea,eb->eab", h, g1)
+        k[:, ::2, ::2] += np.einsum("eq,eqa,eqb->eab", c * W22, NR, NR)
         P = np.eye(2) - np.einsum("ei,ej->eij", t, t)
         geo = ((c * W1).sum(axis=1) / (self.rest_length * length))[:, None, None] * P
         k[:, :2, :2] += geo

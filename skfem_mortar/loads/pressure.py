@@ -168,8 +168,9 @@ def revolved_load(x: np.ndarray, c: float, tangent: bool
     if not tangent:
         return f, None
     k = np.zeros((n_f, n_loc, 2, n_loc, 2))
-    k[..., 0] = 2 * np.pi * c * np.einsum("q,aq,bq,fqi->faib", w, N, N, Qg)
-    k += 2 * np.pi * c * np.einsum("q,aq,fq,bq,ij->faibj", w, N, r, dN, _Q)
+    k[..., 0] = 2 * np.pi * c * np.einsum("abq,fqi->faib", w * N[:, None] * N[None], Qg)
+    M = 2 * np.pi * c * np.einsum("abq,fq->fab", w * N[:, None] * dN[None], r)
+    k += M[:, :, None, :, None] * _Q[None, None, :, None, :]
     return f, k.reshape(n_f, 2 * n_loc, 2 * n_loc)
 
 
