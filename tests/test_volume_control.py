@@ -67,3 +67,25 @@ def test_solve_holds_the_volume():
     # Newton's rtol 1e-10 of the step's load (the volume increment, about 1)
     assert vc.enclosed(res.z) == pytest.approx(vc.target(1.0), rel=1e-9)
     assert vc.pressure(res.z) > 0.0                      # inflating: a positive pressure
+
+
+@pytest.mark.parametrize("element", ["tri1", "tri2"])
+def test_solid_face_turned_with_its_midside_node(element):
+    """A solid's face r = 0.5, z in [0, 1] (the body on its right going up: the
+    facets come clockwise, V = -pi / 4) is turned to V0 = pi / 4 exactly; a
+    3-node facet keeps its midside node last (turning all three would not)."""
+    from skfem import MeshTri
+    from skfem_mortar.bodies.material import LinearElastic
+    from skfem_mortar.bodies.solid import Solid
+
+    mesh = MeshTri.init_tensor(np.linspace(0.5, 1.5, 3), np.linspace(0.0, 1.0, 4))
+    mesh = mesh.with_boundaries({"inner": lambda x: np.isclose(x[0], 0.5)})
+    body = Solid(mesh, LinearElastic(E=1.0, nu=0.3), element=element)
+    vc = VolumeControl(body, 1.0, facets="inner")
+    assert vc.reference_volume == pytest.approx(np.pi / 4, rel=1e-14)
+    z = np.zeros(body.n_dofs + 1)
+    assert vc.enclosed(z) == pytest.approx(np.pi / 4, rel=1e-14)
+    vc.offset = body.n_dofs
+    z = 0.05 * np.random.default_rng(5).standard_normal(z.size)
+    _, K = dense(vc.assemble(z, 0.5), z.size)
+    assert np.abs(K - fd_tangent(vc, z, 0.5)).max() <= 1e-8 * np.abs(K).max()

@@ -116,8 +116,9 @@ class VolumeControl(Item):
         V0 = self.function.evaluate(X, hessian=False)[0]
         if not abs(V0) > 0:
             raise ValueError(f"{self.name}: the reference surface encloses no volume")
-        if V0 < 0:   # clockwise: turn every facet around
-            dofs, X = dofs[:, ::-1].copy(), X[:, ::-1].copy()
+        if V0 < 0:   # clockwise: turn every facet around (swap its ends, keep a midside node)
+            turn = [1, 0] + list(range(2, dofs.shape[1]))
+            dofs, X = dofs[:, turn].copy(), X[:, turn].copy()
             V0 = self.function.evaluate(X, hessian=False)[0]
         self.reference_volume = float(V0)
         self._flat, self._X = dofs.reshape(len(dofs), -1), X
