@@ -60,14 +60,15 @@ class FollowerPressure(Item):
 
     Parameters
     ----------
-    body : Cable or Solid
-        A cable (the chain of its elements is loaded), or a body with an skfem
+    body : Cable, Membrane or Solid
+        A cable or membrane (the chain of its elements is loaded), or a body with an skfem
         ``mesh`` and vector ``basis`` (then ``facets`` selects the boundary).
     pressure : float
         Final pressure ``p`` (force per current length per unit reference
         thickness: a model's thickness multiplies the force, an out-of-plane
-        stretch does not change the loaded area), finite.  The applied
-        value is ``load_factor * p`` (or ``p`` when ``ramp`` is False).
+        stretch does not change the loaded area; in an axisymmetric model:
+        force per current area of the surface of revolution), finite.  The
+        applied value is ``load_factor * p`` (or ``p`` when ``ramp`` is False).
     side : {"left", "right"} for a cable; {"inward", "outward"} for a solid
         Where the load pushes: left or right of the chain direction of the
         cable (a counter-clockwise ring has its outside on the right); into
@@ -130,7 +131,8 @@ class FollowerPressure(Item):
 
     def resultant(self, z: np.ndarray, load_factor: float = 1.0) -> np.ndarray:
         """Total applied force (2,) = sum of the nodal loads ``f_a``, over the
-        model's thickness ``H`` (:attr:`~skfem_mortar.core.item.Item.thickness`)."""
+        model's thickness ``H`` (:attr:`~skfem_mortar.core.item.Item.thickness`);
+        in an axisymmetric model ``(0, F_z)``, the axial force over the revolution."""
         c = self.thickness * self.sign * self.current_pressure(load_factor)
         dofs = self.body.offset + self._flat
         x = self._X.reshape(len(dofs), -1) + np.asarray(z)[dofs]
