@@ -25,7 +25,9 @@ unknowns or items with a history (contact pairs, volume control: their Newton
 matrix is not a stiffness), with a prescribed displacement that moves with the
 load factor (displacement control has no limit point in the load), or with no
 load pattern.  The extra cost is one assembly and one factorization per
-converged step of the models it is computed for.
+converged step of the models it is computed for.  The reference ``(.)_0``
+belongs to the solve: a run resumed from a checkpoint takes it again at its
+first converged step (the watch keeps no checkpointed state).
 """
 from __future__ import annotations
 
