@@ -67,7 +67,7 @@ def test_solid_face_load_stiffness_is_exact(element):
 
 
 def test_on_an_axisymmetric_solid_against_lame():
-    """With the axisymmetric solid (issue 35's solids; skipped on a branch without
+    """With the axisymmetric solid (bodies/axisymmetric.py; skipped on a branch without
     them): thick_sphere's quad2 wall (a = 1, b = 2, n = 4, neo-Hooke, nu = 0.3)
     under a follower pressure p = 1e-4 E on its inner face: u_r(a) within 1e-3 of
     Lame's (measured 2.1e-4: the follower and finite-strain effects, O(p / E), and

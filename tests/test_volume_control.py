@@ -55,6 +55,8 @@ def test_orientation_and_target():
     assert a.target(0.5) == pytest.approx(0.5 * (a.reference_volume + 3.0), rel=1e-15)
     with pytest.raises(ValueError, match="volume must be"):
         VolumeControl(_hemisphere(), -1.0)
+    with pytest.raises(ValueError, match="negative volume"):   # walls: no turning
+        VolumeControl(_hemisphere(), 3.0, function=MeridianVolume(walls=-5.0))
     with pytest.raises(ValueError, match="encloses no volume"):
         VolumeControl(Membrane(np.array([[1.0, 2.0], [0.0, 0.0]]), mu=1.0), 1.0)
 

@@ -24,9 +24,11 @@ for 2- and 3-node facets)::
     dV/dz_a = pi sum_q w_q r_q^2 N_a' ,
     d2V/dr_a dr_b = 2 pi sum_q w_q N_a N_b z'_q ,  d2V/dr_a dz_b = 2 pi sum_q w_q r_q N_a N_b' .
 
-The facets' orientation is taken so that the reference volume is positive
-(counter-clockwise in the ``(r, z)`` plane); a 3D volume function (a closed
-triangulated surface) plugs in the same way later.
+Without walls the facets' orientation is taken so that the reference volume
+is positive (counter-clockwise in the ``(r, z)`` plane); with walls the
+facets must come counter-clockwise with them (a negative reference volume is
+refused).  A 3D volume function (a closed triangulated surface) plugs in the
+same way later.
 """
 from __future__ import annotations
 
@@ -116,6 +118,11 @@ class VolumeControl(Item):
         V0 = self.function.evaluate(X, hessian=False)[0]
         if not abs(V0) > 0:
             raise ValueError(f"{self.name}: the reference surface encloses no volume")
+        walls = getattr(self.function, "walls", 0.0)
+        if V0 < 0 and walls:
+            raise ValueError(f"{self.name}: the facets and the walls enclose a negative "
+                             f"volume {V0:.6g}: give the walls' pi oint r^2 dz in the facets' "
+                             f"sense, counter-clockwise in the (r, z) plane")
         if V0 < 0:   # clockwise: turn every facet around (swap its ends, keep a midside node)
             turn = [1, 0] + list(range(2, dofs.shape[1]))
             dofs, X = dofs[:, turn].copy(), X[:, turn].copy()

@@ -1,5 +1,5 @@
 """Scene ``balloon``: a hemispherical neo-Hookean membrane inflated under volume
-control past its pressure maximum (issue 35's balloon).
+control past its pressure maximum.
 
 A hemisphere of radius ``R`` and thickness ``H`` (the meridian from the equator
 ``(R, 0)`` to the pole ``(0, R)``, ``n_elements`` equal arcs; ``u_z = 0`` at the
