@@ -18,6 +18,19 @@ constant matrix
 
 (the residual is ``R = f_int - f_ext``; loads enter with a minus sign).
 Linear (2-node) and quadratic (3-node: ends, then midside) facets are supported.
+
+*Axisymmetric models* (``(r, z) = (x, y)``, forces are totals over the full
+revolution): the load acts on the current surface of revolution, area element
+``2 pi r |x_{,xi}| dxi``, so
+
+    f_a = 2 pi s p lf  int_0^1 N_a r Q x_{,xi} dxi ,   r = N_c x_{c,r} ,
+
+quadratic in ``x``; its load stiffness (exact, not symmetric)
+
+    K_{a i, b j} = -2 pi s p lf int_0^1 N_a (N_b delta_{j r} (Q x_{,xi})_i
+                                             + r N_b' Q_ij) dxi ,
+
+by 3-point Gauss (exact for the quintic integrands of 3-node facets).
 """
 from __future__ import annotations
 
@@ -27,7 +40,7 @@ from ..bodies.cable import side_sign
 from ..core.item import Contribution, Item
 from ..core.validate import flag, real
 
-__all__ = ["FollowerPressure", "facet_load_matrix"]
+__all__ = ["FollowerPressure", "facet_load_matrix", "facet_chain", "facet_shapes", "revolved_load"]
 
 _Q = np.array([[0.0, -1.0], [1.0, 0.0]])
 
@@ -38,16 +51,7 @@ def facet_load_matrix(n_loc: int) -> np.ndarray:
     Node order: the two ends, then (3-node) the midside node.  Integrated by
     3-point Gauss, exact for these cubic integrands.
     """
-    xi, w = np.polynomial.legendre.leggauss(3)
-    xi, w = 0.5 * (xi + 1.0), 0.5 * w
-    if n_loc == 2:
-        N = np.array([1.0 - xi, xi])
-        dN = np.array([-np.ones_like(xi), np.ones_like(xi)])
-    elif n_loc == 3:
-        N = np.array([(1 - xi) * (1 - 2 * xi), xi * (2 * xi - 1), 4 * xi * (1 - xi)])
-        dN = np.array([4 * xi - 3, 4 * xi - 1, 4 - 8 * xi])
-    else:
-        raise ValueError(f"facets must have 2 or 3 nodes, got {n_loc}")
+    N, dN, w = facet_shapes(n_loc)
     return np.einsum("aq,bq,q->ab", N, dN, w)
 
 
@@ -56,14 +60,15 @@ class FollowerPressure(Item):
 
     Parameters
     ----------
-    body : Cable or Solid
-        A cable (the chain of its elements is loaded), or a body with an skfem
+    body : Cable, Membrane or Solid
+        A cable or membrane (the chain of its elements is loaded), or a body with an skfem
         ``mesh`` and vector ``basis`` (then ``facets`` selects the boundary).
     pressure : float
         Final pressure ``p`` (force per current length per unit reference
         thickness: a model's thickness multiplies the force, an out-of-plane
-        stretch does not change the loaded area), finite.  The applied
-        value is ``load_factor * p`` (or ``p`` when ``ramp`` is False).
+        stretch does not change the loaded area; in an axisymmetric model:
+        force per current area of the surface of revolution), finite.  The
+        applied value is ``load_factor * p`` (or ``p`` when ``ramp`` is False).
     side : {"left", "right"} for a cable; {"inward", "outward"} for a solid
         Where the load pushes: left or right of the chain direction of the
         cable (a counter-clockwise ring has its outside on the right); into
@@ -80,7 +85,7 @@ class FollowerPressure(Item):
 
     dof_kind = None
     phase = "loads"
-    geometries = ("plane",)   # the others in their own issues
+    geometries = ("plane", "axisymmetric")   # 3D: its own item
     #: the load follows the surface: its tangent is not symmetric
     symmetric = False
 
@@ -93,22 +98,13 @@ class FollowerPressure(Item):
         self.ramp = flag("ramp", ramp)
         self.load_stiffness = flag("load_stiffness", load_stiffness)
         self.name = name or f"pressure_{getattr(body, 'name', 'body')}"
-        if hasattr(body, "elements") and hasattr(body, "closed"):
-            if facets is not None:
-                raise ValueError("facets is only for solids; a cable is loaded along its chain")
+        if is_chain(body):
             self.sign = side_sign("left" if side is None else side)
-            el = body.elements
-            # (n_f, n_loc, 2) local dofs and reference coordinates
-            self._dofs = np.stack([body.node_dofs[:, el[:, 0]].T,
-                                   body.node_dofs[:, el[:, 1]].T], axis=1)
-            self._X = np.stack([body.X[:, el[:, 0]].T, body.X[:, el[:, 1]].T], axis=1)
-        elif hasattr(body, "basis") and hasattr(body, "mesh"):
-            if not (side is None or (isinstance(side, str) and side in ("inward", "outward"))):
-                raise ValueError(f"side must be 'inward' or 'outward' for a solid, got {side!r}")
-            self.sign = -1 if side == "outward" else 1
-            self._dofs, self._X = _solid_facet_chain(body, facets)
+        elif not (side is None or (isinstance(side, str) and side in ("inward", "outward"))):
+            raise ValueError(f"side must be 'inward' or 'outward' for a solid, got {side!r}")
         else:
-            raise ValueError("body must be a Cable or a body with an skfem mesh and basis")
+            self.sign = -1 if side == "outward" else 1
+        self._dofs, self._X = facet_chain(body, facets)
         self._G = facet_load_matrix(self._dofs.shape[1])
         self._B = np.kron(self._G, _Q)       # (2 n_loc, 2 n_loc): f_e = s p B x_e
         self._flat = self._dofs.reshape(len(self._dofs), -1)
@@ -123,6 +119,10 @@ class FollowerPressure(Item):
         c = self.sign * self.current_pressure(load_factor)
         dofs = self.body.offset + self._flat
         x = self._X.reshape(len(dofs), -1) + np.asarray(z)[dofs]   # (n_f, 2 n_loc)
+        if self.geometry == "axisymmetric":
+            f, k = revolved_load(x.reshape(len(dofs), -1, 2), c,
+                                 tangent and self.load_stiffness)
+            return Contribution.from_dofs(dofs, -f, None if k is None else -k)
         r = -c * (x @ self._B.T)
         if not (tangent and self.load_stiffness):
             return Contribution.from_dofs(dofs, r)
@@ -131,12 +131,71 @@ class FollowerPressure(Item):
 
     def resultant(self, z: np.ndarray, load_factor: float = 1.0) -> np.ndarray:
         """Total applied force (2,) = sum of the nodal loads ``f_a``, over the
-        model's thickness ``H`` (:attr:`~skfem_mortar.core.item.Item.thickness`)."""
+        model's thickness ``H`` (:attr:`~skfem_mortar.core.item.Item.thickness`);
+        in an axisymmetric model ``(0, F_z)``, the axial force over the revolution."""
         c = self.thickness * self.sign * self.current_pressure(load_factor)
         dofs = self.body.offset + self._flat
         x = self._X.reshape(len(dofs), -1) + np.asarray(z)[dofs]
+        if self.geometry == "axisymmetric":    # a total over the revolution (r: zero)
+            f = revolved_load(x.reshape(len(dofs), -1, 2), c, False)[0]
+            return np.array([0.0, f.reshape(len(dofs), -1, 2)[..., 1].sum()])
         f = c * (x @ self._B.T)
         return f.reshape(len(dofs), -1, 2).sum(axis=(0, 1))
+
+
+def facet_shapes(n_loc: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """3-point Gauss on ``[0, 1]``: shape functions ``N`` (n_loc, 3), their
+    derivatives ``dN`` (n_loc, 3) and the weights (3,) of a 2- or 3-node facet."""
+    xi, w = np.polynomial.legendre.leggauss(3)
+    xi, w = 0.5 * (xi + 1.0), 0.5 * w
+    if n_loc == 2:
+        return np.array([1.0 - xi, xi]), np.array([-np.ones(3), np.ones(3)]), w
+    if n_loc == 3:
+        return (np.array([(1 - xi) * (1 - 2 * xi), xi * (2 * xi - 1), 4 * xi * (1 - xi)]),
+                np.array([4 * xi - 3, 4 * xi - 1, 4 - 8 * xi]), w)
+    raise ValueError(f"facets must have 2 or 3 nodes, got {n_loc}")
+
+
+def revolved_load(x: np.ndarray, c: float, tangent: bool
+                  ) -> tuple[np.ndarray, np.ndarray | None]:
+    """The axisymmetric facet loads ``f`` (n_f, 2 n_loc) of the signed pressure
+    ``c = s p lf`` on facets of current nodes ``x`` (n_f, n_loc, 2), and with
+    ``tangent`` their derivative ``df/dx`` (n_f, 2 n_loc, 2 n_loc) (module docstring)."""
+    n_f, n_loc, _ = x.shape
+    N, dN, w = facet_shapes(n_loc)
+    r = np.einsum("fa,aq->fq", x[..., 0], N)                 # (n_f, n_q)
+    g = np.einsum("fai,aq->fqi", x, dN)                      # x_{,xi}
+    Qg = g @ _Q.T                                            # (n_f, n_q, 2)
+    f = 2 * np.pi * c * np.einsum("q,aq,fq,fqi->fai", w, N, r, Qg).reshape(n_f, -1)
+    if not tangent:
+        return f, None
+    k = np.zeros((n_f, n_loc, 2, n_loc, 2))
+    k[..., 0] = 2 * np.pi * c * np.einsum("abq,fqi->faib", w * N[:, None] * N[None], Qg)
+    M = 2 * np.pi * c * np.einsum("abq,fq->fab", w * N[:, None] * dN[None], r)
+    k += M[:, :, None, :, None] * _Q[None, None, :, None, :]
+    return f, k.reshape(n_f, 2 * n_loc, 2 * n_loc)
+
+
+def is_chain(body: Item) -> bool:
+    """Whether ``body`` is a chain of 2-node elements (a cable, a membrane)."""
+    return hasattr(body, "elements") and hasattr(body, "closed")
+
+
+def facet_chain(body: Item, facets: str | np.ndarray | None
+                ) -> tuple[np.ndarray, np.ndarray]:
+    """The loaded facets of ``body``: local dofs (n_f, n_loc, 2) and reference
+    coordinates (n_f, n_loc, 2).  A cable or membrane: its elements in chain
+    order (``facets`` must be None); a solid: the boundary facets ``facets``
+    (a name or indices), each oriented with the body on its left."""
+    if is_chain(body):
+        if facets is not None:
+            raise ValueError("facets is only for solids; a cable is loaded along its chain")
+        el = body.elements
+        return (np.stack([body.node_dofs[:, el[:, 0]].T, body.node_dofs[:, el[:, 1]].T], axis=1),
+                np.stack([body.X[:, el[:, 0]].T, body.X[:, el[:, 1]].T], axis=1))
+    if hasattr(body, "basis") and hasattr(body, "mesh"):
+        return _solid_facet_chain(body, facets)
+    raise ValueError("body must be a Cable, a Membrane or a body with an skfem mesh and basis")
 
 
 def _solid_facet_chain(body, facets):

@@ -6,7 +6,11 @@ a singular tangent, too many iterations) is retried from the last converged
 state with half the increment; after ``easy_steps`` consecutive steps that
 converged in at most ``easy_iterations`` iterations the increment grows again
 by ``growth`` (never beyond the nominal ``1 / n_steps``). When the increment
-falls below ``min_step`` a :class:`ConvergenceError` is raised.
+falls below ``min_step`` a :class:`ConvergenceError` is raised.  Under a force
+or pressure load each converged step records Bergan's current stiffness
+parameter (``StepRecord.info["stiffness_parameter"]``), and a failed step at a
+limit point stops after at most two cuts with a
+:class:`~skfem_mortar.solver.limit_point.LimitPointError` (:mod:`.limit_point`).
 
 The increment in force and its counters are a :class:`Controller`; a
 :class:`Restart` (the last converged state, the steps so far, the controller and
@@ -34,6 +38,7 @@ from .newton import NewtonOptions, NewtonReport
 from .newton import newton as newton_step
 from .observers import Callback, ContactCsv, Observer, ProgressBar, SeriesObserver, replay
 from .diagnosis import failure_causes, round_off_above_load
+from .limit_point import LimitWatch
 # MAX_STEPS: a name of this module before the checks moved
 from .arguments import MAX_STEPS, check_z0, validate as _validate  # noqa: F401
 
@@ -367,6 +372,7 @@ def solve(model: Model, n_steps: int = 1, *, newton_options: NewtonOptions | Non
     # items' states restored, e.g. the converged active set)
     model.preflight(z, start, fixed)
     result = Result(model, steps=list(history or []), states=[z.copy()])
+    watch = LimitWatch(model)   # a limit point under load control (.limit_point)
     lf = start
     step_no = len(result.steps) + 1
     started: list[Observer] = []
@@ -388,6 +394,9 @@ def solve(model: Model, n_steps: int = 1, *, newton_options: NewtonOptions | Non
             if rep.converged:
                 z_prev, z = z, trial
                 rec = _converged(model, z, target, rep, ctl)
+                s_p = watch.converged(z, target)
+                if s_p is not None:
+                    rec.info["stiffness_parameter"] = s_p
                 ctl.lf_prev, lf = lf, target
                 _grow(ctl, rep.iterations, nominal, growth, easy_iterations, easy_steps)
                 rec.increment, rec.controller = ctl.increment, replace(ctl)
@@ -400,6 +409,7 @@ def solve(model: Model, n_steps: int = 1, *, newton_options: NewtonOptions | Non
             # failed attempt: cut the increment and retry from the last converged state
             log.info("step %d to load factor %.6g failed (%s); cutting the step",
                      step_no, target, rep.reason)
+            watch.failed(step_no, target, rep.iterations, rep.residual_norms)
             ctl.increment *= 0.5
             ctl.cuts += 1
             ctl.n_easy = 0
