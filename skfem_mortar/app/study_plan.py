@@ -60,6 +60,9 @@ GRIDS: dict[str, dict[str, Any]] = {
     "mindlin": {"metrics": ["shear_l2_error", "stick_half_width_error", "shear_core_error",
                             "pressure_l2_error"],
                 "grid": {"n_a": [6, 12, 24]}, "quick": {"n_a": [6]}},
+    # balloon: p(lambda) against the closed form, relative to p_max (volume control)
+    "balloon": {"metrics": ["pressure_error"], "grid": {"n_elements": [16, 32, 64, 128]},
+                "quick": {"n_elements": [16, 32]}},
     "tied": {"metrics": ["tip_deflection_error", "energy_error", "traction_max_error",
                          "traction_error"],
              "grid": {"refine": [1, 2, 3, 4]}, "quick": {"refine": [1, 2]}},
