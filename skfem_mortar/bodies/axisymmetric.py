@@ -88,7 +88,7 @@ class AxisymmetricTerms:
         """``dF_thth/du_l = N_l / R`` for the radial dofs (``component == 0``), 0 for the
         axial ones, ``(n_loc, n_el, n_qp)``."""
         R = radius_at_points(basis)
-        N = np.stack([np.asarray(basis.basis[l][0].value)[0] for l in range(basis.Nbfun)])
+        N = np.stack([np.asarray(basis.basis[l][0])[0] for l in range(basis.Nbfun)])
         return np.where((np.asarray(component) == 0)[:, None, None], N / R, 0.0)
 
     def reference_mesh(self, mesh: Mesh, name: str) -> Mesh:
