@@ -48,9 +48,9 @@ import dataclasses
 import numpy as np
 from skfem import Basis, Mesh
 
-from .geometry_terms import register_terms
+from .geometry_terms import register_terms, terms_of
 
-__all__ = ["AxisymmetricTerms", "AXIS_RTOL", "CYLINDRICAL", "radius_at_points"]
+__all__ = ["AxisymmetricTerms", "AXIS_RTOL", "CYLINDRICAL", "output_names", "radius_at_points"]
 
 #: nodes with ``|r| <= AXIS_RTOL * size`` are on the axis (module docstring)
 AXIS_RTOL = 1e-10
@@ -61,6 +61,13 @@ CYLINDRICAL = {"sigma_xx": "sigma_rr", "sigma_yy": "sigma_zz", "sigma_xy": "sigm
 
 #: element name -> its polynomial order (MINI: P1 plus a cubic bubble, order 3)
 _ORDER = {"tri1": 1, "quad1": 1, "tri2": 2, "quad2": 2, "mini": 2}
+
+
+def output_names(cells: dict, geometry: str) -> dict:
+    """``cells`` (a solid's output fields) with the names of ``geometry``'s terms
+    (``output_names``, axisymmetric: :data:`CYLINDRICAL`), in the same order."""
+    names = getattr(terms_of(geometry), "output_names", None) or {}
+    return {names.get(k, k): v for k, v in cells.items()}
 
 
 def radius_at_points(basis: Basis) -> np.ndarray:

@@ -86,7 +86,8 @@ from .geometry_terms import terms_of
 from ..core.errors import InversionError
 from .hyperelastic import NeoHooke
 from ..core.item import Contribution
-from .solid import Solid, output_names, refuse_reduction
+from .axisymmetric import output_names
+from .solid import Solid, refuse_reduction
 
 __all__ = ["MixedSolid", "mixed_stress_and_tangent", "mixed_axisymmetric"]
 

@@ -57,13 +57,14 @@ from skfem.helpers import ddot, grad
 from .checks import check_mesh, quadrature_order
 from .geometry_terms import TERMS, terms_of
 from .hoop import hoop_gradient, hoop_residual, hoop_tangent
+from .axisymmetric import output_names   # issue 35: cylindrical names
 from ..core.coo import element_coo
 from .materials import PLANES, LinearElastic, Material
 from ..core.item import Contribution, Item
 from ..core.validate_arrays import index_array
 
 __all__ = ["Solid", "ELEMENTS", "KINEMATICS", "boundary_facets", "constitutive_law",
-           "output_names", "refuse_reduction"]
+           "refuse_reduction"]
 
 #: elements per block of the one-point tangent kernel (its temporaries then stay
 #: in the cache; measured at hertz ``refine=3``: 4096 to 16384 alike, 2x faster
@@ -169,13 +170,6 @@ def refuse_reduction(body: str, kinematics: str, plane: str) -> None:
     if plane != "strain":
         raise ValueError(f"plane must be 'strain' for a {body} (plane stress does not lock: "
                          f"use Solid(..., plane='stress')), got {plane!r}")
-
-
-def output_names(cells: dict, geometry: str) -> dict:
-    """``cells`` with the geometry's names (axisymmetric: ``sigma_rr``, ``sigma_zz`` axial,
-    ``sigma_rz``, ``sigma_tt`` hoop; :mod:`.axisymmetric`), in the same order."""
-    names = getattr(terms_of(geometry), "output_names", None) or {}
-    return {names.get(k, k): v for k, v in cells.items()}
 
 
 def _as_slice(idx: np.ndarray) -> slice | np.ndarray:
