@@ -130,6 +130,15 @@ class SRISolid(Solid):
             K = material_stiffness.assemble(self.vbasis, At=np.transpose(A, (2, 3, 0, 1, 4, 5)))
         return Contribution.concat([dev, Contribution.from_local(self.offset, r, K)])
 
+    def mean_dilatation(self, z: np.ndarray) -> np.ndarray:
+        """``J_bar = v_e / V_e`` per element (the volume ratio of each element's ring;
+        plane geometry: the centre value, equal to it for a bilinear map)."""
+        if self._hoop is None:
+            F = np.asarray(grad(self.vbasis.interpolate(self.u(z))))[..., 0]
+            return (1.0 + F[0, 0]) * (1.0 + F[1, 1]) - F[0, 1] * F[1, 0]
+        J = checked_det(self.deformation_gradient(z))
+        return (J * self._dx).sum(axis=1) / self._dx.sum(axis=1)
+
     def _mean_dilatation(self, z: np.ndarray, tangent: bool) -> Contribution:
         """The mean-dilatation volumetric residual and tangent (module docstring)."""
         F = self.deformation_gradient(z)                       # (3, 3, n_el, n_qp)
