@@ -34,6 +34,7 @@ VALID = {
     "hertz": {"nu": {"0"}, "nu_base": {"0"}, "refine": {"0", "-1"}},
     "ironing": {"slide": {"0"}, "x_start": {"0"}, "nu": {"0"}, "mu": {"0"}},
     "seed": {"nu_cushion": {"0"}, "refine_cushion": {"0"}, "mu": {"0"}},
+    "thick_sphere": {"nu": {"0"}},
 }
 
 

@@ -56,6 +56,16 @@ order-4 rule integrates the small-strain system exactly; the pressure basis
 uses the same points.  Lower orders (>= 2 allowed) under-integrate the bubble.
 No static condensation: the bubble dofs are ordinary unknowns of the item.
 
+Axisymmetric (:mod:`.axisymmetric`): ``F`` is the 3 x 3 ``[[F, 0], [0,
+F_thth]]``, ``W_mu = mu/2 (tr C - 3 - 2 ln J)`` and ``J = det F`` include the
+hoop stretch, ``dV = 2 pi R dA``.  The generalized strain gains the row
+``F_thth`` (``B``: ``N_l / R`` on the radial dofs), so ``e`` has 6 entries,
+``sigma[4] = P_thth = mu F_thth + (p - mu) / F_thth``, ``sigma[5] = ln J - p /
+lambda``, and ``D`` adds ``D[4, 4] = mu + (mu - p) / F_thth^2``, ``D[4, 5] =
+1 / F_thth`` (the in-plane and hoop entries do not couple but through ``p``:
+``F^-1`` is block diagonal).  Quadrature: the plane order plus one (the
+weight ``R`` raises the degree by one; 5 by default).
+
 When to use: nearly incompressible bodies (``nu`` above about 0.45) in contact;
 for compressible ones ``Solid(..., "tri1")`` is cheaper and as accurate.
 """
@@ -67,16 +77,19 @@ import numpy as np
 import scipy.sparse as sp
 from skfem import Basis, ElementTriMini, ElementTriP1, ElementVector, MeshTri
 
-from .checks import check_mesh, quadrature_order
+from .checks import MAX_INTORDER, check_mesh, quadrature_order
 from ..core.coo import element_coo
 from skfem.helpers import inv
 
 from .deformation import checked_det
+from .geometry_terms import terms_of
+from ..core.errors import InversionError
 from .hyperelastic import NeoHooke
 from ..core.item import Contribution
+from .axisymmetric import output_names
 from .solid import Solid, refuse_reduction
 
-__all__ = ["MixedSolid", "mixed_stress_and_tangent"]
+__all__ = ["MixedSolid", "mixed_stress_and_tangent", "mixed_axisymmetric"]
 
 
 def mixed_stress_and_tangent(F: np.ndarray, p: np.ndarray, mu: float, lmbda: float,
@@ -113,6 +126,32 @@ def mixed_stress_and_tangent(F: np.ndarray, p: np.ndarray, mu: float, lmbda: flo
     return sig, D
 
 
+def mixed_axisymmetric(F: np.ndarray, p: np.ndarray, mu: float, lmbda: float,
+                       tangent: bool = True) -> tuple[np.ndarray, np.ndarray | None]:
+    """:func:`mixed_stress_and_tangent` with the hoop stretch: ``F`` ``(3, 3, ...)``
+    block diagonal, ``sigma`` (6, ...) ``[P (4); P_thth; ln J - p / lambda]``, ``D``
+    (6, 6, ...) its derivative with respect to ``[F (4); F_thth; p]`` (module
+    docstring)."""
+    sig2, D2 = mixed_stress_and_tangent(F[:2, :2], p, mu, lmbda, tangent)
+    Ft = F[2, 2]
+    if not np.all(Ft > 0.0):
+        raise InversionError(f"inverted material point(s): hoop stretch <= 0, min "
+                             f"{Ft.min():.3e}")
+    sig = np.empty((6,) + sig2.shape[1:])
+    sig[:4] = sig2[:4]
+    sig[4] = mu * Ft + (p - mu) / Ft
+    sig[5] = sig2[4] + np.log(Ft)
+    if not tangent:
+        return sig, None
+    D = np.zeros((6, 6) + sig2.shape[1:])
+    D[:4, :4] = D2[:4, :4]
+    D[:4, 5] = D[5, :4] = D2[:4, 4]
+    D[4, 4] = mu + (mu - p) / (Ft * Ft)
+    D[4, 5] = D[5, 4] = 1.0 / Ft
+    D[5, 5] = -1.0 / lmbda
+    return sig, D
+
+
 class MixedSolid(Solid):
     """A plane-strain neo-Hookean body on MINI triangles (P1 + bubble / P1 pressure).
 
@@ -127,7 +166,8 @@ class MixedSolid(Solid):
         Item name.
     intorder : int
         Quadrature order (>= 2) of the displacement and pressure bases, default 4
-        (exact for the linearized integrands, see the module docstring).
+        (exact for the linearized integrands, see the module docstring); in an
+        axisymmetric model one more (the weight ``R`` raises the degree by one).
     kinematics : {"finite"}
         Only finite strain (the mixed form is of the neo-Hookean energy).
     plane : {"strain"}
@@ -145,11 +185,12 @@ class MixedSolid(Solid):
     element = "mini"
     dof_kind = "u"
     phase = "bulk"
-    geometries = ("plane",)
+    geometries = ("plane", "axisymmetric")
     _geometry = "plane"
 
     def __init__(self, mesh: MeshTri, material: NeoHooke, name: str = "solid",
-                 intorder: int = 4, *, kinematics: str = "finite", plane: str = "strain"):
+                 intorder: int = 4, *, kinematics: str = "finite",
+                 plane: str = "strain"):
         refuse_reduction(type(self).__name__, kinematics, plane)
         if not isinstance(mesh, MeshTri):
             raise ValueError(f"mesh must be a skfem.MeshTri (linear triangles), "
@@ -160,26 +201,33 @@ class MixedSolid(Solid):
         if not material.lmbda > 0.0:
             raise ValueError(f"material must have lmbda > 0 (nu > 0): the pressure equation "
                              f"divides by lmbda (got lmbda = {material.lmbda})")
-        intorder = quadrature_order(intorder, 2)
+        self._intorder = quadrature_order(intorder, 2)
         check_mesh(mesh, f"mesh of {name!r}")
         self.mesh = mesh
         self.material = material
         self.kinematics, self.plane = kinematics, plane
         self.name = name
-        self.intorder = int(intorder)
         self._cell_type = "triangle"
         self._n_nodes = int(mesh.nvertices)
-        self.basis = Basis(mesh, ElementVector(ElementTriMini()), intorder=self.intorder)
-        self.pbasis = Basis(mesh, ElementTriP1(), quadrature=self.basis.quadrature)
-        self._kernel_data()                      # u-part: _edofs, _comp, _dN, _dx
+        self._make_basis()
+
+    def _make_basis(self) -> None:
+        """The bases (their quadrature from the geometry's terms), scales and kernel data."""
+        terms = terms_of(self._geometry)
+        extra = 0 if self._geometry == "plane" else 1
+        self.intorder = min(self._intorder + extra, MAX_INTORDER)
+        kw = terms.quadrature("mini", self.intorder)
+        self.basis = Basis(self.mesh, ElementVector(ElementTriMini()), **kw)
+        self.pbasis = Basis(self.mesh, ElementTriP1(), quadrature=self.basis.quadrature)
+        self._kernel_data()                      # u-part: _edofs, _comp, _dN, _dx, _hoop
         self.n_u = int(self.basis.N)
         self.n_p = int(self.pbasis.N)
         self.n_dofs = self.n_u + self.n_p
         self.dof_component = np.zeros(self.n_u, dtype=np.int64)
         self.dof_component[self._edofs.ravel()] = np.repeat(self._comp, self._edofs.shape[1])
         #: ``ell = sqrt(mean element area)`` and ``s = mu / ell`` (p = s p~)
-        self.length_scale = float(np.sqrt(np.mean(np.sum(self._dx, axis=1))))
-        self.pressure_scale = float(material.mu) / self.length_scale
+        self.length_scale = float(np.sqrt(np.mean(np.sum(np.asarray(self.basis.dx), axis=1))))
+        self.pressure_scale = float(self.material.mu) / self.length_scale
         self._mixed_kernel_data()
 
     def _mixed_kernel_data(self) -> None:
@@ -191,13 +239,16 @@ class MixedSolid(Solid):
                             for b in range(self.pbasis.Nbfun)])           # (3, n_el, n_qp)
         n_u_loc, n_p_loc = self._edofs.shape[0], pe.shape[0]
         n_el, n_qp = self._dx.shape
-        B = np.zeros((n_el, n_qp, 5, n_u_loc + n_p_loc))
+        ng = self._n_gen = 5 if self._hoop is None else 6    # generalized strain entries
+        B = np.zeros((n_el, n_qp, ng, n_u_loc + n_p_loc))
         for l, c in enumerate(self._comp):
             B[:, :, 2 * c, l] = self._dN[l, 0]
             B[:, :, 2 * c + 1, l] = self._dN[l, 1]
+            if self._hoop is not None:
+                B[:, :, 4, l] = self._hoop[l]
         for b in range(n_p_loc):
-            B[:, :, 4, n_u_loc + b] = self.pressure_scale * self._N[b]
-        self._B = B.reshape(n_el, n_qp * 5, -1)
+            B[:, :, ng - 1, n_u_loc + b] = self.pressure_scale * self._N[b]
+        self._B = B.reshape(n_el, n_qp * ng, -1)
         self._mixed_idx: tuple[int, np.ndarray, np.ndarray] | None = None
 
     def _mixed_index(self) -> tuple[np.ndarray, np.ndarray]:
@@ -246,20 +297,22 @@ class MixedSolid(Solid):
     def _state(self, z: np.ndarray, tangent: bool):
         F = self.deformation_gradient(z)
         p = self.pressure_at_points(z)
-        return mixed_stress_and_tangent(F, p, self.material.mu, self.material.lmbda, tangent)
+        law = mixed_stress_and_tangent if self._hoop is None else mixed_axisymmetric
+        return law(F, p, self.material.mu, self.material.lmbda, tangent)
 
     def _local(self, z: np.ndarray, tangent: bool
                ) -> tuple[np.ndarray, np.ndarray | None]:
         """Element residuals ``(n_el, n_loc)`` and tangents ``(n_el, n_loc, n_loc)``."""
         sig, D = self._state(z, tangent)
         n_el, n_qp = self._dx.shape
-        sdx = np.moveaxis(sig * self._dx, 0, -1).reshape(n_el, n_qp * 5)   # (n_el, Q*5)
+        ng = self._n_gen
+        sdx = np.moveaxis(sig * self._dx, 0, -1).reshape(n_el, n_qp * ng)  # (n_el, Q*ng)
         re = np.einsum("ea,eal->el", sdx, self._B)
         if not tangent:
             return re, None
         Ddx = np.moveaxis(D * self._dx, (0, 1), (-2, -1))                   # (n_el, Q, 5, 5)
-        B4 = self._B.reshape(n_el, n_qp, 5, -1)
-        T = np.matmul(Ddx, B4).reshape(n_el, n_qp * 5, -1)
+        B4 = self._B.reshape(n_el, n_qp, ng, -1)
+        T = np.matmul(Ddx, B4).reshape(n_el, n_qp * ng, -1)
         ke = np.matmul(np.swapaxes(self._B, 1, 2), T)
         return re, ke
 
@@ -283,7 +336,10 @@ class MixedSolid(Solid):
     def assemble_forms(self, z: np.ndarray, tangent: bool = True
                        ) -> tuple[np.ndarray, sp.csr_matrix | None]:
         """Residual and tangent through skfem's form assembly (a reference for
-        :meth:`assemble`; local numbering, length ``n_dofs``)."""
+        :meth:`assemble`; local numbering, length ``n_dofs``; plane geometry only)."""
+        if self._hoop is not None:
+            raise ValueError(f"assemble_forms is the plane reference; {self.name!r} is in "
+                             f"an {self._geometry!r} model: use assemble")
         from skfem import BilinearForm, LinearForm
         from skfem.helpers import ddot, grad
 
@@ -309,12 +365,15 @@ class MixedSolid(Solid):
     def cauchy(self, z: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Mixed Cauchy stress on the quadrature points: ``sigma = J^-1 (P_mu + p F^-T) F^T``
         (2, 2, n_el, n_qp) and ``sigma_zz = p / J`` (plane strain, ``F_zz = 1``:
-        ``P_zz = mu (1 - 1) + p``), equal to NeoHooke's when ``p = lambda ln J``."""
+        ``P_zz = mu (1 - 1) + p``), equal to NeoHooke's when ``p = lambda ln J``;
+        axisymmetric: the hoop ``sigma_thth = P_thth F_thth / J`` in its place."""
         F = self.deformation_gradient(z)
         sig, _ = self._state(z, False)
         J = checked_det(F)
-        P = sig[:4].reshape(F.shape)
-        sigma = np.einsum("iJ...,kJ...->ik...", P, F) / J
+        P = sig[:4].reshape((2, 2) + F.shape[2:])
+        sigma = np.einsum("iJ...,kJ...->ik...", P, F[:2, :2]) / J
+        if self._hoop is not None:
+            return sigma, sig[4] * F[2, 2] / J
         return sigma, self.pressure_at_points(z) / J
 
     def output_data(self, z: np.ndarray) -> tuple[dict, dict]:
@@ -330,4 +389,4 @@ class MixedSolid(Solid):
         cells = {"sigma_xx": [avg(s[0, 0])], "sigma_yy": [avg(s[1, 1])],
                  "sigma_xy": [avg(s[0, 1])], "sigma_zz": [avg(szz)],
                  "von_mises": [avg(vm)]}
-        return {"displacement": u, "pressure": pn}, cells
+        return {"displacement": u, "pressure": pn}, output_names(cells, self._geometry)

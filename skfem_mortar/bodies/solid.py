@@ -57,6 +57,7 @@ from skfem.helpers import ddot, grad
 from .checks import check_mesh, quadrature_order
 from .geometry_terms import TERMS, terms_of
 from .hoop import hoop_gradient, hoop_residual, hoop_tangent
+from .axisymmetric import output_names   # issue 35: cylindrical names
 from ..core.coo import element_coo
 from .materials import PLANES, LinearElastic, Material
 from ..core.item import Contribution, Item
@@ -278,7 +279,16 @@ class Solid(Item):
     @geometry.setter
     def geometry(self, value: str) -> None:
         if value != self._geometry:
-            terms_of(value)
+            terms = terms_of(value)
+            # -- issue 35 (axisymmetric): plane stress refused, the axis snapped --
+            if value != "plane" and getattr(self, "plane", "strain") != "strain":
+                raise ValueError(f"plane={self.plane!r} applies to a plane model only; "
+                                 f"body {self.name!r} is in an {value!r} model: leave it out")
+            if not hasattr(self, "_plane_mesh"):
+                self._plane_mesh = self.mesh
+            snap = getattr(terms, "reference_mesh", None)
+            self.mesh = self._plane_mesh if snap is None else snap(self._plane_mesh, self.name)
+            # -- end issue 35 --
             self._geometry = value
             self._make_basis()
 
@@ -305,6 +315,13 @@ class Solid(Item):
         weight = terms.weight(b)
         self._dx = np.asarray(b.dx) if weight is None else np.asarray(b.dx) * weight
         self._hoop = terms.hoop(b, self._comp)          # None or (n_loc, n_el, n_qp)
+        held = getattr(terms, "held_dofs", None)        # issue 35: u_r = 0 on the axis
+        if held is None:
+            self._held = np.zeros(0, dtype=np.int64)
+        else:
+            dofc = np.zeros(b.N, dtype=np.int64)
+            dofc[self._edofs] = self._comp[:, None]
+            self._held = held(b, dofc)
         self._dNdx = self._dN * self._dx                                 # the residual's
         # each component's local dofs and dN (copies: Grad u reads them every call)
         self._by_component = [(self._edofs[self._comp == c], self._dN[self._comp == c])
@@ -491,6 +508,12 @@ class Solid(Item):
             return r, None
         return r, material_stiffness.assemble(self.basis, At=np.transpose(A, (2, 3, 0, 1, 4, 5)))
 
+    def prescribed(self, load_factor: float) -> tuple[np.ndarray, np.ndarray] | None:
+        """The dofs the geometry holds at 0 (axisymmetric: ``u_r`` on the axis), or None."""
+        if self._held.size == 0:
+            return None
+        return self.offset + self._held, np.zeros(self._held.size)
+
     def reaction(self, R: np.ndarray, dofs: np.ndarray) -> float:
         """Sum of the global residual ``R`` over the body's local ``dofs``.
 
@@ -509,7 +532,7 @@ class Solid(Item):
 
     def element_average(self, q: np.ndarray) -> np.ndarray:
         """Volume average over each element of a quadrature array ``(..., n_el, n_qp)``."""
-        dx = self.basis.dx
+        dx = self._dx   # with the geometry's weight (plane: basis.dx itself)
         return np.sum(q * dx, axis=-1) / np.sum(dx, axis=-1)
 
     def output_data(self, z: np.ndarray) -> tuple[dict, dict]:
@@ -527,11 +550,12 @@ class Solid(Item):
                  "von_mises": [avg(vm)]}
         if self.plane == "stress":  # the thickness change (the loaded area keeps H)
             cells["stretch_zz"] = [avg(self.material.stretch_zz(F))]
-        return {"displacement": u}, cells
+        return {"displacement": u}, output_names(cells, self._geometry)
 
     def __repr__(self) -> str:
         """One line: class, name, material, element, kinematics, plane and sizes."""
         kin = "" if self.kinematics == "finite" else f", {self.kinematics} strain"
+        geo = f"plane {self.plane}" if self.geometry == "plane" else self.geometry
         return (f"{type(self).__name__}({self.name!r}, {self.material!r}, {self.element}"
-                f"{kin}, plane {self.plane}: {self.n_nodes} nodes, "
+                f"{kin}, {geo}: {self.n_nodes} nodes, "
                 f"{self.mesh.nelements} elements, {self.n_dofs} dofs)")
