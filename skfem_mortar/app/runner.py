@@ -223,6 +223,7 @@ def _summary(name: str, method: str | None, values: dict, setup: Setup, t0: floa
         "scene": name,
         "method": method,
         "parameters": values,
+        "geometry": model.geometry,
         "n_dofs": int(model.n_u),
         "n_multipliers": int(model.n_lam),
         "converged": converged,

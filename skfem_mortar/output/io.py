@@ -58,8 +58,10 @@ def write_json(path: str | os.PathLike, data: dict) -> None:
         tmp.write_text(json.dumps(data, indent=2) + "\n")
 
 
-def write_contact_csv(path: str | os.PathLike, data: dict[str, np.ndarray]) -> None:
-    """Write ``x,y,gap,pressure,has_master`` (one row per slave node) atomically.
+def write_contact_csv(path: str | os.PathLike, data: dict[str, np.ndarray],
+                      coords: tuple[str, str] = ("x", "y")) -> None:
+    """Write ``x,y,gap,pressure,has_master`` (one row per slave node) atomically;
+    ``coords`` names the first two columns (an axisymmetric model's: ``("r", "z")``).
 
     With friction (``data`` has ``tangential_traction``, ``slip`` and ``status``,
     :meth:`~skfem_mortar.contact.pair.ContactPair.contact_data` of a friction
@@ -81,7 +83,7 @@ def write_contact_csv(path: str | os.PathLike, data: dict[str, np.ndarray]) -> N
     if not np.all(np.isfinite(arr)):
         raise ValueError("non-finite contact data (a gap where a node faces no master needs "
                          "data['distance']): refusing to write contact.csv")
-    lines = ["x,y,gap,pressure,has_master"]
+    lines = [f"{coords[0]},{coords[1]},gap,pressure,has_master"]
     lines += [",".join(f"{v:.12g}" for v in row[:4]) + f",{int(row[4])}" for row in arr]
     if "tangential_traction" in data:  # a pair with friction: three more columns
         t = np.asarray(data["tangential_traction"], dtype=float)

@@ -170,6 +170,7 @@ def render(bodies: Sequence, z0: np.ndarray, z1: np.ndarray, *, contact=None,
     panels = [fig.add_axes([(left + k * (pw + gap)) / W, base / H, pw / W, ph / H])
               for k in range(2)]
 
+    axisymmetric = any(getattr(b, "geometry", "plane") == "axisymmetric" for b in bodies)
     lim = _limits(shapes, points, arrows)
     per_inch = max((lim[1] - lim[0]) / pw, (lim[3] - lim[2]) / ph)  # data length / inch
     for col, ax in enumerate(panels):
@@ -177,8 +178,8 @@ def render(bodies: Sequence, z0: np.ndarray, z1: np.ndarray, *, contact=None,
         ax.set_xlim(lim[0], lim[1])
         ax.set_ylim(lim[2], lim[3])
         ax.set_aspect("equal", adjustable="box")
-        ax.set_xlabel("x")
-        ax.set_ylabel("y")
+        ax.set_xlabel("r" if axisymmetric else "x")   # the meridian plane (r, z)
+        ax.set_ylabel("z" if axisymmetric else "y")
         ax.tick_params(labelsize=8)
         ax.set_title("initial configuration" if col == 0
                      else f"deformed (load factor {load_factor:.3g})", fontsize=10)

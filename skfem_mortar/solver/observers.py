@@ -257,7 +257,12 @@ class ContactCsv(Observer):
         self.path = Path(path)
         self.contact = contact.contact_data if isinstance(contact, ContactTable) else contact
 
+    #: the coordinate columns (an axisymmetric model's: r, z)
+    coords = ("x", "y")
+
     def on_start(self, model, z, load_factor) -> None:
+        if getattr(model, "geometry", "plane") == "axisymmetric":
+            self.coords = ("r", "z")
         if self.contact is None:
             tables = model.contact_tables()
             self.contact = tables[0].contact_data if tables else None
@@ -266,7 +271,7 @@ class ContactCsv(Observer):
         from ..output.io import write_contact_csv
 
         if self.contact is not None:
-            write_contact_csv(self.path, self.contact(z))
+            write_contact_csv(self.path, self.contact(z), self.coords)
 
     def on_end(self, result) -> None:
         self.write(result.z)

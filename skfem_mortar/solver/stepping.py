@@ -221,10 +221,16 @@ class Result:
         replay(self, observers)
         return out
 
-    def plot(self, path: str | os.PathLike, title: str = "") -> Path:
+    def plot(self, path: str | os.PathLike, title: str = "", revolved: bool = False) -> Path:
         """The initial and the final configuration side by side, as a PNG, with
         every contact pair's pressure and the model's supports and loads
-        (see :func:`skfem_mortar.output.plot.draw`)."""
+        (see :func:`skfem_mortar.output.plot.draw`); ``revolved`` (an axisymmetric
+        model): the final state revolved into 3D, a quarter cut away
+        (:func:`skfem_mortar.output.views.render_revolved`)."""
+        if revolved:
+            from ..output.views import render_revolved
+
+            return render_revolved(self, path)
         from ..output.plot import draw
 
         return draw([it for it in self.model.items if isinstance(it, Output)],
