@@ -406,11 +406,13 @@ class ContactPair(Item):
         if dofs is None:
             return (np.zeros(0, np.int64),) * 2 + (np.zeros(0),)
         seg = self.slave.segments
-        nrm, length = self.slave.normals(z)
-        share = length / seg.shape[1]
-        v = np.stack([np.bincount(seg.ravel(), weights=np.repeat(nrm[k] * share, seg.shape[1]),
-                                  minlength=self.slave.n_nodes) for k in (0, 1)])
-        rows = np.repeat(self.offset + np.arange(self.slave.n_nodes, dtype=np.int64), 2)
+        nrm, length = self.slave.normals(z)   # (d, n_cells)
+        k = seg.shape[1]   # nodes a cell
+        share = length / k
+        v = np.stack([np.bincount(seg.ravel(), weights=np.repeat(nrm[i] * share, k),
+                                  minlength=self.slave.n_nodes) for i in range(nrm.shape[0])])
+        rows = np.repeat(self.offset + np.arange(self.slave.n_nodes, dtype=np.int64),
+                         nrm.shape[0])
         return rows, dofs.T.ravel().astype(np.int64), v.T.ravel()
 
     def friction_rows(self, z: np.ndarray, tangent: bool = False, track: bool = False,
