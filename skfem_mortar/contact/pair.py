@@ -488,6 +488,8 @@ class ContactPair(Item):
         weighted gaps of traction multipliers over the tributary lengths)."""
         return self.space.gap_length(ev.g, ev.area)
 
+    _gap_length = gap_length
+
     def failure_hint(self) -> str:
         """A likely cause to add to a :class:`ConvergenceError` ("" if none known):
         the discretization's, and the tangential rows' (a tangential load above
