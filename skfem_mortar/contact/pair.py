@@ -57,7 +57,7 @@ from . import pair_output, pair_state
 from . import preflight as _preflight  # noqa: F401 (registers the checks Model.preflight runs)
 from .active_set import ActiveSet, chain_order, touching_nodes
 from .contact_eval import ContactEval
-from .discretization import FrictionDiscretization, PatternedDiscretization
+from .discretization import PatternedDiscretization
 from .friction import FrictionLaw, FrictionRows, as_law
 from .kkt import K_GAP, K_LAM, violation
 from .methods import METHODS, make_method  # METHODS: the registry's names, the built-ins in it
@@ -201,10 +201,6 @@ class ContactPair(Item):
             options = {**options, "segmentation": segmentation}
         law = as_law(friction)
         self.discretization = make_method(method, slave, master, pair_name=name, **options)
-        if law.tangential_multipliers and not isinstance(self.discretization,
-                                                         FrictionDiscretization):
-            raise ValueError(f"friction: method {method!r} has no slip hooks "
-                             f"(FrictionDiscretization); use friction=None")
         #: the multiplier space of the method (:func:`~.multiplier_spaces.space_for`)
         self.space: MultiplierSpace = space_for(self.discretization)
         #: the friction law as given (None: frictionless, one multiplier per slave node)

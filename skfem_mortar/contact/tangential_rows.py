@@ -27,6 +27,7 @@ import scipy.sparse as sp
 from ..core.item import Contribution
 from .active_set import StatusSet
 from .contact_eval import ContactEval
+from .discretization import FrictionDiscretization
 from .friction import (OPEN, SLIP, STATUS_NAMES, STICK, FrictionLaw, FrictionRows,
                        complementarity)
 from .kkt import friction_violation
@@ -142,7 +143,15 @@ class TangentialRows:
 
     def __init__(self, pair: Any, law: FrictionLaw, cycle_guard: bool):
         self.pair, self.friction = pair, law
-        self.per_node = law.tangential_multipliers
+        if not isinstance(pair.discretization, FrictionDiscretization):
+            raise ValueError(f"friction: method {pair.method!r} has no slip hooks "
+                             f"(FrictionDiscretization); use friction=None")
+        dim = pair.slave.X.shape[0]
+        if dim != 2:
+            raise ValueError(f"friction: the stick/slip rows are written for 2D surfaces "
+                             f"(one tangent a node), got a surface in {dim}D")
+        #: tangential multipliers per slave node: one per tangent direction (d - 1)
+        self.per_node = law.tangential_multipliers * (dim - 1)
         self.law = law.at(0.0)
         slave = pair.slave
         self.statuses = StatusSet(slave.n_nodes, pair.name, cycle_guard=cycle_guard)
