@@ -148,7 +148,7 @@ def pulled_off(model: Any, z: np.ndarray, load_factor: float, fixed: np.ndarray)
     if not np.linalg.norm(b) > 1e-12 * max(np.linalg.norm(f), np.finfo(float).tiny):
         return []
     pairs = contact_pairs(model)
-    if any(getattr(p, "friction", None) is not None for p in pairs):
+    if any(getattr(p, "multipliers_per_node", 1) > 1 for p in pairs):  # tangential rows
         return []
     rows = [_touching_rows(p, z, load_factor, int(model.n), facing=True).rows for p in pairs]
     A = (N.T @ _times_modes(sp.vstack(rows), bodies).T) if rows else np.zeros((N.shape[1], 0))

@@ -53,6 +53,7 @@ import scipy.sparse as sp
 
 from . import BUILTIN_METHODS
 from .contact_eval import ContactEval
+from .multiplier_spaces import registered_spaces
 
 __all__ = ["ContactDiscretization", "PatternedDiscretization", "FrictionDiscretization", "register_method", "unregister_method", "make_method",
            "registered_methods", "check_options", "check_entries", "METHODS",
@@ -73,10 +74,13 @@ class ContactDiscretization(Protocol):
     method : str
         The registered name (used in messages).
     multiplier_kind : {"force", "traction"}
-        What a multiplier is: a nodal force (NTS: the pair divides by the
-        tributary length for a pressure) or a traction (mortar: the weighted gap
-        is a gap times a length, and the pair scales ``c`` and the multiplier
-        rows by the mean tributary length).
+        What a multiplier is: a nodal force (NTS) or a traction (mortar: the
+        weighted gap is a gap times a length).  The pair reads its multipliers
+        through a multiplier space (:mod:`~skfem_mortar.contact.multiplier_spaces`:
+        pressure, gap length, row scale, ``c``); the method names it with the
+        optional attribute ``multiplier_space`` (a registered name), else the
+        space follows from ``multiplier_kind``
+        (:func:`~skfem_mortar.contact.multiplier_spaces.space_for`).
     multipliers_per_node : int
         Multipliers per slave node the method's gaps need (1: the normal; a
         pair with friction adds the tangential one itself).
@@ -302,9 +306,14 @@ def make_method(method: str, slave: Any, master: Any, pair_name: str = "contact"
     if out.multiplier_kind not in ("force", "traction"):
         raise ValueError(f"method {method!r}: multiplier_kind must be 'force' or 'traction', "
                          f"got {out.multiplier_kind!r}")
+    name = getattr(out, "multiplier_space", None)
+    if name is not None and name not in registered_spaces():
+        raise ValueError(f"method {method!r}: multiplier_space must be one of "
+                         f"{', '.join(registered_spaces())}, got {name!r}")
     if out.multipliers_per_node != 1:
         raise ValueError(f"method {method!r}: {out.multipliers_per_node} multipliers per node; "
-                         "a frictionless ContactPair takes 1")
+                         "a ContactPair takes 1 (the normal one; its friction law adds the "
+                         "tangential ones)")
     return out
 
 

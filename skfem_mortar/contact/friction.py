@@ -108,14 +108,12 @@ rows by a fixed pressure of the step (see ``docs/friction.md``).
 from __future__ import annotations
 
 from dataclasses import dataclass, fields
-from typing import Union
-
 import numpy as np
 
 from ..core.validate import real
 
 __all__ = ["Coulomb", "Tresca", "FrictionLaw", "FrictionRows", "OPEN", "STICK", "SLIP",
-           "STATUS_NAMES", "NO_FRICTION", "JACOBIANS", "complementarity"]
+           "STATUS_NAMES", "NO_FRICTION", "FRICTIONLESS", "as_law", "JACOBIANS", "complementarity"]
 
 #: node status codes of :func:`complementarity`
 OPEN, STICK, SLIP = 0, 1, 2
@@ -134,16 +132,55 @@ def _start(value: float) -> float:
     return real("start", value, 0.0, 1.0, high_open=True)
 
 
-class _Starts:
-    """What the friction laws share about their ``start``: when friction acts, and
-    the repr (``start`` shown only when set)."""
+class FrictionLaw:
+    """A friction law a :class:`~skfem_mortar.contact.pair.ContactPair` plugs in.
 
-    start: float
+    A law is what the pair asks about friction, node by node, and nothing of the
+    pair's rows: the slip bound ``Xi`` and its derivatives (:meth:`slip_bound`),
+    ``dXi/dw`` of a bound proportional to the nodal weight ``w``
+    (:meth:`weight_derivative`, which the pair chains with ``dw/dx`` where the
+    multiplier space's weight moves with the slave), when it acts (:meth:`acts`,
+    :meth:`at`) and how a failure names it (:meth:`describe`).  A new law
+    subclasses this class (a frozen dataclass whose first field is its
+    parameter) and needs no change elsewhere.
+
+    Attributes
+    ----------
+    start : float
+        The load factor after which friction acts (0: every step).
+    tangential_multipliers : int
+        Tangential multipliers per slave node and tangent direction (``d - 1``
+        directions in ``d`` dimensions: 1 in 2D); 0 for :data:`FRICTIONLESS`,
+        which has no tangential rows.
+    """
+
+    start: float = 0.0
+    tangential_multipliers: int = 1
 
     def acts(self, load_factor: float) -> bool:
         """Whether friction acts in the load step ending at ``load_factor``:
         ``start == 0`` (every step) or ``load_factor > start``."""
         return self.start == 0.0 or load_factor > self.start
+
+    def at(self, load_factor: float) -> "FrictionLaw":
+        """The law of the load step ending at ``load_factor``: this one where it
+        :meth:`acts`, else :data:`NO_FRICTION` (every node open)."""
+        return self if self.acts(load_factor) else NO_FRICTION
+
+    def slip_bound(self, lam_n: np.ndarray, g_n: np.ndarray, c_n: float,
+                   weight: np.ndarray | float = 1.0
+                   ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """``(Xi, dXi/dlam_n, dXi/dg_n)`` per node (``weight``: the multiplier
+        space's nodal weight of a bound given per unit area)."""
+        raise NotImplementedError
+
+    def weight_derivative(self) -> float:
+        """``dXi/dw`` where ``Xi`` is proportional to the nodal weight ``w`` (0: it is not)."""
+        return 0.0
+
+    def describe(self) -> str:
+        """The bound in words, for a failure hint (e.g. ``mu = 0.3 times the normal force``)."""
+        return repr(self)
 
     def __repr__(self) -> str:
         name = fields(self)[0].name   # the law's own parameter: mu or bound
@@ -151,8 +188,37 @@ class _Starts:
         return f"{type(self).__name__}({name}={getattr(self, name)!r}{more})"
 
 
+class _Frictionless(FrictionLaw):
+    """No friction: no tangential multipliers, no tangential rows (the pair of
+    ``friction=None``)."""
+
+    tangential_multipliers = 0
+
+    def slip_bound(self, lam_n, g_n, c_n, weight=1.0):
+        z = np.zeros(np.shape(lam_n))
+        return z, z.copy(), z.copy()
+
+    def __repr__(self) -> str:
+        return "FRICTIONLESS"
+
+
+#: the law of a pair without friction (``friction=None``): no tangential rows
+FRICTIONLESS = _Frictionless()
+
+
+def as_law(friction: "FrictionLaw | None") -> FrictionLaw:
+    """The law of a pair's ``friction`` argument: :data:`FRICTIONLESS` for None, a
+    :class:`FrictionLaw` as it is (ValueError naming ``friction`` otherwise)."""
+    if friction is None:
+        return FRICTIONLESS
+    if not isinstance(friction, FrictionLaw):
+        raise ValueError(f"friction must be None, Coulomb(mu) or Tresca(bound), got "
+                         f"{friction!r}")
+    return friction
+
+
 @dataclass(frozen=True, repr=False)
-class Coulomb(_Starts):
+class Coulomb(FrictionLaw):
     """Coulomb friction: ``|lam_t| <= mu lam_n``.
 
     Parameters
@@ -188,9 +254,12 @@ class Coulomb(_Starts):
         xi = self.mu * (lam_n - c_n * g_n)
         return xi, np.full(xi.shape, self.mu), np.full(xi.shape, -self.mu * c_n)
 
+    def describe(self) -> str:
+        return f"mu = {self.mu:g} times the normal force"
+
 
 @dataclass(frozen=True, repr=False)
-class Tresca(_Starts):
+class Tresca(FrictionLaw):
     """Tresca friction: ``|t_t| <= bound``, a fixed bound on the tangential traction.
 
     Parameters
@@ -236,8 +305,13 @@ class Tresca(_Starts):
         xi = np.broadcast_to(self.bound * np.asarray(weight, float), shape).copy()
         return xi, np.zeros(shape), np.zeros(shape)
 
+    def weight_derivative(self) -> float:
+        """``dXi/dw = bound``."""
+        return self.bound
 
-FrictionLaw = Union[Coulomb, Tresca]
+    def describe(self) -> str:
+        return f"the Tresca bound {self.bound:g} times the contact length"
+
 
 #: the law of a frictional pair's steps before its ``start`` (every node open)
 NO_FRICTION = Coulomb(0.0)
@@ -295,7 +369,7 @@ def complementarity(law: FrictionLaw, lam_n: np.ndarray, lam_t: np.ndarray, g_n:
 
     Parameters
     ----------
-    law : Coulomb or Tresca
+    law : FrictionLaw
     lam_n, lam_t : ndarray (n,)
         Normal and tangential multipliers (the pair's signs, module doc).
     g_n : ndarray (n,)
@@ -330,8 +404,9 @@ def complementarity(law: FrictionLaw, lam_n: np.ndarray, lam_t: np.ndarray, g_n:
     -------
     FrictionRows
     """
-    if not isinstance(law, (Coulomb, Tresca)):
-        raise ValueError(f"law must be a Coulomb or Tresca friction law, got {law!r}")
+    if not isinstance(law, FrictionLaw):
+        raise ValueError(f"law must be a Coulomb or Tresca friction law (or another "
+                         f"FrictionLaw), got {law!r}")
     if jacobian not in JACOBIANS:
         raise ValueError(f"jacobian must be one of {', '.join(map(repr, JACOBIANS))}, got "
                          f"{jacobian!r}")

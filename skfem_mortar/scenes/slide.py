@@ -119,7 +119,7 @@ def build(params: dict, method: str | None = None) -> Setup:
         trib = np.r_[area, 0.0] / 2 + np.r_[0.0, area] / 2
         order = np.argsort(np.argsort(pair.slave.X[0]))
         p = N / WIDTH
-        z0[pair._normal] = p * trib[order] if pair.multiplier_kind == "force" else p
+        z0[pair._normal] = pair.space.multipliers(p, trib[order])  # the traction p as multipliers
         solve_options["z0"] = z0
 
     def metrics(result) -> dict:

@@ -1,0 +1,235 @@
+"""Multiplier spaces: what a contact multiplier is, as objects in a registry.
+
+A :class:`~skfem_mortar.contact.pair.ContactPair` reads its multipliers
+through the space of its method and never asks which space it is.  A space
+answers:
+
+* ``kind``: ``"force"`` (a nodal force, NTS) or ``"traction"`` (the
+  coefficient of a traction field, mortar);
+* :meth:`MultiplierSpace.pressure` / :meth:`~MultiplierSpace.multipliers`: the
+  pressure of a multiplier and back (``p = lam / a_A`` for nodal forces,
+  ``p = lam`` for tractions; ``a_A`` the tributary length);
+* :meth:`~MultiplierSpace.gap_length` and :meth:`~MultiplierSpace.slip_length`:
+  the method's gap and slip as lengths (mortar's weighted ones over ``a_A``);
+* :meth:`~MultiplierSpace.row_scale`, :meth:`~MultiplierSpace.complementarity`,
+  :meth:`~MultiplierSpace.p_ref`: the multiplier rows' scale ``s``, the
+  complementarity parameter ``c`` from the bodies' stiffness ``k`` and the
+  tangential rows' first pressure guess (force rows: ``s = 1``, ``c = k``,
+  ``p_ref = c h``; traction rows: ``s = h``, ``c = k / h^2``,
+  ``p_ref = c h^2``; ``h`` the mean tributary length);
+* :meth:`~MultiplierSpace.bound_weight` and ``bound_moves``: the nodal weight
+  ``w`` of a bound given per unit area (Tresca: ``Xi = bound * w``) and whether
+  ``w`` moves with the slave (then the pair chains ``dXi/dw dw/dx``);
+* :meth:`~MultiplierSpace.evaluate` and :meth:`~MultiplierSpace.slip`: the
+  method's gaps and slips in this space's multipliers (the built-ins take them
+  as the method computes them).
+
+The built-in spaces are :class:`NodalSpace` (``"nodal"``, NTS),
+:class:`StandardSpace` (``"standard"``, mortar with ``Phi_A = N_A``) and
+:class:`DualSpace` (``"dual"``, biorthogonal ``Phi_A = sum_B A_AB N_B`` with
+``A_e = D_e M_e^-1``).  A method names its space with the attribute
+``multiplier_space``; a method without it gets ``"nodal"`` for
+``multiplier_kind = "force"`` and ``"standard"`` (``"dual"`` where the method's
+``dual`` is set) for ``"traction"`` (:func:`space_for`).  A new space is a
+subclass and one :func:`register_space` call.
+"""
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+__all__ = ["MultiplierSpace", "NodalSpace", "StandardSpace", "DualSpace", "register_space",
+           "unregister_space", "registered_spaces", "space_for", "make_space"]
+
+
+def _mean_area(area: np.ndarray) -> float | None:
+    """The mean of the positive tributary lengths (None if there are none)."""
+    return float(np.mean(area[area > 0])) if np.any(area > 0) else None
+
+
+def _safe(area: np.ndarray) -> np.ndarray:
+    """Tributary lengths with 1 where a node has none (no division by zero)."""
+    return np.where(area > 0, area, 1.0)
+
+
+class MultiplierSpace:
+    """What a contact multiplier is (module doc); the base is the nodal-force space.
+
+    Attributes
+    ----------
+    name : str
+        The registered name.
+    kind : {"force", "traction"}
+        A nodal force or the coefficient of a traction field.
+    bound_moves : bool
+        Whether :meth:`bound_weight` depends on the current positions.
+    """
+
+    name = "nodal"
+    kind = "force"
+    bound_moves = True
+
+    def evaluate(self, method: Any, xs: np.ndarray, xm: np.ndarray, lam: np.ndarray | None,
+                 tangent: bool) -> Any:
+        """The method's :class:`~skfem_mortar.contact.contact_eval.ContactEval`
+        (``g``, ``G = dg/dx``, ``H = sum_A lam_A d2 g_A/dx2``) in this space."""
+        return method.evaluate(xs, xm, lam, tangent)
+
+    def slip(self, method: Any, xs: np.ndarray, xm: np.ndarray, history: dict,
+             lam_t: np.ndarray | None, tangent: bool, ev: Any) -> Any:
+        """The method's :class:`~skfem_mortar.contact.slip.SlipEval` in this space."""
+        return method.slip(xs, xm, history, lam_t, tangent, ev)
+
+    def pressure(self, lam: np.ndarray, area: np.ndarray) -> np.ndarray:
+        """The traction of multipliers ``lam``: ``lam / a_A``."""
+        return lam / _safe(area)
+
+    def multipliers(self, p: Any, area: np.ndarray) -> np.ndarray:
+        """The multipliers of a traction ``p`` (the inverse of :meth:`pressure`): ``p a_A``."""
+        return p * area
+
+    def gap_length(self, g: np.ndarray, area: np.ndarray) -> np.ndarray:
+        """The method's gap as a length: the nodal gap itself."""
+        return g
+
+    def slip_length(self, u: np.ndarray, area: np.ndarray) -> np.ndarray:
+        """The method's slip as a length: the nodal slip itself."""
+        return u
+
+    def row_scale(self, area: np.ndarray) -> float:
+        """The multiplier rows' scale ``s`` (rows of nodal forces are forces: 1)."""
+        return 1.0
+
+    def complementarity(self, k: float, area: np.ndarray) -> float:
+        """``c`` from the bodies' stiffness ``k`` (force / length): ``k``."""
+        return k
+
+    def p_ref(self, c: float, area: np.ndarray) -> float:
+        """The tangential rows' first pressure guess: ``c h`` (the force a gap of
+        one tributary length ``h`` would give)."""
+        h = _mean_area(area)
+        return float(c * (1.0 if h is None else h) ** 1)
+
+    def bound_weight(self, area: np.ndarray) -> np.ndarray | float:
+        """The nodal weight of a bound per unit area: the current tributary length."""
+        return area
+
+
+class NodalSpace(MultiplierSpace):
+    """Nodal forces (NTS): one multiplier per slave node, a force."""
+
+
+class StandardSpace(MultiplierSpace):
+    """Tractions in the standard mortar basis ``Phi_A = N_A`` (mortar): ``p = lam``,
+    the weighted gap ``g_A = sum_e int Phi_A g`` is a gap times a length, the
+    rows are scaled by ``h`` and ``c`` by ``1 / h^2``, a bound per unit area is
+    the nodal bound (weight 1)."""
+
+    name = "standard"
+    kind = "traction"
+    bound_moves = False
+
+    def pressure(self, lam: np.ndarray, area: np.ndarray) -> np.ndarray:
+        return lam.copy()
+
+    def multipliers(self, p: Any, area: np.ndarray) -> Any:
+        return p
+
+    def gap_length(self, g: np.ndarray, area: np.ndarray) -> np.ndarray:
+        return g / _safe(area)
+
+    def slip_length(self, u: np.ndarray, area: np.ndarray) -> np.ndarray:
+        return u / _safe(area)
+
+    def row_scale(self, area: np.ndarray) -> float:
+        """Traction rows times a length are forces: ``s = h``."""
+        h = _mean_area(area)
+        return 1.0 if h is None else h
+
+    def complementarity(self, k: float, area: np.ndarray) -> float:
+        h = _mean_area(area)
+        h = 1.0 if h is None else h
+        return k / (h * h)
+
+    def p_ref(self, c: float, area: np.ndarray) -> float:
+        h = _mean_area(area)
+        return float(c * (1.0 if h is None else h) ** 2)
+
+    def bound_weight(self, area: np.ndarray) -> np.ndarray | float:
+        return 1.0
+
+
+class DualSpace(StandardSpace):
+    """Tractions in the biorthogonal basis ``Phi_A = sum_B A_AB N_B`` (mortar-dual).
+
+    On each slave cell ``e``, ``A_e = D_e M_e^-1`` with ``D_e = diag(int N_A)``
+    and ``M_e = int N_A N_B`` (:meth:`coefficients`), so that
+    ``int Phi_A N_B = delta_AB int N_A`` and ``D`` is diagonal.  At a boundary
+    or crosspoint node (no multiplier) its basis function is merged into the
+    neighbour's (the kernel's ``multiplier_support``).  Quadratic cells in 3D
+    need a basis transformation of the displacement basis first (Popp et al.
+    2012); :meth:`transformation` is its place (identity for every cell type
+    now).
+    """
+
+    name = "dual"
+
+    @staticmethod
+    def coefficients(D_e: np.ndarray, M_e: np.ndarray) -> np.ndarray:
+        """``A_e = D_e M_e^-1`` of every cell (``D_e``, ``M_e`` of shape
+        ``(n_cells, k, k)``), by a solve of ``M_e^T A_e^T = D_e^T``."""
+        return np.linalg.solve(np.swapaxes(M_e, 1, 2), np.swapaxes(D_e, 1, 2)).swapaxes(1, 2)
+
+    @staticmethod
+    def transformation(n_nodes: int) -> np.ndarray:
+        """The displacement basis transformation of a cell of ``n_nodes`` nodes
+        before ``A_e`` is built: the identity (3D quadratic cells will need another)."""
+        return np.eye(n_nodes)
+
+
+_REGISTRY: dict[str, MultiplierSpace] = {}
+
+
+def register_space(space: MultiplierSpace) -> None:
+    """Make ``space`` (an instance) known by its ``name`` (ValueError if the name
+    is taken, not a non-empty string, or its ``kind`` not force or traction)."""
+    name = getattr(space, "name", None)
+    if not isinstance(space, MultiplierSpace) or not isinstance(name, str) or not name:
+        raise ValueError(f"space must be a MultiplierSpace with a non-empty name, got {space!r}")
+    if name in _REGISTRY:
+        raise ValueError(f"multiplier space {name!r} is registered already")
+    if space.kind not in ("force", "traction"):
+        raise ValueError(f"multiplier space {name!r}: kind must be 'force' or 'traction', "
+                         f"got {space.kind!r}")
+    _REGISTRY[name] = space
+
+
+def unregister_space(name: str) -> None:
+    """Forget a registered space (KeyError if it is not registered)."""
+    del _REGISTRY[name]
+
+
+def registered_spaces() -> tuple[str, ...]:
+    return tuple(_REGISTRY)
+
+
+def make_space(name: str) -> MultiplierSpace:
+    """The registered space ``name`` (ValueError naming the registered ones)."""
+    if name not in _REGISTRY:
+        raise ValueError(f"multiplier_space must be one of {', '.join(_REGISTRY)}, got {name!r}")
+    return _REGISTRY[name]
+
+
+def space_for(method: Any) -> MultiplierSpace:
+    """The space of a contact discretization: its ``multiplier_space`` if it names
+    one, else from its ``multiplier_kind`` (module doc)."""
+    name = getattr(method, "multiplier_space", None)
+    if name is None:
+        name = "nodal" if method.multiplier_kind == "force" else (
+            "dual" if getattr(method, "dual", False) else "standard")
+    return make_space(name)
+
+
+for _space in (NodalSpace(), StandardSpace(), DualSpace()):
+    register_space(_space)

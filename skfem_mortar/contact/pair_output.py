@@ -1,0 +1,64 @@
+"""What a contact pair reports of a state: per slave node data and contact forces.
+
+The readings go through the pair's multiplier space (pressure, gap as a
+length) and its tangential rows (their columns, their force), so nothing here
+asks which method or friction law the pair has.
+"""
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+from ..core.binding import rebind
+from .active_set import chain_order
+from .search import distance_to_polyline
+
+__all__ = ["contact_data", "along_surface", "forces"]
+
+
+def contact_data(pair: Any, z: np.ndarray) -> dict[str, np.ndarray]:
+    """:meth:`~skfem_mortar.contact.pair.ContactPair.contact_data`."""
+    rebind(pair)  # this pair's model's layout, if another model was used since
+    p, g, ev = pair.pressure_and_gap(z)
+    # round-off tension of a converged state (within the KKT tolerance) is
+    # written as 0: outputs never show a negative pressure that is not there
+    p = np.where((p < 0) & (p >= -pair._tol_p), 0.0, p)
+    p[p == 0] = 0.0  # no -0.0
+    x = pair.slave.x(z)
+    g = np.where(ev.mask, g, np.nan)
+    dist = np.where(ev.mask, g, 0.0)
+    if not ev.mask.all():
+        far = ~ev.mask
+        dist[far] = distance_to_polyline(x[:, far], pair.master.x(z), pair.master.segments)
+    data = {"x": x[0], "y": x[1], "gap": g, "pressure": p, "has_master": ev.mask,
+            "distance": dist}
+    data.update(pair.rows.columns(z))
+    k = along_surface(pair.slave)
+    return {**{name: v[k] for name, v in data.items()}, "node": k}
+
+
+def along_surface(s: Any) -> np.ndarray:
+    """Surface node indices in the order of :func:`contact_data`'s rows: chain
+    order, an open chain from its end with the smaller reference ``x`` (then
+    ``y``), a closed one from the start of its first segment."""
+    order = chain_order(s.segments, s.closed, s.n_nodes)
+    if order is None:  # not one chain through every node: the surface's order
+        return np.arange(s.n_nodes)
+    a, b = s.X[:, order[0]], s.X[:, order[-1]]
+    if not s.closed and (a[0], a[1]) > (b[0], b[1]):
+        order = order[::-1]
+    return np.ascontiguousarray(order, dtype=np.int64)
+
+
+def forces(pair: Any, z: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """:meth:`~skfem_mortar.contact.pair.ContactPair.forces`."""
+    rebind(pair)  # this pair's model's layout, if another model was used since
+    lam = np.asarray(z)[pair._normal]
+    ev = pair.evaluate(z, tangent=True, with_lam=False)
+    f = pair.thickness * (ev.G.T @ lam)
+    # and the tangential part G_t^T lam_t of the step (0 without tangential rows)
+    f = f + pair.thickness * pair.rows.force(z, ev)
+    n_s = pair.slave.n_nodes
+    d = pair.slave.X.shape[0]
+    return f[:d * n_s].reshape(-1, d).T, f[d * n_s:].reshape(-1, d).T
