@@ -65,7 +65,8 @@ from .materials import PLANES, LinearElastic, Material
 from ..core.item import Contribution, Item
 from ..core.validate_arrays import index_array
 
-__all__ = ["Solid", "ELEMENTS", "ELEMENTS_3D", "SPECIAL_ELEMENTS", "KINEMATICS", "boundary_facets", "constitutive_law",
+__all__ = ["Solid", "ELEMENTS", "ELEMENTS_3D", "SPECIAL_ELEMENTS", "KINEMATICS",
+           "element_domains", "displacement_element", "boundary_facets", "constitutive_law",
            "refuse_reduction"]
 
 #: elements per block of the one-point tangent kernel (its temporaries then stay
@@ -93,12 +94,13 @@ ELEMENTS_3D: dict[str, tuple[type, str, str, int | None]] = {
     "hex2": (ElementHex2, "RefHex", "hexahedron27", 5),
 }
 
-#: the elements of their own classes: name -> (reference domain, module, class);
-#: ``Solid(..., element=name)`` builds that class (its module imported on first use:
-#: this module imports none of them, they import it)
-SPECIAL_ELEMENTS: dict[str, tuple[str, str, str]] = {
-    "p2p1": ("RefTet", "skfem_mortar.bodies.taylor_hood", "TaylorHoodSolid"),
-    "hex1-md": ("RefHex", "skfem_mortar.bodies.mean_dilatation", "MeanDilatationSolid"),
+#: the elements of their own classes: name -> (reference domain, the element of their
+#: displacements, module, class); ``Solid(..., element=name)`` builds that class (its
+#: module imported on first use: this module imports none of them, they import it)
+SPECIAL_ELEMENTS: dict[str, tuple[str, str, str, str]] = {
+    "p2p1": ("RefTet", "tet2", "skfem_mortar.bodies.taylor_hood", "TaylorHoodSolid"),
+    "hex1-md": ("RefHex", "hex1", "skfem_mortar.bodies.mean_dilatation",
+                "MeanDilatationSolid"),
 }
 
 
@@ -107,6 +109,18 @@ def element_domains() -> dict[str, str]:
     out = {k: v[1] for k, v in {**ELEMENTS, **ELEMENTS_3D}.items()}
     out.update({k: v[0] for k, v in SPECIAL_ELEMENTS.items()})
     return out
+
+
+def displacement_element(mesh: Mesh, element: object, own: str, body: str) -> str:
+    """For the classes of :data:`SPECIAL_ELEMENTS`: ``element`` checked against
+    ``mesh`` (:func:`~skfem_mortar.bodies.checks.check_element`) and equal to the
+    class's ``own`` name (ValueError naming ``element`` otherwise); the element of
+    its displacements."""
+    check_element(mesh, element, element_domains())
+    if element != own:
+        raise ValueError(f"element must be {own!r} for a {body} (got {element!r}; "
+                         f"Solid(..., element={element!r}) builds its class)")
+    return SPECIAL_ELEMENTS[own][1]
 
 
 @LinearForm
@@ -277,7 +291,7 @@ class Solid(Item):
         that element's class (the same arguments)."""
         element = kwargs.get("element", args[2] if len(args) > 2 else None)
         if cls is Solid and isinstance(element, str) and element in SPECIAL_ELEMENTS:
-            _, module, name = SPECIAL_ELEMENTS[element]
+            _, _, module, name = SPECIAL_ELEMENTS[element]
             return super().__new__(getattr(importlib.import_module(module), name))
         return super().__new__(cls)
 
@@ -465,6 +479,12 @@ class Solid(Item):
         for i in range(self.dim):
             F[i, i] += 1.0
         return F if self._hoop is None else hoop_gradient(F, u, self._edofs, self._hoop)
+
+    def first_piola(self, z: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """``F`` and the stress ``P`` (``sigma`` at small strain) on all quadrature
+        points, ``(d, d, n_el, n_qp)`` each (what the output pushes forward)."""
+        F = self.deformation_gradient(z)
+        return F, self.material.stress(F)
 
     def internal_force(self, z: np.ndarray) -> np.ndarray:
         """Internal force ``int Grad v : P dV`` on the body's dofs (length ``n_dofs``)
