@@ -165,7 +165,8 @@ class Solid(Item):
         if self.dim == 3 and plane is not None:
             raise ValueError(f"plane applies to a 2D body only; a 3D mesh has no plane "
                              f"reduction (got plane={plane!r}): leave it out")
-        material, kinematics = constitutive_law(material, kinematics, plane or "strain")
+        plane = "strain" if plane is None else plane     # 3D: None, the check above
+        material, kinematics = constitutive_law(material, kinematics, plane)
         if intorder is not None:
             intorder = quadrature_order(intorder, 1)
         if self.dim == 2:
@@ -177,7 +178,7 @@ class Solid(Item):
         self.mesh = mesh
         self.material = material
         self.kinematics = kinematics
-        self.plane = (plane or "strain") if self.dim == 2 else None
+        self.plane = plane if self.dim == 2 else None
         self.element = element
         self.name = name
         self._cell_type = cell_type
