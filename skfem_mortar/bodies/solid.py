@@ -78,6 +78,9 @@ __all__ = ["Solid", "ELEMENTS", "ELEMENTS_3D", "SPECIAL_ELEMENTS", "KINEMATICS",
 #: in the cache; measured at hertz ``refine=3``: 4096 to 16384 alike, 2x faster
 #: than all elements at once)
 CHUNK = 8192
+#: elements per block of the 3D multi-point tangent kernel (measured on hex1: 1024
+#: and 4096 alike, 256 slower by a third)
+CHUNK_3D = 1024
 
 @LinearForm
 def internal_force(v, w):
@@ -397,13 +400,30 @@ class Solid(Item):
         """Element tangents ``K_e[l, m]`` ``(n_loc, n_loc, n_el)`` from ``A dx``
         ``(d, d, d, d, n_el, n_qp)``: ``W[k, L] = sum_J dN[l, J] A[c_l, J, k, L] dx``,
         then ``K_e[l, m] = sum_q W[c_m, L] dN[m, L]``."""
+        if self.dim == 3 and self._comp_slices:
+            return self._tangents_3d(Adx)
         dN, comp = self._dN, self._comp
         ke = np.empty((len(comp), len(comp), dN.shape[2]))
         for l in range(len(comp)):
-            W = dN[l, 0] * Adx[comp[l], 0] + dN[l, 1] * Adx[comp[l], 1]   # (d, d, n_el, n_qp)
-            for J in range(2, self.dim):
-                W += dN[l, J] * Adx[comp[l], J]
+            W = dN[l, 0] * Adx[comp[l], 0] + dN[l, 1] * Adx[comp[l], 1]   # (2, 2, n_el, n_qp)
             ke[l] = np.einsum("mLeq,mLeq->me", W[comp], dN)
+        return ke
+
+    def _tangents_3d(self, Adx: np.ndarray) -> np.ndarray:
+        """:meth:`_tangents` in 3D: the same products, over :data:`CHUNK_3D` elements
+        at a time and by component (``einsum`` on ``W[k]`` and the component's
+        ``dN``, no copy ``W[comp]``): 1.8x faster on hex1 (142 -> 78 us per element),
+        the same numbers to the last bit."""
+        dN, comp = self._dN, self._comp
+        ke = np.empty((len(comp), len(comp), dN.shape[2]))
+        for start in range(0, dN.shape[2], CHUNK_3D):
+            e = slice(start, start + CHUNK_3D)
+            Ae, dNe = Adx[..., e, :], dN[:, :, e]
+            for l in range(len(comp)):
+                W = dNe[l, 0] * Ae[comp[l], 0] + dNe[l, 1] * Ae[comp[l], 1]
+                W += dNe[l, 2] * Ae[comp[l], 2]                           # (3, 3, n, n_qp)
+                for k, on in self._comp_slices:
+                    ke[l, on, e] = np.einsum("Leq,mLeq->me", W[k], dNe[on])
         return ke
 
     def _tangents_one_point(self, A: np.ndarray) -> np.ndarray:
