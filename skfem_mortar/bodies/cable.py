@@ -156,9 +156,12 @@ class Cable(Item):
     """
 
     dof_kind = "u"
-    # "axisymmetric" only to refuse it at bind with the body to use instead (the
-    # geometry setter below): a plane string is no membrane of revolution
-    geometries = ("plane", "axisymmetric")
+    geometries = ("plane",)
+    #: what to use instead in another geometry (the model's refusal says it)
+    geometry_advice = {"axisymmetric": (
+        "a Cable is a plane string; in an axisymmetric model use Membrane "
+        "(skfem_mortar.bodies.membrane), the membrane of revolution (meridian nodes "
+        "(R, Z), laws 'neo-hooke' and 'svk')")}
     loaded = False  # its residual does not depend on the load factor
     phase = "bulk"
 
@@ -207,20 +210,6 @@ class Cable(Item):
         self.n_dofs = 2 * n
         # interleaved like skfem's ElementVector: node k -> dofs (2k, 2k+1)
         self.node_dofs = np.arange(2 * n, dtype=np.int64).reshape(n, 2).T.copy()
-
-    @property
-    def geometry(self) -> str:
-        """The model's geometry: "plane" (an axisymmetric model refuses a cable)."""
-        return self.__dict__.get("_geometry", "plane")
-
-    @geometry.setter
-    def geometry(self, value: str) -> None:
-        if value == "axisymmetric":
-            raise ValueError(
-                f"cable {self.name!r}: a Cable is a plane string; in an axisymmetric model "
-                f"use Membrane (skfem_mortar.bodies.membrane), the membrane of revolution "
-                f"(meridian nodes (R, Z), laws 'neo-hooke' and 'svk')")
-        self.__dict__["_geometry"] = value
 
     # -- construction helpers ----------------------------------------------
     @classmethod
