@@ -76,6 +76,7 @@ import scipy.sparse as sp
 
 from .contact_eval import ContactEval
 from .surfaces import segment_lengths, tributary_lengths
+from .scatter import Triplets
 from .jets import Jet, at_gauss, constant_like, sqrt, value, where
 from .mortar_segmentation import (Segmentation, nodal_normals,
                                   normal_length, project_on_master, project_on_slave,
@@ -710,7 +711,7 @@ def _jet_rows(P: "_Problem", tangent: bool, dual: bool, n_gauss: int, lam, block
     ga, gb = np.zeros(sg.n), np.zeros(sg.n)                 # per segment, for a and b
     GA, GB = np.zeros((sg.n, nv)), np.zeros((sg.n, nv))     # their first derivatives
     nvs = np.zeros(sg.n, dtype=np.int64)                     # local variables of each
-    Hr, Hc, Hv, out, order = [], [], [], [], []
+    Ht, out, order = Triplets(itype), [], []
     for sl, nv_g, sec in _blocks(sg.n, nv, n_gauss, second, loc, hessian):
         order.append(sl)
         ls = loc.take(sl)
@@ -719,27 +720,21 @@ def _jet_rows(P: "_Problem", tangent: bool, dual: bool, n_gauss: int, lam, block
         out.append(blk.ints)
         ga[sl], gb[sl] = blk.ga.v, blk.gb.v
         if tangent:
-            dl = dofs[sl, :nv_g]
             GA[sl, :nv_g], GB[sl, :nv_g], nvs[sl] = blk.ga.g.T, blk.gb.g.T, nv_g
             if sec:
-                Hr.append(np.repeat(dl, nv_g, axis=1).ravel())
-                Hc.append(np.tile(dl, (1, nv_g)).ravel())
-                Hv.append(blk.q.hessian().transpose(2, 0, 1).ravel())
+                Ht.block(dofs[sl, :nv_g], blk.q.hessian())
     g = np.zeros(n_s)
     np.add.at(g, loc.a, ga)
     np.add.at(g, loc.b, gb)
     G = H = None
     if tangent:
         used = np.arange(nv) < nvs[:, None]                  # (n_seg, nv)
-        rows = [np.broadcast_to(k.astype(itype)[:, None], used.shape)[used] for k in (loc.a, loc.b)]
-        cols = dofs[used]
-        G = sp.coo_matrix((np.concatenate([GA[used], GB[used]]),
-                           (np.concatenate(rows), np.concatenate([cols, cols]))),
-                          shape=(n_s, ndof)).tocsr()
-        if second:
-            nh = len(Hv)  # no block with second derivatives where every lam is 0
-            H = sp.coo_matrix((_cat(Hv, nh), (_cat(Hr, nh, itype), _cat(Hc, nh, itype))),
-                              shape=(ndof, ndof)).tocsr()
+        Gt = Triplets(itype)
+        Gt.rows(loc.a, dofs, GA, used)
+        Gt.rows(loc.b, dofs, GB, used)
+        G = Gt.csr((n_s, ndof))
+        if second:  # no block with second derivatives where every lam is 0
+            H = Ht.csr((ndof, ndof))
     return g, G, H, P.assemble(order, out)
 
 

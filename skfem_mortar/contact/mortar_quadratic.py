@@ -113,9 +113,9 @@ from __future__ import annotations
 from typing import Any, NamedTuple
 
 import numpy as np
-import scipy.sparse as sp
 
 from .contact_eval import ContactEval
+from .scatter import Triplets
 from .jets import Jet, at_gauss, constant_like, value, where
 from .mortar import MASK_TOL, gauss_rule
 from .mortar_quadratic_segmentation import (Segmentation, SlaveSlots, curve, element_normals,
@@ -602,12 +602,12 @@ def _evaluate(xs, seg_s, xm, seg_m, lam, tangent, dual, n_gauss, segmentation, p
     P = _prepare(xs, seg_s, xm, seg_m, segmentation, pairs, margin, reach, crosspoints,
                  n_gauss, n_gauss_element)
     n_s, n_m = P.xs.shape[1], P.xm.shape[1]
-    k, km = P.slots.k, P.seg_m.shape[1]
+    k = P.slots.k
     ndof = 2 * n_s + 2 * n_m
     second = tangent and lam is not None
     lamv = None if lam is None else np.asarray(lam, dtype=float)
     g = np.zeros(n_s)
-    Gr, Gc, Gv, Hr, Hc, Hv, Dv, Dr, Dc, Mv, Mr, Mc = ([] for _ in range(12))
+    Gt, Ht, Dt, Mt = Triplets(), Triplets(), Triplets(), Triplets()
     for sl, nv in _blocks(P, tangent, dual, second):
         if sl.size == 0:
             continue
@@ -615,36 +615,17 @@ def _evaluate(xs, seg_s, xm, seg_m, lam, tangent, dual, n_gauss, segmentation, p
         rows = P.seg_s[P.sg.e_s[sl]]                   # (n, k)
         for a in range(k):
             np.add.at(g, rows[:, a], value(blk.g[a]))
-        Dv.append(blk.D.ravel())
-        Dr.append(np.repeat(rows, k, axis=1).ravel())
-        Dc.append(np.tile(rows, (1, k)).ravel())
-        Mv.append(blk.M.ravel())
-        Mr.append(np.repeat(rows, km, axis=1).ravel())
-        Mc.append(np.tile(P.seg_m[P.sg.e_m[sl]], (1, k)).ravel())
+        Dt.outer(rows, rows, blk.D)
+        Mt.outer(rows, P.seg_m[P.sg.e_m[sl]], blk.M)
         if tangent:
             dl = _local_dofs(P, sl, nv)
             for a in range(k):
-                Gr.append(np.repeat(rows[:, a], nv))
-                Gc.append(dl.ravel())
-                Gv.append(blk.g[a].g.T.ravel())
+                Gt.rows(rows[:, a], dl, blk.g[a].g.T)
             if second:
-                Hr.append(np.repeat(dl, nv, axis=1).ravel())
-                Hc.append(np.tile(dl, (1, nv)).ravel())
-                Hv.append(blk.q.hessian().transpose(2, 0, 1).ravel())
-
-    def cat(L, dtype=float):
-        return np.concatenate(L) if L else np.zeros(0, dtype=dtype)
-    G = H = None
-    if tangent:
-        G = sp.coo_matrix((cat(Gv), (cat(Gr, np.int64), cat(Gc, np.int64))),
-                          shape=(n_s, ndof)).tocsr()
-        if second:
-            H = sp.coo_matrix((cat(Hv), (cat(Hr, np.int64), cat(Hc, np.int64))),
-                              shape=(ndof, ndof)).tocsr()
-    D = sp.coo_matrix((cat(Dv), (cat(Dr, np.int64), cat(Dc, np.int64))),
-                      shape=(n_s, n_s)).tocsr()
-    M = sp.coo_matrix((cat(Mv), (cat(Mr, np.int64), cat(Mc, np.int64))),
-                      shape=(n_s, n_m)).tocsr()
+                Ht.block(dl, blk.q.hessian())
+    G = Gt.csr((n_s, ndof)) if tangent else None
+    H = Ht.csr((ndof, ndof)) if second else None
+    D, M = Dt.csr((n_s, n_s)), Mt.csr((n_s, n_m))
     info = {"D": D, "M": M, "segmentation": P.sg, "n_segments": P.sg.n}
     if tangential:
         nrm = nodal_normals(P.xs, P.seg_s)

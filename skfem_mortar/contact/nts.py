@@ -36,12 +36,12 @@ from typing import Any
 import numpy as np
 import scipy.sparse as sp
 
+from .scatter import Triplets
 from .contact_eval import ContactEval
 from .discretization import (ContactDiscretization, OptionTable, check_entries, check_options,
                              covers, pattern_matrix, register_method, reserved_keys)
 from .nts_projection import LOCK_STICK, candidates, choose_segments, project
 from ..core.chain import polyline
-from ..core.coo import element_coo
 from .surfaces import segment_lengths, segment_normals, segments_at_nodes, tributary_lengths
 
 __all__ = ["NTS", "evaluate", "project", "candidates", "choose_segments", "RESERVE_MARGIN", "RESERVE_HALO", "SLIP_HALO", "LOCK_STICK", "COARSE_RATIO", "failure_hints",
@@ -127,7 +127,9 @@ def evaluate(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarra
                             2 * n_s + 2 * j2, 2 * n_s + 2 * j2 + 1])  # (m, 6)
     nk, ek, xk = n[:, k].T, e[:, k].T, xi[k][:, None]  # (m, 2)
     dg = np.hstack([nk, -(1 - xk) * nk, -xk * nk])  # (m, 6)
-    G = sp.csr_matrix((dg.ravel(), (np.repeat(k, 6), dofs.ravel())), shape=(n_s, ndof))
+    Gt = Triplets()
+    Gt.rows(k, dofs, dg)
+    G = Gt.csr((n_s, ndof))
     H = None
     if lam is not None:
         a = np.hstack([np.zeros_like(nk), nk, -nk])
@@ -135,8 +137,9 @@ def evaluate(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarra
         lk, gk = l[k][:, None, None], g[k][:, None, None]
         ac = a[:, :, None] * c[:, None, :]
         h = (ac + ac.transpose(0, 2, 1)) / lk - gk / lk**2 * (a[:, :, None] * a[:, None, :])
-        h *= lam[k][:, None, None]
-        H = sp.csr_matrix((h.ravel(), element_coo(dofs)), shape=(ndof, ndof))
+        Ht = Triplets()
+        Ht.block(dofs, h.transpose(1, 2, 0) * lam[k])
+        H = Ht.csr((ndof, ndof))
     return ContactEval(g=g, G=G, H=H, area=area, mask=mask, info=info)
 
 

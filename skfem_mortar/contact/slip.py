@@ -92,6 +92,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from . import mortar, mortar_quadratic, nts_quadratic
+from .scatter import Triplets
 from .jets import Jet
 from .mortar_quadratic_segmentation import nodal_normal_jets
 from .mortar_segmentation import nodal_normals
@@ -196,21 +197,16 @@ def _assemble(n_s: int, ndof: int, parts: list, lam_t: np.ndarray | None, second
     """``G`` and ``H`` of a sum of weighted jets: ``parts`` holds
     ``(rows (m,), dofs (m, nv), weight (m,), jet)``, each adding ``weight * jet``
     to the slip of its row's node (the jet's variables are the local dofs)."""
-    Gr = np.concatenate([np.repeat(r, d.shape[1]) for r, d, _, _ in parts])
-    Gc = np.concatenate([d.ravel() for _, d, _, _ in parts])
-    Gv = np.concatenate([(w[:, None] * j.g.T).ravel() for _, _, w, j in parts])
-    G = sp.csr_matrix((Gv, (Gr, Gc)), shape=(n_s, ndof))
+    Gt = Triplets()
+    for r, d, w, j in parts:
+        Gt.rows(r, d, w[:, None] * j.g.T)
+    G = Gt.csr((n_s, ndof))
     if not second:
         return G, None
-    Hr, Hc, Hv = [], [], []
+    Ht = Triplets()
     for r, d, w, j in parts:
-        nv = d.shape[1]
-        Hr.append(np.repeat(d, nv, axis=1).ravel())
-        Hc.append(np.tile(d, (1, nv)).ravel())
-        Hv.append((w * j.hessian() * lam_t[r]).transpose(2, 0, 1).ravel())
-    H = sp.csr_matrix((np.concatenate(Hv), (np.concatenate(Hr), np.concatenate(Hc))),
-                      shape=(ndof, ndof))
-    return G, H
+        Ht.block(d, w * j.hessian() * lam_t[r])
+    return G, Ht.csr((ndof, ndof))
 
 
 def _segment_dofs(n_s: int, seg_m: np.ndarray, segs: np.ndarray) -> np.ndarray:
@@ -463,9 +459,10 @@ def mortar_slip(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.nda
     d6 = np.hstack([_node_dofs(n_s, slots[:, j], False) for j in range(slots.shape[1])])
     nv = d6.shape[1]
     # T: rows 2A + i, d tau_A,i / dx
-    T = sp.csr_matrix((np.stack([tj[0].g.T, tj[1].g.T], 1).ravel(),
-                       (np.repeat(np.arange(2 * n_s), nv), np.repeat(d6, 2, axis=0).ravel())),
-                      shape=(2 * n_s, ndof))
+    Tt = Triplets()
+    Tt.rows(np.arange(2 * n_s), np.repeat(d6, 2, axis=0),
+            np.stack([tj[0].g.T, tj[1].g.T], 1).reshape(2 * n_s, nv))
+    T = Tt.csr((2 * n_s, ndof))
     S = sp.kron(sp.identity(n_s, format="csr"), np.ones((1, 2)), format="csr")
     G = (ev.G + S @ (sp.diags(tau.T.ravel()) @ W + sp.diags(w.T.ravel()) @ T)).tocsr()
     H = None
@@ -473,8 +470,8 @@ def mortar_slip(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.nda
         L = sp.diags(np.repeat(lam_t, 2))
         cross = T.T @ L @ W
         h6 = (tj[0].hessian() * (lam_t * w[0]) + tj[1].hessian() * (lam_t * w[1]))  # (nv, nv, n)
-        Ht = sp.csr_matrix((h6.transpose(2, 0, 1).ravel(),
-                            (np.repeat(d6, nv, axis=1).ravel(), np.tile(d6, (1, nv)).ravel())),
-                           shape=(ndof, ndof))
+        Ht = Triplets()
+        Ht.block(d6, h6)
+        Ht = Ht.csr((ndof, ndof))
         H = (ev.H + cross + cross.T + Ht).tocsr()
     return SlipEval(u=u, G=G, H=H, tangent=tau, mask=ev.mask, info=info)
