@@ -118,7 +118,8 @@ from .contact_eval import ContactEval
 from .scatter import Triplets
 from .jets import Jet, at_gauss, constant_like, value, where
 from .mortar import MASK_TOL, gauss_rule
-from .mortar_quadratic_segmentation import (Segmentation, SlaveSlots, curve, element_normals,
+from .segmentation import Segmentation, check_kernel_cells, line_cells
+from .mortar_quadratic_segmentation import (SlaveSlots, curve, element_normals,
                                             element_polynomial, nodal_normals, order_of,
                                             project_on_master,
                                             project_on_master_jet, project_on_slave_jet,
@@ -142,15 +143,15 @@ def _check_rule(name: str, n: Any) -> int:
     return int(n)
 
 
-def _as_arrays(xs, seg_s, xm, seg_m):
+def _as_arrays(xs, seg_s, xm, seg_m, cells=None):
+    """The coordinates and connectivities as arrays, checked against ``cells``
+    (:func:`~skfem_mortar.contact.segmentation.line_cells`: line2 or line3)."""
     xs = np.asarray(xs, dtype=float).reshape(2, -1)
     xm = np.asarray(xm, dtype=float).reshape(2, -1)
     seg_s = np.asarray(seg_s, dtype=np.int64)
     seg_m = np.asarray(seg_m, dtype=np.int64)
-    for name, seg in (("seg_s", seg_s), ("seg_m", seg_m)):
-        if seg.ndim != 2 or seg.shape[1] not in (2, 3):
-            raise ValueError(f"{name} must have shape (n, 2) or (n, 3) (start, end[, mid]), "
-                             f"got {seg.shape}")
+    check_kernel_cells(line_cells(seg_s, seg_m, cells), ("line2", "line3"),
+                       "the curved mortar kernel")
     return xs, seg_s, xm, seg_m
 
 
@@ -334,8 +335,8 @@ class _Problem(NamedTuple):
 
 
 def _prepare(xs, seg_s, xm, seg_m, segmentation, pairs, margin, reach, crosspoints,
-             n_gauss, n_gauss_element) -> _Problem:
-    xs, seg_s, xm, seg_m = _as_arrays(xs, seg_s, xm, seg_m)
+             n_gauss, n_gauss_element, cells=None) -> _Problem:
+    xs, seg_s, xm, seg_m = _as_arrays(xs, seg_s, xm, seg_m, cells)
     n_s = xs.shape[1]
     sg = segmentation if segmentation is not None else segment(
         xs, seg_s, xm, seg_m, pairs=pairs, margin=margin, frozen=False, reach=reach)
@@ -546,6 +547,10 @@ def evaluate(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarra
         merged into their elements' other nodes (:func:`merge_matrix`).
     n_gauss_element : int in [1, 10]
         Points of the element rule of the dual basis and the tributary weights.
+    **options
+        ``cells``: the (slave, master) cell types, ``line2`` or ``line3`` (default:
+        the lines of the connectivities' columns,
+        :func:`~skfem_mortar.contact.segmentation.line_cells`).
 
     Returns
     -------
@@ -595,12 +600,14 @@ def tangential_evaluate(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m
 def _evaluate(xs, seg_s, xm, seg_m, lam, tangent, dual, n_gauss, segmentation, pairs, margin,
               crosspoints, reach, n_gauss_element, options, tangential, name) -> ContactEval:
     """:func:`evaluate` (``tangential`` False) or :func:`tangential_evaluate`."""
+    options = dict(options)
+    cells = options.pop("cells", None)
     if options:
         raise TypeError(f"unknown options for mortar_quadratic.{name}: {sorted(options)}")
     _check_rule("n_gauss", n_gauss)
     _check_rule("n_gauss_element", n_gauss_element)
     P = _prepare(xs, seg_s, xm, seg_m, segmentation, pairs, margin, reach, crosspoints,
-                 n_gauss, n_gauss_element)
+                 n_gauss, n_gauss_element, cells)
     n_s, n_m = P.xs.shape[1], P.xm.shape[1]
     k = P.slots.k
     ndof = 2 * n_s + 2 * n_m

@@ -92,7 +92,9 @@ import numpy as np
 import scipy.sparse as sp
 
 from . import mortar, mortar_quadratic, nts_quadratic
+from .cells import CellType
 from .scatter import Triplets
+from .segmentation import check_kernel_cells, line_cells
 from .jets import Jet
 from .mortar_quadratic_segmentation import nodal_normal_jets
 from .mortar_segmentation import nodal_normals
@@ -270,7 +272,7 @@ def _curved_parts(xs, xm, seg_m, k, e, ep, xp, st, crossed, second):
 def nts_slip(xs: np.ndarray, xm: np.ndarray, seg_m: np.ndarray, xi_prev: np.ndarray,
              segment_prev: np.ndarray, segment: np.ndarray | None = None,
              lam_t: np.ndarray | None = None, tangent: bool = True,
-             **project_options: Any) -> SlipEval:
+             cell: "str | CellType | None" = None, **project_options: Any) -> SlipEval:
     """NTS slip ``u_t = S(e, xi) - S(e_prev, xi_prev)`` and its exact derivatives (module doc).
 
     Parameters
@@ -296,16 +298,19 @@ def nts_slip(xs: np.ndarray, xm: np.ndarray, seg_m: np.ndarray, xi_prev: np.ndar
         Tangential multipliers, for ``H``.
     tangent : bool
         Build ``G`` (and ``H`` with ``lam_t``).
+    cell : str or CellType, optional
+        The master cell type, ``line2`` or ``line3`` (default: the line of
+        ``seg_m``'s columns, :func:`~skfem_mortar.contact.segmentation.line_cells`).
 
     Returns
     -------
     SlipEval
     """
     xs, xm = np.asarray(xs, float), np.asarray(xm, float)
-    seg_m = np.asarray(seg_m, dtype=np.int64)
-    if seg_m.ndim != 2 or seg_m.shape[1] not in (2, 3):
-        seg_m = seg_m.reshape(-1, 2)
-    curved = seg_m.shape[1] == 3
+    seg_m = _segments(seg_m)
+    cells = line_cells(seg_m, seg_m, None if cell is None else (cell, cell))
+    check_kernel_cells(cells, ("line2", "line3"), "nts_slip")
+    curved = cells[1].name == "line3"
     n_s, n_m, n_seg = xs.shape[1], xm.shape[1], len(seg_m)
     xi_prev = np.asarray(xi_prev, float)
     segment_prev = np.asarray(segment_prev, dtype=np.int64)
@@ -367,18 +372,21 @@ def _as_csr(M: Any, shape: tuple[int, int], name: str) -> sp.csr_matrix:
     return M
 
 
-def _curved(seg_s: np.ndarray, seg_m: np.ndarray) -> bool:
-    """Whether either surface has 3-node segments (the curved mortar kernel)."""
-    return np.asarray(seg_s).shape[-1] == 3 or np.asarray(seg_m).shape[-1] == 3
-
-
 def _segments(seg: Any) -> np.ndarray:
     seg = np.asarray(seg, dtype=np.int64)
-    return seg if seg.ndim == 2 and seg.shape[1] in (2, 3) else seg.reshape(-1, 2)
+    return seg.reshape(-1, 2) if seg.ndim == 1 else seg  # a flat list of (start, end) pairs
+
+
+def _cells(seg_s: np.ndarray, seg_m: np.ndarray, cells) -> tuple[tuple, bool]:
+    """The cells of a mortar call and whether they take the curved kernel."""
+    cells = line_cells(seg_s, seg_m, cells)
+    check_kernel_cells(cells, ("line2", "line3"), "mortar_slip")
+    return cells, any(c.name != "line2" for c in cells)
 
 
 def mortar_history(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarray,
-                   **kernel_options: Any) -> dict[str, sp.csr_matrix]:
+                   cells: tuple | None = None, **kernel_options: Any
+                   ) -> dict[str, sp.csr_matrix]:
     """The history of :func:`mortar_slip` at a converged state: ``D_prev``, ``M_prev``.
 
     The mortar integrals of :func:`skfem_mortar.contact.mortar.evaluate`
@@ -389,14 +397,16 @@ def mortar_history(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.
     evaluation at the converged state.
     """
     seg_s, seg_m = _segments(seg_s), _segments(seg_m)
-    kernel = mortar_quadratic.evaluate if _curved(seg_s, seg_m) else mortar.evaluate
-    ev = kernel(xs, seg_s, xm, seg_m, tangent=False, **kernel_options)
+    cells, curved = _cells(seg_s, seg_m, cells)
+    kernel = mortar_quadratic.evaluate if curved else mortar.evaluate
+    ev = kernel(xs, seg_s, xm, seg_m, tangent=False, cells=cells, **kernel_options)
     return {"D_prev": ev.info["D"], "M_prev": ev.info["M"]}
 
 
 def mortar_slip(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarray,
                 D_prev: Any, M_prev: Any, lam_t: np.ndarray | None = None,
-                tangent: bool = True, **kernel_options: Any) -> SlipEval:
+                tangent: bool = True, cells: tuple | None = None,
+                **kernel_options: Any) -> SlipEval:
     """Weighted objective mortar slip (module doc) and its exact derivatives.
 
     Parameters
@@ -416,6 +426,10 @@ def mortar_slip(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.nda
         Tangential multipliers, for ``H``.
     tangent : bool
         Build ``G`` (and ``H`` with ``lam_t``).
+    cells : (slave, master) cell types, optional
+        ``line2`` or ``line3`` (default: the lines of the connectivities' columns,
+        :func:`~skfem_mortar.contact.segmentation.line_cells`); a ``line3`` on
+        either side takes the curved kernel.
     **kernel_options
         ``dual``, ``n_gauss``, ``segmentation``, ``pairs``, ``margin``,
         ``crosspoints``, ``reach`` of :func:`skfem_mortar.contact.mortar.evaluate`.
@@ -428,7 +442,7 @@ def mortar_slip(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.nda
     """
     xs, xm = np.asarray(xs, float), np.asarray(xm, float)
     seg_s, seg_m = _segments(seg_s), _segments(seg_m)
-    curved = _curved(seg_s, seg_m)
+    cells, curved = _cells(seg_s, seg_m, cells)
     n_s, n_m = xs.shape[1], xm.shape[1]
     Dp = _as_csr(D_prev, (n_s, n_s), "D_prev")
     Mp = _as_csr(M_prev, (n_s, n_m), "M_prev")
@@ -438,7 +452,7 @@ def mortar_slip(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.nda
             raise ValueError(f"lam_t must have shape ({n_s},), got {lam_t.shape}")
     second = tangent and lam_t is not None
     kernel = mortar_quadratic.tangential_evaluate if curved else mortar.tangential_evaluate
-    ev = kernel(xs, seg_s, xm, seg_m, lam=lam_t, tangent=tangent, **kernel_options)
+    ev = kernel(xs, seg_s, xm, seg_m, lam=lam_t, tangent=tangent, cells=cells, **kernel_options)
     # w_A = sum_B Dp_AB x_B - sum_C Mp_AC x_C: rows 2A + i, local dof columns
     I2 = sp.identity(2, format="csr")
     W = sp.hstack([sp.kron(Dp, I2), -sp.kron(Mp, I2)], format="csr")
