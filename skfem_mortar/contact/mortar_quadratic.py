@@ -120,7 +120,7 @@ from .jets import Jet, at_gauss, constant_like, value, where
 from .mortar import MASK_TOL, gauss_rule
 from .segmentation import Segmentation, check_kernel_cells, line_cells
 from .mortar_quadratic_segmentation import (SlaveSlots, curve, element_normals,
-                                            element_polynomial, nodal_normals, order_of,
+                                            element_polynomial, nodal_normals,
                                             project_on_master,
                                             project_on_master_jet, project_on_slave_jet,
                                             segment, shape_values, slave_slots, tangent)

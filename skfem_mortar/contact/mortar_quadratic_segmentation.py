@@ -76,13 +76,13 @@ from .jets import Jet, _outer, constant_like, inv, sqrt, value
 from . import mortar_segmentation
 from .cells import CellType
 from .mortar_segmentation import LEN_TOL, _side, clip_to_slave, master_coordinates
-from .segmentation import Segmentation, register_default
+from .segmentation import Segmentation, line_cells, register_default
 from .search import box_pairs
 
 __all__ = ["SHAPE", "shape_values", "element_polynomial", "poly", "poly_derivative",
            "element_normals", "slave_slots", "SlaveSlots", "nodal_normals", "nodal_normal_jets",
            "project_on_slave", "project_on_master", "newton_jet", "candidate_pairs",
-           "segment", "segment_lines", "Segmentation", "chord_lengths", "order_of"]
+           "segment", "segment_lines", "Segmentation", "chord_lengths"]
 
 #: monomial coefficients of the shape functions: ``N_A(xi) = sum_p SHAPE[k][A, p] xi^p``
 #: for ``k`` nodes (columns start, end[, mid])
@@ -90,14 +90,6 @@ SHAPE = {2: np.array([[0.5, -0.5, 0.0], [0.5, 0.5, 0.0]]),
          3: np.array([[0.0, -0.5, 0.5], [0.0, 0.5, 0.5], [1.0, 0.0, -1.0]])}
 
 _NEWTON = 12  # Newton iterations on values (quadratic convergence from the chord estimate)
-
-
-def order_of(seg: np.ndarray) -> int:
-    """Geometric order of a surface's segments: 1 for (n, 2), 2 for (n, 3)."""
-    k = np.asarray(seg).shape[1] if np.ndim(seg) == 2 else 2
-    if k not in (2, 3):
-        raise ValueError(f"segments must have 2 or 3 columns (start, end[, mid]), got {k}")
-    return k - 1
 
 
 def chord_lengths(x: np.ndarray, seg: np.ndarray) -> np.ndarray:
@@ -508,7 +500,7 @@ def segment(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarray
     xm = np.asarray(xm, dtype=float).reshape(2, -1)
     seg_s = np.asarray(seg_s, dtype=np.int64)
     seg_m = np.asarray(seg_m, dtype=np.int64)
-    order_of(seg_s), order_of(seg_m)
+    line_cells(seg_s, seg_m)             # (n, 2) or (n, 3) (start, end[, mid])
     km = seg_m.shape[1]
     candidates = None
     if pairs is None:
