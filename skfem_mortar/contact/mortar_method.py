@@ -305,6 +305,18 @@ class Mortar(ContactDiscretization):
             extra["crosspoints"] = np.flatnonzero(self._pinned)
         return extra, pinned
 
+    def _segmented(self, xs: np.ndarray, xm: np.ndarray, extra: dict) -> dict:
+        """The kernel's options ``extra`` with the integration cells of the cells'
+        segmentation (:func:`~.segmentation.segmentation_for`): the frozen ones of
+        policy ``step``, else this configuration's (not frozen: the kernel
+        differentiates their end points by origin)."""
+        if "segmentation" in extra:
+            return extra
+        sg = self._segment(xs, self.slave.segments, xm, self.master.segments, self.cells,
+                           margin=self.options.get("margin"), frozen=False,
+                           reach=extra.get("reach", 0.0))
+        return {**extra, "segmentation": sg}
+
     def evaluate(self, xs: np.ndarray, xm: np.ndarray, lam: np.ndarray | None,
                  tangent: bool) -> ContactEval:
         """The kernel's :class:`ContactEval` at ``xs``, ``xm`` (``lam``: for ``H``).
@@ -328,7 +340,8 @@ class Mortar(ContactDiscretization):
         if hit is not None:
             return hit
         ev = self._kernel(xs, self.slave.segments, xm, self.master.segments, lam=lam,
-                          tangent=tangent, cells=self.cells, **extra, **self._kernel_options)
+                          tangent=tangent, cells=self.cells, **self._segmented(xs, xm, extra),
+                          **self._kernel_options)
         if pinned:
             ev.mask = ev.mask & ~self._pinned
         self._last = _LastEvaluation.of(ev, xs, xm, lam, tangent, extra, pin)
@@ -379,8 +392,8 @@ class Mortar(ContactDiscretization):
         extra, pinned = self._extra(xs, xm)
         D_prev, M_prev = self._prev(history)
         sl = mortar_slip(xs, self.slave.segments, xm, self.master.segments, D_prev, M_prev,
-                         lam_t=lam_t, tangent=tangent, cells=self.cells, **extra,
-                         **self._kernel_options)
+                         lam_t=lam_t, tangent=tangent, cells=self.cells,
+                         **self._segmented(xs, xm, extra), **self._kernel_options)
         if pinned:
             sl.mask = sl.mask & ~self._pinned
         return sl

@@ -357,6 +357,40 @@ class _Block(NamedTuple):
     M: np.ndarray       # (n, k_s, k_m) int Phi_A N_C dGamma
 
 
+def _end_points(sg: Segmentation, sl: np.ndarray, Pc: list, Qc: list, Vm: list, const):
+    """Steps 2, 3: the end points ``lo, hi`` of the mortar segments ``sl`` by their
+    origin: a slave end is -1 or 1 (a constant), a master vertex (local variables
+    ``Vm``, the master element's first two nodes) is projected onto the slave
+    element in jets; frozen segmentations keep their values."""
+    if sg.frozen:
+        return const(sg.xi[sl, 0]), const(sg.xi[sl, 1])
+    n = sl.size
+    src = sg.src[sl]
+    ends = []
+    for c in (0, 1):
+        start = np.where(src[:, 0] == c, sg.xi[sl, 0], np.where(src[:, 1] == c, sg.xi[sl, 1], 0.0))
+        with np.errstate(divide="ignore", invalid="ignore"):
+            ends.append(project_on_slave_jet(Pc, Qc, Vm[c], start))
+    lo = where(src[:, 0] == -1, const(-np.ones(n)), where(src[:, 0] == 0, ends[0], ends[1]))
+    hi = where(src[:, 1] == -1, const(np.ones(n)), where(src[:, 1] == 0, ends[0], ends[1]))
+    return lo, hi
+
+
+def _projectable_part(exi: np.ndarray, nodes: tuple, Pc: list, Qc: list, Vb: list | None,
+                      const) -> tuple:
+    """Step 6: the projectable part ``[l, h]`` of the slave elements, in jets of the
+    master nodes bounding it (``Vb``, None: held constant; ``nodes`` -1 at a slave end)."""
+    if Vb is None:
+        return const(exi[:, 0]), const(exi[:, 1])
+    lo_node, hi_node = nodes
+    n = exi.shape[0]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        pl = project_on_slave_jet(Pc, Qc, Vb[0], np.where(lo_node >= 0, exi[:, 0], 0.0))
+        ph = project_on_slave_jet(Pc, Qc, Vb[1], np.where(hi_node >= 0, exi[:, 1], 0.0))
+    return (where(lo_node >= 0, pl, const(-np.ones(n))),
+            where(hi_node >= 0, ph, const(np.ones(n))))
+
+
 def _block(P: _Problem, sl: np.ndarray, nv: int, second: bool, dual: bool,
            lam: np.ndarray | None, tangential: bool = False) -> _Block:
     """Steps 1 to 7 on the mortar segments ``sl`` in jets of ``nv`` local variables
@@ -381,32 +415,13 @@ def _block(P: _Problem, sl: np.ndarray, nv: int, second: bool, dual: bool,
     Pc, Qc = element_polynomial(V[:k], k), element_polynomial(nrm, k)
     R = element_polynomial(V[ns:ns + km], km)
     # 2, 3. end points of the mortar segments: the master vertices projected onto e
-    n = e.size
-    if sg.frozen:
-        lo, hi = const(sg.xi[sl, 0]), const(sg.xi[sl, 1])
-    else:
-        src = sg.src[sl]
-        ends = []
-        for c in (0, 1):
-            start = np.where(src[:, 0] == c, sg.xi[sl, 0], np.where(src[:, 1] == c, sg.xi[sl, 1], 0.0))
-            with np.errstate(divide="ignore", invalid="ignore"):
-                ends.append(project_on_slave_jet(Pc, Qc, V[ns + c], start))
-        lo = where(src[:, 0] == -1, const(-np.ones(n)), where(src[:, 0] == 0, ends[0], ends[1]))
-        hi = where(src[:, 1] == -1, const(np.ones(n)), where(src[:, 1] == 0, ends[0], ends[1]))
+    lo, hi = _end_points(sg, sl, Pc, Qc, V[ns:ns + 2], const)
     # 6. multiplier functions (dual: on the projectable part of e)
     T = P.T[e] if P.merged_any[e].any() else None
     A = None
     if dual:
-        exi = sg.elem_xi[e]
-        if partial:
-            b = ns + km
-            with np.errstate(divide="ignore", invalid="ignore"):
-                pl = project_on_slave_jet(Pc, Qc, V[b], np.where(lo_node >= 0, exi[:, 0], 0.0))
-                ph = project_on_slave_jet(Pc, Qc, V[b + 1], np.where(hi_node >= 0, exi[:, 1], 0.0))
-            part = (where(lo_node >= 0, pl, const(-np.ones(n))),
-                    where(hi_node >= 0, ph, const(np.ones(n))))
-        else:
-            part = const(exi[:, 0]), const(exi[:, 1])
+        part = _projectable_part(sg.elem_xi[e], (lo_node, hi_node), Pc, Qc,
+                                 V[ns + km:ns + km + 2] if partial else None, const)
         A = dual_coefficients(Pc, *part, k, T, P.n_gauss_element)
     # 4. Gauss points on the mortar segments, 5. their projections onto the master
     eta_r, w = P.rule
