@@ -26,11 +26,15 @@ from . import nts  # noqa: F401 (registers "nts" first: the built-ins in BUILTIN
 from .discretization import (ContactDiscretization, Factory, OptionTable, check_options, covers,
                              pattern_matrix, register_method, reserved_keys)
 from .mortar_quadratic_segmentation import candidate_pairs
-from .segmentation import Segmentation, segmentation_for, surface_cell
+from .segmentation import Segmentation, check_kernel_cells, segmentation_for, surface_cell
 from .search import segment_pairs
 from .surfaces import segment_lengths, segments_at_nodes
 
-__all__ = ["Mortar", "RESERVE_LENGTHS"]
+__all__ = ["Mortar", "RESERVE_LENGTHS", "KERNEL_CELLS"]
+
+#: the cell types the mortar kernels evaluate (:mod:`.mortar`: line2 on both
+#: sides; :mod:`.mortar_quadratic`: line2 or line3)
+KERNEL_CELLS = ("line2", "line3")
 
 #: the reserved pattern (:meth:`Mortar.pattern`) holds the element pairs of the
 #: search with its margin widened by this many element lengths (the larger of
@@ -153,6 +157,7 @@ class Mortar(ContactDiscretization):
         self.dual = bool(dual)
         #: the two surfaces' cell types (:func:`~.segmentation.surface_cell`)
         self.cells = (surface_cell(slave), surface_cell(master))
+        check_kernel_cells(self.cells, KERNEL_CELLS, self.method)
         #: the curved kernel (a cell other than line2) or the linear one
         self.curved = any(c.name != "line2" for c in self.cells)
         self._kernel = mortar_quadratic.evaluate if self.curved else mortar.evaluate

@@ -292,6 +292,7 @@ class NTS(ContactDiscretization):
         self.slave, self.master, self.pair_name = slave, master, pair_name
         #: the two surfaces' cell types (:func:`~.segmentation.surface_cell`)
         self.cells = (surface_cell(slave), surface_cell(master))
+        check_kernel_cells(self.cells, ("line2", "line3"), "nts")
         self.options = dict(options)
         self._hint = failure_hints(slave, master, pair_name)
         self._pinned: np.ndarray | None = None
