@@ -311,8 +311,11 @@ def test_projections_are_roots():
 
 # ------------------------------------------------------------ the method
 def _surfaces(xs, ss, xm, sm):
-    return (types.SimpleNamespace(segments=ss, n_nodes=xs.shape[1]),
-            types.SimpleNamespace(segments=sm, n_nodes=xm.shape[1]))
+    """Bare surfaces: connectivity, node count and cell type (as a surface carries it)."""
+    def cell(seg):
+        return {2: "line2", 3: "line3"}[np.shape(seg)[1]]
+    return (types.SimpleNamespace(segments=ss, n_nodes=xs.shape[1], cell=cell(ss)),
+            types.SimpleNamespace(segments=sm, n_nodes=xm.shape[1], cell=cell(sm)))
 
 
 @pytest.mark.parametrize("ks,km", [(3, 3), (3, 2), (2, 3), (2, 2)])

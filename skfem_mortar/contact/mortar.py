@@ -76,8 +76,10 @@ import scipy.sparse as sp
 
 from .contact_eval import ContactEval
 from .surfaces import segment_lengths, tributary_lengths
+from .scatter import Triplets
 from .jets import Jet, at_gauss, constant_like, sqrt, value, where
-from .mortar_segmentation import (Segmentation, nodal_normals,
+from .segmentation import Segmentation, check_kernel_cells, line_cells
+from .mortar_segmentation import (nodal_normals,
                                   normal_length, project_on_master, project_on_slave,
                                   segment, segment_end_points, slave_element)
 
@@ -534,7 +536,11 @@ def _tangential_block(xs, xm, loc: _Local, sg: Segmentation, sl, nv: int, second
 
 
 # -------------------------------------------------------------------- evaluate
-def _as_arrays(xs, seg_s, xm, seg_m):
+def _as_arrays(xs, seg_s, xm, seg_m, cells=None):
+    """The coordinates and connectivities as arrays; ``cells``, when given, must be
+    ``line2`` (the cells this kernel evaluates)."""
+    if cells is not None:
+        check_kernel_cells(line_cells(seg_s, seg_m, cells), ("line2",), "the linear mortar kernel")
     return (np.asarray(xs, dtype=float).reshape(2, -1), np.asarray(seg_s, dtype=np.int64).reshape(-1, 2),
             np.asarray(xm, dtype=float).reshape(2, -1), np.asarray(seg_m, dtype=np.int64).reshape(-1, 2))
 
@@ -628,8 +634,8 @@ class _Problem(NamedTuple):
 
     @staticmethod
     def of(xs, seg_s, xm, seg_m, segmentation, pairs, margin, reach, crosspoints, n_gauss,
-           nodal_jets: int, second: bool) -> "_Problem":
-        xs, seg_s, xm, seg_m = _as_arrays(xs, seg_s, xm, seg_m)
+           nodal_jets: int, second: bool, cells=None) -> "_Problem":
+        xs, seg_s, xm, seg_m = _as_arrays(xs, seg_s, xm, seg_m, cells)
         n_s = xs.shape[1]
         sg = segmentation if segmentation is not None else segment(
             xs, seg_s, xm, seg_m, pairs=pairs, margin=margin, frozen=False, reach=reach)
@@ -710,7 +716,7 @@ def _jet_rows(P: "_Problem", tangent: bool, dual: bool, n_gauss: int, lam, block
     ga, gb = np.zeros(sg.n), np.zeros(sg.n)                 # per segment, for a and b
     GA, GB = np.zeros((sg.n, nv)), np.zeros((sg.n, nv))     # their first derivatives
     nvs = np.zeros(sg.n, dtype=np.int64)                     # local variables of each
-    Hr, Hc, Hv, out, order = [], [], [], [], []
+    Ht, out, order = Triplets(itype), [], []
     for sl, nv_g, sec in _blocks(sg.n, nv, n_gauss, second, loc, hessian):
         order.append(sl)
         ls = loc.take(sl)
@@ -719,27 +725,21 @@ def _jet_rows(P: "_Problem", tangent: bool, dual: bool, n_gauss: int, lam, block
         out.append(blk.ints)
         ga[sl], gb[sl] = blk.ga.v, blk.gb.v
         if tangent:
-            dl = dofs[sl, :nv_g]
             GA[sl, :nv_g], GB[sl, :nv_g], nvs[sl] = blk.ga.g.T, blk.gb.g.T, nv_g
             if sec:
-                Hr.append(np.repeat(dl, nv_g, axis=1).ravel())
-                Hc.append(np.tile(dl, (1, nv_g)).ravel())
-                Hv.append(blk.q.hessian().transpose(2, 0, 1).ravel())
+                Ht.block(dofs[sl, :nv_g], blk.q.hessian())
     g = np.zeros(n_s)
     np.add.at(g, loc.a, ga)
     np.add.at(g, loc.b, gb)
     G = H = None
     if tangent:
         used = np.arange(nv) < nvs[:, None]                  # (n_seg, nv)
-        rows = [np.broadcast_to(k.astype(itype)[:, None], used.shape)[used] for k in (loc.a, loc.b)]
-        cols = dofs[used]
-        G = sp.coo_matrix((np.concatenate([GA[used], GB[used]]),
-                           (np.concatenate(rows), np.concatenate([cols, cols]))),
-                          shape=(n_s, ndof)).tocsr()
-        if second:
-            nh = len(Hv)  # no block with second derivatives where every lam is 0
-            H = sp.coo_matrix((_cat(Hv, nh), (_cat(Hr, nh, itype), _cat(Hc, nh, itype))),
-                              shape=(ndof, ndof)).tocsr()
+        Gt = Triplets(itype)
+        Gt.rows(loc.a, dofs, GA, used)
+        Gt.rows(loc.b, dofs, GB, used)
+        G = Gt.csr((n_s, ndof))
+        if second:  # no block with second derivatives where every lam is 0
+            H = Ht.csr((ndof, ndof))
     return g, G, H, P.assemble(order, out)
 
 
@@ -748,7 +748,7 @@ def evaluate(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarra
              n_gauss: int = 2, segmentation: Segmentation | None = None,
              pairs: tuple[np.ndarray, np.ndarray] | None = None, margin: float | None = None,
              crosspoints: np.ndarray | None = None, reach: float = 0.0,
-             **options: Any) -> ContactEval:
+             cells: tuple | None = None, **options: Any) -> ContactEval:
     """Mortar weighted gaps ``g``, ``G = dg/dx`` and ``H = sum_A lam_A d^2 g_A/dx^2``.
 
     Parameters
@@ -793,6 +793,8 @@ def evaluate(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarra
         Slave nodes (e.g. on a Dirichlet boundary) whose multiplier is merged
         into the neighbour: on their element the neighbour's multiplier shape
         function becomes 1 and theirs 0; they are never in ``mask``.
+    cells : (slave, master) cell types, optional
+        Both ``line2`` (checked; the cells of this kernel).
 
     Notes
     -----
@@ -821,7 +823,8 @@ def evaluate(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarra
     if options:
         raise TypeError(f"unknown options for mortar.evaluate: {sorted(options)}")
     P = _Problem.of(xs, seg_s, xm, seg_m, segmentation, pairs, margin, reach, crosspoints,
-                    n_gauss, nodal_jets=(6 if tangent else 0), second=tangent and lam is not None)
+                    n_gauss, nodal_jets=(6 if tangent else 0), second=tangent and lam is not None,
+                    cells=cells)
     g, G, H, A = _jet_rows(P, tangent, dual, n_gauss, lam,
                            lambda ls, sl, nv_g, lam_ab, sec: P.block(ls, sl, nv_g, dual, lam_ab,
                                                                      second=sec))
@@ -835,7 +838,7 @@ def tangential_evaluate(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m
                         n_gauss: int = 2, segmentation: Segmentation | None = None,
                         pairs: tuple[np.ndarray, np.ndarray] | None = None,
                         margin: float | None = None, crosspoints: np.ndarray | None = None,
-                        reach: float = 0.0) -> ContactEval:
+                        reach: float = 0.0, cells: tuple | None = None) -> ContactEval:
     """The tangential offsets ``r_A = tau_A * (sum_C M_AC x_C - sum_B D_AB x_B)`` (a dot product),
     ``G = dr/dx`` and ``H = sum_A lam_A d^2 r_A/dx^2``, exact.
 
@@ -855,7 +858,7 @@ def tangential_evaluate(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m
     """
     second = tangent and lam is not None
     P = _Problem.of(xs, seg_s, xm, seg_m, segmentation, pairs, margin, reach, crosspoints,
-                    n_gauss, nodal_jets=(6 if tangent else 0), second=second)
+                    n_gauss, nodal_jets=(6 if tangent else 0), second=second, cells=cells)
     tau = (P.nrm[1], -P.nrm[0])        # nodal_tangents, from the normals P holds
 
     def block(ls, sl, nv_g, lam_ab, sec):

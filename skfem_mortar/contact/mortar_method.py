@@ -25,26 +25,22 @@ from .contact_eval import ContactEval
 from . import nts  # noqa: F401 (registers "nts" first: the built-ins in BUILTIN_METHODS order)
 from .discretization import (ContactDiscretization, Factory, OptionTable, check_options, covers,
                              pattern_matrix, register_method, reserved_keys)
-from .mortar_quadratic_segmentation import candidate_pairs, order_of
-from .mortar_quadratic_segmentation import segment as segment_curved
-from .mortar_segmentation import Segmentation, segment
+from .mortar_quadratic_segmentation import candidate_pairs
+from .segmentation import Segmentation, check_kernel_cells, segmentation_for, surface_cell
 from .search import segment_pairs
 from .surfaces import segment_lengths, segments_at_nodes
 
-__all__ = ["Mortar", "RESERVE_LENGTHS", "surface_order"]
+__all__ = ["Mortar", "RESERVE_LENGTHS", "KERNEL_CELLS"]
+
+#: the cell types the mortar kernels evaluate (:mod:`.mortar`: line2 on both
+#: sides; :mod:`.mortar_quadratic`: line2 or line3)
+KERNEL_CELLS = ("line2", "line3")
 
 #: the reserved pattern (:meth:`Mortar.pattern`) holds the element pairs of the
 #: search with its margin widened by this many element lengths (the larger of
 #: the median slave and master lengths): the surfaces may slide that far
 #: against each other before the search finds a new pair
 RESERVE_LENGTHS = 1.0
-
-
-def surface_order(surface: Any) -> int:
-    """A surface's geometric order: its ``order`` (1 or 2), else from its
-    segments' columns (2: straight, 3: curved 3-node segments)."""
-    order = getattr(surface, "order", None)
-    return int(order) if order is not None else order_of(surface.segments)
 
 
 def _same_options(a: dict, b: dict) -> bool:
@@ -132,8 +128,8 @@ class Mortar(ContactDiscretization):
     their multiplier is merged into the neighbour's, so the multipliers still
     sum to one on their elements.
 
-    Curved surfaces: when the slave or the master has 3-node segments
-    (:func:`surface_order` 2) the kernel is
+    Curved surfaces: when the slave or the master has cells other than ``line2``
+    (:attr:`cells`) the kernel is
     :func:`skfem_mortar.contact.mortar_quadratic.evaluate` (both policies;
     ``n_gauss`` default 3 there), the reserved pattern holds the 3-node
     elements' couplings (:meth:`pattern`).
@@ -159,10 +155,14 @@ class Mortar(ContactDiscretization):
             raise ValueError(f"segmentation must be 'iteration' or 'step', got {segmentation!r}")
         self.slave, self.master, self.pair_name = slave, master, pair_name
         self.dual = bool(dual)
-        #: the curved kernel (either surface of order 2) or the linear one
-        self.curved = surface_order(slave) == 2 or surface_order(master) == 2
+        #: the two surfaces' cell types (:func:`~.segmentation.surface_cell`)
+        self.cells = (surface_cell(slave), surface_cell(master))
+        check_kernel_cells(self.cells, KERNEL_CELLS, self.method)
+        #: the curved kernel (a cell other than line2) or the linear one
+        self.curved = any(c.name != "line2" for c in self.cells)
         self._kernel = mortar_quadratic.evaluate if self.curved else mortar.evaluate
-        self._segment = segment_curved if self.curved else segment
+        #: the segmentation of the cells (:func:`~.segmentation.segmentation_for`)
+        self._segment = segmentation_for(self.cells)
         self.segmentation = segmentation
         self.options = dict(options)
         self._kernel_options = {"dual": self.dual, **options}
@@ -186,7 +186,7 @@ class Mortar(ContactDiscretization):
         if self.segmentation == "step":
             self._sg = None
             self._sg = self._segment(xs, self.slave.segments, xm, self.master.segments,
-                                     margin=self.options.get("margin"), frozen=True)
+                                     self.cells, margin=self.options.get("margin"), frozen=True)
 
     def _pairs(self, xs: np.ndarray, xm: np.ndarray, widen: float = 0.0) -> np.ndarray:
         """The candidate element pairs of the search :meth:`evaluate` runs at these
@@ -234,49 +234,26 @@ class Mortar(ContactDiscretization):
         self.reservations += 1
 
     def _pattern_of(self, held: np.ndarray) -> sp.csr_matrix:
-        """Row ``A``: its own dofs, for each slave element at ``A`` its nodes ``p,
-        a, b, n``, and the nodes of the held master elements of those elements."""
-        if self.curved:
-            return self._pattern_curved(held)
+        """Row ``A``: its own dofs, for each slave element at ``A`` the nodes of that
+        element and of its previous and next elements (the nodal normals of its
+        vertices reach into them; for 2-node elements the nodes ``p, a, b, n``),
+        and the nodes of the held master elements of those elements.  Every slave
+        element's own neighbourhood is held, held pair or not (local, cheap: the
+        slave part never grows, so against a rigid master the pattern repeats from
+        the first iteration on)."""
         seg_s, seg_m = self.slave.segments, self.master.segments
         n_s = self.slave.n_nodes
         e_s, e_m = held // len(seg_m), held % len(seg_m)
-        ending, starting = segments_at_nodes(seg_s, n_s)
-        a, b = seg_s[:, 0], seg_s[:, 1]
-        p = np.where(ending[a] >= 0, seg_s[np.maximum(ending[a], 0), 0], a)
-        n = np.where(starting[b] >= 0, seg_s[np.maximum(starting[b], 0), 1], b)
-        # every slave element's own nodes p, a, b, n (local, cheap: a multiplier row
-        # couples to its neighbourhood), so that the slave part never grows and a
-        # rigid master's pattern repeats from the first iteration on
-        el = np.arange(len(seg_s))
-        snodes = np.stack([p[el], a[el], b[el], n[el]], 1)
-        own = np.arange(n_s)
-        two = np.arange(2)
-        rows = np.concatenate([np.repeat(np.stack([a[el], b[el]], 1), 8, axis=1).ravel(),
-                               np.repeat(np.stack([a[e_s], b[e_s]], 1), 4, axis=1).ravel(),
-                               own, own])
-        sc = (2 * snodes[:, :, None] + two).reshape(-1, 8)
-        mc = (2 * n_s + 2 * seg_m[e_m][:, :, None] + two).reshape(-1, 4)
-        cols = np.concatenate([np.tile(sc, (1, 2)).ravel(), np.tile(mc, (1, 2)).ravel(),
-                               2 * own, 2 * own + 1])
-        return pattern_matrix(rows, cols, (n_s, 2 * n_s + 2 * self.master.n_nodes))
-
-    def _pattern_curved(self, held: np.ndarray) -> sp.csr_matrix:
-        """:meth:`_pattern_of` for the curved kernel: row ``A`` holds, for each slave
-        element at ``A``, the nodes of that element and of its previous and next
-        elements (the nodal normals of its vertices reach into them), and the
-        nodes of the held master elements of those elements."""
-        seg_s, seg_m = self.slave.segments, self.master.segments
-        n_s = self.slave.n_nodes
-        e_s, e_m = held // len(seg_m), held % len(seg_m)
-        ending, starting = segments_at_nodes(seg_s[:, :2], n_s)
-        el = np.arange(len(seg_s))  # every slave element (as _pattern_of)
-        prev, nxt = ending[seg_s[el, 0]], starting[seg_s[el, 1]]
+        first, last = self.cells[0].corners[0], self.cells[0].corners[-1]
+        ending, starting = segments_at_nodes(seg_s[:, [first, last]], n_s)
+        el = np.arange(len(seg_s))  # every slave element
+        prev, nxt = ending[seg_s[el, first]], starting[seg_s[el, last]]
         snodes = np.concatenate([seg_s[el], np.where(prev[:, None] >= 0, seg_s[np.maximum(prev, 0)],
-                                                      seg_s[el, :1]),
+                                                      seg_s[el, first:first + 1]),
                                  np.where(nxt[:, None] >= 0, seg_s[np.maximum(nxt, 0)],
-                                          seg_s[el, 1:2])], axis=1)
-        k, km, two, own = seg_s.shape[1], seg_m.shape[1], np.arange(2), np.arange(n_s)
+                                          seg_s[el, last:last + 1])], axis=1)
+        k, km = self.cells[0].n_nodes, self.cells[1].n_nodes
+        two, own = np.arange(2), np.arange(n_s)
         sc = (2 * snodes[:, :, None] + two).reshape(el.size, -1)
         mc = (2 * n_s + 2 * seg_m[e_m][:, :, None] + two).reshape(e_m.size, -1)
         rows = np.concatenate([np.repeat(seg_s[el], sc.shape[1], axis=1).ravel(),
@@ -333,6 +310,18 @@ class Mortar(ContactDiscretization):
             extra["crosspoints"] = np.flatnonzero(self._pinned)
         return extra, pinned
 
+    def _segmented(self, xs: np.ndarray, xm: np.ndarray, extra: dict) -> dict:
+        """The kernel's options ``extra`` with the integration cells of the cells'
+        segmentation (:func:`~.segmentation.segmentation_for`): the frozen ones of
+        policy ``step``, else this configuration's (not frozen: the kernel
+        differentiates their end points by origin)."""
+        if "segmentation" in extra:
+            return extra
+        sg = self._segment(xs, self.slave.segments, xm, self.master.segments, self.cells,
+                           margin=self.options.get("margin"), frozen=False,
+                           reach=extra.get("reach", 0.0))
+        return {**extra, "segmentation": sg}
+
     def evaluate(self, xs: np.ndarray, xm: np.ndarray, lam: np.ndarray | None,
                  tangent: bool) -> ContactEval:
         """The kernel's :class:`ContactEval` at ``xs``, ``xm`` (``lam``: for ``H``).
@@ -356,7 +345,8 @@ class Mortar(ContactDiscretization):
         if hit is not None:
             return hit
         ev = self._kernel(xs, self.slave.segments, xm, self.master.segments, lam=lam,
-                          tangent=tangent, **extra, **self._kernel_options)
+                          tangent=tangent, cells=self.cells, **self._segmented(xs, xm, extra),
+                          **self._kernel_options)
         if pinned:
             ev.mask = ev.mask & ~self._pinned
         self._last = _LastEvaluation.of(ev, xs, xm, lam, tangent, extra, pin)
@@ -407,7 +397,8 @@ class Mortar(ContactDiscretization):
         extra, pinned = self._extra(xs, xm)
         D_prev, M_prev = self._prev(history)
         sl = mortar_slip(xs, self.slave.segments, xm, self.master.segments, D_prev, M_prev,
-                         lam_t=lam_t, tangent=tangent, **extra, **self._kernel_options)
+                         lam_t=lam_t, tangent=tangent, cells=self.cells,
+                         **self._segmented(xs, xm, extra), **self._kernel_options)
         if pinned:
             sl.mask = sl.mask & ~self._pinned
         return sl

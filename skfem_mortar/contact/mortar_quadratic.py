@@ -113,13 +113,14 @@ from __future__ import annotations
 from typing import Any, NamedTuple
 
 import numpy as np
-import scipy.sparse as sp
 
 from .contact_eval import ContactEval
+from .scatter import Triplets
 from .jets import Jet, at_gauss, constant_like, value, where
 from .mortar import MASK_TOL, gauss_rule
-from .mortar_quadratic_segmentation import (Segmentation, SlaveSlots, curve, element_normals,
-                                            element_polynomial, nodal_normals, order_of,
+from .segmentation import Segmentation, check_kernel_cells, line_cells
+from .mortar_quadratic_segmentation import (SlaveSlots, curve, element_normals,
+                                            element_polynomial, nodal_normals,
                                             project_on_master,
                                             project_on_master_jet, project_on_slave_jet,
                                             segment, shape_values, slave_slots, tangent)
@@ -142,15 +143,15 @@ def _check_rule(name: str, n: Any) -> int:
     return int(n)
 
 
-def _as_arrays(xs, seg_s, xm, seg_m):
+def _as_arrays(xs, seg_s, xm, seg_m, cells=None):
+    """The coordinates and connectivities as arrays, checked against ``cells``
+    (:func:`~skfem_mortar.contact.segmentation.line_cells`: line2 or line3)."""
     xs = np.asarray(xs, dtype=float).reshape(2, -1)
     xm = np.asarray(xm, dtype=float).reshape(2, -1)
     seg_s = np.asarray(seg_s, dtype=np.int64)
     seg_m = np.asarray(seg_m, dtype=np.int64)
-    for name, seg in (("seg_s", seg_s), ("seg_m", seg_m)):
-        if seg.ndim != 2 or seg.shape[1] not in (2, 3):
-            raise ValueError(f"{name} must have shape (n, 2) or (n, 3) (start, end[, mid]), "
-                             f"got {seg.shape}")
+    check_kernel_cells(line_cells(seg_s, seg_m, cells), ("line2", "line3"),
+                       "the curved mortar kernel")
     return xs, seg_s, xm, seg_m
 
 
@@ -334,8 +335,8 @@ class _Problem(NamedTuple):
 
 
 def _prepare(xs, seg_s, xm, seg_m, segmentation, pairs, margin, reach, crosspoints,
-             n_gauss, n_gauss_element) -> _Problem:
-    xs, seg_s, xm, seg_m = _as_arrays(xs, seg_s, xm, seg_m)
+             n_gauss, n_gauss_element, cells=None) -> _Problem:
+    xs, seg_s, xm, seg_m = _as_arrays(xs, seg_s, xm, seg_m, cells)
     n_s = xs.shape[1]
     sg = segmentation if segmentation is not None else segment(
         xs, seg_s, xm, seg_m, pairs=pairs, margin=margin, frozen=False, reach=reach)
@@ -354,6 +355,40 @@ class _Block(NamedTuple):
     q: Jet | None       # sum_A lam_A g_A to second order
     D: np.ndarray       # (n, k_s, k_s) int Phi_A N_B dGamma
     M: np.ndarray       # (n, k_s, k_m) int Phi_A N_C dGamma
+
+
+def _end_points(sg: Segmentation, sl: np.ndarray, Pc: list, Qc: list, Vm: list, const):
+    """Steps 2, 3: the end points ``lo, hi`` of the mortar segments ``sl`` by their
+    origin: a slave end is -1 or 1 (a constant), a master vertex (local variables
+    ``Vm``, the master element's first two nodes) is projected onto the slave
+    element in jets; frozen segmentations keep their values."""
+    if sg.frozen:
+        return const(sg.xi[sl, 0]), const(sg.xi[sl, 1])
+    n = sl.size
+    src = sg.src[sl]
+    ends = []
+    for c in (0, 1):
+        start = np.where(src[:, 0] == c, sg.xi[sl, 0], np.where(src[:, 1] == c, sg.xi[sl, 1], 0.0))
+        with np.errstate(divide="ignore", invalid="ignore"):
+            ends.append(project_on_slave_jet(Pc, Qc, Vm[c], start))
+    lo = where(src[:, 0] == -1, const(-np.ones(n)), where(src[:, 0] == 0, ends[0], ends[1]))
+    hi = where(src[:, 1] == -1, const(np.ones(n)), where(src[:, 1] == 0, ends[0], ends[1]))
+    return lo, hi
+
+
+def _projectable_part(exi: np.ndarray, nodes: tuple, Pc: list, Qc: list, Vb: list | None,
+                      const) -> tuple:
+    """Step 6: the projectable part ``[l, h]`` of the slave elements, in jets of the
+    master nodes bounding it (``Vb``, None: held constant; ``nodes`` -1 at a slave end)."""
+    if Vb is None:
+        return const(exi[:, 0]), const(exi[:, 1])
+    lo_node, hi_node = nodes
+    n = exi.shape[0]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        pl = project_on_slave_jet(Pc, Qc, Vb[0], np.where(lo_node >= 0, exi[:, 0], 0.0))
+        ph = project_on_slave_jet(Pc, Qc, Vb[1], np.where(hi_node >= 0, exi[:, 1], 0.0))
+    return (where(lo_node >= 0, pl, const(-np.ones(n))),
+            where(hi_node >= 0, ph, const(np.ones(n))))
 
 
 def _block(P: _Problem, sl: np.ndarray, nv: int, second: bool, dual: bool,
@@ -380,32 +415,13 @@ def _block(P: _Problem, sl: np.ndarray, nv: int, second: bool, dual: bool,
     Pc, Qc = element_polynomial(V[:k], k), element_polynomial(nrm, k)
     R = element_polynomial(V[ns:ns + km], km)
     # 2, 3. end points of the mortar segments: the master vertices projected onto e
-    n = e.size
-    if sg.frozen:
-        lo, hi = const(sg.xi[sl, 0]), const(sg.xi[sl, 1])
-    else:
-        src = sg.src[sl]
-        ends = []
-        for c in (0, 1):
-            start = np.where(src[:, 0] == c, sg.xi[sl, 0], np.where(src[:, 1] == c, sg.xi[sl, 1], 0.0))
-            with np.errstate(divide="ignore", invalid="ignore"):
-                ends.append(project_on_slave_jet(Pc, Qc, V[ns + c], start))
-        lo = where(src[:, 0] == -1, const(-np.ones(n)), where(src[:, 0] == 0, ends[0], ends[1]))
-        hi = where(src[:, 1] == -1, const(np.ones(n)), where(src[:, 1] == 0, ends[0], ends[1]))
+    lo, hi = _end_points(sg, sl, Pc, Qc, V[ns:ns + 2], const)
     # 6. multiplier functions (dual: on the projectable part of e)
     T = P.T[e] if P.merged_any[e].any() else None
     A = None
     if dual:
-        exi = sg.elem_xi[e]
-        if partial:
-            b = ns + km
-            with np.errstate(divide="ignore", invalid="ignore"):
-                pl = project_on_slave_jet(Pc, Qc, V[b], np.where(lo_node >= 0, exi[:, 0], 0.0))
-                ph = project_on_slave_jet(Pc, Qc, V[b + 1], np.where(hi_node >= 0, exi[:, 1], 0.0))
-            part = (where(lo_node >= 0, pl, const(-np.ones(n))),
-                    where(hi_node >= 0, ph, const(np.ones(n))))
-        else:
-            part = const(exi[:, 0]), const(exi[:, 1])
+        part = _projectable_part(sg.elem_xi[e], (lo_node, hi_node), Pc, Qc,
+                                 V[ns + km:ns + km + 2] if partial else None, const)
         A = dual_coefficients(Pc, *part, k, T, P.n_gauss_element)
     # 4. Gauss points on the mortar segments, 5. their projections onto the master
     eta_r, w = P.rule
@@ -546,6 +562,10 @@ def evaluate(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarra
         merged into their elements' other nodes (:func:`merge_matrix`).
     n_gauss_element : int in [1, 10]
         Points of the element rule of the dual basis and the tributary weights.
+    **options
+        ``cells``: the (slave, master) cell types, ``line2`` or ``line3`` (default:
+        the lines of the connectivities' columns,
+        :func:`~skfem_mortar.contact.segmentation.line_cells`).
 
     Returns
     -------
@@ -595,19 +615,21 @@ def tangential_evaluate(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m
 def _evaluate(xs, seg_s, xm, seg_m, lam, tangent, dual, n_gauss, segmentation, pairs, margin,
               crosspoints, reach, n_gauss_element, options, tangential, name) -> ContactEval:
     """:func:`evaluate` (``tangential`` False) or :func:`tangential_evaluate`."""
+    options = dict(options)
+    cells = options.pop("cells", None)
     if options:
         raise TypeError(f"unknown options for mortar_quadratic.{name}: {sorted(options)}")
     _check_rule("n_gauss", n_gauss)
     _check_rule("n_gauss_element", n_gauss_element)
     P = _prepare(xs, seg_s, xm, seg_m, segmentation, pairs, margin, reach, crosspoints,
-                 n_gauss, n_gauss_element)
+                 n_gauss, n_gauss_element, cells)
     n_s, n_m = P.xs.shape[1], P.xm.shape[1]
-    k, km = P.slots.k, P.seg_m.shape[1]
+    k = P.slots.k
     ndof = 2 * n_s + 2 * n_m
     second = tangent and lam is not None
     lamv = None if lam is None else np.asarray(lam, dtype=float)
     g = np.zeros(n_s)
-    Gr, Gc, Gv, Hr, Hc, Hv, Dv, Dr, Dc, Mv, Mr, Mc = ([] for _ in range(12))
+    Gt, Ht, Dt, Mt = Triplets(), Triplets(), Triplets(), Triplets()
     for sl, nv in _blocks(P, tangent, dual, second):
         if sl.size == 0:
             continue
@@ -615,36 +637,17 @@ def _evaluate(xs, seg_s, xm, seg_m, lam, tangent, dual, n_gauss, segmentation, p
         rows = P.seg_s[P.sg.e_s[sl]]                   # (n, k)
         for a in range(k):
             np.add.at(g, rows[:, a], value(blk.g[a]))
-        Dv.append(blk.D.ravel())
-        Dr.append(np.repeat(rows, k, axis=1).ravel())
-        Dc.append(np.tile(rows, (1, k)).ravel())
-        Mv.append(blk.M.ravel())
-        Mr.append(np.repeat(rows, km, axis=1).ravel())
-        Mc.append(np.tile(P.seg_m[P.sg.e_m[sl]], (1, k)).ravel())
+        Dt.outer(rows, rows, blk.D)
+        Mt.outer(rows, P.seg_m[P.sg.e_m[sl]], blk.M)
         if tangent:
             dl = _local_dofs(P, sl, nv)
             for a in range(k):
-                Gr.append(np.repeat(rows[:, a], nv))
-                Gc.append(dl.ravel())
-                Gv.append(blk.g[a].g.T.ravel())
+                Gt.rows(rows[:, a], dl, blk.g[a].g.T)
             if second:
-                Hr.append(np.repeat(dl, nv, axis=1).ravel())
-                Hc.append(np.tile(dl, (1, nv)).ravel())
-                Hv.append(blk.q.hessian().transpose(2, 0, 1).ravel())
-
-    def cat(L, dtype=float):
-        return np.concatenate(L) if L else np.zeros(0, dtype=dtype)
-    G = H = None
-    if tangent:
-        G = sp.coo_matrix((cat(Gv), (cat(Gr, np.int64), cat(Gc, np.int64))),
-                          shape=(n_s, ndof)).tocsr()
-        if second:
-            H = sp.coo_matrix((cat(Hv), (cat(Hr, np.int64), cat(Hc, np.int64))),
-                              shape=(ndof, ndof)).tocsr()
-    D = sp.coo_matrix((cat(Dv), (cat(Dr, np.int64), cat(Dc, np.int64))),
-                      shape=(n_s, n_s)).tocsr()
-    M = sp.coo_matrix((cat(Mv), (cat(Mr, np.int64), cat(Mc, np.int64))),
-                      shape=(n_s, n_m)).tocsr()
+                Ht.block(dl, blk.q.hessian())
+    G = Gt.csr((n_s, ndof)) if tangent else None
+    H = Ht.csr((ndof, ndof)) if second else None
+    D, M = Dt.csr((n_s, n_s)), Mt.csr((n_s, n_m))
     info = {"D": D, "M": M, "segmentation": P.sg, "n_segments": P.sg.n}
     if tangential:
         nrm = nodal_normals(P.xs, P.seg_s)

@@ -73,13 +73,16 @@ import numpy as np
 
 from ..core.chain import segments_at_nodes
 from .jets import Jet, _outer, constant_like, inv, sqrt, value
-from .mortar_segmentation import LEN_TOL, Segmentation, _side, clip_to_slave
+from . import mortar_segmentation
+from .cells import CellType
+from .mortar_segmentation import LEN_TOL, _side, clip_to_slave, master_coordinates
+from .segmentation import Segmentation, line_cells, register_default
 from .search import box_pairs
 
 __all__ = ["SHAPE", "shape_values", "element_polynomial", "poly", "poly_derivative",
            "element_normals", "slave_slots", "SlaveSlots", "nodal_normals", "nodal_normal_jets",
            "project_on_slave", "project_on_master", "newton_jet", "candidate_pairs",
-           "segment", "Segmentation", "chord_lengths", "order_of"]
+           "segment", "segment_lines", "Segmentation", "chord_lengths"]
 
 #: monomial coefficients of the shape functions: ``N_A(xi) = sum_p SHAPE[k][A, p] xi^p``
 #: for ``k`` nodes (columns start, end[, mid])
@@ -87,14 +90,6 @@ SHAPE = {2: np.array([[0.5, -0.5, 0.0], [0.5, 0.5, 0.0]]),
          3: np.array([[0.0, -0.5, 0.5], [0.0, 0.5, 0.5], [1.0, 0.0, -1.0]])}
 
 _NEWTON = 12  # Newton iterations on values (quadratic convergence from the chord estimate)
-
-
-def order_of(seg: np.ndarray) -> int:
-    """Geometric order of a surface's segments: 1 for (n, 2), 2 for (n, 3)."""
-    k = np.asarray(seg).shape[1] if np.ndim(seg) == 2 else 2
-    if k not in (2, 3):
-        raise ValueError(f"segments must have 2 or 3 columns (start, end[, mid]), got {k}")
-    return k - 1
 
 
 def chord_lengths(x: np.ndarray, seg: np.ndarray) -> np.ndarray:
@@ -505,7 +500,7 @@ def segment(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarray
     xm = np.asarray(xm, dtype=float).reshape(2, -1)
     seg_s = np.asarray(seg_s, dtype=np.int64)
     seg_m = np.asarray(seg_m, dtype=np.int64)
-    order_of(seg_s), order_of(seg_m)
+    line_cells(seg_s, seg_m)             # (n, 2) or (n, 3) (start, end[, mid])
     km = seg_m.shape[1]
     candidates = None
     if pairs is None:
@@ -541,8 +536,31 @@ def segment(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarray
         p2, ok2 = _side(p2, ok2, 1.0 - eta_a, 1.0 - eta_b, dab)
     keep, xi, src = clip_to_slave(p1, p2, facing & ok1 & ok2)
     e_s, e_m = i_s[keep], i_m[keep]
+    xi_m = master_coordinates(src, eta_a[keep], eta_b[keep])
     node_lo = np.where(src[:, 0] >= 0, seg_m[e_m, np.maximum(src[:, 0], 0)], -1)
     node_hi = np.where(src[:, 1] >= 0, seg_m[e_m, np.maximum(src[:, 1], 0)], -1)
     elem_xi, elem_node = _hull(e_s, xi, node_lo, node_hi, seg_s.shape[0])
     return Segmentation(e_s=e_s, e_m=e_m, xi=xi, src=src, elem_xi=elem_xi,
-                        elem_node=elem_node, frozen=frozen, candidates=candidates)
+                        elem_node=elem_node, frozen=frozen, candidates=candidates, xi_m=xi_m)
+
+
+def segment_lines(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarray,
+                  cells: tuple[CellType, CellType],
+                  pairs: tuple[np.ndarray, np.ndarray] | None = None,
+                  margin: float | None = None, frozen: bool = True,
+                  reach: float = 0.0) -> Segmentation:
+    """The 2D segmentation (:class:`~skfem_mortar.contact.segmentation.Segmenter`) of
+    lines of any order: master vertices projected onto the slave lines along the
+    slave normal field, clipped to the slave cell.
+
+    Two straight lines (``line2``) take
+    :func:`~skfem_mortar.contact.mortar_segmentation.segment` (closed-form
+    projections), any other pair :func:`segment` (Newton projections on the
+    cells' curves).
+    """
+    straight = cells[0].name == "line2" and cells[1].name == "line2"
+    run = mortar_segmentation.segment if straight else segment
+    return run(xs, seg_s, xm, seg_m, pairs=pairs, margin=margin, frozen=frozen, reach=reach)
+
+
+register_default(1, segment_lines)

@@ -61,11 +61,11 @@ second-order implicit-function term ``-c2 d^2 / f'`` (exact Hessian).
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
 from typing import NamedTuple
 
 import numpy as np
 
+from .segmentation import Segmentation
 from .surfaces import segment_lengths, segments_at_nodes
 from .jets import Jet, _outer, _val, at_gauss, constant_like, cross, inv, normalize, sqrt, where
 
@@ -283,50 +283,6 @@ def segment_end_points(el: SlaveElement, xm1, xm2, src: np.ndarray):
     return lo, hi
 
 
-@dataclass
-class Segmentation:
-    """Mortar segments of a slave/master surface pair (values, no derivatives).
-
-    Attributes
-    ----------
-    e_s, e_m : int ndarray (n_mseg,)
-        Slave and master element of each mortar segment.
-    xi : ndarray (n_mseg, 2)
-        Slave parameters ``xi_a < xi_b`` of the segment end points on ``e_s``.
-    src : int ndarray (n_mseg, 2)
-        Where each end point comes from: -1 a slave node (``xi = -+1``), 0 or 1
-        the projection of the first or second master node of ``e_m``.
-    elem_xi : ndarray (n_seg_s, 2)
-        Projectable part ``[l, h]`` of each slave element (union of its
-        segments, assumed connected); ``[1, -1]`` where it has none.
-    elem_node : int ndarray (n_seg_s, 2)
-        The master node whose projection gives ``l`` (resp. ``h``), -1 for a
-        slave end.
-    frozen : bool
-        When passed to ``evaluate``, whether end points are frozen (policy
-        ``step``) or only the pair list is reused and end points are recomputed.
-    candidates : (i_s, i_m) or None
-        The candidate element pairs of the search the segments were found
-        among (before degenerate elements are dropped), None when the pairs
-        were given: the method's reserved pattern reads them instead of
-        searching again (:meth:`~skfem_mortar.contact.mortar_method.Mortar.pattern`).
-    """
-
-    e_s: np.ndarray
-    e_m: np.ndarray
-    xi: np.ndarray
-    src: np.ndarray
-    elem_xi: np.ndarray
-    elem_node: np.ndarray
-    frozen: bool = True
-    candidates: tuple[np.ndarray, np.ndarray] | None = None
-
-    @property
-    def n(self) -> int:
-        """Number of mortar segments."""
-        return int(self.e_s.size)
-
-
 def _element_lengths(x: np.ndarray, seg: np.ndarray) -> np.ndarray:
     d = x[:, seg[:, 1]] - x[:, seg[:, 0]]
     return np.hypot(d[0], d[1])
@@ -375,6 +331,18 @@ def clip_to_slave(p1: np.ndarray, p2: np.ndarray, keep: np.ndarray
     keep = keep & (hi - lo > XI_TOL)
     return (keep, np.stack([lo[keep], hi[keep]], axis=1),
             np.stack([src_lo[keep], src_hi[keep]], axis=1))
+
+
+def master_coordinates(src: np.ndarray, eta_a: np.ndarray, eta_b: np.ndarray) -> np.ndarray:
+    """The master coordinates (in [-1, 1]) of the end points of integration cells.
+
+    ``src`` (n, 2) as :class:`~skfem_mortar.contact.segmentation.Segmentation`'s: a
+    master vertex is at -1 or 1; a slave vertex (the cell's start at ``xi = -1``,
+    its end at ``xi = 1``) at ``eta_a`` or ``eta_b``, the slave end projected onto
+    the master cell along its nodal normal.
+    """
+    ends = np.stack([eta_a, eta_b], 1)
+    return np.where(src < 0, ends, np.where(src == 0, -1.0, 1.0))
 
 
 def segment(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarray,
@@ -458,6 +426,7 @@ def segment(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarray
         p2, ok2 = _side(p2, ok2, 1.0 - sa, 1.0 - sb, dab)
     keep, xi, src = clip_to_slave(p1, p2, facing & ok1 & ok2)
     e_s, e_m = i_s[keep], i_m[keep]
+    xi_m = master_coordinates(src, 2.0 * sa[keep] - 1.0, 2.0 * sb[keep] - 1.0)
 
     # projectable part of each slave element: extreme end points of its segments
     n_es = seg_s.shape[0]
@@ -477,4 +446,4 @@ def segment(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarray
         elem_xi[e_s[o[first]], 1] = xi[o[first], 1]
         elem_node[e_s[o[first]], 1] = node_hi[o[first]]
     return Segmentation(e_s=e_s, e_m=e_m, xi=xi, src=src, elem_xi=elem_xi,
-                        elem_node=elem_node, frozen=frozen, candidates=candidates)
+                        elem_node=elem_node, frozen=frozen, candidates=candidates, xi_m=xi_m)

@@ -36,12 +36,14 @@ from typing import Any
 import numpy as np
 import scipy.sparse as sp
 
+from .cells import CellType
+from .scatter import Triplets
+from .segmentation import check_kernel_cells, line_cells, surface_cell
 from .contact_eval import ContactEval
 from .discretization import (ContactDiscretization, OptionTable, check_entries, check_options,
                              covers, pattern_matrix, register_method, reserved_keys)
 from .nts_projection import LOCK_STICK, candidates, choose_segments, project
 from ..core.chain import polyline
-from ..core.coo import element_coo
 from .surfaces import segment_lengths, segment_normals, segments_at_nodes, tributary_lengths
 
 __all__ = ["NTS", "evaluate", "project", "candidates", "choose_segments", "RESERVE_MARGIN", "RESERVE_HALO", "SLIP_HALO", "LOCK_STICK", "COARSE_RATIO", "failure_hints",
@@ -67,7 +69,7 @@ def _check(x: np.ndarray, seg: np.ndarray, what: str) -> tuple[np.ndarray, np.nd
     if x.ndim != 2 or x.shape[0] != 2:
         raise ValueError(f"{what} coordinates must have shape (2, n), got {x.shape}")
     seg = np.asarray(seg, dtype=np.int64)
-    if seg.ndim != 2 or seg.shape[1] not in (2, 3):
+    if seg.ndim == 1:                    # a flat list of (start, end) pairs
         seg = seg.reshape(-1, 2)
     if seg.size and (seg.min() < 0 or seg.max() >= x.shape[1]):
         raise ValueError(f"{what} segments must index nodes in [0, {x.shape[1]})")
@@ -79,7 +81,8 @@ def evaluate(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarra
              lam: np.ndarray | None = None, tangent: bool = True,
              margin: float | None = None, end_tolerance: float = 1e-8,
              prefer: np.ndarray | None = None, stick: float = 0.05,
-             lock: np.ndarray | None = None) -> ContactEval:
+             lock: np.ndarray | None = None,
+             cells: "tuple[str | CellType, str | CellType] | None" = None) -> ContactEval:
     """NTS gaps ``g_N`` of the slave nodes, ``G = dg/dx`` and ``H = sum_k lam_k d^2 g_k/dx^2``.
 
     Parameters
@@ -93,6 +96,9 @@ def evaluate(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarra
     tangent : bool
         Whether to build ``G`` (and ``H`` when ``lam`` is given).
     margin, end_tolerance, prefer, stick, lock : see :func:`project`.
+    cells : (slave, master) cell types, optional
+        ``line2`` or ``line3`` (:func:`~skfem_mortar.contact.segmentation.line_cells`;
+        default: the lines of the connectivities' columns).
 
     Returns
     -------
@@ -103,7 +109,9 @@ def evaluate(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarra
     """
     xs, seg_s = _check(xs, seg_s, "slave")
     xm, seg_m = _check(xm, seg_m, "master")
-    if seg_m.shape[1] == 3:  # curved master segments: closest point on the curve
+    cells = line_cells(seg_s, seg_m, cells)
+    check_kernel_cells(cells, ("line2", "line3"), "nts")
+    if cells[1].name == "line3":  # curved master segments: closest point on the curve
         from . import nts_quadratic
         return nts_quadratic.evaluate(xs, seg_s, xm, seg_m, lam, tangent, margin,
                                       end_tolerance, prefer, stick, lock)
@@ -127,7 +135,9 @@ def evaluate(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarra
                             2 * n_s + 2 * j2, 2 * n_s + 2 * j2 + 1])  # (m, 6)
     nk, ek, xk = n[:, k].T, e[:, k].T, xi[k][:, None]  # (m, 2)
     dg = np.hstack([nk, -(1 - xk) * nk, -xk * nk])  # (m, 6)
-    G = sp.csr_matrix((dg.ravel(), (np.repeat(k, 6), dofs.ravel())), shape=(n_s, ndof))
+    Gt = Triplets()
+    Gt.rows(k, dofs, dg)
+    G = Gt.csr((n_s, ndof))
     H = None
     if lam is not None:
         a = np.hstack([np.zeros_like(nk), nk, -nk])
@@ -135,8 +145,9 @@ def evaluate(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarra
         lk, gk = l[k][:, None, None], g[k][:, None, None]
         ac = a[:, :, None] * c[:, None, :]
         h = (ac + ac.transpose(0, 2, 1)) / lk - gk / lk**2 * (a[:, :, None] * a[:, None, :])
-        h *= lam[k][:, None, None]
-        H = sp.csr_matrix((h.ravel(), element_coo(dofs)), shape=(ndof, ndof))
+        Ht = Triplets()
+        Ht.block(dofs, h.transpose(1, 2, 0) * lam[k])
+        H = Ht.csr((ndof, ndof))
     return ContactEval(g=g, G=G, H=H, area=area, mask=mask, info=info)
 
 
@@ -279,6 +290,9 @@ class NTS(ContactDiscretization):
     def __init__(self, slave: Any, master: Any, pair_name: str = "contact", **options: Any):
         check_options(self.method, options, self.OPTIONS)
         self.slave, self.master, self.pair_name = slave, master, pair_name
+        #: the two surfaces' cell types (:func:`~.segmentation.surface_cell`)
+        self.cells = (surface_cell(slave), surface_cell(master))
+        check_kernel_cells(self.cells, ("line2", "line3"), "nts")
         self.options = dict(options)
         self._hint = failure_hints(slave, master, pair_name)
         self._pinned: np.ndarray | None = None
@@ -317,7 +331,7 @@ class NTS(ContactDiscretization):
         n_s, n_seg = self.slave.n_nodes, len(seg_m)
         k, e = held // n_seg, held % n_seg
         own = np.arange(n_s)
-        nm = 2 * seg_m.shape[1]                      # master dofs of a segment: 4, or 6 (3-node)
+        nm = 2 * self.cells[1].n_nodes               # master dofs of a segment: 4, or 6 (3-node)
         rows = np.concatenate([np.repeat(k, nm), own, own])
         mdofs = (2 * n_s + 2 * seg_m[e][:, :, None] + np.arange(2)).reshape(-1, nm)
         cols = np.concatenate([mdofs.ravel(), 2 * own, 2 * own + 1])
@@ -360,7 +374,7 @@ class NTS(ContactDiscretization):
             if self._lock is not None and self._lock.any():
                 extra["lock"] = self._lock
         ev = evaluate(xs, self.slave.segments, xm, self.master.segments, lam=lam,
-                      tangent=tangent, **extra, **self.options)
+                      tangent=tangent, **extra, **self.options, cells=self.cells)
         if self._pinned is not None and self._pinned.any():
             ev.mask = ev.mask & ~self._pinned
         return ev
@@ -430,7 +444,7 @@ class NTS(ContactDiscretization):
         from .slip import nts_slip
         sl = nts_slip(xs, xm, self.master.segments, history["xi_prev"],
                       history["segment_prev"], segment=ev.info["segment"], lam_t=lam_t,
-                      tangent=tangent)
+                      tangent=tangent, cell=self.cells[1])
         sl.mask = sl.mask & ev.mask
         return sl
 
@@ -451,7 +465,7 @@ class NTS(ContactDiscretization):
         k = np.tile(np.arange(n_s), len(near))
         ok = e >= 0
         k, e = k[ok], e[ok]
-        nm = 2 * seg_m.shape[1]                      # master dofs of a segment: 4, or 6 (3-node)
+        nm = 2 * self.cells[1].n_nodes               # master dofs of a segment: 4, or 6 (3-node)
         cols = (2 * n_s + 2 * seg_m[e][:, :, None] + np.arange(2)).reshape(-1, nm)
         return pattern_matrix(np.repeat(k, nm), cols.ravel(), (n_s, 2 * n_s + 2 * n_m))
 

@@ -42,10 +42,9 @@ on a straight segment), the consistent weights of a uniform pressure.
 from __future__ import annotations
 
 import numpy as np
-import scipy.sparse as sp
 
 from ..core.chain import curve_points, segments_at_nodes, tributary_lengths
-from ..core.coo import element_coo
+from .scatter import Triplets
 from .contact_eval import ContactEval
 from .jets import Jet, at_gauss, sqrt
 from .nts_projection import candidates, choose_segments
@@ -251,11 +250,14 @@ def evaluate(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarra
     m = seg_m[es]
     dofs = np.column_stack([2 * k, 2 * k + 1] + [2 * n_s + 2 * m[:, a] + c
                                                  for a in range(3) for c in (0, 1)])  # (n, 8)
-    G = sp.csr_matrix((gj.g.T.ravel(), (np.repeat(k, 8), dofs.ravel())), shape=(n_s, ndof))
+    Gt = Triplets()
+    Gt.rows(k, dofs, gj.g.T)
+    G = Gt.csr((n_s, ndof))
     H = None
     if second:
-        h = gj.hessian().transpose(2, 0, 1) * lam[k][:, None, None]
-        H = sp.csr_matrix((h.ravel(), element_coo(dofs)), shape=(ndof, ndof))
+        Ht = Triplets()
+        Ht.block(dofs, gj.hessian() * lam[k])
+        H = Ht.csr((ndof, ndof))
     return ContactEval(g=g, G=G, H=H, area=area, mask=mask, info=info)
 
 

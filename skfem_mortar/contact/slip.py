@@ -92,6 +92,9 @@ import numpy as np
 import scipy.sparse as sp
 
 from . import mortar, mortar_quadratic, nts_quadratic
+from .cells import CellType
+from .scatter import Triplets
+from .segmentation import check_kernel_cells, line_cells
 from .jets import Jet
 from .mortar_quadratic_segmentation import nodal_normal_jets
 from .mortar_segmentation import nodal_normals
@@ -196,21 +199,16 @@ def _assemble(n_s: int, ndof: int, parts: list, lam_t: np.ndarray | None, second
     """``G`` and ``H`` of a sum of weighted jets: ``parts`` holds
     ``(rows (m,), dofs (m, nv), weight (m,), jet)``, each adding ``weight * jet``
     to the slip of its row's node (the jet's variables are the local dofs)."""
-    Gr = np.concatenate([np.repeat(r, d.shape[1]) for r, d, _, _ in parts])
-    Gc = np.concatenate([d.ravel() for _, d, _, _ in parts])
-    Gv = np.concatenate([(w[:, None] * j.g.T).ravel() for _, _, w, j in parts])
-    G = sp.csr_matrix((Gv, (Gr, Gc)), shape=(n_s, ndof))
+    Gt = Triplets()
+    for r, d, w, j in parts:
+        Gt.rows(r, d, w[:, None] * j.g.T)
+    G = Gt.csr((n_s, ndof))
     if not second:
         return G, None
-    Hr, Hc, Hv = [], [], []
+    Ht = Triplets()
     for r, d, w, j in parts:
-        nv = d.shape[1]
-        Hr.append(np.repeat(d, nv, axis=1).ravel())
-        Hc.append(np.tile(d, (1, nv)).ravel())
-        Hv.append((w * j.hessian() * lam_t[r]).transpose(2, 0, 1).ravel())
-    H = sp.csr_matrix((np.concatenate(Hv), (np.concatenate(Hr), np.concatenate(Hc))),
-                      shape=(ndof, ndof))
-    return G, H
+        Ht.block(d, w * j.hessian() * lam_t[r])
+    return G, Ht.csr((ndof, ndof))
 
 
 def _segment_dofs(n_s: int, seg_m: np.ndarray, segs: np.ndarray) -> np.ndarray:
@@ -274,7 +272,7 @@ def _curved_parts(xs, xm, seg_m, k, e, ep, xp, st, crossed, second):
 def nts_slip(xs: np.ndarray, xm: np.ndarray, seg_m: np.ndarray, xi_prev: np.ndarray,
              segment_prev: np.ndarray, segment: np.ndarray | None = None,
              lam_t: np.ndarray | None = None, tangent: bool = True,
-             **project_options: Any) -> SlipEval:
+             cell: "str | CellType | None" = None, **project_options: Any) -> SlipEval:
     """NTS slip ``u_t = S(e, xi) - S(e_prev, xi_prev)`` and its exact derivatives (module doc).
 
     Parameters
@@ -300,16 +298,19 @@ def nts_slip(xs: np.ndarray, xm: np.ndarray, seg_m: np.ndarray, xi_prev: np.ndar
         Tangential multipliers, for ``H``.
     tangent : bool
         Build ``G`` (and ``H`` with ``lam_t``).
+    cell : str or CellType, optional
+        The master cell type, ``line2`` or ``line3`` (default: the line of
+        ``seg_m``'s columns, :func:`~skfem_mortar.contact.segmentation.line_cells`).
 
     Returns
     -------
     SlipEval
     """
     xs, xm = np.asarray(xs, float), np.asarray(xm, float)
-    seg_m = np.asarray(seg_m, dtype=np.int64)
-    if seg_m.ndim != 2 or seg_m.shape[1] not in (2, 3):
-        seg_m = seg_m.reshape(-1, 2)
-    curved = seg_m.shape[1] == 3
+    seg_m = _segments(seg_m)
+    cells = line_cells(seg_m, seg_m, None if cell is None else (cell, cell))
+    check_kernel_cells(cells, ("line2", "line3"), "nts_slip")
+    curved = cells[1].name == "line3"
     n_s, n_m, n_seg = xs.shape[1], xm.shape[1], len(seg_m)
     xi_prev = np.asarray(xi_prev, float)
     segment_prev = np.asarray(segment_prev, dtype=np.int64)
@@ -371,18 +372,21 @@ def _as_csr(M: Any, shape: tuple[int, int], name: str) -> sp.csr_matrix:
     return M
 
 
-def _curved(seg_s: np.ndarray, seg_m: np.ndarray) -> bool:
-    """Whether either surface has 3-node segments (the curved mortar kernel)."""
-    return np.asarray(seg_s).shape[-1] == 3 or np.asarray(seg_m).shape[-1] == 3
-
-
 def _segments(seg: Any) -> np.ndarray:
     seg = np.asarray(seg, dtype=np.int64)
-    return seg if seg.ndim == 2 and seg.shape[1] in (2, 3) else seg.reshape(-1, 2)
+    return seg.reshape(-1, 2) if seg.ndim == 1 else seg  # a flat list of (start, end) pairs
+
+
+def _cells(seg_s: np.ndarray, seg_m: np.ndarray, cells) -> tuple[tuple, bool]:
+    """The cells of a mortar call and whether they take the curved kernel."""
+    cells = line_cells(seg_s, seg_m, cells)
+    check_kernel_cells(cells, ("line2", "line3"), "mortar_slip")
+    return cells, any(c.name != "line2" for c in cells)
 
 
 def mortar_history(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarray,
-                   **kernel_options: Any) -> dict[str, sp.csr_matrix]:
+                   cells: tuple | None = None, **kernel_options: Any
+                   ) -> dict[str, sp.csr_matrix]:
     """The history of :func:`mortar_slip` at a converged state: ``D_prev``, ``M_prev``.
 
     The mortar integrals of :func:`skfem_mortar.contact.mortar.evaluate`
@@ -393,14 +397,16 @@ def mortar_history(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.
     evaluation at the converged state.
     """
     seg_s, seg_m = _segments(seg_s), _segments(seg_m)
-    kernel = mortar_quadratic.evaluate if _curved(seg_s, seg_m) else mortar.evaluate
-    ev = kernel(xs, seg_s, xm, seg_m, tangent=False, **kernel_options)
+    cells, curved = _cells(seg_s, seg_m, cells)
+    kernel = mortar_quadratic.evaluate if curved else mortar.evaluate
+    ev = kernel(xs, seg_s, xm, seg_m, tangent=False, cells=cells, **kernel_options)
     return {"D_prev": ev.info["D"], "M_prev": ev.info["M"]}
 
 
 def mortar_slip(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarray,
                 D_prev: Any, M_prev: Any, lam_t: np.ndarray | None = None,
-                tangent: bool = True, **kernel_options: Any) -> SlipEval:
+                tangent: bool = True, cells: tuple | None = None,
+                **kernel_options: Any) -> SlipEval:
     """Weighted objective mortar slip (module doc) and its exact derivatives.
 
     Parameters
@@ -420,6 +426,10 @@ def mortar_slip(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.nda
         Tangential multipliers, for ``H``.
     tangent : bool
         Build ``G`` (and ``H`` with ``lam_t``).
+    cells : (slave, master) cell types, optional
+        ``line2`` or ``line3`` (default: the lines of the connectivities' columns,
+        :func:`~skfem_mortar.contact.segmentation.line_cells`); a ``line3`` on
+        either side takes the curved kernel.
     **kernel_options
         ``dual``, ``n_gauss``, ``segmentation``, ``pairs``, ``margin``,
         ``crosspoints``, ``reach`` of :func:`skfem_mortar.contact.mortar.evaluate`.
@@ -432,7 +442,7 @@ def mortar_slip(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.nda
     """
     xs, xm = np.asarray(xs, float), np.asarray(xm, float)
     seg_s, seg_m = _segments(seg_s), _segments(seg_m)
-    curved = _curved(seg_s, seg_m)
+    cells, curved = _cells(seg_s, seg_m, cells)
     n_s, n_m = xs.shape[1], xm.shape[1]
     Dp = _as_csr(D_prev, (n_s, n_s), "D_prev")
     Mp = _as_csr(M_prev, (n_s, n_m), "M_prev")
@@ -442,7 +452,7 @@ def mortar_slip(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.nda
             raise ValueError(f"lam_t must have shape ({n_s},), got {lam_t.shape}")
     second = tangent and lam_t is not None
     kernel = mortar_quadratic.tangential_evaluate if curved else mortar.tangential_evaluate
-    ev = kernel(xs, seg_s, xm, seg_m, lam=lam_t, tangent=tangent, **kernel_options)
+    ev = kernel(xs, seg_s, xm, seg_m, lam=lam_t, tangent=tangent, cells=cells, **kernel_options)
     # w_A = sum_B Dp_AB x_B - sum_C Mp_AC x_C: rows 2A + i, local dof columns
     I2 = sp.identity(2, format="csr")
     W = sp.hstack([sp.kron(Dp, I2), -sp.kron(Mp, I2)], format="csr")
@@ -463,9 +473,10 @@ def mortar_slip(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.nda
     d6 = np.hstack([_node_dofs(n_s, slots[:, j], False) for j in range(slots.shape[1])])
     nv = d6.shape[1]
     # T: rows 2A + i, d tau_A,i / dx
-    T = sp.csr_matrix((np.stack([tj[0].g.T, tj[1].g.T], 1).ravel(),
-                       (np.repeat(np.arange(2 * n_s), nv), np.repeat(d6, 2, axis=0).ravel())),
-                      shape=(2 * n_s, ndof))
+    Tt = Triplets()
+    Tt.rows(np.arange(2 * n_s), np.repeat(d6, 2, axis=0),
+            np.stack([tj[0].g.T, tj[1].g.T], 1).reshape(2 * n_s, nv))
+    T = Tt.csr((2 * n_s, ndof))
     S = sp.kron(sp.identity(n_s, format="csr"), np.ones((1, 2)), format="csr")
     G = (ev.G + S @ (sp.diags(tau.T.ravel()) @ W + sp.diags(w.T.ravel()) @ T)).tocsr()
     H = None
@@ -473,8 +484,8 @@ def mortar_slip(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.nda
         L = sp.diags(np.repeat(lam_t, 2))
         cross = T.T @ L @ W
         h6 = (tj[0].hessian() * (lam_t * w[0]) + tj[1].hessian() * (lam_t * w[1]))  # (nv, nv, n)
-        Ht = sp.csr_matrix((h6.transpose(2, 0, 1).ravel(),
-                            (np.repeat(d6, nv, axis=1).ravel(), np.tile(d6, (1, nv)).ravel())),
-                           shape=(ndof, ndof))
+        Ht = Triplets()
+        Ht.block(d6, h6)
+        Ht = Ht.csr((ndof, ndof))
         H = (ev.H + cross + cross.T + Ht).tocsr()
     return SlipEval(u=u, G=G, H=H, tangent=tau, mask=ev.mask, info=info)

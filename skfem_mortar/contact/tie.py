@@ -65,7 +65,7 @@ the interface (the row of ``c_A`` would fix master dofs or be empty).
 """
 from __future__ import annotations
 
-from typing import Any, NamedTuple
+from typing import NamedTuple
 
 import numpy as np
 import scipy.sparse as sp
@@ -74,6 +74,7 @@ from ..core.item import Contribution, Item
 from ..core.validate import count, flag
 from . import mortar
 from .preflight_orientation import nodal_normals
+from .segmentation import surface_cell
 from .surfaces import ContactSurface
 
 __all__ = ["TiePair", "TieOutput"]
@@ -85,6 +86,10 @@ class _Integrals(NamedTuple):
     mask: np.ndarray
 
 
+#: the output layer's cell name of each line cell type
+VTK_LINES = {"line2": "line", "line3": "line3"}
+
+
 def _integrals(s: ContactSurface, m: ContactSurface, dual: bool, n_gauss: int,
                crosspoints: np.ndarray | None) -> _Integrals:
     """``D``, ``M`` and the mask on the reference configuration: the linear kernel's
@@ -92,7 +97,7 @@ def _integrals(s: ContactSurface, m: ContactSurface, dual: bool, n_gauss: int,
     kernel's (:func:`~skfem_mortar.contact.mortar_quadratic.evaluate`, values only) when
     either has 3-node segments (its Gauss rule: at least 3 points, exact for the
     products of two quadratics on straight segments)."""
-    if s.segments.shape[1] == 2 and m.segments.shape[1] == 2:
+    if surface_cell(s).name == "line2" and surface_cell(m).name == "line2":
         ints = mortar.integrals(s.X, s.segments, m.X, m.segments, dual=dual,
                                 n_gauss=n_gauss, crosspoints=crosspoints)
         return _Integrals(ints.D, ints.M, ints.mask)
@@ -323,7 +328,7 @@ class TiePair(Item):
         x = self.slave.x(z)
         lam = self.traction(z)
         seg = self.slave.segments
-        if seg.shape[1] == 3:  # vertices: averaged; mid nodes: their segment's normal
+        if surface_cell(self.slave).name == "line3":  # vertices: averaged; mids: their segment's
             from .mortar_quadratic_segmentation import nodal_normals as curved_normals
             n = curved_normals(x, seg)
         else:
@@ -346,8 +351,8 @@ class TieOutput:  # an Output (skfem_mortar.core.model) for the output layer
 
     def output_mesh(self) -> tuple[np.ndarray, list[tuple[str, np.ndarray]]]:
         s = self.tie.slave
-        seg = np.asarray(s.segments)  # 3-node segments (start, end, mid): VTK's quadratic edge
-        return s.X.T.copy(), [("line3" if seg.shape[1] == 3 else "line", seg)]
+        seg = np.asarray(s.segments)  # line3 (start, end, mid): VTK's quadratic edge
+        return s.X.T.copy(), [(VTK_LINES[surface_cell(s).name], seg)]
 
     def output_data(self, z: np.ndarray) -> tuple[dict, dict]:
         s = self.tie.slave

@@ -1,0 +1,112 @@
+"""A cell type and a segmentation registered from a test file: ``line2x2``.
+
+``line2x2`` has three nodes (start, middle, end) and piecewise-linear geometry
+through the middle node: line3's column count, and not line3.  A kernel that read
+the cell type from the connectivity's columns would integrate it as a parabola
+(with line3's node order, start, end, mid, even through the wrong nodes).
+
+What holds now: the cell and its segmentation register; the segmentation's
+integration cells are the line2 ones of its halves; and every contact method
+refuses a ``line2x2`` surface at construction, naming the cell, instead of
+integrating it as line3.  The mortar and NTS kernels evaluate line2 and line3
+only (their geometry is monomial coefficients per cell); the patch test through
+them waits for the kernels to read shape functions from the cell table.
+"""
+from __future__ import annotations
+
+import types
+
+import numpy as np
+import pytest
+
+from skfem_mortar.contact import segmentation as sgm
+from skfem_mortar.contact.cells import CELLS, CellType, cell_type, line_quadrature, register_cell
+from skfem_mortar.contact.methods import make_method
+from skfem_mortar.contact.mortar_quadratic_segmentation import segment_lines
+
+
+def _shape(xi):
+    x = np.asarray(xi, dtype=float)[0]
+    left, right = np.minimum(x, 0.0), np.maximum(x, 0.0)
+    return np.stack([-left, 1.0 + left - right, right])
+
+
+def _dshape(xi):
+    x = np.asarray(xi, dtype=float)[0]
+    neg = (x < 0.0) * 1.0
+    return np.stack([-neg, 2.0 * neg - 1.0, 1.0 - neg])[:, None]
+
+
+def _d2shape(xi):
+    x = np.asarray(xi, dtype=float)[0]
+    return np.zeros((3, 1, 1) + x.shape)
+
+
+def _quadrature(degree):
+    """Gauss on each half of [-1, 1] (the shape functions are linear on each)."""
+    x, w = line_quadrature(degree)
+    return np.hstack([(x - 1.0) * 0.5, (x + 1.0) * 0.5]), np.hstack([w, w]) * 0.5
+
+
+LINE2X2 = CellType("line2x2", 1, 3, (0, 2), ((0, 1, 2),),
+                   np.array([[-1.0, 0.0, 1.0]]), _shape, _dshape, _d2shape, _quadrature, 1)
+
+
+def segment_line2x2(xs, seg_s, xm, seg_m, cells, pairs=None, margin=None, frozen=True,
+                    reach=0.0):
+    """The line2 segmentation of the halves (start, middle), (middle, end), mapped back:
+    ``xi = (xi_half - 1)/2`` on the first half, ``(xi_half + 1)/2`` on the second."""
+    halves = np.stack([seg_s[:, [0, 1]], seg_s[:, [1, 2]]], 1).reshape(-1, 2)
+    line2 = cell_type("line2")
+    sg = segment_lines(xs, halves, xm, seg_m, (line2, line2), margin=margin, frozen=frozen,
+                       reach=reach)
+    second = sg.e_s % 2
+    e_s = sg.e_s // 2
+    xi = (sg.xi + np.where(second, 1.0, -1.0)[:, None]) * 0.5
+    n = len(seg_s)
+    elem_xi = np.tile([1.0, -1.0], (n, 1))
+    np.minimum.at(elem_xi[:, 0], e_s, xi[:, 0])
+    np.maximum.at(elem_xi[:, 1], e_s, xi[:, 1])
+    return sgm.Segmentation(e_s=e_s, e_m=sg.e_m, xi=xi, src=sg.src, elem_xi=elem_xi,
+                            elem_node=np.full((n, 2), -1), frozen=frozen, xi_m=sg.xi_m)
+
+
+@pytest.fixture
+def line2x2(monkeypatch):
+    """``line2x2`` and its segmentation registered for one test, then removed."""
+    register_cell(LINE2X2)
+    monkeypatch.setitem(sgm.SEGMENTATIONS, "line2x2", segment_line2x2)
+    yield LINE2X2
+    CELLS.pop("line2x2")
+
+
+def _surfaces():
+    """A flat slave of 4 line2x2 cells (9 nodes) above a flat line2 master (5 cells)."""
+    xs = np.vstack([np.linspace(0.0, 1.0, 9), np.full(9, 0.01)])
+    ss = np.array([[2 * i, 2 * i + 1, 2 * i + 2] for i in range(4)])
+    xm = np.vstack([np.linspace(1.1, -0.1, 6), np.zeros(6)])
+    sm = np.array([[i, i + 1] for i in range(5)])
+    s = types.SimpleNamespace(segments=ss, n_nodes=9, cell="line2x2", X=xs)
+    m = types.SimpleNamespace(segments=sm, n_nodes=6, cell="line2", X=xm)
+    return s, m
+
+
+def test_line2x2_registers_and_its_segmentation_covers_its_halves(line2x2):
+    """The table takes the row (its checks: identity at the nodes, shapes); the
+    registered segmentation is found for it, and its integration cells of a flat
+    slave fully over a flat master cover every slave cell exactly once."""
+    assert cell_type("line2x2") is line2x2 and line2x2.n_nodes == cell_type("line3").n_nodes
+    seg = sgm.segmentation_for((line2x2, cell_type("line2")))
+    assert seg is segment_line2x2
+    s, m = _surfaces()
+    sg = seg(s.X, s.segments, m.X, m.segments, (line2x2, cell_type("line2")))
+    covered = np.bincount(sg.e_s, weights=sg.xi[:, 1] - sg.xi[:, 0], minlength=4)
+    np.testing.assert_allclose(covered, 2.0, rtol=1e-14)   # the length of [-1, 1]
+
+
+@pytest.mark.parametrize("method", ["nts", "mortar", "mortar-dual"])
+def test_every_method_refuses_a_cell_it_does_not_evaluate(line2x2, method):
+    """A line2x2 slave is refused naming the cell, not integrated as line3."""
+    s, m = _surfaces()
+    with pytest.raises(ValueError, match="line2x2"):
+        make_method(method, s, m)
