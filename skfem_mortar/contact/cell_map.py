@@ -23,7 +23,7 @@ import numpy as np
 from .cells import CellType, cell_type
 
 __all__ = ["cell_points", "cell_tangents", "area_vectors", "cell_measures", "cell_normals",
-           "reversal", "straight", "check_connectivity", "norms"]
+           "reversal", "straight", "check_connectivity", "norms", "output_cells"]
 
 #: degree of the rule :func:`cell_measures` uses on a cell that is not straight: 5 Gauss
 #: points per direction, as :data:`~skfem_mortar.core.chain.N_GAUSS_CURVE`
@@ -127,3 +127,17 @@ def reversal(cell: CellType) -> tuple[int, ...]:
         raise ValueError(f"cell {cell.name!r}: its reference nodes are not symmetric under "
                          "the reflection that turns it over")
     return tuple(int(p) for p in perm)
+
+
+def output_cells(conn: np.ndarray, cell: "str | CellType") -> list[tuple[str, np.ndarray]]:
+    """The cell blocks ``[(meshio type, connectivity)]`` that write cells of type
+    ``cell``: one block of :attr:`CellType.vtk` cells, or, for a type VTK does not know,
+    the straight pieces of its edges as ``"line"`` cells (node ``k`` to ``k + 1`` along
+    each edge of :attr:`CellType.edges`; a piecewise-linear line cell is written
+    exactly)."""
+    cell = cell_type(cell)
+    conn = np.asarray(conn, dtype=np.int64)
+    if cell.vtk is not None:
+        return [(cell.vtk, conn)]
+    pieces = [conn[:, [e[i], e[i + 1]]] for e in cell.edges for i in range(len(e) - 1)]
+    return [("line", np.stack(pieces, axis=1).reshape(-1, 2))]

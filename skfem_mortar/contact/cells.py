@@ -89,6 +89,10 @@ class CellType:
         holds the whole cell (the Bezier control points of a curved cell, e.g. line3's
         ``x_start, x_end, 2 x_mid - (x_start + x_end)/2``); None when the nodes' hull
         holds it (straight and bilinear cells).  The contact search boxes cells by it.
+    vtk : str or None
+        The meshio / VTK cell type with this node order (``"line"``, ``"line3"``,
+        ``"triangle"``, ``"quad"``), or None: outputs then write the cell as the straight
+        pieces of its edges (:func:`~skfem_mortar.contact.cell_map.output_cells`).
     """
 
     name: str
@@ -103,6 +107,7 @@ class CellType:
     quadrature: Callable[[int], tuple[np.ndarray, np.ndarray]]
     order: int = 1
     hull: Callable[[np.ndarray], np.ndarray] | None = None
+    vtk: str | None = None
 
     def __repr__(self) -> str:
         return f"CellType({self.name!r}, dim={self.dim}, n_nodes={self.n_nodes})"
@@ -319,14 +324,14 @@ def _ref(*cols) -> np.ndarray:
 
 for _cell in (
     CellType("line2", 1, 2, (0, 1), ((0, 1),), _ref([-1.0], [1.0]),
-             _line2, _line2_d, _zeros(2, 1), line_quadrature, 1),
+             _line2, _line2_d, _zeros(2, 1), line_quadrature, 1, None, "line"),
     CellType("line3", 1, 3, (0, 1), ((0, 2, 1),), _ref([-1.0], [1.0], [0.0]),
-             _line3, _line3_d, _line3_d2, line_quadrature, 2, _line3_hull),
+             _line3, _line3_d, _line3_d2, line_quadrature, 2, _line3_hull, "line3"),
     CellType("tri3", 2, 3, (0, 1, 2), ((0, 1), (1, 2), (2, 0)),
              _ref([0.0, 0.0], [1.0, 0.0], [0.0, 1.0]),
-             _tri3, _tri3_d, _zeros(3, 2), tri_quadrature, 1),
+             _tri3, _tri3_d, _zeros(3, 2), tri_quadrature, 1, None, "triangle"),
     CellType("quad4", 2, 4, (0, 1, 2, 3), ((0, 1), (1, 2), (2, 3), (3, 0)),
-             _ref(*_Q4.T), _quad4, _quad4_d, _quad4_d2, quad_quadrature, 1),
+             _ref(*_Q4.T), _quad4, _quad4_d, _quad4_d2, quad_quadrature, 1, None, "quad"),
 ):
     register_cell(_cell)
 del _cell

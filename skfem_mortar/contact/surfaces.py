@@ -41,7 +41,8 @@ from ..core.validate import count, flag, real
 from ..core.validate_arrays import index_array, real_array
 from ..core.chain import segment_lengths, segment_normals, segments_at_nodes, tributary_lengths
 from .boundary_cells import boundary_cells, closed_surface
-from .cell_map import cell_measures, cell_normals, check_connectivity, reversal
+from .cell_map import (cell_measures, cell_normals, cell_points, check_connectivity,
+                       output_cells, reversal)
 from .cells import CellType, cell_type
 
 __all__ = ["ContactSurface", "RigidPlane", "RigidCircle", "chain_segments",
@@ -247,6 +248,17 @@ class ContactSurface:
         segment's mid node, ``xi = 0``) and the cells' lengths or areas, in the current
         configuration (:func:`~skfem_mortar.contact.cell_map.cell_normals`)."""
         return cell_normals(self.x(z), self.segments, self.cell)
+
+    def interpolate(self, values: np.ndarray, xi: np.ndarray) -> np.ndarray:
+        """Nodal ``values (k, n)`` (coordinates, pressures) at the reference points
+        ``xi (dim, q)`` of every cell: ``(k, n_seg, q)``, with the cell's own shape
+        functions (:func:`~skfem_mortar.contact.cell_map.cell_points`)."""
+        return cell_points(values, self.segments, self.cell, xi)
+
+    def output_cells(self) -> list[tuple[str, np.ndarray]]:
+        """The cell blocks that write the surface (meshio type, connectivity into the
+        surface nodes; :func:`~skfem_mortar.contact.cell_map.output_cells`)."""
+        return output_cells(self.segments, self.cell)
 
     def reversed(self, name: str = "") -> "ContactSurface":
         """The same surface turned over (its normals flipped): every cell's nodes
