@@ -100,15 +100,33 @@ def cell_measures(x: np.ndarray, conn: np.ndarray, cell: "str | CellType",
     return norms(area_vectors(cell_tangents(x, conn, cell, pts))) @ w
 
 
+@lru_cache(maxsize=None)
+def _centre_rule(cell: CellType) -> tuple[np.ndarray, np.ndarray | None, np.ndarray | None]:
+    """``dN/dxi`` at the cell's reference centre (the mean of its corners), and, unless
+    the default measure rule is that one point, ``dN/dxi`` at the rule's points and its
+    weights; else ``(dN, None, w)`` with ``w`` the single weight."""
+    centre = np.asarray(cell.ref_nodes)[:, list(cell.corners)].mean(axis=1, keepdims=True)
+    pts, w = cell.quadrature(1 if straight(cell) else CURVED_DEGREE)
+    G = cell.dshape(centre)[..., 0]                                  # (k, dim)
+    if w.size == 1 and np.array_equal(pts, centre):
+        return G, None, w
+    return G, cell.dshape(pts), w
+
+
 def cell_normals(x: np.ndarray, conn: np.ndarray, cell: "str | CellType"
                  ) -> tuple[np.ndarray, np.ndarray]:
-    """Unit normals ``(d, n_cell)`` at each cell's reference centroid (the mean of its
+    """Unit normals ``(d, n_cell)`` at each cell's reference centre (the mean of its
     corners' reference coordinates) and the cells' measures (:func:`cell_measures`)."""
     cell = cell_type(cell)
-    centre = np.asarray(cell.ref_nodes)[:, list(cell.corners)].mean(axis=1, keepdims=True)
-    v = area_vectors(cell_tangents(x, conn, cell, centre))[..., 0]
+    G, Gq, w = _centre_rule(cell)
+    P = np.asarray(x, dtype=float)[:, conn]                          # (d, n_cell, k)
+    v = area_vectors(np.einsum("dsk,kj->djs", P, G))
     size = norms(v)
-    return v / np.where(size > 0, size, 1.0), cell_measures(x, conn, cell)
+    if Gq is None:   # the measure's rule is the centre: |v| times its weight
+        measure = size * w[0]
+    else:
+        measure = norms(area_vectors(np.einsum("dsk,kjq->djsq", P, Gq))) @ w
+    return v / np.where(size > 0, size, 1.0), measure
 
 
 @lru_cache(maxsize=None)

@@ -55,11 +55,15 @@ __all__ = ["segment_pairs", "node_segment_pairs", "box_pairs", "segment_boxes", 
 _LARGE = 4.0  # a box is "large" above this many median half sizes
 
 
+#: the cells of a 2D chain's connectivity passed without its cell type, by columns
+_CHAIN_CELLS = {2: cell_type("line2"), 3: cell_type("line3")}
+
+
 def _chain_cell(seg: np.ndarray) -> CellType:
     """The cell of a 2D chain's connectivity passed without its cell type: line2, or
     line3 for three columns.  Only for callers that do not pass ``cell`` yet (the 2D
     kernels); a :class:`~skfem_mortar.contact.surfaces.ContactSurface` carries its own."""
-    return cell_type({3: "line3"}.get(seg.shape[-1], "line2"))
+    return _CHAIN_CELLS.get(seg.shape[-1], _CHAIN_CELLS[2])
 
 
 def segment_boxes(x: np.ndarray, seg: np.ndarray, cell: "str | CellType | None" = None
@@ -87,7 +91,8 @@ def segment_boxes(x: np.ndarray, seg: np.ndarray, cell: "str | CellType | None" 
     seg = np.asarray(seg, dtype=np.int64)
     if seg.ndim != 2:
         seg = seg.reshape(-1, 2)
-    cell = _chain_cell(seg) if cell is None else cell_type(cell)
+    cell = _chain_cell(seg) if cell is None else cell if isinstance(cell, CellType) \
+        else cell_type(cell)
     if seg.shape[1] != cell.n_nodes:
         raise ValueError(f"seg must have {cell.n_nodes} columns for {cell.name} cells, "
                          f"got {seg.shape[1]}")
@@ -95,11 +100,11 @@ def segment_boxes(x: np.ndarray, seg: np.ndarray, cell: "str | CellType | None" 
     lo, hi = np.minimum(a, b), np.maximum(a, b)
     if cell.hull is not None:
         pts = cell.hull(x[:, seg])
-    else:
+    elif cell.n_nodes > 2:
         pts = x[:, seg[:, 2:]]
-    if pts.shape[2]:
-        lo, hi = np.minimum(lo, pts.min(axis=2)), np.maximum(hi, pts.max(axis=2))
-    return lo, hi
+    else:
+        return lo, hi
+    return np.minimum(lo, pts.min(axis=2)), np.maximum(hi, pts.max(axis=2))
 
 
 def _check_margin(margin: float) -> float:
@@ -129,6 +134,10 @@ def _ragged(starts: np.ndarray, counts: np.ndarray) -> np.ndarray:
     return np.repeat(starts - ends + counts, counts) + np.arange(ends[-1] if ends.size else 0)
 
 
+#: the columns of cells a query visits: shifts 0..4 along each axis but the last
+_SHIFTS = {d: list(product(range(5), repeat=d - 1)) for d in (2, 3)}
+
+
 class _Grid:
     """Points hashed into a uniform grid of square (cubic) cells (side at least ``cell``).
 
@@ -145,7 +154,9 @@ class _Grid:
         self.side = max(float(cell), float((hi - lo).max()) / _MAX_CELLS[c.shape[0]], 1e-300)
         self.origin = lo
         n = [int(np.floor((hi[a] - lo[a]) / self.side)) + 1 for a in range(c.shape[0])]
-        self.stride = np.array([int(np.prod(n[a + 1:])) for a in range(c.shape[0])], np.int64)
+        self.stride = [1] * c.shape[0]          # of the keys: cells along the later axes
+        for a in range(c.shape[0] - 2, -1, -1):
+            self.stride[a] = self.stride[a + 1] * n[a + 1]
         key = self.key(self.cells(c))
         self.order = np.argsort(key, kind="stable")
         self.sorted = key[self.order]
@@ -157,7 +168,7 @@ class _Grid:
         """Keys of cells ``k (d, n)``: ``sum_a k_a stride_a`` (2D: ``k_x n_y + k_y``)."""
         out = k[0] * self.stride[0]
         for a in range(1, k.shape[0]):
-            out = out + k[a] * self.stride[a]
+            out += k[a] * self.stride[a] if self.stride[a] != 1 else k[a]
         return out
 
     def within(self, c: np.ndarray, r: float) -> tuple[np.ndarray, np.ndarray]:
@@ -167,15 +178,22 @@ class _Grid:
         each axis but the last, each column one range of keys)."""
         k0, k1 = self.cells(c - r), self.cells(c + r)
         d = c.shape[0]
-        shifts = list(product(range(5), repeat=d - 1))
+        lo = self.key(k0)                       # the first cell of the first column
+        hi = lo + (k1[-1] - k0[-1]) * self.stride[-1]
+        span = k1[:-1] - k0[:-1]                # (d - 1, n): columns past these are empty
+        shifts = _SHIFTS[d]
         starts = np.empty((c.shape[1], len(shifts)), np.int64)
         counts = np.empty((c.shape[1], len(shifts)), np.int64)
         for col, shift in enumerate(shifts):
-            kc = k0[:-1] + np.array(shift, dtype=np.int64)[:, None]
-            s = np.searchsorted(self.sorted, self.key(np.vstack([kc, k0[-1:]])), side="left")
-            e = np.searchsorted(self.sorted, self.key(np.vstack([kc, k1[-1:]])), side="right")
+            step = shift[0] * self.stride[0]
+            ok = span[0] >= shift[0]
+            for a in range(1, d - 1):
+                step += shift[a] * self.stride[a]
+                ok &= span[a] >= shift[a]
+            s = np.searchsorted(self.sorted, lo + step, side="left")
+            e = np.searchsorted(self.sorted, hi + step, side="right")
             starts[:, col] = s
-            counts[:, col] = np.where(np.all(kc <= k1[:-1], axis=0), e - s, 0)
+            counts[:, col] = np.where(ok, e - s, 0)
         i = np.repeat(np.arange(c.shape[1], dtype=np.int64), counts.sum(1))
         return i, self.order[_ragged(starts.ravel(), counts.ravel())].astype(np.int64)
 
@@ -210,11 +228,11 @@ _NEAREST_ROUNDS = 2
 
 def _distances(q: np.ndarray, x: np.ndarray) -> np.ndarray:
     """``sqrt(sum_a (q_a - x_a)^2)`` (2D: ``sqrt(dx dx + dy dy)``), broadcast."""
-    dx = q[0] - x[0]
-    s = dx * dx
-    for a in range(1, q.shape[0]):
-        dx = q[a] - x[a]
-        s = s + dx * dx
+    dx, dy = q[0] - x[0], q[1] - x[1]
+    s = dx * dx + dy * dy
+    for a in range(2, q.shape[0]):
+        dz = q[a] - x[a]
+        s += dz * dz
     return np.sqrt(s)
 
 
@@ -239,7 +257,7 @@ def nearest_vertex(x: np.ndarray, p: np.ndarray) -> tuple[np.ndarray, np.ndarray
     index : int ndarray (n,)
     """
     x = np.asarray(x, dtype=float)
-    d = x.shape[0] if x.ndim == 2 else 2
+    d = len(x) if x.ndim == 2 else 2
     x, p = x.reshape(d, -1), np.asarray(p, dtype=float).reshape(d, -1)
     n, m = p.shape[1], x.shape[1]
     dist, idx = np.full(n, np.inf), np.zeros(n, dtype=np.int64)
