@@ -90,12 +90,19 @@ def normalize_jet(s: np.ndarray, ds: np.ndarray | None = None, d2s: np.ndarray |
     df = (ds - f[:, :, None] * a) * inv[:, None]
     if d2s is None:
         return f, df, None
-    b = np.einsum("im,impq->mpq", f, d2s)                         # f . d2s
-    dd = np.einsum("imp,imq->mpq", ds, ds)                        # ds . ds
-    d2f = (d2s - f[:, :, None, None] * b) * inv[:, None, None]
-    d2f += (3.0 * f[:, :, None, None] * (a[:, :, None] * a[:, None, :])
-            - ds[:, :, :, None] * a[:, None, :] - ds[:, :, None, :] * a[:, :, None]
-            - f[:, :, None, None] * dd) * (inv * inv)[:, None, None]
+    # d2f_i = (d2s_i - f_i (f.d2s))/r + (3 f_i a a^T - ds_i a^T - a ds_i^T - f_i ds.ds)/r^2
+    #       = d2s_i / r + f_i W - (U_i + U_i^T),  W = (3 a a^T - ds.ds)/r^2 - (f.d2s)/r,
+    # U_i = ds_i a^T / r^2: one (m, P, P) temporary per component, not d of them
+    inv2 = (inv * inv)[:, None, None]
+    W = (3.0 * a[:, :, None] * a[:, None, :] - np.einsum("imp,imq->mpq", ds, ds)) * inv2
+    W -= np.einsum("im,impq->mpq", f, d2s) * inv[:, None, None]
+    d2f = np.empty_like(d2s)
+    for i in range(s.shape[0]):
+        U = ds[i][:, :, None] * (a[:, None, :] * inv2)
+        d2f[i] = d2s[i] * inv[:, None, None]
+        d2f[i] += f[i][:, None, None] * W
+        d2f[i] -= U
+        d2f[i] -= U.transpose(0, 2, 1)
     return f, df, d2f
 
 
