@@ -88,7 +88,7 @@ def chain_segments(seg: np.ndarray, n_nodes: int | None = None) -> tuple[np.ndar
         degenerate, or the segments form several pieces.
     """
     seg = np.asarray(seg, dtype=np.int64).reshape(-1, 2)
-    if seg.shape[0] == 0:
+    if not seg.size:
         raise ValueError("segments must not be empty")
     if np.any(seg[:, 0] == seg[:, 1]):
         raise ValueError("segments must join two different nodes")
