@@ -72,3 +72,23 @@ def test_a_body_of_another_dimension_is_refused():
                            name="b")
     with pytest.raises(ValueError, match="2 or 3 rows"):
         _rigid_modes(body)
+
+
+def test_axisymmetric_body_has_the_axial_translation_alone():
+    """In an axisymmetric model (coordinates (r, z)) a body's one rigid mode is the
+    translation along z: a tube held in z alone passes; free in z it is refused,
+    named, with the fix."""
+    n = 6
+    X = np.vstack([RNG.uniform(1.0, 2.0, n), RNG.uniform(0.0, 1.0, n)])
+    body = _Body3D(n, name="tube")
+    body.X, body.n_dofs = X, 2 * n
+    body.node_dofs = np.arange(2 * n).reshape(n, 2).T
+    bd = _rigid_modes(body, "axisymmetric")
+    assert bd.n_modes == 1
+    assert np.all(bd.modes[body.node_dofs[0], 0] == 0) and np.all(bd.modes[body.node_dofs[1], 0] == 1)
+    model = SimpleNamespace(items=[body], bodies=[body], n=2 * n, n_u=2 * n,
+                            geometry="axisymmetric")
+    check_rigid_modes(model, np.zeros(2 * n), 0.0, body.node_dofs[1, :1])
+    with pytest.raises(ValueError, match=r"body 'tube': translation along the axis \(z\) is "
+                                         r"held by nothing.*hold the z-dofs of a node"):
+        check_rigid_modes(model, np.zeros(2 * n), 0.0, np.zeros(0, int))

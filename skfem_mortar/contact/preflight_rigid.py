@@ -78,9 +78,11 @@ def _mode_functions(d: int, c: np.ndarray, L: float) -> list:
     return [translation(k) for k in range(d)] + [rotation(a, b) for a, b in ROTATION_PLANES[d]]
 
 
-def _rigid_modes(body: Any) -> _Body:
-    """The body's ``d (d + 1)/2`` rigid modes on its local dofs (``d`` read from its
-    coordinates ``X (d, n)``), each of largest nodal motion 1; in 2D
+def _rigid_modes(body: Any, geometry: str = "plane") -> _Body:
+    """The body's rigid modes on its local dofs, each of largest nodal motion 1: in an
+    axisymmetric model (``geometry``) the axial translation ``t_z = (0, 1)`` alone (a
+    radial motion strains the hoop, a rotation leaves the meridian plane), else the
+    ``d (d + 1)/2`` rigid motions (``d`` read from its coordinates ``X (d, n)``); in 2D
 
         t_x = (1, 0),  t_y = (0, 1),  r = (-(Y - c_y), X - c_x) / L ,
 
@@ -97,6 +99,8 @@ def _rigid_modes(body: Any) -> _Body:
     c = X.mean(axis=1)
     L = float(np.max(np.hypot.reduce(X - c[:, None], axis=0), initial=0.0)) or 1.0
     funs = _mode_functions(d, c, L)
+    if geometry == "axisymmetric":
+        funs = funs[1:2]
     if hasattr(body, "interpolate"):
         modes = np.column_stack([body.interpolate(f) for f in funs])
     else:
@@ -258,7 +262,8 @@ def free_combinations(model: Any, z: np.ndarray, load_factor: float, fixed: np.n
     of the combinations held by nothing (:func:`check_rigid_modes`) and the
     touching rows of each contact pair by name; ``contact=False`` counts no
     contact pair as holding anything (what holds the bodies besides contact)."""
-    bodies = [_rigid_modes(b) for b in model.bodies
+    geometry = getattr(model, "geometry", "plane")
+    bodies = [_rigid_modes(b, geometry) for b in model.bodies
               if hasattr(b, "X") and hasattr(b, "node_dofs") and np.size(b.X)]
     if not bodies:
         return bodies, np.zeros((0, 0)), {}
@@ -362,6 +367,8 @@ def _describe(bd: _Body, Nb: np.ndarray) -> str:
     r = B.shape[1]
     if r == 0:
         return "a combination of modes is"
+    if bd.n_modes == 1:
+        return "translation along the axis (z) is"
     if bd.n_modes != 3:
         return _describe_3d(B)
     if r >= 3:
@@ -413,6 +420,8 @@ def _fix(bd: _Body, modes: str) -> str:
            else "its dofs at those nodes")
     if "rigid modes" in modes:   # a 3D body
         what = "pin three nodes that are not on one line"
+    elif "along the axis" in modes:   # an axisymmetric body
+        what = "hold the z-dofs of a node"
     elif "in x and y" in modes:
         what = "pin a node in x and y, and for the rotation hold a second node"
     elif "in x" in modes:
