@@ -188,3 +188,16 @@ def test_a_piecewise_cell_registers_with_its_own_rule():
         assert np.isclose(w.sum(), 2.0) and np.isclose(cell.shape(pts) @ w, [0.5, 1, 0.5]).all()
     finally:
         del CELLS["line2x2_cells_test"]
+
+
+def test_output_cells():
+    """Cells VTK knows are written as they are; another type as its edges' pieces."""
+    from skfem_mortar.contact.cell_map import output_cells
+    conn = np.array([[0, 1, 2], [2, 3, 4]])
+    assert output_cells(conn, "line3")[0][0] == "line3"
+    assert output_cells(conn, "tri3")[0][0] == "triangle"
+    cell = CellType("pieces_cells_test", 1, 3, (0, 2), ((0, 1, 2),),
+                    np.array([[-1.0, 0.0, 1.0]]), CELLS["line3"].shape, CELLS["line3"].dshape,
+                    CELLS["line3"].d2shape, line_quadrature)
+    kind, lines = output_cells(conn, cell)[0]
+    assert kind == "line" and lines.tolist() == [[0, 1], [1, 2], [2, 3], [3, 4]]

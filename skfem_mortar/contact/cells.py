@@ -24,13 +24,15 @@ Node orders, as the package uses them:
 * ``quad4``: counter-clockwise from ``(-1, -1)``,
   ``N_i = (1 + xi_i xi)(1 + eta_i eta)/4``.
 
+Corners of a line cell are ``(start, end)``: what walks a chain reads the ends there.
 Edges list the local nodes of each edge of the cell in order along it, running
 counter-clockwise around a surface cell (``tri3``: ``(0, 1), (1, 2), (2, 0)``).  A line
 cell is its own one edge: ``line2`` ``((0, 1),)``, ``line3`` ``((0, 2, 1),)`` (start,
 mid, end).
 
 Quadrature rules (``quadrature(degree) -> (points (dim, nq), weights (nq,))``, exact
-for every polynomial of total degree at most ``degree``): Gauss-Legendre on lines
+for every polynomial of total degree at most ``degree``, on the quadrilateral of degree
+at most ``degree`` in each variable): Gauss-Legendre on lines
 (``n = ceil((degree + 1)/2)`` points, exact to ``2n - 1``), its tensor product on the
 quadrilateral, and on the triangle the collapsed (Duffy) product of Gauss-Legendre and
 Gauss-Jacobi(1, 0) rules (``n^2`` points, exact to ``2n - 1``, positive weights).  A
@@ -77,10 +79,20 @@ class CellType:
     quadrature : callable
         ``quadrature(degree) -> (points (dim, nq), weights (nq,))``, exact for
         polynomials of total degree at most ``degree`` on the reference cell.
-    degree : int
-        Polynomial degree of the shape functions (1 for line2, tri3; 2 for line3;
-        quad4 is bilinear, degree 2 in total), what a kernel adds to its integrand's
-        degree when it picks a rule.
+    order : int
+        Lagrange order: 1 for line2, tri3 and quad4 (bilinear), 2 for line3.  The
+        shape functions have degree ``order`` in each reference variable, what a kernel
+        adds to its integrand's degree when it picks a rule (the quadrilateral's tensor
+        rule of degree ``p`` is exact to degree ``p`` in each variable).
+    hull : callable or None
+        ``hull(P (d, n_cell, n_nodes)) -> (d, n_cell, n_h)``: points whose convex hull
+        holds the whole cell (the Bezier control points of a curved cell, e.g. line3's
+        ``x_start, x_end, 2 x_mid - (x_start + x_end)/2``); None when the nodes' hull
+        holds it (straight and bilinear cells).  The contact search boxes cells by it.
+    vtk : str or None
+        The meshio / VTK cell type with this node order (``"line"``, ``"line3"``,
+        ``"triangle"``, ``"quad"``), or None: outputs then write the cell as the straight
+        pieces of its edges (:func:`~skfem_mortar.contact.cell_map.output_cells`).
     """
 
     name: str
@@ -93,7 +105,9 @@ class CellType:
     dshape: Callable[[np.ndarray], np.ndarray]
     d2shape: Callable[[np.ndarray], np.ndarray]
     quadrature: Callable[[int], tuple[np.ndarray, np.ndarray]]
-    degree: int = 1
+    order: int = 1
+    hull: Callable[[np.ndarray], np.ndarray] | None = None
+    vtk: str | None = None
 
     def __repr__(self) -> str:
         return f"CellType({self.name!r}, dim={self.dim}, n_nodes={self.n_nodes})"
@@ -183,6 +197,12 @@ def _line3_d2(xi):
     return np.stack([one, one, -2.0 * one])[:, None, None]
 
 
+def _line3_hull(P):
+    """line3's Bezier control points: the ends and ``2 x_mid - (x_start + x_end)/2``."""
+    a, b = P[..., 0], P[..., 1]
+    return np.stack([a, b, 2.0 * P[..., 2] - 0.5 * (a + b)], axis=-1)
+
+
 def _tri3(xi):
     x, y = np.asarray(xi, dtype=float)[:2]
     return np.stack([1.0 - x - y, x, y])
@@ -238,6 +258,9 @@ def _check_cell(cell: CellType) -> None:
     if not local or any(not 0 <= int(k) < cell.n_nodes for k in local):
         raise ValueError(f"cell {cell.name!r}: corners and edges must be local node "
                          f"indices in [0, {cell.n_nodes - 1}]")
+    if cell.dim == 1 and len(cell.corners) != 2:
+        raise ValueError(f"cell {cell.name!r}: a line cell has two corners (start, end), "
+                         f"got {cell.corners!r}")
     N = np.asarray(cell.shape(ref))
     if N.shape != (cell.n_nodes, cell.n_nodes) or not np.allclose(N, np.eye(cell.n_nodes),
                                                                       atol=1e-12):
@@ -301,14 +324,14 @@ def _ref(*cols) -> np.ndarray:
 
 for _cell in (
     CellType("line2", 1, 2, (0, 1), ((0, 1),), _ref([-1.0], [1.0]),
-             _line2, _line2_d, _zeros(2, 1), line_quadrature, 1),
+             _line2, _line2_d, _zeros(2, 1), line_quadrature, 1, None, "line"),
     CellType("line3", 1, 3, (0, 1), ((0, 2, 1),), _ref([-1.0], [1.0], [0.0]),
-             _line3, _line3_d, _line3_d2, line_quadrature, 2),
+             _line3, _line3_d, _line3_d2, line_quadrature, 2, _line3_hull, "line3"),
     CellType("tri3", 2, 3, (0, 1, 2), ((0, 1), (1, 2), (2, 0)),
              _ref([0.0, 0.0], [1.0, 0.0], [0.0, 1.0]),
-             _tri3, _tri3_d, _zeros(3, 2), tri_quadrature, 1),
+             _tri3, _tri3_d, _zeros(3, 2), tri_quadrature, 1, None, "triangle"),
     CellType("quad4", 2, 4, (0, 1, 2, 3), ((0, 1), (1, 2), (2, 3), (3, 0)),
-             _ref(*_Q4.T), _quad4, _quad4_d, _quad4_d2, quad_quadrature, 2),
+             _ref(*_Q4.T), _quad4, _quad4_d, _quad4_d2, quad_quadrature, 1, None, "quad"),
 ):
     register_cell(_cell)
 del _cell
