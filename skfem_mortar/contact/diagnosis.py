@@ -23,7 +23,7 @@ import scipy.sparse as sp
 from ..core.chain import polyline
 from . import nts
 from .preflight_pairs import contact_pairs
-from .preflight_rigid import _describe, _times_modes, _touching_rows, free_combinations
+from .preflight_rigid import _columns, _describe, _times_modes, _touching_rows, free_combinations
 
 __all__ = ["MEASURED_RATIO", "NTS_PATCH_ERRORS", "stiffness_ratio_text", "nts_patch_text",
            "pulled_off"]
@@ -143,7 +143,7 @@ def pulled_off(model: Any, z: np.ndarray, load_factor: float, fixed: np.ndarray)
     if N.size == 0 or N.shape[1] == 0:
         return []
     f = -model.load_residual(z, load_factor)
-    Mf = _times_modes(sp.csr_matrix(f[None, :]), bodies)[0]        # (3 nb,) M^T f
+    Mf = _times_modes(sp.csr_matrix(f[None, :]), bodies)[0]        # (n_modes,) M^T f
     b = N.T @ Mf
     if not np.linalg.norm(b) > 1e-12 * max(np.linalg.norm(f), np.finfo(float).tiny):
         return []
@@ -165,15 +165,17 @@ def _pulled_text(bodies: list, N: np.ndarray, u: np.ndarray, Mf: np.ndarray,
     (on the modes) moves, their free modes, the pairs that touch them and the
     load's resultant on them."""
     names, parts = [], []
-    for k, bd in enumerate(bodies):
-        if np.linalg.norm(u[3 * k:3 * k + 3]) <= 1e-6 * np.linalg.norm(u):
+    for bd, col in zip(bodies, _columns(bodies)):
+        if np.linalg.norm(u[col]) <= 1e-6 * np.linalg.norm(u):
             continue
         names.append(bd.item.name)
         on = [p.name for p in pairs if bd.item in (p.slave.body, p.master.body)]
         held = f"contact {', '.join(map(repr, on))}" if on else "no contact"
-        parts.append(f"body {bd.item.name!r}: its {_describe(bd, N[3 * k:3 * k + 3])} held "
-                     f"by {held} alone, and the load on it (resultant ({Mf[3 * k]:.3g}, "
-                     f"{Mf[3 * k + 1]:.3g}) at this load factor) pulls it away from the master")
+        n_t = np.shape(bd.item.X)[0] if bd.n_modes > 1 else 1   # its translations
+        force = ", ".join(f"{v:.3g}" for v in Mf[col][:n_t])
+        parts.append(f"body {bd.item.name!r}: its {_describe(bd, N[col])} held "
+                     f"by {held} alone, and the load on it (resultant ({force}) at this load "
+                     f"factor) pulls it away from the master")
     return ("; ".join(parts) + ": no compressive contact force can balance that load, so the "
             "contact opens entirely and nothing holds the "
             + ("body" if len(names) == 1 else "bodies")

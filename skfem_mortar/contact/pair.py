@@ -97,6 +97,11 @@ def _check_surface(role: str, surface: Any) -> None:
         raise ValueError(f"{role} must be a contact surface (ContactSurface.from_solid(body, "
                          f"boundary), ContactSurface.from_cable(cable), RigidPlane, "
                          f"RigidCircle), got {what}{named}")
+    cell = getattr(surface, "cell", None)
+    if cell is not None and cell.dim != 1:
+        raise ValueError(f"{role} {surface.name!r} is a surface of {cell.name} cells (a 3D "
+                         f"body's): contact between 3D bodies is not offered yet, only "
+                         f"between curves in the plane (line cells)")
 
 
 class ContactPair(Item):
