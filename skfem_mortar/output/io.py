@@ -126,7 +126,8 @@ def frame_mesh(points: np.ndarray, cells: list, point_data: dict, cell_data: dic
 
 
 #: VTK cell type numbers of the meshio cell types :func:`vtu_text` writes itself
-VTK_TYPES = {"vertex": 1, "line": 3, "triangle": 5, "quad": 9, "line3": 21, "triangle6": 22}
+VTK_TYPES = {"vertex": 1, "line": 3, "triangle": 5, "quad": 9, "tetra": 10, "hexahedron": 12,
+             "line3": 21, "triangle6": 22, "tetra10": 24, "quad9": 28, "hexahedron27": 29}
 _VTK_DTYPES = {np.dtype(np.float64): "Float64", np.dtype(np.float32): "Float32",
                np.dtype(np.int64): "Int64", np.dtype(np.int32): "Int32",
                np.dtype(np.uint8): "UInt8"}
