@@ -1,4 +1,5 @@
-"""Input checks that belong to no single item: mesh validity, the quadrature order.
+"""Input checks that belong to no single item: mesh validity (2D and 3D), the
+element named for a mesh, the quadrature order.
 
 scikit-fem integrates with ``|det J|``, so an element whose vertices are listed
 in the wrong order (a folded mesh) or an element of zero area is not caught by
@@ -11,8 +12,8 @@ import numpy as np
 
 from ..core.validate import count
 
-__all__ = ["check_mesh", "signed_areas", "quadrature_order", "check_boundary_facets",
-           "MAX_INTORDER"]
+__all__ = ["check_mesh", "check_mesh_3d", "check_element", "signed_areas", "quadrature_order",
+           "check_boundary_facets", "MAX_INTORDER", "SERENDIPITY"]
 
 #: the highest quadrature order: scikit-fem's triangle rules stop at 19 (above,
 #: it raises NotImplementedError deep in the basis)
@@ -140,3 +141,116 @@ def check_boundary_facets(mesh, facets: np.ndarray, boundary: object, name: str 
                          f"element: {inner.size} of its {facets.size} facets are interior "
                          f"(e.g. facet {int(inner[0])}, shared by elements "
                          f"{int(mesh.f2t[0, inner[0]])} and {int(mesh.f2t[1, inner[0]])})")
+
+
+#: names a user may try for the 20-node (serendipity) hexahedron, refused naming hex2
+SERENDIPITY = ("hex20", "hexs2", "hex2s", "hexahedron20", "serendipity")
+
+#: a reference domain's cells, in words, and its skfem meshes
+_KINDS = {"RefTri": ("triangles", "MeshTri"), "RefQuad": ("quadrilaterals", "MeshQuad"),
+          "RefTet": ("tetrahedra", "MeshTet1 or MeshTet2"),
+          "RefHex": ("hexahedra", "MeshHex1 or MeshHex2")}
+
+
+def _serendipity(what: str) -> ValueError:
+    return ValueError(f"{what}: 20-node (serendipity) hexahedra are not supported; use "
+                      f"element 'hex2' (27-node hexahedra: MeshHex2, meshio 'hexahedron27')")
+
+
+def check_element(mesh, element: object, refdoms: dict[str, str]) -> None:
+    """ValueError unless ``element`` is a name of ``refdoms`` (element name -> the
+    reference domain of its mesh, e.g. ``"RefTet"``) and ``mesh`` a scikit-fem mesh
+    of that domain.  The messages list the allowed names (all, or those that fit
+    the mesh); serendipity hexahedra (a name of :data:`SERENDIPITY`, a meshio mesh
+    with ``hexahedron20`` cells, a mesh of ``ElementHexS2``) are refused naming hex2."""
+    from skfem import ElementHexS2, Mesh
+
+    if isinstance(element, str) and element.lower() in SERENDIPITY:
+        raise _serendipity(f"element {element!r}")
+    if not isinstance(element, str) or element not in refdoms:
+        raise ValueError(f"element must be one of {sorted(refdoms)} (got {element!r})")
+    if "hexahedron20" in (getattr(mesh, "cells_dict", None) or {}):
+        raise _serendipity("mesh holds hexahedron20 cells")
+    if not isinstance(mesh, Mesh):
+        raise ValueError(f"mesh must be a skfem Mesh (MeshTri, MeshQuad, MeshTet1, MeshTet2, "
+                         f"MeshHex1 or MeshHex2), got {type(mesh).__name__}")
+    if mesh.elem is ElementHexS2:
+        raise _serendipity(f"mesh ({type(mesh).__name__})")
+    have, need = mesh.elem.refdom.__name__, refdoms[element]
+    if have != need:
+        fits = sorted(k for k, v in refdoms.items() if v == have)
+        kind, meshes = _KINDS[need]
+        dim = "3D" if need in ("RefTet", "RefHex") else "2D"
+        raise ValueError(f"element {element!r} needs a {dim} mesh of {kind} ({meshes}), got "
+                         f"{type(mesh).__name__}; element must be one of {fits} for it")
+
+
+def check_mesh_3d(mesh, name: str = "mesh") -> None:
+    """Raise ValueError, naming the elements or nodes, for a 3D mesh with non-finite
+    nodes, unreferenced nodes, flat or inverted elements.
+
+    scikit-fem integrates with ``|det J|`` and its own generators list elements in
+    either orientation, so orientation is no test.  An element is flat when
+    ``|det J|`` at its centre is below ``AREA_TOL`` times the mean; inverted when
+    ``det J`` at its corners changes sign (a hexahedron turned inside out) or when
+    it and its neighbour across an interior facet lie on the same side of the facet
+    (the mesh folds over itself).
+
+    Parameters
+    ----------
+    mesh : skfem.Mesh
+        A tetrahedral or hexahedral mesh (linear or quadratic).
+    name : str
+        Used in the message.
+    """
+    p = np.asarray(mesh.p, dtype=float)
+    bad = np.flatnonzero(~np.isfinite(p).all(axis=0))
+    if bad.size:
+        raise ValueError(f"{name}: node coordinates must be finite (nodes {bad[:10].tolist()}"
+                         f"{' ...' if bad.size > 10 else ''})")
+    if mesh.nelements == 0:
+        raise ValueError(f"{name}: the mesh has no elements")
+    used = np.zeros(p.shape[1], dtype=bool)
+    used[np.asarray(mesh.dofs.element_dofs).ravel()] = True
+    free = np.flatnonzero(~used)
+    if free.size:
+        raise ValueError(f"{name}: {free.size} node(s) belong to no element (nodes "
+                         f"{free[:10].tolist()}{' ...' if free.size > 10 else ''}): "
+                         f"remove them (unreferenced nodes have no stiffness)")
+    ref = np.asarray(mesh.elem.doflocs, dtype=float).T                # (3, n_nodes_loc)
+    nv = mesh.t.shape[0]
+    corners = np.concatenate([ref[:, :nv], ref[:, :nv].mean(axis=1, keepdims=True)], axis=1)
+    det = np.asarray(mesh.mapping().detDF(corners))                 # (n_el, nv + 1)
+    flat = np.flatnonzero(np.abs(det[:, -1]) <= AREA_TOL * np.mean(np.abs(det[:, -1])))
+    if flat.size:
+        raise ValueError(f"{name}: {flat.size} element(s) of zero volume (elements "
+                         f"{flat[:10].tolist()}); every element volume must exceed "
+                         f"{AREA_TOL:g} times the mean")
+    turned = np.flatnonzero(np.any(det[:, :nv] * det[:, -1:] <= 0.0, axis=1))
+    if turned.size:
+        raise ValueError(f"{name}: {turned.size} inverted element(s) (elements "
+                         f"{turned[:10].tolist()}): det J changes sign inside them (corners "
+                         f"listed in the wrong order, or an element turned inside out)")
+    _check_folds(mesh, p, name)
+
+
+def _check_folds(mesh, p: np.ndarray, name: str) -> None:
+    """ValueError naming the elements when the two elements of an interior facet lie on
+    the same side of it (the facet's plane through its centre, normal from three of
+    its corners)."""
+    f2t = mesh.f2t
+    inner = np.flatnonzero(f2t[1] >= 0)
+    if inner.size == 0:
+        return
+    f = mesh.facets[:, inner]
+    x = p[:, f]                                                       # (3, nf, n)
+    normal = np.cross(x[:, 1] - x[:, 0], x[:, 2] - x[:, 0], axis=0)
+    centre = x.mean(axis=1)
+    cen = p[:, mesh.t].mean(axis=1)                                   # (3, n_el)
+    side = [np.sum(normal * (cen[:, f2t[k, inner]] - centre), axis=0) for k in (0, 1)]
+    folded = inner[side[0] * side[1] >= 0]
+    if folded.size:
+        e = f2t[:, folded[0]]
+        raise ValueError(f"{name}: inverted element(s): elements {int(e[0])} and {int(e[1])} "
+                         f"lie on the same side of their shared facet {int(folded[0])} "
+                         f"({folded.size} such facets); the mesh folds over itself")

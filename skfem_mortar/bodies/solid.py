@@ -46,23 +46,26 @@ is exact.  The tests compare both paths.
 """
 from __future__ import annotations
 
+import importlib
 from typing import Callable
 
 import numpy as np
 import scipy.sparse as sp
-from skfem import (Basis, BilinearForm, ElementQuad1, ElementQuad2, ElementTriP1,
-                   ElementTriP2, ElementVector, LinearForm, Mesh)
+from skfem import (Basis, BilinearForm, ElementHex1, ElementHex2, ElementQuad1,
+                   ElementQuad2, ElementTetP1, ElementTetP2, ElementTriP1, ElementTriP2,
+                   ElementVector, LinearForm, Mesh)
 from skfem.helpers import ddot, grad
 
-from .checks import check_mesh, quadrature_order
+from .checks import check_element, check_mesh, check_mesh_3d, quadrature_order
 from .geometry_terms import TERMS, terms_of
 from .hoop import hoop_gradient, hoop_residual, hoop_tangent
+from .solid_output import nodal_output
 from ..core.coo import element_coo
 from .materials import PLANES, LinearElastic, Material
 from ..core.item import Contribution, Item
 from ..core.validate_arrays import index_array
 
-__all__ = ["Solid", "ELEMENTS", "KINEMATICS", "boundary_facets", "constitutive_law",
+__all__ = ["Solid", "ELEMENTS", "ELEMENTS_3D", "SPECIAL_ELEMENTS", "KINEMATICS", "boundary_facets", "constitutive_law",
            "refuse_reduction"]
 
 #: elements per block of the one-point tangent kernel (its temporaries then stay
@@ -80,6 +83,30 @@ ELEMENTS: dict[str, tuple[type, str, str]] = {
     "quad1": (ElementQuad1, "RefQuad", "quad"),
     "quad2": (ElementQuad2, "RefQuad", "quad"),
 }
+
+#: the 3D elements: name -> (skfem scalar element class, reference domain name, meshio
+#: cell type of the output cells, default quadrature order (``None``: the centroid))
+ELEMENTS_3D: dict[str, tuple[type, str, str, int | None]] = {
+    "tet1": (ElementTetP1, "RefTet", "tetra", None),
+    "tet2": (ElementTetP2, "RefTet", "tetra10", 2),
+    "hex1": (ElementHex1, "RefHex", "hexahedron", 3),
+    "hex2": (ElementHex2, "RefHex", "hexahedron27", 5),
+}
+
+#: the elements of their own classes: name -> (reference domain, module, class);
+#: ``Solid(..., element=name)`` builds that class (its module imported on first use:
+#: this module imports none of them, they import it)
+SPECIAL_ELEMENTS: dict[str, tuple[str, str, str]] = {
+    "p2p1": ("RefTet", "skfem_mortar.bodies.taylor_hood", "TaylorHoodSolid"),
+    "hex1-md": ("RefHex", "skfem_mortar.bodies.mean_dilatation", "MeanDilatationSolid"),
+}
+
+
+def element_domains() -> dict[str, str]:
+    """Every element name of :class:`Solid` -> the reference domain of its mesh."""
+    out = {k: v[1] for k, v in {**ELEMENTS, **ELEMENTS_3D}.items()}
+    out.update({k: v[0] for k, v in SPECIAL_ELEMENTS.items()})
+    return out
 
 
 @LinearForm
@@ -181,94 +208,119 @@ def _as_slice(idx: np.ndarray) -> slice | np.ndarray:
     return idx
 
 
-def _component_rows(component: int | str | None) -> list[str] | None:
+def _component_index(component: int | str | None, dim: int = 2) -> int | None:
+    """The component ``0 .. dim - 1`` named by ``component`` (None: all); ValueError
+    naming the allowed ones (a bool or a float is refused: ``True == 1``)."""
     if component is None:
         return None
-    names = {0: "u^1", 1: "u^2", "x": "u^1", "y": "u^2"}
-    # a bool or a float is refused (True == 1 would select y)
+    names = {0: 0, 1: 1, "x": 0, "y": 1} if dim == 2 else \
+        {0: 0, 1: 1, 2: 2, "x": 0, "y": 1, "z": 2}
     if not isinstance(component, (str, int, np.integer)) or isinstance(component, (bool, np.bool_)) \
             or component not in names:
-        raise ValueError(f"component must be None, 0, 1, 'x' or 'y' (got {component!r})")
-    return [names[component]]
+        allowed = "0, 1, 'x' or 'y'" if dim == 2 else "0, 1, 2, 'x', 'y' or 'z'"
+        raise ValueError(f"component must be None, {allowed} (got {component!r})")
+    return names[component]
 
 
 class Solid(Item):
-    """A 2D elastic body: an :class:`~skfem_mortar.core.item.Item` with ``dof_kind="u"``.
+    """An elastic body, 2D (plane strain or stress) or 3D: an
+    :class:`~skfem_mortar.core.item.Item` with ``dof_kind="u"``.
 
     Parameters
     ----------
     mesh : skfem.Mesh
-        Reference configuration (``MeshTri`` for ``tri*``, ``MeshQuad`` for ``quad*``).
-        Named boundaries (``mesh.boundaries``) can be used by :meth:`dofs_on`.
+        Reference configuration: ``MeshTri`` for ``tri*``, ``MeshQuad`` for
+        ``quad*``, ``MeshTet1``/``MeshTet2`` for ``tet*`` and ``p2p1``,
+        ``MeshHex1``/``MeshHex2`` for ``hex*`` and ``hex1-md``.  Named boundaries
+        (``mesh.boundaries``) can be used by :meth:`dofs_on`.
     material : Material
         :class:`~skfem_mortar.bodies.materials.NeoHooke`,
         :class:`~skfem_mortar.bodies.materials.SaintVenantKirchhoff` or
         :class:`~skfem_mortar.bodies.materials.LinearElastic`.
-    element : {"tri1", "tri2", "quad1", "quad2"}
-        Lagrange element of the displacement field.
+    element : {"tri1", "tri2", "quad1", "quad2", "tet1", "tet2", "hex1", "hex2", "p2p1", "hex1-md"}
+        Lagrange element of the displacement field; ``"p2p1"`` (Taylor-Hood u-p
+        tetrahedra, :mod:`.taylor_hood`) and ``"hex1-md"`` (mean dilatation,
+        :mod:`.mean_dilatation`) build their own classes.
     name : str
         Item name.
     intorder : int, optional
-        Quadrature order. Default: 1 for ``tri1`` (``Grad u`` and hence the
-        integrand are constant per element, so one point is exact), otherwise
-        skfem's default (twice the element order).
+        Quadrature order. Default: the centroid for ``tri1`` and ``tet1``
+        (``Grad u`` and hence the integrand are constant per element, so one
+        point is exact); 2 for ``tet2``, 3 (2 x 2 x 2 Gauss) for ``hex1``, 5
+        (3 x 3 x 3) for ``hex2`` (exact for the small-strain tangent on affine
+        elements); otherwise skfem's default (twice the element order).
     kinematics : {"finite", "small"}, optional
         Finite strain (the material's ``P(F)``) or small strain (its
         linearization, ``sigma = lambda tr(eps) I + 2 mu eps``; module
         docstring: contact still sees ``x = X + u``).  Default: ``"small"``
         for a LinearElastic material, else ``"finite"``.
-    plane : {"strain", "stress"}
-        Plane strain (``F_zz = 1``, default) or plane stress (``S_zz = 0``).
+    plane : {"strain", "stress"}, optional
+        2D only: plane strain (``F_zz = 1``, the default) or plane stress
+        (``S_zz = 0``).  Refused for a 3D mesh.
 
     Attributes
     ----------
     material : Material
         The law evaluated: the given material in ``plane``, linearized for
         small kinematics (:func:`constitutive_law`).
+    dim : int
+        2 or 3, from the mesh.
     """
 
     dof_kind = "u"
     loaded = False  # its residual does not depend on the load factor
     phase = "bulk"
+    dim = 2         # the subclasses of 2D meshes only keep it
+
+    def __new__(cls, *args, **kwargs):
+        """``Solid(..., element=name)`` with a name of :data:`SPECIAL_ELEMENTS` builds
+        that element's class (the same arguments)."""
+        element = kwargs.get("element", args[2] if len(args) > 2 else None)
+        if cls is Solid and isinstance(element, str) and element in SPECIAL_ELEMENTS:
+            _, module, name = SPECIAL_ELEMENTS[element]
+            return super().__new__(getattr(importlib.import_module(module), name))
+        return super().__new__(cls)
 
     def __init__(self, mesh: Mesh, material: Material, element: str = "tri1",
                  name: str = "solid", intorder: int | None = None, *,
-                 kinematics: str | None = None, plane: str = "strain"):
-        if not isinstance(element, str) or element not in ELEMENTS:
-            raise ValueError(f"element must be one of {sorted(ELEMENTS)} (got {element!r})")
-        material, kinematics = constitutive_law(material, kinematics, plane)
-        elem_cls, refdom, cell_type = ELEMENTS[element]
-        if not isinstance(mesh, Mesh):
-            raise ValueError(f"mesh must be a skfem Mesh (MeshTri or MeshQuad), got "
-                             f"{type(mesh).__name__}")
-        if mesh.dim() != 2 or mesh.elem.refdom.__name__ != refdom:
-            raise ValueError(f"element {element!r} needs a 2D mesh of "
-                             f"{'triangles' if refdom == 'RefTri' else 'quadrilaterals'}, "
-                             f"got {type(mesh).__name__}")
+                 kinematics: str | None = None, plane: str | None = None):
+        check_element(mesh, element, element_domains())
+        self.dim = int(mesh.dim())
+        if self.dim == 3 and plane is not None:
+            raise ValueError(f"plane applies to a 2D body only; a 3D mesh has no plane "
+                             f"reduction (got plane={plane!r}): leave it out")
+        material, kinematics = constitutive_law(material, kinematics, plane or "strain")
         if intorder is not None:
             intorder = quadrature_order(intorder, 1)
-        check_mesh(mesh, f"mesh of {name!r}")  # folded, zero-area, non-convex elements
+        if self.dim == 2:
+            elem_cls, _, cell_type = ELEMENTS[element]
+            check_mesh(mesh, f"mesh of {name!r}")  # folded, zero-area, non-convex elements
+        else:
+            elem_cls, _, cell_type, _ = ELEMENTS_3D[element]
+            check_mesh_3d(mesh, f"mesh of {name!r}")  # inverted, flat, unreferenced nodes
         self.mesh = mesh
         self.material = material
         self.kinematics = kinematics
-        self.plane = plane
+        self.plane = (plane or "strain") if self.dim == 2 else None
         self.element = element
         self.name = name
         self._cell_type = cell_type
         self._elem_cls, self._intorder = elem_cls, intorder
-        self._geometry = "plane"
+        self._geometry = "plane" if self.dim == 2 else "3d"
         self._make_basis()
         self.n_dofs = int(self.basis.N)
         self._n_nodes = int(mesh.nvertices)
         every = self.basis.get_dofs(elements=np.arange(mesh.nelements))
         self.dof_component = np.zeros(self.n_dofs, dtype=np.int64)
-        self.dof_component[np.asarray(every.all(["u^2"]), dtype=np.int64)] = 1
+        for c in range(1, self.dim):
+            self.dof_component[np.asarray(every.all([f"u^{c + 1}"]), dtype=np.int64)] = c
 
     # -- the geometry (the model's, :mod:`.geometry_terms`) -------------------
     @property
     def geometries(self) -> tuple[str, ...]:
-        """The geometries this solid works in: those with kernel terms."""
-        return tuple(TERMS)
+        """The geometries this solid works in: those with kernel terms (2D), ``("3d",)``
+        (a 3D mesh)."""
+        return tuple(TERMS) if self.dim == 2 else ("3d",)
 
     @property
     def geometry(self) -> str:
@@ -278,14 +330,21 @@ class Solid(Item):
     @geometry.setter
     def geometry(self, value: str) -> None:
         if value != self._geometry:
+            if self.dim == 3:
+                raise ValueError(f"geometry must be '3d' for a body on a 3D mesh "
+                                 f"({self.name!r}), got {value!r}")
             terms_of(value)
             self._geometry = value
             self._make_basis()
 
     def _make_basis(self) -> None:
         """The vector basis (its quadrature from the geometry's terms) and the kernel data."""
-        terms = terms_of(self._geometry)
-        kw = terms.quadrature(self.element, self._intorder)
+        if self.dim == 3:
+            order = self._intorder or ELEMENTS_3D[self.element][3]
+            kw = {"intorder": order} if order else \
+                {"quadrature": (np.full((3, 1), 0.25), np.array([1.0 / 6.0]))}
+        else:
+            kw = terms_of(self._geometry).quadrature(self.element, self._intorder)
         if not kw and self.element == "tri1" and self._geometry == "plane":
             # the centroid: exact for piecewise constant integrands (skfem's
             # lowest triangle rule has three points)
@@ -296,21 +355,24 @@ class Solid(Item):
     def _kernel_data(self) -> None:
         """Cache what every assembly needs: local dofs, components, ``dN``, ``dx``
         (times the geometry's weight) and the hoop term (:mod:`.geometry_terms`)."""
-        b = self.basis
+        b, d = self.basis, self.dim
         self._edofs = np.asarray(b.element_dofs, dtype=np.int64)       # (n_loc, n_el)
-        grads = [np.asarray(b.basis[l][0].grad) for l in range(b.Nbfun)]  # (2, 2, n_el, n_qp)
+        grads = [np.asarray(b.basis[l][0].grad) for l in range(b.Nbfun)]  # (d, d, n_el, n_qp)
         self._comp = np.array([int(np.argmax(np.abs(g).sum(axis=(1, 2, 3)))) for g in grads])
-        self._dN = np.stack([g[c] for g, c in zip(grads, self._comp)])  # (n_loc, 2, n_el, n_qp)
-        terms = terms_of(self._geometry)
-        weight = terms.weight(b)
-        self._dx = np.asarray(b.dx) if weight is None else np.asarray(b.dx) * weight
-        self._hoop = terms.hoop(b, self._comp)          # None or (n_loc, n_el, n_qp)
+        self._dN = np.stack([g[c] for g, c in zip(grads, self._comp)])  # (n_loc, d, n_el, n_qp)
+        if d == 3:
+            self._dx, self._hoop = np.asarray(b.dx), None
+        else:
+            terms = terms_of(self._geometry)
+            weight = terms.weight(b)
+            self._dx = np.asarray(b.dx) if weight is None else np.asarray(b.dx) * weight
+            self._hoop = terms.hoop(b, self._comp)          # None or (n_loc, n_el, n_qp)
         self._dNdx = self._dN * self._dx                                 # the residual's
         # each component's local dofs and dN (copies: Grad u reads them every call)
         self._by_component = [(self._edofs[self._comp == c], self._dN[self._comp == c])
-                              for c in (0, 1)]
+                              for c in range(d)]
         # the local dofs of each component as slices (None unless evenly spaced)
-        on = [_as_slice(np.flatnonzero(self._comp == c)) for c in (0, 1)]
+        on = [_as_slice(np.flatnonzero(self._comp == c)) for c in range(d)]
         self._comp_slices = list(enumerate(on)) if all(isinstance(o, slice) for o in on) else None
         self._kidx: tuple[int, np.ndarray, np.ndarray, np.ndarray] | None = None
 
@@ -323,8 +385,8 @@ class Solid(Item):
         return self._kidx[1], self._kidx[2]
 
     def _grad_u(self, u: np.ndarray) -> np.ndarray:
-        """``Grad u`` on all quadrature points, ``(2, 2, n_el, n_qp)``, from the cached ``dN``."""
-        G = np.zeros((2,) + self._dN.shape[1:])
+        """``Grad u`` on all quadrature points, ``(d, d, n_el, n_qp)``, from the cached ``dN``."""
+        G = np.zeros((self.dim,) + self._dN.shape[1:])
         for c, (edofs, dN) in enumerate(self._by_component):
             G[c] = np.einsum("le,lJeq->Jeq", u[edofs], dN)
         return G
@@ -332,7 +394,7 @@ class Solid(Item):
     # -- geometry ----------------------------------------------------------
     @property
     def X(self) -> np.ndarray:
-        """Reference coordinates of the mesh vertices, shape ``(2, n_nodes)``."""
+        """Reference coordinates of the mesh vertices, shape ``(d, n_nodes)``."""
         return self.mesh.p[:, :self.n_nodes]
 
     @property
@@ -342,7 +404,7 @@ class Solid(Item):
 
     @property
     def node_dofs(self) -> np.ndarray:
-        """Local dofs of the vertices, ``(2, n_nodes)``: row 0 x-, row 1 y-dofs."""
+        """Local dofs of the vertices, ``(d, n_nodes)``: row 0 x-, row 1 y-, (3D) row 2 z-dofs."""
         return self.basis.nodal_dofs
 
     def u(self, z: np.ndarray) -> np.ndarray:
@@ -350,13 +412,13 @@ class Solid(Item):
         return np.asarray(z)[self.dofs]
 
     def x(self, z: np.ndarray) -> np.ndarray:
-        """Current vertex coordinates ``X + u``, shape ``(2, n_nodes)``."""
+        """Current vertex coordinates ``X + u``, shape ``(d, n_nodes)``."""
         return self.X + self.u(z)[self.node_dofs]
 
     def interpolate(self, fun: Callable[[np.ndarray], np.ndarray]) -> np.ndarray:
         """Local dof vector of the nodal interpolant of ``u = fun(X)``.
 
-        ``fun`` maps reference points ``(2, n)`` to displacements ``(2, n)``.
+        ``fun`` maps reference points ``(d, n)`` to displacements ``(d, n)``.
         """
         pts = self.basis.doflocs
         vals = np.asarray(fun(pts), dtype=float)
@@ -372,36 +434,36 @@ class Solid(Item):
         ----------
         boundary : str, array of int or callable
             A tag of ``mesh.boundaries``, an array of facet indices, or a
-            function ``f(x) -> bool array`` of facet midpoints ``x (2, n)``
+            function ``f(x) -> bool array`` of facet midpoints ``x (d, n)``
             (skfem's convention: interior facets are tested too).
-        component : {None, 0, 1, "x", "y"}
-            Both components (None) or only one.
+        component : {None, 0, 1, 2, "x", "y", "z"}
+            All components (None) or only one (2 and "z" in 3D).
         """
         if isinstance(boundary, str):
             boundary_facets(self.mesh, boundary)        # an unknown tag raises
         elif not callable(boundary):                    # indices or a mask, checked
             boundary = boundary_facets(self.mesh, boundary)
         view = self.basis.get_dofs(boundary)
-        rows = _component_rows(component)
-        out = view.all() if rows is None else view.all(rows)
+        c = _component_index(component, self.dim)
+        out = view.all() if c is None else view.all([f"u^{c + 1}"])
         return np.unique(np.asarray(out, dtype=np.int64))
 
     def dofs_at_nodes(self, nodes: np.ndarray, component: int | str | None = None
                       ) -> np.ndarray:
         """Local dofs of a set of vertices (indices into ``X``)."""
         nodes = index_array("nodes", nodes, self.n_nodes).ravel()
-        rows = _component_rows(component)
-        nd = self.node_dofs if rows is None else self.node_dofs[[0 if rows[0] == "u^1" else 1]]
+        c = _component_index(component, self.dim)
+        nd = self.node_dofs if c is None else self.node_dofs[[c]]
         return np.unique(nd[:, nodes].ravel().astype(np.int64))
 
     # -- kinematics and stress at quadrature points ---------------------------
     def deformation_gradient(self, z: np.ndarray) -> np.ndarray:
-        """``F = I + Grad u`` on all quadrature points, shape ``(2, 2, n_el, n_qp)``,
+        """``F = I + Grad u`` on all quadrature points, shape ``(d, d, n_el, n_qp)``,
         for the global unknowns ``z`` (every method taking ``z`` expects the global vector)."""
         u = np.asarray(self.u(z), dtype=float)
         F = self._grad_u(u)
-        F[0, 0] += 1.0
-        F[1, 1] += 1.0
+        for i in range(self.dim):
+            F[i, i] += 1.0
         return F if self._hoop is None else hoop_gradient(F, u, self._edofs, self._hoop)
 
     def internal_force(self, z: np.ndarray) -> np.ndarray:
@@ -437,23 +499,27 @@ class Solid(Item):
         """Element residuals ``r_e[l] = sum_q P[c_l, J] dN[l, J] dx``, ``(n_loc, n_el)``;
         with one quadrature point the two-term sums of ``einsum`` written by
         component (no copy ``P[comp]``, as :meth:`_tangents_one_point`)."""
+        d = self.dim
         if self._dx.shape[1] != 1 or not self._comp_slices or self._hoop is not None:
-            return np.einsum("lJeq,lJeq->le", P[:2, :2][self._comp], self._dNdx)
+            return np.einsum("lJeq,lJeq->le", P[:d, :d][self._comp], self._dNdx)
         dNdx = self._dNdx[..., 0]
         re = np.empty(dNdx[:, 0].shape)
         for k, on in self._comp_slices:
             np.multiply(P[k, 0, :, 0], dNdx[on, 0], out=re[on])
-            re[on] += P[k, 1, :, 0] * dNdx[on, 1]
+            for J in range(1, d):
+                re[on] += P[k, J, :, 0] * dNdx[on, J]
         return re
 
     def _tangents(self, Adx: np.ndarray) -> np.ndarray:
         """Element tangents ``K_e[l, m]`` ``(n_loc, n_loc, n_el)`` from ``A dx``
-        ``(2, 2, 2, 2, n_el, n_qp)``: ``W[k, L] = sum_J dN[l, J] A[c_l, J, k, L] dx``,
+        ``(d, d, d, d, n_el, n_qp)``: ``W[k, L] = sum_J dN[l, J] A[c_l, J, k, L] dx``,
         then ``K_e[l, m] = sum_q W[c_m, L] dN[m, L]``."""
         dN, comp = self._dN, self._comp
         ke = np.empty((len(comp), len(comp), dN.shape[2]))
         for l in range(len(comp)):
-            W = dN[l, 0] * Adx[comp[l], 0] + dN[l, 1] * Adx[comp[l], 1]   # (2, 2, n_el, n_qp)
+            W = dN[l, 0] * Adx[comp[l], 0] + dN[l, 1] * Adx[comp[l], 1]   # (d, d, n_el, n_qp)
+            for J in range(2, self.dim):
+                W += dN[l, J] * Adx[comp[l], J]
             ke[l] = np.einsum("mLeq,mLeq->me", W[comp], dN)
         return ke
 
@@ -467,17 +533,20 @@ class Solid(Item):
         components' local dofs evenly spaced, as ``ElementVector`` has them), over
         :data:`CHUNK` elements at a time, so that the temporaries stay in
         the cache: 3x faster at hertz ``refine=3``."""
-        dN, dx, comp = self._dN[..., 0], self._dx[:, 0], self._comp
+        dN, dx, comp, d = self._dN[..., 0], self._dx[:, 0], self._comp, self.dim
         n_el = dN.shape[2]
         ke = np.empty((len(comp), len(comp), n_el))
         for start in range(0, n_el, CHUNK):
             e = slice(start, start + CHUNK)
             Adx, dNe, kee = A[..., e, 0] * dx[e], dN[:, :, e], ke[:, :, e]
             for l in range(len(comp)):
-                W = dNe[l, 0] * Adx[comp[l], 0] + dNe[l, 1] * Adx[comp[l], 1]   # (2, 2, n)
+                W = dNe[l, 0] * Adx[comp[l], 0] + dNe[l, 1] * Adx[comp[l], 1]   # (d, d, n)
+                for J in range(2, d):
+                    W += dNe[l, J] * Adx[comp[l], J]
                 for k, on in self._comp_slices:  # on: a slice, kee[l, on] a view
                     np.multiply(W[k, 0], dNe[on, 0], out=kee[l, on])
-                    kee[l, on] += W[k, 1] * dNe[on, 1]
+                    for L in range(1, d):
+                        kee[l, on] += W[k, L] * dNe[on, L]
         return ke
 
     def assemble_forms(self, z: np.ndarray, tangent: bool = True
@@ -501,11 +570,35 @@ class Solid(Item):
 
     # -- output ------------------------------------------------------------
     def output_mesh(self) -> tuple[np.ndarray, list[tuple[str, np.ndarray]]]:
-        """Vertices ``(N, 2)`` and linear cells (corner nodes only)."""
+        """2D: vertices ``(N, 2)`` and linear cells (corner nodes only).  3D: every node
+        of the field ``(N, 3)`` (vertices first, in mesh order) and one cell block
+        (``tetra``, ``tetra10``, ``hexahedron`` or ``hexahedron27``) whose columns are
+        the element's nodes in scikit-fem's local order (vertices, edges, faces,
+        interior: a writer reorders them to VTK's)."""
+        if self.dim == 3:
+            points, conn = self._output_nodes()
+            return points.T.copy(), [(self._cell_type, conn.T.copy())]
         # not skfem.io.meshio.to_meshio: identical on linear meshes, but on quadratic
         # ones it gives triangle6/quad9 cells on all nodes; the fields are per vertex
         nv = 3 if self._cell_type == "triangle" else 4
         return self.X.T.copy(), [(self._cell_type, self.mesh.t[:nv].T.copy())]
+
+    def _output_nodes(self) -> tuple[np.ndarray, np.ndarray]:
+        """3D: the field's nodes ``(3, N)`` and the cells ``(n_sloc, n_el)`` over them
+        (a node is numbered by its x-dof: vertices first); cached."""
+        if getattr(self, "_nodes", None) is None:
+            d, n_loc = self.dim, self._edofs.shape[0]
+            # ElementVector interleaves the components of each scalar dof
+            assert np.array_equal(self._comp, np.arange(n_loc) % d)
+            first = self._edofs[::d]                                     # (n_sloc, n_el)
+            xdofs, conn = np.unique(first, return_inverse=True)
+            conn = conn.reshape(first.shape)
+            ndofs = np.empty((d, xdofs.size), dtype=np.int64)          # each node's dofs
+            for c in range(d):
+                ndofs[c, conn] = self._edofs[c::d]
+            points = np.asarray(self.basis.doflocs)[:, xdofs]
+            self._nodes = (points, conn, ndofs)
+        return self._nodes[0], self._nodes[1]
 
     def element_average(self, q: np.ndarray) -> np.ndarray:
         """Volume average over each element of a quadrature array ``(..., n_el, n_qp)``."""
@@ -513,10 +606,16 @@ class Solid(Item):
         return np.sum(q * dx, axis=-1) / np.sum(dx, axis=-1)
 
     def output_data(self, z: np.ndarray) -> tuple[dict, dict]:
-        """Point data ``displacement`` (N, 2); cell data: element-averaged Cauchy
+        """2D: point data ``displacement`` (N, 2); cell data: element-averaged Cauchy
         stress ``sigma_xx, sigma_yy, sigma_xy, sigma_zz`` and ``von_mises`` (small
         strain: ``sigma`` itself), and in plane stress the out-of-plane stretch
-        ``stretch_zz``."""
+        ``stretch_zz``.  3D: point data on every node of :meth:`output_mesh`:
+        ``displacement`` (N, 3), the Cauchy stress ``sigma_xx, sigma_yy, sigma_zz,
+        sigma_xy, sigma_yz, sigma_xz`` and ``von_mises``, each the mean over the
+        elements at the node of the stress there (:func:`.solid_output.nodal_stress`);
+        no cell data."""
+        if self.dim == 3:
+            return nodal_output(self, z), {}
         u = self.u(z)[self.node_dofs].T.copy()
         F = self.deformation_gradient(z)
         s, szz = self.material.cauchy(F)
@@ -532,6 +631,7 @@ class Solid(Item):
     def __repr__(self) -> str:
         """One line: class, name, material, element, kinematics, plane and sizes."""
         kin = "" if self.kinematics == "finite" else f", {self.kinematics} strain"
+        where = "3D" if self.dim == 3 else f"plane {self.plane}"
         return (f"{type(self).__name__}({self.name!r}, {self.material!r}, {self.element}"
-                f"{kin}, plane {self.plane}: {self.n_nodes} nodes, "
+                f"{kin}, {where}: {self.n_nodes} nodes, "
                 f"{self.mesh.nelements} elements, {self.n_dofs} dofs)")
