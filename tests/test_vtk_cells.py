@@ -71,43 +71,51 @@ def test_every_cell_is_vtks_reference_cell_mapped_affinely_with_positive_jacobia
     assert len(VTK_ORDER[cell]) == conn.shape[1]
 
 
-def _x_field_case(mesh, elem):
-    basis = Basis(mesh, ElementVector(elem()))
-    comp = np.zeros(basis.N, dtype=np.int64)
-    for c, idx in enumerate(basis.split_indices()):
-        comp[idx] = c
-    u = basis.doflocs[comp, np.arange(basis.N)]     # the field u = x, dof by dof
-    return basis, u
-
-
-@pytest.mark.parametrize("mesh, elem, cell", [
-    (MeshTet2.from_mesh(_grid(MeshTet1, sheared=False)), ElementTetP2, "tetra10"),
-    (MeshHex2.from_mesh(_grid(MeshHex1, sheared=False)), ElementHex2, "hexahedron27"),
+@pytest.mark.parametrize("mesh, element, cell", [
+    (MeshTet2.from_mesh(_grid(MeshTet1, sheared=False)), "tet2", "tetra10"),
+    (MeshHex2.from_mesh(_grid(MeshHex1, sheared=False)), "hex2", "hexahedron27"),
 ], ids=["tet2", "hex2"])
-def test_a_field_equal_to_x_reads_back_equal_to_the_points_at_every_node(tmp_path, mesh, elem,
-                                                                        cell):
+def test_a_body_whose_field_is_x_reads_back_equal_to_the_points_at_every_node(tmp_path, mesh,
+                                                                             element, cell):
+    """Solid.output_mesh/output_data (cells in scikit-fem's order) through the series
+    writer: VTK quadratic cells whose nodes carry the field u = x, read back by
+    meshio and by pyvista (VTK) at every node, and each cell VTK's reference cell."""
     pytest.importorskip("meshio")
+    from skfem_mortar.bodies.material import LinearElastic
+    from skfem_mortar.bodies.solid import Solid
+
     # curve the mesh: the mid-edge and mid-face nodes move off the straight lines
     p = mesh.doflocs.copy()
     p[2] += 0.1 * np.sin(np.pi * p[0]) * np.sin(np.pi * p[1])
-    mesh = type(mesh)(p, mesh.t)
-    basis, u = _x_field_case(mesh, elem)
-    points, cells = basis_cells(basis)
-    field = nodal_vectors(basis, u)
-    assert vtu_text(points, cells, {"displacement": field}, {}) is not None   # our writer
+    body = Solid(type(mesh)(p, mesh.t), LinearElastic(E=1.0, nu=0.3), element=element)
+    z = body.interpolate(lambda X: X)
+    points, cells = body.output_mesh()
+    point_data, cell_data = body.output_data(z)
+    np.testing.assert_array_equal(point_data["displacement"], points)   # node by node
     writer = SeriesWriter(tmp_path, "body", (points, cells))
-    writer.write(1.0, {"displacement": field}, {})
+    assert vtu_text(writer.points, writer.cells, point_data, cell_data) is not None  # ours
+    writer.write(1.0, point_data, cell_data)
     (t, frame), = read_series(tmp_path / "body.pvd")
-    assert t == 1.0
-    assert list(frame.cells_dict) == [cell]
-    np.testing.assert_array_equal(frame.cells_dict[cell], cells[0][1])
-    # written in binary float64: read back bit for bit
-    np.testing.assert_array_equal(frame.point_data["displacement"], frame.points)
+    assert t == 1.0 and list(frame.cells_dict) == [cell]
+    # written in binary float64: read back bit for bit, at every node
     np.testing.assert_array_equal(frame.points, points)
-    # and pyvista (VTK) reads quadratic cells: ParaView draws them curved
+    np.testing.assert_array_equal(frame.point_data["displacement"], frame.points)
+    # the cells are scikit-fem's elements in VTK's order: the same node sets, and
+    # on these affine (before the curving) cells VTK's nodes where VTK puts them
+    conn = frame.cells_dict[cell]
+    np.testing.assert_array_equal(np.sort(conn, axis=1), np.sort(cells[0][1], axis=1))
+    flat = points.copy()
+    flat[:, 2] = mesh.doflocs[2]
+    xi = _reference(cell)
+    M = np.column_stack([np.ones(len(xi)), xi])
+    X = flat[conn]
+    coef = np.linalg.lstsq(M, X.transpose(1, 0, 2).reshape(len(xi), -1), rcond=None)[0]
+    fit = np.einsum("la,ead->eld", M, coef.reshape(4, len(conn), 3).transpose(1, 0, 2))
+    assert np.max(np.abs(fit - X)) < 1e-12
     pv = pytest.importorskip("pyvista")
     grid = pv.read(writer.directory / writer.frames[0][1])
     want = {"tetra10": pv.CellType.QUADRATIC_TETRA,
             "hexahedron27": pv.CellType.TRIQUADRATIC_HEXAHEDRON}[cell]
     assert set(np.asarray(grid.celltypes)) == {want}
-    np.testing.assert_array_equal(grid.points, points)
+    np.testing.assert_array_equal(grid.point_data["displacement"], grid.points)
+    assert np.all(grid.compute_cell_sizes(length=False, area=False)["Volume"] > 0)

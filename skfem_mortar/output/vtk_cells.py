@@ -25,7 +25,8 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["VTK_ORDER", "MIRROR", "CELL_TYPES", "basis_cells", "nodal_vectors"]
+__all__ = ["VTK_ORDER", "MIRROR", "CELL_TYPES", "REORDERED", "vtk_order", "vtk_cells",
+           "basis_cells", "nodal_vectors"]
 
 #: scikit-fem's hexahedron node at each VTK node (``skfem.io.meshio.HEX_MAPPING``):
 #: 8 corners, 12 edges, 6 faces, the centre
@@ -71,6 +72,42 @@ def _scalar_element(elem: Any) -> Any:
     return getattr(elem, "elem", elem)
 
 
+#: the cell types :func:`vtk_cells` reorders (a 3D body's cells come in
+#: scikit-fem's local order; 2D cells are written as they are given)
+REORDERED = ("tetra", "tetra10", "hexahedron", "hexahedron27")
+
+
+def vtk_order(points: np.ndarray, cell: str, conn: np.ndarray) -> np.ndarray:
+    """One cell block from scikit-fem's local node order to VTK's.
+
+    ``conn_vtk[:, i] = conn[:, VTK_ORDER[cell][i]]``, then the rows of left-handed
+    cells (a negative Jacobian at VTK's corner 0) listed mirrored (:data:`MIRROR`).
+
+    Parameters
+    ----------
+    points : (N, d) array
+        Node coordinates (``d`` = 2 or 3; a zero z column is allowed).
+    cell : str
+        A meshio cell type of :data:`VTK_ORDER`.
+    conn : (n_el, n_loc) int array
+        Node numbers of each element in scikit-fem's local order.
+    """
+    conn = np.asarray(conn, dtype=np.int64)[:, list(VTK_ORDER[cell])]
+    d = len(_SPAN[cell])
+    x = np.asarray(points, dtype=float)[conn[:, [0, *_SPAN[cell]]]][:, :, :d]
+    left = np.linalg.det(x[:, 1:] - x[:, :1]) < 0
+    if left.any():
+        conn[left] = conn[left][:, list(MIRROR[cell])]
+    return np.ascontiguousarray(conn)
+
+
+def vtk_cells(points: np.ndarray, cells: list) -> list:
+    """The cell blocks an output gives (scikit-fem's local order, the
+    :class:`~skfem_mortar.core.item.Output` protocol) in VTK's order: the 3D
+    types of :data:`REORDERED` by :func:`vtk_order`, the others as they are."""
+    return [(c, vtk_order(points, c, conn) if c in REORDERED else conn) for c, conn in cells]
+
+
 def basis_cells(basis: Any) -> tuple[np.ndarray, list[tuple[str, np.ndarray]]]:
     """The nodes of a (scalar or vector) Lagrange basis and its elements as VTK cells.
 
@@ -86,7 +123,7 @@ def basis_cells(basis: Any) -> tuple[np.ndarray, list[tuple[str, np.ndarray]]]:
         The node locations of the scalar basis (``N`` its dofs; a 2D mesh gets
         ``z = 0``).
     cells : list of one (cell type, (n_el, n_loc) int array)
-        The meshio cell block in VTK's node order (:data:`VTK_ORDER`).
+        The meshio cell block in VTK's node order (:func:`vtk_order`).
 
     Raises
     ------
@@ -110,12 +147,7 @@ def basis_cells(basis: Any) -> tuple[np.ndarray, list[tuple[str, np.ndarray]]]:
         locs = np.asarray(basis.doflocs)[:, first]
     points = np.zeros((locs.shape[1], 3))
     points[:, :locs.shape[0]] = locs.T
-    conn = edofs[list(VTK_ORDER[cell])].T.astype(np.int64)
-    x = points[conn[:, [0, *_SPAN[cell]]]][:, :, :locs.shape[0]]   # (n_el, 1 + d, d)
-    left = np.linalg.det(x[:, 1:] - x[:, :1]) < 0
-    if left.any():
-        conn[left] = conn[left][:, list(MIRROR[cell])]
-    return points, [(cell, np.ascontiguousarray(conn))]
+    return points, [(cell, vtk_order(points, cell, edofs.T))]
 
 
 def nodal_vectors(basis: Any, u: np.ndarray) -> np.ndarray:
