@@ -85,3 +85,11 @@ def test_refusals_name_the_argument(tmp_path):
         scene3d([body], z, z, window_size=(10, 10))
     with pytest.raises(ValueError, match="bodies"):
         scene3d([], z, z)
+
+
+def test_the_2d_figure_refuses_a_3d_body_naming_render3d(tmp_path):
+    from skfem_mortar.output.plot import draw
+
+    body, z, items = _stretched_block()
+    with pytest.raises(ValueError, match="bodies: 'block' is a 3D body.*render3d"):
+        draw([body], np.zeros_like(z), z, tmp_path / "x.png", items=items)
