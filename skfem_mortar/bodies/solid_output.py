@@ -10,12 +10,19 @@ node,
 
 exact for a homogeneous state and first-order accurate otherwise (the pictures'
 smooth field; the element averages themselves are what the solid integrates).
+``sigma = P F^T / J`` from the solid's :meth:`~skfem_mortar.bodies.solid.Solid.first_piola`
+(``sigma = P`` at small strain), and von Mises
+
+    sqrt(((s_xx - s_yy)^2 + (s_yy - s_zz)^2 + (s_zz - s_xx)^2) / 2
+         + 3 (s_xy^2 + s_yz^2 + s_xz^2)) .
 """
 from __future__ import annotations
 
 from typing import Any
 
 import numpy as np
+
+from .deformation import checked_det
 
 __all__ = ["nodal_output", "STRESS_NAMES"]
 
@@ -33,9 +40,14 @@ def nodal_output(solid: Any, z: np.ndarray) -> dict[str, np.ndarray]:
     ndofs = solid._nodes[2]                                    # (3, N) local dofs
     u = np.asarray(solid.u(z), dtype=float)
     out: dict[str, np.ndarray] = {"displacement": u[ndofs].T.copy()}
-    F = solid.deformation_gradient(z)
-    sigma, _ = solid.material.cauchy(F)
-    vm = solid.material.von_mises(F)
+    F, P = solid.first_piola(z)
+    if solid.kinematics == "small":
+        sigma = P                                              # sigma itself
+    else:
+        sigma = np.einsum("iJ...,kJ...->ik...", P, F) / checked_det(F)
+    vm = np.sqrt(0.5 * ((sigma[0, 0] - sigma[1, 1]) ** 2 + (sigma[1, 1] - sigma[2, 2]) ** 2
+                        + (sigma[2, 2] - sigma[0, 0]) ** 2)
+                 + 3.0 * (sigma[0, 1] ** 2 + sigma[1, 2] ** 2 + sigma[0, 2] ** 2))
     dx = np.asarray(solid.basis.dx)
     vol = dx.sum(axis=1)                                       # V_e
     n = points.shape[1]
