@@ -194,6 +194,10 @@ def facet_chain(body: Item, facets: str | np.ndarray | None
         return (np.stack([body.node_dofs[:, el[:, 0]].T, body.node_dofs[:, el[:, 1]].T], axis=1),
                 np.stack([body.X[:, el[:, 0]].T, body.X[:, el[:, 1]].T], axis=1))
     if hasattr(body, "basis") and hasattr(body, "mesh"):
+        if body.mesh.p.shape[0] == 3:
+            raise ValueError("body is a 3D solid: a pressure on its faces is "
+                             "FollowerPressure3D(body, pressure, facets) "
+                             "(skfem_mortar.loads.pressure3d)")
         return _solid_facet_chain(body, facets)
     raise ValueError("body must be a Cable, a Membrane or a body with an skfem mesh and basis")
 

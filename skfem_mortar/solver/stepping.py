@@ -221,22 +221,36 @@ class Result:
         replay(self, observers)
         return out
 
-    def plot(self, path: str | os.PathLike, title: str = "", revolved: bool = False) -> Path:
+    def plot(self, path: str | os.PathLike, title: str = "", revolved: bool = False, *,
+             cut: Any = None) -> Path:
         """The initial and the final configuration side by side, as a PNG, with
         every contact pair's pressure and the model's supports and loads
         (see :func:`skfem_mortar.output.plot.draw`); ``revolved`` (an axisymmetric
         model): the final state revolved into 3D, a quarter cut away
-        (:func:`skfem_mortar.output.views.render_revolved`)."""
+        (:func:`skfem_mortar.output.views.render_revolved`).  A 3D model is
+        rendered by pyvista off screen (:func:`skfem_mortar.output.render3d.render3d`:
+        the final state coloured by von Mises over the undeformed outline,
+        supports and loads marked; ``cut`` a clipping plane, "x", "y", "z" or
+        ``(normal, origin)``).  A notebook shows the PNG inline either way."""
+        bodies = [it for it in self.model.items if isinstance(it, Output)]
+        lf = float(self.load_factors[-1])
+        if self.model.geometry == "3d":
+            from ..output.render3d import render3d
+
+            return render3d(bodies, self.states[0], self.z, path, items=self.model.items,
+                            load_factor=lf, cut=cut, title=title)
+        if cut is not None:
+            raise ValueError(f"cut is for 3D models (a clipping plane), got {cut!r} for a "
+                             f"{self.model.geometry} model")
         if revolved:
             from ..output.views import render_revolved
 
             return render_revolved(self, path)
         from ..output.plot import draw
 
-        return draw([it for it in self.model.items if isinstance(it, Output)],
-                    self.states[0], self.z, path, title=title,
+        return draw(bodies, self.states[0], self.z, path, title=title,
                     contact=self.model.contact_tables(), items=self.model.items,
-                    load_factor=float(self.load_factors[-1]))
+                    load_factor=lf)
 
     def residual(self, k: int = -1) -> np.ndarray:
         """Global residual at state ``k`` (reactions at prescribed dofs)."""
