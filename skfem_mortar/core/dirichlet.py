@@ -14,9 +14,31 @@ import numpy as np
 
 from .item import Item
 
-__all__ = ["Dirichlet", "dofs_of_nodes", "node_numbers_as_dofs", "dof_indices"]
+__all__ = ["Dirichlet", "dofs_of_nodes", "node_numbers_as_dofs", "dof_indices", "component_rows"]
 
-_COMPONENTS = {None: (0, 1), 0: (0,), 1: (1,), "x": (0,), "y": (1,)}
+_COMPONENTS = {0: 0, 1: 1, 2: 2, "x": 0, "y": 1, "z": 2}
+
+
+def component_rows(component: int | str | None, n_comp: int) -> tuple[int, ...]:
+    """The rows of ``node_dofs`` (components) that ``component`` names in a body
+    with ``n_comp`` displacement components: all of them for None.
+
+    Raises
+    ------
+    ValueError
+        For anything but None, 0 .. n_comp - 1 or "x", "y" (and "z" in 3D),
+        naming the allowed values (a bool is refused: True == 1).
+    """
+    allowed = [k for k, v in _COMPONENTS.items() if v < n_comp]
+    if component is None:
+        return tuple(range(n_comp))
+    if isinstance(component, (bool, np.bool_)) or not isinstance(component, (int, str,
+                                                                           np.integer)) \
+            or component not in allowed:
+        words = ", ".join(repr(k) for k in allowed[:-1]) + f" or {allowed[-1]!r}"
+        every = "both" if n_comp == 2 else f"all {n_comp}"
+        raise ValueError(f"component must be None ({every}), {words}, got {component!r}")
+    return (_COMPONENTS[component],)
 
 
 def dofs_of_nodes(body: Any, nodes: Any, component: int | str | None, what: str
@@ -28,19 +50,18 @@ def dofs_of_nodes(body: Any, nodes: Any, component: int | str | None, what: str
     ------
     ValueError
         For a body without ``node_dofs``, a ``component`` not in
-        ``{None, 0, 1, "x", "y"}``, or nodes that are neither integers in
-        ``[0, n_nodes)`` nor a boolean mask of length ``n_nodes`` (``what``
-        names them).
+        ``{None, 0, 1, "x", "y"}`` (and ``2, "z"`` in 3D, :func:`component_rows`), or
+        nodes that are neither integers in ``[0, n_nodes)`` nor a boolean mask of
+        length ``n_nodes`` (``what`` names them).
     """
-    if isinstance(component, (bool, np.bool_)) or component not in _COMPONENTS:
-        raise ValueError(f"component must be None (both), 0, 1, 'x' or 'y', got {component!r}")
     nd = getattr(body, "node_dofs", None)
+    rows = component_rows(component, 2 if nd is None else np.shape(nd)[0])
     if nd is None:
         raise ValueError(f"{what}: body {body.name!r} ({type(body).__name__}) has no "
                          f"node_dofs; give dofs instead of nodes")
     nd = np.asarray(nd, dtype=np.int64)
     a = dof_indices(nodes, nd.shape[1], what)  # (the same rules: integers or a mask)
-    return nd[list(_COMPONENTS[component])][:, a].ravel()
+    return nd[list(rows)][:, a].ravel()
 
 
 def _named_node_sets(mesh: Any) -> dict[str, np.ndarray]:
@@ -52,7 +73,7 @@ def _named_node_sets(mesh: Any) -> dict[str, np.ndarray]:
 def _along_boundary(mesh: Any, vertices: np.ndarray) -> bool:
     """Whether each of ``vertices`` that is a corner of a boundary facet shares a
     boundary facet with another of them (a run along the boundary)."""
-    ends = np.asarray(mesh.facets, dtype=np.int64)[:2, mesh.boundary_facets()]
+    ends = np.asarray(mesh.facets, dtype=np.int64)[:, mesh.boundary_facets()]
     inside = np.isin(ends, vertices)
     corners = np.isin(vertices, ends)
     linked = np.isin(vertices, ends[:, inside.all(axis=0)])
@@ -92,12 +113,12 @@ def node_numbers_as_dofs(body: Any, dofs: np.ndarray) -> str:
     bnodes = np.unique(mesh.boundary_nodes())
     if not np.all(np.isin(given, bnodes)) or not _along_boundary(mesh, given):
         return ""
-    held = np.isin(nd, given)                                # (2, n_nodes)
-    half = held[0] != held[1]                                # one component held
+    held = np.isin(nd, given)                                # (d, n_nodes)
+    half = held.any(axis=0) & ~held.all(axis=0)              # some components held
     inner = np.flatnonzero(half & ~np.isin(np.arange(nd.shape[1]), bnodes))
     if inner.size:
         v = int(inner[0])
-        k = int(nd[0, v] if held[0, v] else nd[1, v])
+        k = int(nd[np.argmax(held[:, v]), v])
         many = f"{inner.size} interior {'vertex' if inner.size == 1 else 'vertices'}"
         return (f"read as dofs they hold one component of {many} (e.g. dof {k} of "
                 f"vertex {v}), while read as vertex numbers all {given.size} lie on "
@@ -141,11 +162,12 @@ def _check_repeats(value: np.ndarray, inverse: np.ndarray, first: np.ndarray,
                          f"({kept[k]} and {value[k]})")
 
 
-def _node_values(value: np.ndarray, n_dofs: int, component: int | str | None) -> np.ndarray:
-    """Values given per node as ``(components, nodes)`` (an x row and a y row),
+def _node_values(value: np.ndarray, n_dofs: int, component: int | str | None,
+                 n_comp: int = 2) -> np.ndarray:
+    """Values given per node as ``(components, nodes)`` (an x row, a y row, ...),
     flat in the order of the dofs; ValueError naming ``value`` for any other
     shape (a node-major ``(nodes, components)`` array would interleave x and y)."""
-    k = len(_COMPONENTS[component])
+    k = len(component_rows(component, n_comp))
     want = (k, n_dofs // k)
     if value.shape != want:
         raise ValueError(f"value given per node must have shape {want} (one row per "
@@ -154,25 +176,36 @@ def _node_values(value: np.ndarray, n_dofs: int, component: int | str | None) ->
     return value.ravel()
 
 
-def _given_dofs(body: Item, dofs: Any, nodes: Any, component: int | str | None) -> np.ndarray:
+def _given_dofs(body: Item, dofs: Any, nodes: Any, component: int | str | None,
+                boundary: Any = None) -> np.ndarray:
     """The local dofs of a :class:`Dirichlet`: ``dofs`` checked (and refused
-    when they look like node numbers), or the dofs of ``nodes``."""
-    if (dofs is None) == (nodes is None):
+    when they look like node numbers), the dofs of ``nodes``, or those of a
+    ``boundary`` (``body.dofs_on(boundary, component)``)."""
+    given = sum(a is not None for a in (dofs, nodes, boundary))
+    if given != 1:
         raise ValueError(f"Dirichlet on body {body.name!r}: give either dofs (e.g. "
-                         f"body.dofs_on('top')) or nodes= (vertex numbers), not "
-                         f"{'both' if nodes is not None else 'neither'}")
+                         f"body.dofs_on('top')) or nodes= (vertex numbers) or boundary= "
+                         f"(a boundary tag), not {'neither' if given == 0 else 'both'}")
+    if boundary is not None:
+        if not hasattr(body, "dofs_on"):
+            raise ValueError(f"boundary: body {body.name!r} ({type(body).__name__}) has no "
+                             f"boundaries (dofs_on); give dofs instead")
+        if component is not None:   # the allowed values, in the body's dimension
+            component_rows(component, int(np.shape(body.node_dofs)[0]))
+        return np.asarray(body.dofs_on(boundary, component), dtype=np.int64)
     if nodes is not None:
         return dofs_of_nodes(body, nodes, component, f"nodes of body {body.name!r}")
     if component is not None:
-        raise ValueError(f"component={component!r} goes with nodes=, not with dofs "
-                         f"(body.dofs_on(..., component) gives the dofs of one component)")
+        raise ValueError(f"component={component!r} goes with nodes= or boundary=, not with "
+                         f"dofs (body.dofs_on(..., component) gives the dofs of one "
+                         f"component)")
     given = np.asarray(dofs)
     out = dof_indices(dofs, body.n_dofs, f"dofs of body {body.name!r}")
     why = "" if given.dtype == bool else node_numbers_as_dofs(body, out)
     if why:
         raise ValueError(f"dofs of body {body.name!r} look like node numbers: {why}. Node k "
                          f"has the dofs body.node_dofs[:, k]: give the nodes as "
-                         f"Dirichlet(body, nodes=..., component=None|'x'|'y'), or dofs from "
+                         f"Dirichlet(body, nodes=..., component=None|'x'|'y'|...), or dofs from "
                          f"body.dofs_on(boundary) / body.dofs_at_nodes(nodes) (dofs that are "
                          f"meant, read so, pass as a boolean mask over the body's dofs)")
     return out
@@ -199,15 +232,20 @@ class Dirichlet(Item):
     value : float, array or callable
         Final prescribed value(s) (displacement), or a function of the load
         factor returning a scalar or one value per dof (in the order of
-        ``dofs``; with ``nodes``: every x value, then every y value).
+        ``dofs``; with ``nodes``: every x value, then every y value (then z in 3D)).
     ramp : bool
         Scale the value with the load factor (default) or hold it fixed.
     nodes : array of int or bool, optional (keyword only)
         Instead of ``dofs``: vertex numbers of the body (``mesh.boundary_nodes()``,
         ``mesh.nodes_satisfying(...)``) or a boolean mask of its vertices,
         with ``component``.
-    component : {None, 0, 1, "x", "y"} (keyword only)
-        With ``nodes``: both components (None, default) or one.
+    boundary : str, array of int or callable, optional (keyword only)
+        Instead of ``dofs``: a boundary of the body (a tag of
+        ``mesh.boundaries``, facet indices, or a test of facet midpoints), all its
+        dofs (vertex, edge and face nodes) of ``component``:
+        ``body.dofs_on(boundary, component)``.
+    component : {None, 0, 1, "x", "y"}, and 2, "z" in 3D (keyword only)
+        With ``nodes`` or ``boundary``: every component (None, default) or one.
 
     Raises
     ------
@@ -219,12 +257,13 @@ class Dirichlet(Item):
 
     def __init__(self, body: Item, dofs: np.ndarray | None = None,
                  value: float | np.ndarray = 0.0, ramp: bool = True, name: str = "", *,
-                 nodes: np.ndarray | None = None, component: int | str | None = None):
+                 nodes: np.ndarray | None = None, component: int | str | None = None,
+                 boundary: str | np.ndarray | Any = None):
         if not isinstance(body, Item) or body.dof_kind != "u":
             raise ValueError(f"body must be a body of the model (a Solid, Cable, ...), "
                              f"got {type(body).__name__}")
         self.body = body
-        dofs = _given_dofs(body, dofs, nodes, component)
+        dofs = _given_dofs(body, dofs, nodes, component, boundary)
         self.local_dofs, self._order, inverse = np.unique(dofs, return_index=True,
                                                           return_inverse=True)
         self.path = value if callable(value) else None
@@ -232,7 +271,8 @@ class Dirichlet(Item):
             value = np.asarray(self.path(0.0), dtype=float)
         value = np.asarray(value, dtype=float)
         if nodes is not None and value.ndim > 1:  # (components, nodes): x row, y row
-            value = _node_values(value, dofs.size, component)
+            value = _node_values(value, dofs.size, component,
+                                 int(np.shape(getattr(body, "node_dofs", np.zeros((2, 0))))[0]))
         if value.ndim and value.shape != dofs.shape:
             raise ValueError(f"value must be a scalar or one value per dof ({dofs.size}), "
                              f"got shape {value.shape}")

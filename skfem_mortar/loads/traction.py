@@ -37,16 +37,18 @@ class Traction(Item):
         The loaded body.
     boundary : str or array of int
         A tag of ``body.mesh.boundaries`` or an array of boundary facet indices.
-    traction : sequence of 2 floats, or callable
-        The traction vector per unit reference length and unit reference
-        thickness (a model's thickness multiplies its force), or a function
-        ``T(x) -> array (2, ...)`` of the reference facet quadrature points.
+    traction : sequence of d floats, or callable
+        The traction vector: in 2D per unit reference length and unit
+        reference thickness (a model's thickness multiplies its force), in 3D
+        per unit reference area; or a function ``T(x) -> array (d, ...)`` of
+        the reference facet quadrature points ``x (d, n_facets, n_qp)``
+        (``d`` = 2 or 3, the mesh's dimension).
     name : str
         Item name (default ``traction_<body>_<boundary>``).
     """
 
     phase = "loads"
-    geometries = ("plane",)   # the others in their own issues
+    geometries = ("plane", "3d")   # axisymmetric in its own issue
 
     def __init__(self, body, boundary: str | np.ndarray,
                  traction: Sequence[float] | Callable[[np.ndarray], np.ndarray],
@@ -56,14 +58,19 @@ class Traction(Item):
                              f"got {type(body).__name__}")
         facets = boundary_facets(body.mesh, boundary)
         check_boundary_facets(body.mesh, facets, boundary)
+        dim = int(body.mesh.p.shape[0])
         if not callable(traction):
             t0 = real_array("traction", traction)
-            if t0.shape != (2,):
-                raise ValueError(f"traction must be a 2-vector or a callable, got shape "
-                                 f"{t0.shape}")
+            if t0.shape != (dim,):
+                raise ValueError(f"traction must be a {dim}-vector (the mesh is {dim}D) or "
+                                 f"a callable, got shape {t0.shape}")
         fb = FacetBasis(body.mesh, body.basis.elem, facets=facets)
         if callable(traction):
-            t = real_array("traction", traction(fb.global_coordinates()))
+            x = fb.global_coordinates()
+            t = real_array("traction", traction(x))
+            if t.shape != x.shape:
+                raise ValueError(f"traction(x) must return an array of the shape of x "
+                                 f"{x.shape} (one {dim}-vector per point), got {t.shape}")
         else:
             t = t0[:, None, None] * np.ones((1,) + fb.global_coordinates().shape[1:])
         f = _traction_work.assemble(fb, t=t)

@@ -18,6 +18,8 @@ from typing import Any, Iterator, Sequence
 
 import numpy as np
 
+from .vtk_cells import vtk_cells
+
 __all__ = ["atomic_path", "write_json", "write_contact_csv", "SeriesWriter", "read_series", "frame_mesh",
            "vtu_text"]
 
@@ -114,10 +116,16 @@ def _vectors3(arr: np.ndarray) -> np.ndarray:
 
 
 def frame_mesh(points: np.ndarray, cells: list, point_data: dict, cell_data: dict):
-    """One frame as a ``meshio.Mesh``: points in 3D (z = 0) and 2D vector point
+    """One frame as a ``meshio.Mesh``: points in 3D (z = 0), 2D vector point
     fields with a zero z component (ParaView's Warp By Vector and pyvista take
-    3-component vectors); what the series files hold and
-    :func:`~skfem_mortar.output.views.to_pyvista` shows."""
+    3-component vectors) and 3D cells in VTK's node order (an output gives them in
+    scikit-fem's: :func:`~skfem_mortar.output.vtk_cells.vtk_cells`); what the
+    series files hold and :func:`~skfem_mortar.output.views.to_pyvista` shows."""
+    return _meshio_frame(points, vtk_cells(_points3(points), cells), point_data, cell_data)
+
+
+def _meshio_frame(points: np.ndarray, cells: list, point_data: dict, cell_data: dict):
+    """:func:`frame_mesh` of cells already in VTK's order."""
     import meshio  # lazily: the command line starts fast
 
     return meshio.Mesh(_points3(points), cells,
@@ -126,7 +134,8 @@ def frame_mesh(points: np.ndarray, cells: list, point_data: dict, cell_data: dic
 
 
 #: VTK cell type numbers of the meshio cell types :func:`vtu_text` writes itself
-VTK_TYPES = {"vertex": 1, "line": 3, "triangle": 5, "quad": 9, "line3": 21, "triangle6": 22}
+VTK_TYPES = {"vertex": 1, "line": 3, "triangle": 5, "quad": 9, "tetra": 10, "hexahedron": 12,
+             "line3": 21, "triangle6": 22, "tetra10": 24, "quad9": 28, "hexahedron27": 29}
 _VTK_DTYPES = {np.dtype(np.float64): "Float64", np.dtype(np.float32): "Float32",
                np.dtype(np.int64): "Int64", np.dtype(np.int32): "Int32",
                np.dtype(np.uint8): "UInt8"}
@@ -212,14 +221,15 @@ class SeriesWriter:
     name : str
         Series name (the body's name).
     mesh : (points, cells)
-        Reference mesh: points (N, 2) or (N, 3), cells as meshio takes them.
+        Reference mesh: points (N, 2) or (N, 3), cells as meshio takes them,
+        3D cells in scikit-fem's local node order (:func:`frame_mesh`).
     """
 
     def __init__(self, directory: str | os.PathLike, name: str, mesh: tuple):
         self.directory = Path(directory)
         self.name = name
         self.points = _points3(mesh[0])
-        self.cells = mesh[1]
+        self.cells = vtk_cells(self.points, mesh[1])
         self.frames: list[tuple[float, str]] = []
         (self.directory / name).mkdir(parents=True, exist_ok=True)
 
@@ -271,7 +281,7 @@ class SeriesWriter:
             else:
                 import meshio  # lazily: the command line starts fast
 
-                meshio.write(tmp, frame_mesh(self.points, self.cells, point_data, cell_data),
+                meshio.write(tmp, _meshio_frame(self.points, self.cells, point_data, cell_data),
                              file_format="vtu", compression=None)
         self.frames.append((float(t), rel))
         entries = "\n".join(f'    <DataSet timestep="{tt:.12g}" part="0" file="{f}"/>'
