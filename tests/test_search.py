@@ -179,3 +179,72 @@ def test_distance_to_polyline_equals_the_brute_force_minimum():
         t = np.clip(np.sum((q - a[:, None]) * d[:, None], axis=0) / np.sum(d * d, axis=0), 0, 1)
         brute = np.sqrt(np.min(np.sum((q - a[:, None] - t[None] * d[:, None]) ** 2, axis=0), 1))
         np.testing.assert_allclose(distance_to_polyline(p, x, seg), brute, rtol=1e-13, atol=1e-13)
+
+
+# ------------------------------------------------------------- any dimension (3D)
+def _sheet(rng, n, h, z0=0.0):
+    """A wavy sheet of n x n quad4 cells of size h in 3D (and its tri3 split)."""
+    s = np.arange(n + 1) * h
+    X, Y = np.meshgrid(s, s, indexing="ij")
+    x = np.vstack([X.ravel(), Y.ravel(), z0 + 0.3 * h * np.sin(X.ravel() + 2 * Y.ravel())])
+    x += rng.normal(scale=0.1 * h, size=x.shape)
+    idx = np.arange((n + 1) ** 2).reshape(n + 1, n + 1)
+    q = np.stack([idx[:-1, :-1], idx[1:, :-1], idx[1:, 1:], idx[:-1, 1:]], -1).reshape(-1, 4)
+    return x, q, np.vstack([q[:, [0, 1, 2]], q[:, [0, 2, 3]]])
+
+
+@pytest.mark.parametrize("grid_points", [10**9, 0])  # the grid; the k-d tree
+@pytest.mark.parametrize("seed", range(3))
+@pytest.mark.parametrize("margin", [0.0, 0.05])
+def test_3d_cell_pairs_equal_brute_force(monkeypatch, grid_points, seed, margin):
+    """Surfaces of tri3 and quad4 cells, one rotated through the other, and a large
+    cell: the grid over three coordinates (5 x 5 columns) and the tree find exactly
+    the overlapping boxes."""
+    from skfem_mortar.contact import search
+    monkeypatch.setattr(search, "GRID_POINTS", grid_points)
+    rng = np.random.default_rng(seed)
+    xs, q, _ = _sheet(rng, 12, 0.1)
+    xm, _, t = _sheet(rng, 15, 0.08)
+    c, s = np.cos(0.4), np.sin(0.4)
+    xm = np.array([[1, 0, 0], [0, c, -s], [0, s, c]]) @ xm + [[0.1], [0.2], [-0.3]]
+    xm = np.hstack([xm, [[-5.0, 5.0, 0.0], [-5.0, -5.0, 5.0], [0.0, 0.0, 0.0]]])
+    t = np.vstack([t, [xm.shape[1] - 3, xm.shape[1] - 2, xm.shape[1] - 1]])
+    i, j = segment_pairs(xs, q, xm, t, margin, cell_s="quad4", cell_m="tri3")
+    bi, bj = _brute(*segment_boxes(xs, q, "quad4"), *segment_boxes(xm, t, "tri3"), margin)
+    np.testing.assert_array_equal(i, bi)
+    np.testing.assert_array_equal(j, bj)
+    assert len(i) > 0 and np.any(j == t.shape[0] - 1)
+    # nodes against cells
+    i, j = node_segment_pairs(xs, xm, t, margin, cell="tri3")
+    bi, bj = _brute(xs, xs, *segment_boxes(xm, t, "tri3"), margin)
+    np.testing.assert_array_equal(i, bi)
+    np.testing.assert_array_equal(j, bj)
+
+
+@pytest.mark.parametrize("m", [5, 3000])
+def test_3d_nearest_vertex_equals_brute_force(m):
+    """Few vertices (every distance) and many (the grid, then the tree)."""
+    from skfem_mortar.contact.search import nearest_vertex
+    rng = np.random.default_rng(m)
+    x = rng.uniform(0, 1, (3, m)) * [[1], [1], [0.05]]
+    p = rng.uniform(-0.2, 1.2, (3, 700))
+    d, k = nearest_vertex(x, p)
+    all_d = np.sqrt(((p[:, :, None] - x[:, None, :]) ** 2).sum(axis=0))
+    np.testing.assert_array_equal(k, np.argmin(all_d, axis=1))
+    np.testing.assert_allclose(d, all_d.min(axis=1), rtol=1e-15, atol=0)
+
+
+def test_cell_boxes_hold_the_cell():
+    """The box of a cell holds every point of it: line3 (by its Bezier control point),
+    a warped quad4 and a tri3 (by their nodes); a wrong column count is refused."""
+    from skfem_mortar.contact.cells import CELLS
+    rng = np.random.default_rng(1)
+    for name, d in (("line3", 2), ("quad4", 3), ("tri3", 3)):
+        cell = CELLS[name]
+        x = rng.normal(size=(d, cell.n_nodes))
+        lo, hi = segment_boxes(x, np.arange(cell.n_nodes)[None], name)
+        xi, _ = cell.quadrature(20)
+        pts = x @ cell.shape(xi)
+        assert np.all(pts >= lo - 1e-15) and np.all(pts <= hi + 1e-15)
+    with pytest.raises(ValueError, match="4 columns for quad4"):
+        segment_boxes(np.zeros((3, 3)), [[0, 1, 2]], "quad4")

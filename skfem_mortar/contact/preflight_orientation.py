@@ -21,6 +21,7 @@ import numpy as np
 
 from ..core.chain import polyline
 from . import nts
+from .cell_map import reversal
 from .surfaces import RigidCircle, RigidPlane, segment_normals, tributary_lengths
 
 __all__ = ["check_surface", "check_orientation", "nodal_normals", "FACING"]
@@ -46,7 +47,9 @@ def check_surface(surface: Any) -> None:
     mesh = _solid_mesh(surface)
     if mesh is None:
         return
-    ends = surface.nodes[surface.segments[:, :2]]              # body vertex indices
+    if surface.cell.dim != 1:   # surface cells: oriented by boundary_cells, no pair yet
+        return
+    ends = surface.nodes[surface.segments[:, list(surface.cell.corners)]]  # body vertices
     nv = mesh.p.shape[1]
     fac = np.sort(mesh.facets[:2], axis=0)
     fkeys = fac[0].astype(np.int64) * nv + fac[1]
@@ -58,7 +61,7 @@ def check_surface(surface: Any) -> None:
     if not found.any():
         return
     elem = mesh.f2t[0, order[pos[found]]]
-    t = mesh.t[:4] if mesh.t.shape[0] >= 4 and "Quad" in type(mesh).__name__ else mesh.t[:3]
+    t = mesh.t[:mesh.elem.refdom.nnodes]                       # the element's vertices
     centroid = mesh.p[:, t[:, elem]].mean(axis=1)
     nrm, l = segment_normals(mesh.p, ends[found])
     mid = 0.5 * (mesh.p[:, ends[found, 0]] + mesh.p[:, ends[found, 1]])
@@ -74,8 +77,9 @@ def check_surface(surface: Any) -> None:
 
 def _reversed(surface: Any) -> str:
     """The segments of ``surface`` run the other way, as an expression."""
-    return ("surface.reversed(), i.e. segments[:, [1, 0, 2]]" if surface.segments.shape[1] == 3
-            else "surface.reversed(), i.e. segments[:, ::-1]")
+    perm = reversal(surface.cell)
+    cols = "::-1" if perm == tuple(range(len(perm)))[::-1] else str(list(perm))
+    return f"surface.reversed(), i.e. segments[:, {cols}]"
 
 
 def nodal_normals(x: np.ndarray, seg: np.ndarray) -> np.ndarray:

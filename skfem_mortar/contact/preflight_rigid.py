@@ -43,52 +43,88 @@ __all__ = ["check_rigid_modes", "free_combinations", "HOLD", "SPRING"]
 
 HOLD = 1e-8
 SPRING = 1e-10
-_CHUNK = 4096  # rows per block of the streamed QR (memory O(_CHUNK x 3 n_bodies))
+_CHUNK = 4096  # rows per block of the streamed QR (memory O(_CHUNK x n_modes))
+
+#: the planes ``(a, b)`` of the rotations of a body in ``d`` dimensions, in the order of
+#: their axes: 2D the rotation about z; 3D about x, y and z
+ROTATION_PLANES = {2: ((0, 1),), 3: ((1, 2), (2, 0), (0, 1))}
 
 
 @dataclass
 class _Body:
     item: Any
-    modes: np.ndarray      # (n_dofs, 3) local: translation x, translation y, rotation
-    center: np.ndarray     # (2,) node centroid
+    modes: np.ndarray      # (n_dofs, d (d + 1)/2) local: the translations, the rotations
+    center: np.ndarray     # (d,) node centroid
     L: float               # largest distance of a node from the centroid
+
+    @property
+    def n_modes(self) -> int:
+        return int(self.modes.shape[1])
+
+
+def _mode_functions(d: int, c: np.ndarray, L: float) -> list:
+    """The ``d (d + 1)/2`` rigid motions as functions of points ``P (d, n)``: the unit
+    translations, then the rotations in the planes :data:`ROTATION_PLANES`,
+    ``u_a = -(P_b - c_b)/L``, ``u_b = (P_a - c_a)/L``."""
+    def translation(k):
+        return lambda P: np.vstack([np.full(P.shape[1], float(a == k)) for a in range(d)])
+
+    def rotation(a, b):
+        def f(P):
+            u = [np.zeros(P.shape[1])] * d
+            u[a], u[b] = -(P[b] - c[b]), P[a] - c[a]
+            return np.vstack(u) / L
+        return f
+    return [translation(k) for k in range(d)] + [rotation(a, b) for a, b in ROTATION_PLANES[d]]
 
 
 def _rigid_modes(body: Any) -> _Body:
-    """The body's rigid modes on its local dofs, each of largest nodal motion 1:
+    """The body's ``d (d + 1)/2`` rigid modes on its local dofs (``d`` read from its
+    coordinates ``X (d, n)``), each of largest nodal motion 1; in 2D
 
         t_x = (1, 0),  t_y = (0, 1),  r = (-(Y - c_y), X - c_x) / L ,
 
-    ``c`` the node centroid and ``L = max |X - c|``.  Interpolated on all the
-    body's dofs where it can (``interpolate``: quadratic elements, MINI bubbles
-    and pressures), else on its nodal dofs (other dofs 0).
+    in 3D the three translations and the rotations about x, y and z likewise
+    (:func:`_mode_functions`); ``c`` the node centroid and ``L = max |X - c|``.
+    Interpolated on all the body's dofs where it can (``interpolate``: quadratic
+    elements, MINI bubbles and pressures), else on its nodal dofs (other dofs 0).
     """
     X = np.asarray(body.X, dtype=float)
+    d = X.shape[0]
+    if d not in ROTATION_PLANES:
+        raise ValueError(f"body {getattr(body, 'name', '')!r}: coordinates X must have 2 or "
+                         f"3 rows (a 2D or 3D body), got {d}")
     c = X.mean(axis=1)
-    L = float(np.max(np.hypot(*(X - c[:, None])), initial=0.0)) or 1.0
-    funs = (lambda P: np.vstack([np.ones(P.shape[1]), np.zeros(P.shape[1])]),
-            lambda P: np.vstack([np.zeros(P.shape[1]), np.ones(P.shape[1])]),
-            lambda P: np.vstack([-(P[1] - c[1]), P[0] - c[0]]) / L)
+    L = float(np.max(np.hypot.reduce(X - c[:, None], axis=0), initial=0.0)) or 1.0
+    funs = _mode_functions(d, c, L)
     if hasattr(body, "interpolate"):
         modes = np.column_stack([body.interpolate(f) for f in funs])
     else:
-        modes = np.zeros((int(body.n_dofs), 3))
+        modes = np.zeros((int(body.n_dofs), len(funs)))
         nd = np.asarray(body.node_dofs)
         for j, f in enumerate(funs):
             v = f(X)
-            modes[nd[0], j], modes[nd[1], j] = v[0], v[1]
+            for a in range(d):
+                modes[nd[a], j] = v[a]
     return _Body(body, modes, c, L)
 
 
+def _columns(bodies: list[_Body]) -> list[slice]:
+    """The columns of each body's modes in the global mode basis."""
+    ends = np.cumsum([0] + [bd.n_modes for bd in bodies])
+    return [slice(int(a), int(b)) for a, b in zip(ends[:-1], ends[1:])]
+
+
 def _times_modes(S: sp.spmatrix, bodies: list[_Body]) -> np.ndarray:
-    """``S M`` (dense, rows x 3 n_bodies) for a sparse ``S`` with global columns, ``M``
-    the global mode basis (body b's modes in columns 3b .. 3b+2, zero elsewhere),
-    one body block at a time: O(nnz(S) + rows x 3 n_bodies), ``M`` never formed."""
+    """``S M`` (dense, rows x n_modes) for a sparse ``S`` with global columns, ``M``
+    the global mode basis (body b's modes in its columns, :func:`_columns`, zero
+    elsewhere), one body block at a time: O(nnz(S) + rows x n_modes), ``M`` never formed."""
     S = S.tocsc()
-    out = np.zeros((S.shape[0], 3 * len(bodies)))
+    cols = _columns(bodies)
+    out = np.zeros((S.shape[0], cols[-1].stop if cols else 0))
     for b, bd in enumerate(bodies):
         off = bd.item.offset
-        out[:, 3 * b:3 * b + 3] = S[:, off:off + bd.modes.shape[0]] @ bd.modes
+        out[:, cols[b]] = S[:, off:off + bd.modes.shape[0]] @ bd.modes
     return out
 
 
@@ -195,7 +231,7 @@ def check_rigid_modes(model: Any, z: np.ndarray, load_factor: float, fixed: np.n
     """Every rigid mode of every body must be held by something.
 
     With ``M`` the global basis of the bodies' rigid modes (:func:`_rigid_modes`,
-    3 columns per body, zero on the other bodies; applied block by block,
+    ``d (d + 1)/2`` columns per body: 3 in 2D, 6 in 3D; zero on the other bodies; applied block by block,
     :func:`_times_modes`), the constraints seen by a
     combination ``M a`` are stacked, each group divided by its tolerance:
 
@@ -206,7 +242,7 @@ def check_rigid_modes(model: Any, z: np.ndarray, load_factor: float, fixed: np.n
     multiplier items (ties) and ``K_x`` the stiffness of springs and loads
     (:func:`_stiffness_rows`).  The combinations with ``|A a| < |a|`` (right
     singular vectors of ``A`` with singular value below 1, from the streamed QR
-    factor of ``A``: cost O(rows x (3 n_bodies)^2), no dense n x n) are held by
+    factor of ``A``: cost O(rows x n_modes^2), no dense n x n) are held by
     nothing: ValueError naming each body, its free modes and the fix.
     Modes of several bodies combine: a body held by contact with a free body
     is free with it.
@@ -218,7 +254,7 @@ def check_rigid_modes(model: Any, z: np.ndarray, load_factor: float, fixed: np.n
 
 def free_combinations(model: Any, z: np.ndarray, load_factor: float, fixed: np.ndarray,
                       contact: bool = True) -> tuple[list[_Body], np.ndarray, dict]:
-    """The bodies' rigid modes (:func:`_rigid_modes`), the basis ``N`` (3 n_bodies, k)
+    """The bodies' rigid modes (:func:`_rigid_modes`), the basis ``N`` (n_modes, k)
     of the combinations held by nothing (:func:`check_rigid_modes`) and the
     touching rows of each contact pair by name; ``contact=False`` counts no
     contact pair as holding anything (what holds the bodies besides contact)."""
@@ -226,7 +262,7 @@ def free_combinations(model: Any, z: np.ndarray, load_factor: float, fixed: np.n
               if hasattr(b, "X") and hasattr(b, "node_dofs") and np.size(b.X)]
     if not bodies:
         return bodies, np.zeros((0, 0)), {}
-    n, ncols = int(model.n), 3 * len(bodies)
+    n, ncols = int(model.n), sum(bd.n_modes for bd in bodies)
     fixed = np.asarray(fixed, dtype=np.int64)
     free = np.ones(model.n_u, dtype=bool)
     free[fixed[fixed < model.n_u]] = False
@@ -265,14 +301,15 @@ def _free_message(bodies: list[_Body], N: np.ndarray, fixed: np.ndarray,
     modes, what holds it now, and the fix."""
     P = N @ N.T                                             # projector on the free space
     nb = len(bodies)
-    in_free = [np.linalg.norm(P[3 * b:3 * b + 3, 3 * b:3 * b + 3]) > 1e-6 for b in range(nb)]
+    cols = _columns(bodies)
+    in_free = [np.linalg.norm(P[cols[b], cols[b]]) > 1e-6 for b in range(nb)]
     parts = []
     for b, bd in enumerate(bodies):
         if not in_free[b]:
             continue
-        modes = _describe(bd, N[3 * b:3 * b + 3])
+        modes = _describe(bd, N[cols[b]])
         with_ = [bodies[c].item.name for c in range(nb) if c != b and in_free[c]
-                 and np.linalg.norm(P[3 * b:3 * b + 3, 3 * c:3 * c + 3]) > 1e-6]
+                 and np.linalg.norm(P[cols[b], cols[c]]) > 1e-6]
         name = bd.item.name
         n_fix = int(np.sum((fixed >= bd.item.offset) & (fixed < bd.item.offset + bd.item.n_dofs)))
         held = [f"{n_fix} prescribed dofs" if n_fix else "no Dirichlet data"]
@@ -317,13 +354,16 @@ def _touch_text(name: str, tc: _Touch) -> str:
 
 
 def _describe(bd: _Body, Nb: np.ndarray) -> str:
-    """Name the free modes of one body from its rows ``Nb`` (3, k) of the free basis:
-    translations (x, y or a direction), rotation (about a point when it is unique)."""
+    """Name the free modes of one body from its rows ``Nb`` (n_modes, k) of the free
+    basis: translations (x, y or a direction), rotation (about a point when it is
+    unique); in 3D how many translations and rotations."""
     U, sv, _ = np.linalg.svd(Nb, full_matrices=False)
     B = U[:, sv > 1e-3]                                     # basis of the body's free space
     r = B.shape[1]
     if r == 0:
         return "a combination of modes is"
+    if bd.n_modes != 3:
+        return _describe_3d(B)
     if r >= 3:
         return "translations in x and y and rotation are"
     rot = B[2]
@@ -346,6 +386,15 @@ def _describe(bd: _Body, Nb: np.ndarray) -> str:
     return " and ".join(names) + (" are" if len(names) > 1 else " is")
 
 
+def _describe_3d(B: np.ndarray) -> str:
+    """The free space ``B`` (6, r) of a 3D body named by its dimension ``r``, the
+    rotations in it (the rank of its rotation rows: a rotation about any point counts
+    once) and the pure translations (the rest)."""
+    n_r = int(np.sum(np.linalg.svd(B[3:], compute_uv=False) > 1e-3))
+    return (f"{B.shape[1]} of its 6 rigid modes ({B.shape[1] - n_r} translation(s), "
+            f"{n_r} rotation(s)) are")
+
+
 def _direction(t: np.ndarray) -> str:
     t = t / np.linalg.norm(t)
     if abs(t[1]) < 1e-6:
@@ -358,11 +407,13 @@ def _direction(t: np.ndarray) -> str:
 def _fix(bd: _Body, modes: str) -> str:
     """The fix for the free modes named in ``modes``."""
     name = bd.item.name
-    cx, cy = np.where(np.abs(bd.center) < 1e-9 * bd.L, 0.0, bd.center)  # as in _describe
+    cx, cy = np.where(np.abs(bd.center) < 1e-9 * bd.L, 0.0, bd.center)[:2]  # as in _describe
     how = (f"{name}.dofs_at_nodes(nodes, component=c)" if hasattr(bd.item, "dofs_at_nodes")
            else f"{name}.support_dofs(nodes)" if hasattr(bd.item, "support_dofs")
            else "its dofs at those nodes")
-    if "in x and y" in modes:
+    if "rigid modes" in modes:   # a 3D body
+        what = "pin three nodes that are not on one line"
+    elif "in x and y" in modes:
         what = "pin a node in x and y, and for the rotation hold a second node"
     elif "in x" in modes:
         what = (f"hold the x-dofs of the nodes on a symmetry axis (e.g. x = {cx:.3g}), "

@@ -6,7 +6,11 @@ entity is enclosed in its axis-aligned bounding box; two entities are a
 candidate pair when their boxes, one of them inflated by ``margin`` on every
 side, overlap:
 
-    lo_a - margin <= hi_b   and   lo_b <= hi_a + margin     (in x and in y).
+    lo_a - margin <= hi_b   and   lo_b <= hi_a + margin     (in every coordinate).
+
+Any dimension: points, boxes and cells have ``d`` coordinates (2 or 3); a cell is boxed
+by its nodes, or by the hull points its cell type gives (:attr:`CellType.hull`: a curved
+3-node segment's Bezier control point).
 
 Algorithm
 ---------
@@ -14,11 +18,12 @@ Boxes are reduced to their centres ``c`` and half sizes ``h``.  Two boxes
 overlap iff ``|c_a - c_b|_inf <= h_a + h_b + margin`` componentwise, so every
 overlapping pair of "small" boxes lies within the max-norm radius
 ``r = max h_a + max h_b + margin`` of each other.  The centres of one set are
-hashed into a uniform grid of square cells of side ``r / 2`` (a sort of the
-cell keys); each centre of the other set is paired with the centres in the
-cells that meet the square of half width ``r`` around it (at most five
-columns of cells, each one ``searchsorted`` range of the sorted keys, the
-cells of a grid column being consecutive keys), and the pairs are then
+hashed into a uniform grid of square (cubic) cells of side ``r / 2`` (a sort of
+the cell keys); each centre of the other set is paired with the centres in the
+cells that meet the square (cube) of half width ``r`` around it (at most five
+columns of cells in 2D, 5 x 5 in 3D, each one ``searchsorted`` range of the
+sorted keys, the cells of a grid column along the last axis being consecutive
+keys), and the pairs are then
 filtered exactly.  O(n log n) for a surface mesh of bounded grading, numpy
 alone.  Above :data:`GRID_POINTS` boxes the range query is scipy's
 ``cKDTree`` (a dual tree traversal), imported only then: measured
@@ -37,9 +42,12 @@ nearest of all when it lies within ``r`` (every vertex outside is farther).
 """
 from __future__ import annotations
 
+from itertools import product
+
 import numpy as np
 from ..core.chain import polyline
 from ..core.timing import timed
+from .cells import CellType, cell_type
 
 __all__ = ["segment_pairs", "node_segment_pairs", "box_pairs", "segment_boxes", "nearest_vertex",
            "distance_to_polyline"]
@@ -47,33 +55,50 @@ __all__ = ["segment_pairs", "node_segment_pairs", "box_pairs", "segment_boxes", 
 _LARGE = 4.0  # a box is "large" above this many median half sizes
 
 
-def segment_boxes(x: np.ndarray, seg: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Bounding boxes of segments.
+def _chain_cell(seg: np.ndarray) -> CellType:
+    """The cell of a 2D chain's connectivity passed without its cell type: line2, or
+    line3 for three columns.  Only for callers that do not pass ``cell`` yet (the 2D
+    kernels); a :class:`~skfem_mortar.contact.surfaces.ContactSurface` carries its own."""
+    return cell_type({3: "line3"}.get(seg.shape[-1], "line2"))
+
+
+def segment_boxes(x: np.ndarray, seg: np.ndarray, cell: "str | CellType | None" = None
+                  ) -> tuple[np.ndarray, np.ndarray]:
+    """Bounding boxes of cells (segments in 2D).
 
     Parameters
     ----------
-    x : ndarray (2, n)
+    x : ndarray (d, n)
         Node coordinates.
-    seg : int ndarray (n_seg, 2) or (n_seg, 3)
-        End nodes of each segment (and the mid node of a 3-node one).
+    seg : int ndarray (n_seg, cell.n_nodes)
+        The nodes of each cell (a flat list: pairs).
+    cell : str or CellType, optional
+        The cell type; default line2, or line3 for three columns (:func:`_chain_cell`).
 
     Returns
     -------
-    lo, hi : ndarray (2, n_seg)
-        ``lo = min(x[:, seg[:, 0]], x[:, seg[:, 1]])`` and the max likewise; for a
-        3-node segment also over its Bezier control point ``2 x_mid - (x_start +
-        x_end)/2``: the curve lies in the hull of its control polygon, so the box
-        holds the whole curve.
+    lo, hi : ndarray (d, n_seg)
+        The componentwise min and max over the cell's nodes, or over the points of its
+        :attr:`CellType.hull` (line3: also the Bezier control point ``2 x_mid - (x_start
+        + x_end)/2``: the curve lies in the hull of its control polygon, so the box
+        holds the whole curve).
     """
     x = np.asarray(x, dtype=float)
     seg = np.asarray(seg, dtype=np.int64)
-    if seg.ndim != 2 or seg.shape[1] not in (2, 3):
+    if seg.ndim != 2:
         seg = seg.reshape(-1, 2)
+    cell = _chain_cell(seg) if cell is None else cell_type(cell)
+    if seg.shape[1] != cell.n_nodes:
+        raise ValueError(f"seg must have {cell.n_nodes} columns for {cell.name} cells, "
+                         f"got {seg.shape[1]}")
     a, b = x[:, seg[:, 0]], x[:, seg[:, 1]]
     lo, hi = np.minimum(a, b), np.maximum(a, b)
-    if seg.shape[1] == 3:
-        c = 2.0 * x[:, seg[:, 2]] - 0.5 * (a + b)
-        lo, hi = np.minimum(lo, c), np.maximum(hi, c)
+    if cell.hull is not None:
+        pts = cell.hull(x[:, seg])
+    else:
+        pts = x[:, seg[:, 2:]]
+    if pts.shape[2]:
+        lo, hi = np.minimum(lo, pts.min(axis=2)), np.maximum(hi, pts.max(axis=2))
     return lo, hi
 
 
@@ -90,8 +115,8 @@ def _overlap(lo_a, hi_a, lo_b, hi_b, ia, ib, margin):
                   & (lo_b[:, ib] <= hi_a[:, ia] + margin), axis=0)
 
 
-#: most cells of the grid along an axis (its keys stay far inside int64)
-_MAX_CELLS = 2**24
+#: most cells of the grid along an axis, by dimension (its keys stay far inside int64)
+_MAX_CELLS = {2: 2**24, 3: 2**20}
 #: the box and nearest-vertex searches use the grid (numpy) up to this many
 #: points (both sets together) and ``scipy.spatial.cKDTree`` above: there the
 #: tree is faster, and a run that large does not feel its import (0.1 s)
@@ -105,41 +130,52 @@ def _ragged(starts: np.ndarray, counts: np.ndarray) -> np.ndarray:
 
 
 class _Grid:
-    """Points hashed into a uniform grid of square cells (side at least ``cell``).
+    """Points hashed into a uniform grid of square (cubic) cells (side at least ``cell``).
 
     The cell of a point is ``k = floor((c - origin) / side)`` per axis, its key
-    ``k_x n_y + k_y`` (``n_y`` the cells along y, the grid's box holding the
-    points and the queries widened by ``reach``); the keys are sorted once, so
-    the points of the cells ``k_y0 .. k_y1`` of a grid column are one range of
-    the sorted keys.
+    ``sum_a k_a s_a`` with strides ``s_a`` the product of the cell counts along the
+    later axes (2D: ``k_x n_y + k_y``; the grid's box holding the points and the
+    queries widened by ``reach``); the keys are sorted once, so the points of the cells
+    ``k_0 .. k_1`` of a grid column along the last axis are one range of the sorted keys.
     """
 
     def __init__(self, c: np.ndarray, cell: float, others: np.ndarray, reach: float):
         lo = np.minimum(c.min(axis=1), others.min(axis=1) - reach)
         hi = np.maximum(c.max(axis=1), others.max(axis=1) + reach)
-        self.side = max(float(cell), float((hi - lo).max()) / _MAX_CELLS, 1e-300)
+        self.side = max(float(cell), float((hi - lo).max()) / _MAX_CELLS[c.shape[0]], 1e-300)
         self.origin = lo
-        self.ny = int(np.floor((hi[1] - lo[1]) / self.side)) + 1
-        k = self.cells(c)
-        key = k[0] * self.ny + k[1]
+        n = [int(np.floor((hi[a] - lo[a]) / self.side)) + 1 for a in range(c.shape[0])]
+        self.stride = np.array([int(np.prod(n[a + 1:])) for a in range(c.shape[0])], np.int64)
+        key = self.key(self.cells(c))
         self.order = np.argsort(key, kind="stable")
         self.sorted = key[self.order]
 
     def cells(self, c: np.ndarray) -> np.ndarray:
         return np.floor((c - self.origin[:, None]) / self.side).astype(np.int64)
 
+    def key(self, k: np.ndarray) -> np.ndarray:
+        """Keys of cells ``k (d, n)``: ``sum_a k_a stride_a`` (2D: ``k_x n_y + k_y``)."""
+        out = k[0] * self.stride[0]
+        for a in range(1, k.shape[0]):
+            out = out + k[a] * self.stride[a]
+        return out
+
     def within(self, c: np.ndarray, r: float) -> tuple[np.ndarray, np.ndarray]:
         """Pairs ``(i, j)``, sorted by ``i``: point ``j`` of the grid lies in a cell
-        that meets the square ``|y - c_i|_inf <= r`` (a superset of the points in
-        that square, for ``r`` at most twice the side: five columns of cells)."""
+        that meets the square (cube) ``|y - c_i|_inf <= r`` (a superset of the points in
+        that square, for ``r`` at most twice the side: five columns of cells along
+        each axis but the last, each column one range of keys)."""
         k0, k1 = self.cells(c - r), self.cells(c + r)
-        starts, counts = np.empty((c.shape[1], 5), np.int64), np.empty((c.shape[1], 5), np.int64)
-        for dx in range(5):
-            kx = k0[0] + dx
-            s = np.searchsorted(self.sorted, kx * self.ny + k0[1], side="left")
-            e = np.searchsorted(self.sorted, kx * self.ny + k1[1], side="right")
-            starts[:, dx] = s
-            counts[:, dx] = np.where(kx <= k1[0], e - s, 0)
+        d = c.shape[0]
+        shifts = list(product(range(5), repeat=d - 1))
+        starts = np.empty((c.shape[1], len(shifts)), np.int64)
+        counts = np.empty((c.shape[1], len(shifts)), np.int64)
+        for col, shift in enumerate(shifts):
+            kc = k0[:-1] + np.array(shift, dtype=np.int64)[:, None]
+            s = np.searchsorted(self.sorted, self.key(np.vstack([kc, k0[-1:]])), side="left")
+            e = np.searchsorted(self.sorted, self.key(np.vstack([kc, k1[-1:]])), side="right")
+            starts[:, col] = s
+            counts[:, col] = np.where(np.all(kc <= k1[:-1], axis=0), e - s, 0)
         i = np.repeat(np.arange(c.shape[1], dtype=np.int64), counts.sum(1))
         return i, self.order[_ragged(starts.ravel(), counts.ravel())].astype(np.int64)
 
@@ -172,16 +208,26 @@ _ALL_PAIRS = 20_000
 _NEAREST_ROUNDS = 2
 
 
-def nearest_vertex(x: np.ndarray, p: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """The vertex of ``x (2, m)`` nearest to each point ``p (2, n)`` and its distance.
+def _distances(q: np.ndarray, x: np.ndarray) -> np.ndarray:
+    """``sqrt(sum_a (q_a - x_a)^2)`` (2D: ``sqrt(dx dx + dy dy)``), broadcast."""
+    dx = q[0] - x[0]
+    s = dx * dx
+    for a in range(1, q.shape[0]):
+        dx = q[a] - x[a]
+        s = s + dx * dx
+    return np.sqrt(s)
 
-    ``d_i = min_j |p_i - x_j|`` (Euclidean, ``sqrt(dx^2 + dy^2)``); among vertices
+
+def nearest_vertex(x: np.ndarray, p: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The vertex of ``x (d, m)`` nearest to each point ``p (d, n)`` and its distance.
+
+    ``d_i = min_j |p_i - x_j|`` (Euclidean, ``sqrt(dx^2 + dy^2 [+ dz^2])``); among vertices
     at exactly the same distance the lowest index (the tree's own choice for
     the points left to it).  A uniform grid (module
     doc; up to 20,000 point-vertex pairs every distance is measured): the
     vertices in the square of half width ``r`` around a point
-    (``r`` first twice the mean vertex spacing along the larger side of their
-    bounding box); a nearest one within ``r`` is the nearest of all.  The
+    (``r`` first twice the mean vertex spacing ``extent / m^(1/(d-1))``, ``extent``
+    the larger side of their bounding box); a nearest one within ``r`` is the nearest of all.  The
     points without one are searched again with ``4 r``, and those still
     without (far from a dense surface, where the square would hold many
     vertices) by ``scipy.spatial.cKDTree``, imported only then; above
@@ -192,8 +238,9 @@ def nearest_vertex(x: np.ndarray, p: np.ndarray) -> tuple[np.ndarray, np.ndarray
     distance : ndarray (n,)
     index : int ndarray (n,)
     """
-    x = np.asarray(x, dtype=float).reshape(2, -1)
-    p = np.asarray(p, dtype=float).reshape(2, -1)
+    x = np.asarray(x, dtype=float)
+    d = x.shape[0] if x.ndim == 2 else 2
+    x, p = x.reshape(d, -1), np.asarray(p, dtype=float).reshape(d, -1)
     n, m = p.shape[1], x.shape[1]
     dist, idx = np.full(n, np.inf), np.zeros(n, dtype=np.int64)
     if n == 0:
@@ -201,12 +248,11 @@ def nearest_vertex(x: np.ndarray, p: np.ndarray) -> tuple[np.ndarray, np.ndarray
     if m == 0:
         raise ValueError("x must hold at least one vertex")
     if n * m <= _ALL_PAIRS:  # few: every point against every vertex
-        dx, dy = p[0][:, None] - x[0], p[1][:, None] - x[1]
-        d = np.sqrt(dx * dx + dy * dy)
-        idx = np.argmin(d, axis=1)  # the first of equal minima: the lowest index
-        return d[np.arange(n), idx], idx
+        dist = _distances(p[:, :, None], x[:, None, :])
+        idx = np.argmin(dist, axis=1)  # the first of equal minima: the lowest index
+        return dist[np.arange(n), idx], idx
     extent = float((x.max(axis=1) - x.min(axis=1)).max())
-    r = max(2.0 * extent / m, 1e-300)
+    r = max(2.0 * extent / (m if d == 2 else m ** (1.0 / (d - 1))), 1e-300)
     todo = np.arange(n)
     for _ in range(_NEAREST_ROUNDS if n + m <= GRID_POINTS else 0):
         if not todo.size:
@@ -214,14 +260,13 @@ def nearest_vertex(x: np.ndarray, p: np.ndarray) -> tuple[np.ndarray, np.ndarray
         q = p[:, todo]
         grid = _Grid(x, 0.5 * r, q, r)
         i, j = grid.within(q, r)
-        dx, dy = q[0, i] - x[0, j], q[1, i] - x[1, j]
-        d = np.sqrt(dx * dx + dy * dy)
-        o = np.lexsort((j, d, i))  # by point, then distance, then vertex index
+        dij = _distances(q[:, i], x[:, j])
+        o = np.lexsort((j, dij, i))  # by point, then distance, then vertex index
         first = np.ones(o.size, dtype=bool)
         first[1:] = i[o[1:]] != i[o[:-1]]
         best = o[first]
-        best = best[d[best] <= r]  # no vertex outside the square is nearer
-        dist[todo[i[best]]], idx[todo[i[best]]] = d[best], j[best]
+        best = best[dij[best] <= r]  # no vertex outside the square is nearer
+        dist[todo[i[best]]], idx[todo[i[best]]] = dij[best], j[best]
         found = np.zeros(todo.size, dtype=bool)
         found[i[best]] = True
         todo = todo[~found]
@@ -238,9 +283,9 @@ def box_pairs(lo_a: np.ndarray, hi_a: np.ndarray, lo_b: np.ndarray, hi_b: np.nda
 
     Parameters
     ----------
-    lo_a, hi_a : ndarray (2, n_a)
+    lo_a, hi_a : ndarray (d, n_a)
         Lower and upper corners of the first set of boxes.
-    lo_b, hi_b : ndarray (2, n_b)
+    lo_b, hi_b : ndarray (d, n_b)
         Same for the second set.
     margin : float
         Inflation (>= 0).
@@ -294,7 +339,8 @@ def box_pairs(lo_a: np.ndarray, hi_a: np.ndarray, lo_b: np.ndarray, hi_b: np.nda
 
 def segment_pairs(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarray,
                   margin: float, margin_s: np.ndarray | None = None,
-                  margin_m: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
+                  margin_m: np.ndarray | None = None, cell_s: "str | CellType | None" = None,
+                  cell_m: "str | CellType | None" = None) -> tuple[np.ndarray, np.ndarray]:
     """Candidate slave/master segment pairs whose bounding boxes come within ``margin``.
 
     With per-segment margins the slave box ``i`` is inflated by
@@ -306,18 +352,20 @@ def segment_pairs(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.n
 
     Parameters
     ----------
-    xs : ndarray (2, n_s)
+    xs : ndarray (d, n_s)
         Slave node coordinates.
-    seg_s : int ndarray (n_seg_s, 2)
-        Slave segments (indices into the slave nodes).
-    xm : ndarray (2, n_m)
+    seg_s : int ndarray (n_seg_s, cell_s.n_nodes)
+        Slave cells (indices into the slave nodes).
+    xm : ndarray (d, n_m)
         Master node coordinates.
-    seg_m : int ndarray (n_seg_m, 2)
-        Master segments.
+    seg_m : int ndarray (n_seg_m, cell_m.n_nodes)
+        Master cells.
     margin : float
         Inflation of the slave boxes (>= 0).
     margin_s, margin_m : ndarray (n_seg_s,), (n_seg_m,), optional
         Further inflation of each slave and master box (>= 0).
+    cell_s, cell_m : str or CellType, optional
+        The cell types (:func:`segment_boxes`).
 
     Returns
     -------
@@ -325,8 +373,8 @@ def segment_pairs(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.n
         Indices of slave and master segments, sorted by ``i_s`` then ``i_m``.
     """
     with timed("search"):
-        lo_s, hi_s = segment_boxes(xs, seg_s)
-        lo_m, hi_m = segment_boxes(xm, seg_m)
+        lo_s, hi_s = segment_boxes(xs, seg_s, cell_s)
+        lo_m, hi_m = segment_boxes(xm, seg_m, cell_m)
         for name, m, lo, hi in (("margin_s", margin_s, lo_s, hi_s),
                                 ("margin_m", margin_m, lo_m, hi_m)):
             if m is None:
@@ -339,20 +387,22 @@ def segment_pairs(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.n
         return box_pairs(lo_s, hi_s, lo_m, hi_m, margin)
 
 
-def node_segment_pairs(xn: np.ndarray, xm: np.ndarray, seg_m: np.ndarray, margin: float
-                       ) -> tuple[np.ndarray, np.ndarray]:
+def node_segment_pairs(xn: np.ndarray, xm: np.ndarray, seg_m: np.ndarray, margin: float,
+                       cell: "str | CellType | None" = None) -> tuple[np.ndarray, np.ndarray]:
     """Candidate (node, master segment) pairs: the node lies in the segment's box inflated by ``margin``.
 
     Parameters
     ----------
-    xn : ndarray (2, n)
+    xn : ndarray (d, n)
         Node coordinates.
-    xm : ndarray (2, n_m)
+    xm : ndarray (d, n_m)
         Master node coordinates.
-    seg_m : int ndarray (n_seg_m, 2)
-        Master segments.
+    seg_m : int ndarray (n_seg_m, cell.n_nodes)
+        Master cells.
     margin : float
         Inflation (>= 0).
+    cell : str or CellType, optional
+        The master cell type (:func:`segment_boxes`).
 
     Returns
     -------
@@ -360,8 +410,8 @@ def node_segment_pairs(xn: np.ndarray, xm: np.ndarray, seg_m: np.ndarray, margin
         Sorted by node then segment.
     """
     with timed("search"):
-        xn = np.asarray(xn, dtype=float).reshape(2, -1)
-        lo_m, hi_m = segment_boxes(xm, seg_m)
+        lo_m, hi_m = segment_boxes(xm, seg_m, cell)
+        xn = np.asarray(xn, dtype=float).reshape(lo_m.shape[0], -1)
         return box_pairs(xn, xn, lo_m, hi_m, margin)
 
 

@@ -1,4 +1,9 @@
-"""Contact surfaces: oriented chains of straight segments.
+"""Contact surfaces: nodes + connectivity + a cell type (:mod:`.cells`).
+
+In 2D a surface is an oriented chain of line cells; in 3D a set of surface cells
+(``tri3``, ``quad4``) running counter-clockwise seen from outside
+(:meth:`ContactSurface.from_solid` of a tetrahedral or hexahedral solid; contact on
+them is not offered yet).  The cell type is an attribute, :attr:`ContactSurface.cell`.
 
 A :class:`ContactSurface` holds ``n`` surface nodes and ``segments`` (n_seg, 2)
 indices into them, ordered along one chain (open or closed) and oriented so
@@ -17,8 +22,9 @@ Quadratic solids (tri2, quad2) give 3-node segments ``(start, end, mid)``
 facet's mid node (its P2 facet dofs) is a surface node too, and the segment is
 the curve ``x(xi) = N_1 x_start + N_2 x_end + N_3 x_mid``, ``xi in [-1, 1]``,
 ``N_1 = xi (xi - 1)/2``, ``N_2 = xi (xi + 1)/2``, ``N_3 = 1 - xi^2``, its outward
-normal the right-hand normal of ``dx/dxi``.  Columns 0 and 1 are the two ends in
-either case, so what walks the chain reads ``segments[:, :2]``.
+normal the right-hand normal of ``dx/dxi``.  The ends of a line cell are its
+corners (:attr:`CellType.corners`: columns 0 and 1 for line2 and line3), what walks
+the chain reads.
 """
 from __future__ import annotations
 
@@ -34,10 +40,13 @@ from ..bodies.solid import boundary_facets
 from ..core.validate import count, flag, real
 from ..core.validate_arrays import index_array, real_array
 from ..core.chain import segment_lengths, segment_normals, segments_at_nodes, tributary_lengths
+from .boundary_cells import boundary_cells, closed_surface
+from .cell_map import cell_measures, cell_normals, check_connectivity, reversal
+from .cells import CellType, cell_type
 
 __all__ = ["ContactSurface", "RigidPlane", "RigidCircle", "chain_segments",
            "segment_lengths", "segment_normals", "tributary_lengths", "segments_at_nodes",
-           "LINEAR_TRACE", "QUADRATIC_TRACE"]
+           "LINEAR_TRACE", "QUADRATIC_TRACE", "TRACE_3D"]
 
 #: the most segments a rigid surface is built with (:class:`RigidPlane`,
 #: :class:`RigidCircle`): as many as the finest cable has elements
@@ -48,6 +57,9 @@ MAX_SEGMENTS = MAX_ELEMENTS
 LINEAR_TRACE = ("tri1", "quad1", "mini")
 #: solid elements whose boundary trace is the 3-node Lagrange line (P2 on the facet)
 QUADRATIC_TRACE = ("tri2", "quad2")
+#: 3D solid elements whose boundary trace is a linear surface cell (tri3 on tetrahedra,
+#: quad4 on hexahedra; the mixed "tet-mini"'s bubble vanishes on facets)
+TRACE_3D = ("tet1", "tet-mini", "hex1", "hex1-md")
 
 
 def chain_segments(seg: np.ndarray, n_nodes: int | None = None) -> tuple[np.ndarray, bool]:
@@ -117,8 +129,12 @@ def chain_segments(seg: np.ndarray, n_nodes: int | None = None) -> tuple[np.ndar
 
 
 class ContactSurface:
-    """An oriented chain of segments on a body (or rigid): straight 2-node segments,
-    or curved 3-node ones (``segments`` with a third column, the mid node).
+    """Contact cells on a body (or rigid): nodes + connectivity + a cell type.
+
+    In 2D an oriented chain of line cells (straight 2-node segments, ``line2``, or
+    curved 3-node ones, ``line3``); in 3D surface cells (``tri3``, ``quad4``) oriented
+    counter-clockwise seen from outside.  The cell type is carried explicitly
+    (:attr:`cell`); nothing later reads it from the connectivity's column count.
 
     Parameters
     ----------
@@ -128,36 +144,41 @@ class ContactSurface:
     nodes : int ndarray (n,)
         Body node index of each surface node (ignored for a rigid surface); with
         ``local_dofs``, -1 marks a node that is not a body vertex (a facet's mid node).
-    segments : int ndarray (n_seg, 2) or (n_seg, 3)
-        Indices into the surface nodes, ``(start, end[, mid])``; reordered into
-        chain order (by the ends).
-    X : ndarray (2, n), optional
+    segments : int ndarray (n_seg, cell.n_nodes)
+        Indices into the surface nodes (line cells: ``(start, end[, mid])``); line
+        cells are reordered into chain order (by their ends, :attr:`CellType.corners`).
+    X : ndarray (d, n), optional
         Fixed coordinates of a rigid surface; with ``local_dofs``, the reference
         coordinates of the surface nodes of a body.
     name : str
-    local_dofs : int ndarray (2, n), optional
-        The x and y dofs of each surface node in the body's block (default
+    local_dofs : int ndarray (d, n), optional
+        The dofs of each surface node in the body's block (default
         ``body.node_dofs[:, nodes]``: the vertices'), for surfaces with nodes
         that are not vertices (:meth:`from_solid` of a quadratic solid).
+    cell : str or CellType, optional
+        The cell type (:mod:`~skfem_mortar.contact.cells`).  Default, read once here
+        from the ``segments`` argument as given: ``"line2"`` for two columns (or a
+        flat list of pairs), ``"line3"`` for three; required in 3D.
     """
 
     def __init__(self, body: Any, nodes: np.ndarray | None, segments: np.ndarray,
                  X: np.ndarray | None = None, name: str = "surface",
-                 local_dofs: np.ndarray | None = None):
+                 local_dofs: np.ndarray | None = None, cell: "str | CellType | None" = None):
         self.body = body
         self.name = name
         if body is None:
             if X is None:
-                raise ValueError("X (2, n) is required for a rigid surface")
+                raise ValueError("X (d, n) is required for a rigid surface")
             self._X = real_array("X (the rigid surface's coordinates)", X)
-            if self._X.ndim != 2 or self._X.shape[0] != 2:
-                raise ValueError(f"X must have shape (2, n), got {self._X.shape}")
+            if self._X.ndim != 2 or self._X.shape[0] not in (2, 3):
+                raise ValueError(f"X must have shape (d, n) with d = 2 or 3, got {self._X.shape}")
             n = self._X.shape[1]
             self.nodes = None
             self._local = None
             self._vertices = False
         else:
             self._vertices = local_dofs is None
+            d = np.shape(body.X)[0]
             if local_dofs is None:
                 self.nodes = index_array("nodes", nodes, body.n_nodes).ravel()
                 n = self.nodes.size
@@ -166,15 +187,21 @@ class ContactSurface:
             else:   # -1 marks a node that is not a vertex
                 self.nodes = np.asarray(nodes, dtype=np.int64).ravel()
                 n = self.nodes.size
-                self._local = index_array("local_dofs", local_dofs, body.n_dofs).reshape(2, n)
-                self._X = real_array("X", X).reshape(2, n)
+                self._local = index_array("local_dofs", local_dofs, body.n_dofs).reshape(d, n)
+                self._X = real_array("X", X).reshape(d, n)
+        self.cell = _given_cell(cell, segments, self._X.shape[0])
         segments = index_array("segments", segments, n)
-        if segments.ndim != 2 or segments.shape[1] not in (2, 3):
-            segments = segments.reshape(-1, 2)
-        order, self.closed = chain_segments(segments[:, :2], n)
-        self.segments = segments[order]
-        if np.any(segment_lengths(self._X, self.segments) <= 0):
-            raise ValueError("surface has a segment of zero length")
+        segments = check_connectivity(segments if segments.ndim == 2 else
+                                      segments.reshape(-1, self.cell.n_nodes), self.cell, n)
+        if self.cell.dim == 1:
+            order, self.closed = chain_segments(segments[:, list(self.cell.corners)], n)
+            self.segments = segments[order]
+        else:
+            self.closed = closed_surface(segments, self.cell, n)
+            self.segments = segments
+        if np.any(cell_measures(self._X, self.segments, self.cell) <= 0):
+            raise ValueError("surface has a " + ("segment of zero length" if self.cell.dim == 1
+                                                 else "cell of zero area"))
 
     # -- geometry ----------------------------------------------------------
     @property
@@ -182,9 +209,15 @@ class ContactSurface:
         return int(self._X.shape[1])
 
     @property
+    def dim(self) -> int:
+        """The space dimension ``d`` (2 or 3): coordinates per node."""
+        return int(self._X.shape[0])
+
+    @property
     def order(self) -> int:
-        """1 for straight 2-node segments, 2 for curved 3-node ones."""
-        return int(self.segments.shape[1]) - 1
+        """The cell type's Lagrange order: 1 for straight 2-node segments (and other
+        linear cells), 2 for curved 3-node ones."""
+        return int(self.cell.order)
 
     @property
     def rigid(self) -> bool:
@@ -192,11 +225,11 @@ class ContactSurface:
 
     @property
     def X(self) -> np.ndarray:
-        """Reference coordinates (2, n)."""
+        """Reference coordinates (d, n)."""
         return self._X
 
     def x(self, z: np.ndarray) -> np.ndarray:
-        """Current coordinates ``(2, n)`` of the surface nodes."""
+        """Current coordinates ``(d, n)`` of the surface nodes."""
         if self.body is None:
             return self._X
         if self._vertices:
@@ -204,40 +237,43 @@ class ContactSurface:
         return self._X + np.asarray(z)[self.body.offset + self._local]
 
     def dofs(self) -> np.ndarray | None:
-        """Global indices ``(2, n)`` into z of the x/y unknowns, or None (rigid)."""
+        """Global indices ``(d, n)`` into z of the nodes' unknowns, or None (rigid)."""
         if self.body is None:
             return None
         return self.body.offset + self._local
 
     def normals(self, z: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """Outward unit normals (2, n_seg) and lengths (n_seg,) in the current
-        configuration (3-node segments: the normal at the mid node, ``xi = 0``, and
-        the curve's length)."""
-        return segment_normals(self.x(z), self.segments)
+        """Outward unit normals (d, n_seg) at the cells' reference centres (a 3-node
+        segment's mid node, ``xi = 0``) and the cells' lengths or areas, in the current
+        configuration (:func:`~skfem_mortar.contact.cell_map.cell_normals`)."""
+        return cell_normals(self.x(z), self.segments, self.cell)
 
     def reversed(self, name: str = "") -> "ContactSurface":
-        """The same surface run the other way (its normals flipped): segments
-        ``(end, start[, mid])``, the same nodes and dofs."""
-        seg = self.segments[:, [1, 0, 2]] if self.order == 2 else self.segments[:, ::-1]
+        """The same surface turned over (its normals flipped): every cell's nodes
+        permuted by :func:`~skfem_mortar.contact.cell_map.reversal` (segments
+        ``(end, start[, mid])``, a chain run the other way), the same nodes and dofs."""
+        seg = self.segments[:, list(reversal(self.cell))]
         out = ContactSurface.__new__(ContactSurface)
         out.__dict__.update(self.__dict__)
         out.name = name or self.name
-        out.segments = np.ascontiguousarray(seg[::-1])
+        out.segments = np.ascontiguousarray(seg[::-1] if self.cell.dim == 1 else seg)
         return out
 
     # -- construction --------------------------------------------------------
     @classmethod
     def from_solid(cls, solid: Any, boundary: str | np.ndarray, name: str = "") -> "ContactSurface":
-        """The surface made of a solid's boundary facets.
+        """The surface made of a solid's boundary facets, oriented outward.
 
-        Each facet is oriented so that its right-hand normal points away from
-        the element it bounds (outward), then the facets are chained.
+        Each facet is oriented so that its normal points away from the element it
+        bounds (:func:`~skfem_mortar.contact.boundary_cells.boundary_cells`); in 2D
+        the facets are then chained.
 
         Linear elements (tri1, quad1, MINI) give 2-node segments between the facet
         vertices; quadratic ones (tri2, quad2) 3-node segments ``(start, end, mid)``
         whose mid node is the facet's P2 node (``nodes`` -1 there: it is not a
         vertex), so that the surface is the facet trace of the body's
-        displacement field.
+        displacement field.  Linear 3D elements (:data:`TRACE_3D`) give tri3 or quad4
+        cells (contact on 3D bodies is not offered yet: a pair refuses them).
 
         Parameters
         ----------
@@ -250,38 +286,30 @@ class ContactSurface:
                              f"{type(solid).__name__}")
         mesh = solid.mesh
         element = getattr(solid, "element", "tri1")
-        if element not in LINEAR_TRACE + QUADRATIC_TRACE:
+        if element not in LINEAR_TRACE + QUADRATIC_TRACE + TRACE_3D:
             raise ValueError(f"contact surfaces need elements whose boundary trace is a "
                              f"Lagrange line, linear {LINEAR_TRACE} or quadratic "
-                             f"{QUADRATIC_TRACE}, got element {element!r}")
+                             f"{QUADRATIC_TRACE}, or a linear surface cell {TRACE_3D}, "
+                             f"got element {element!r}")
         facets = boundary_facets(mesh, boundary,
                                  "boundary must be one of the mesh tags {known}, got {tag!r}")
         check_boundary_facets(mesh, facets, boundary)
-        # own orientation test: skfem's facets list their vertices sorted and its
-        # oriented boundaries pick an element side, not a vertex order along the chain
-        ends = mesh.facets[:, facets].T.copy()  # (n_f, 2)
-        elem = mesh.f2t[0, facets]
-        nv = mesh.t.shape[0] if mesh.t.shape[0] in (3, 4) else (3 if "Tri" in type(mesh).__name__ else 4)
-        centroid = mesh.p[:, mesh.t[:nv, elem]].mean(axis=1)
-        p = mesh.p
-        nrm, _ = segment_normals(p, ends)
-        mid = 0.5 * (p[:, ends[:, 0]] + p[:, ends[:, 1]])
-        flip = np.sum(nrm * (mid - centroid), axis=0) < 0
-        ends[flip] = ends[flip][:, ::-1]
+        ends, cell = boundary_cells(mesh, facets)
         nodes, local = np.unique(ends, return_inverse=True)
+        local = local.reshape(ends.shape)
         name = name or f"{solid.name}_{boundary if isinstance(boundary, str) else 'surface'}"
-        if element in LINEAR_TRACE:
-            return cls(solid, nodes, local.reshape(-1, 2), name=name)
+        if element not in QUADRATIC_TRACE:
+            return cls(solid, nodes, local, name=name, cell=cell)
         # 3-node segments: the vertices, then one mid node per facet (its P2 facet
         # dofs, at the basis' dof location: on the curve of an isoparametric mesh)
         mid_dofs = np.asarray(solid.basis.facet_dofs)[:, facets]          # (2, n_f)
         n_v, n_f = nodes.size, facets.size
-        segments = np.column_stack([local.reshape(-1, 2), n_v + np.arange(n_f)])
+        segments = np.column_stack([local, n_v + np.arange(n_f)])
         X = np.hstack([np.asarray(solid.X, dtype=float)[:, nodes],
                        np.asarray(solid.basis.doflocs, dtype=float)[:, mid_dofs[0]]])
         local_dofs = np.hstack([np.asarray(solid.node_dofs)[:, nodes], mid_dofs])
         return cls(solid, np.r_[nodes, np.full(n_f, -1)], segments, X=X, name=name,
-                   local_dofs=local_dofs)
+                   local_dofs=local_dofs, cell="line3")
 
     @classmethod
     def from_cable(cls, cable: Any, side: str = "left", name: str = "") -> "ContactSurface":
@@ -304,7 +332,25 @@ class ContactSurface:
         if side == "left":
             el = el[:, ::-1]
         nodes, local = np.unique(el, return_inverse=True)
-        return cls(cable, nodes, local.reshape(-1, 2), name=name or f"{cable.name}_{side}")
+        return cls(cable, nodes, local.reshape(-1, 2), name=name or f"{cable.name}_{side}",
+                   cell="line2")
+
+
+def _given_cell(cell: Any, segments: Any, d: int) -> CellType:
+    """The surface's cell type: ``cell`` as given, else the 2D default read from the
+    ``segments`` argument as the user passed it (two columns or a flat list of pairs:
+    line2; three columns: line3).  ValueError in 3D without ``cell``, or when the cell's
+    dimension is not ``d - 1``."""
+    if cell is None:
+        if d != 2:
+            raise ValueError("cell is required for a surface in 3D (tri3 or quad4)")
+        given = np.shape(segments)
+        cell = "line3" if len(given) == 2 and given[1] == 3 else "line2"
+    cell = cell_type(cell)
+    if cell.dim != d - 1:
+        raise ValueError(f"cell {cell.name!r} (dim {cell.dim}) does not bound a body in "
+                         f"{d} dimensions: a surface in {d}D needs cells of dim {d - 1}")
+    return cell
 
 
 def _vector2(v: Any, name: str) -> np.ndarray:

@@ -1,0 +1,204 @@
+"""Averaged nodal normals of a surface of any dimension, with their exact first and
+second derivatives with respect to the node coordinates of each node's neighbourhood.
+
+The nodal normal of node ``A`` is the normalized sum of the unit normals, at ``A``, of
+the cells holding it::
+
+    s_A = sum_{e ∋ A} w_e u_e(xi_A),   n_A = s_A / |s_A|,   u_e = v_e / |v_e|,
+
+``v_e`` the cell's area vector at ``A``'s reference position ``xi_A``
+(:func:`~skfem_mortar.contact.cell_map.area_vectors`: a curve's right-hand normal in
+2D, ``T_1 x T_2`` on a surface in 3D) and ``w_e`` 1, or 0 for a degenerate cell (its
+length or area at most :data:`DEGENERATE` times the mean: it has no normal).  On a 2D
+chain this is ``normalize(nu_prev + nu_next)`` of straight segments and, on 3-node
+segments, the normalized sum of the two elements' normals at a vertex and the element's
+own normal at a mid node: the normals of the 2D mortar kernels.  Any number of cells may
+meet at a node.
+
+Derivatives: ``u_e`` is a function of the cell's ``k d`` node coordinates; ``v`` is
+linear (2D) or bilinear (3D: ``d2v_i / dx_{b c} dx_{b' c'} = eps_{i c c'} (G_{b 1} G_{b'
+2} - G_{b 2} G_{b' 1})``, ``G = dN/dxi`` at ``xi_A``) in them, and the normalization
+``f(v) = v / |v|`` has ``df = (I - f f^T) / |v|`` and
+
+    d2f_i / dv_j dv_k = (3 f_i f_j f_k - delta_ij f_k - delta_ik f_j - delta_jk f_i) / |v|^2 .
+
+Each node's neighbourhood (the nodes of its cells, ``K`` at most, padded with -1) gives
+the local variables of its normal, so that a kernel that takes nodal normals as local
+variables chains them in at assembly (``H = J^T H_loc J + sum_k df/dn_k d2n_k/dx2``).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .cell_map import area_vectors, cell_measures, check_connectivity, norms
+from .cells import CellType, cell_type
+
+__all__ = ["NodalNormals", "nodal_normals", "normalize_jet", "DEGENERATE"]
+
+#: a cell at most this fraction of the mean length or area takes no part in the average
+#: (as the 2D kernels' ``LEN_TOL``)
+DEGENERATE = 1e-10
+
+
+@dataclass
+class NodalNormals:
+    """Nodal normals and their derivatives over each node's neighbourhood.
+
+    Attributes
+    ----------
+    n : ndarray (d, n_nodes)
+        Unit nodal normals (zero at a node on no cell, or only on degenerate ones).
+    nodes : int ndarray (n_nodes, K)
+        The neighbourhood of each node (the nodes of the cells holding it, the node
+        itself first, then ascending), padded with -1.
+    dn : ndarray (d, n_nodes, K, d) or None
+        ``dn[i, A, j, c] = d n_i(A) / d x_c(nodes[A, j])`` (zero on padding).
+    d2n : ndarray (d, n_nodes, K, d, K, d) or None
+        The second derivatives, symmetric in the two variable pairs.
+    """
+
+    n: np.ndarray
+    nodes: np.ndarray
+    dn: np.ndarray | None = None
+    d2n: np.ndarray | None = None
+
+
+def normalize_jet(s: np.ndarray, ds: np.ndarray | None = None, d2s: np.ndarray | None = None
+                  ) -> tuple[np.ndarray, np.ndarray | None, np.ndarray | None]:
+    """``f = s / |s|`` with its derivatives (module docstring), vectorized.
+
+    Parameters
+    ----------
+    s : ndarray (d, m)
+    ds : ndarray (d, m, P), optional
+        Derivatives of ``s`` w.r.t. ``P`` variables.
+    d2s : ndarray (d, m, P, P), optional
+
+    Returns
+    -------
+    f, df, d2f : (d, m), (d, m, P), (d, m, P, P) (None where not asked). A zero ``s``
+        gives zero ``f`` and derivatives.
+    """
+    r = norms(s)
+    inv = np.where(r > 0, 1.0 / np.where(r > 0, r, 1.0), 0.0)
+    f = s * inv
+    if ds is None:
+        return f, None, None
+    a = np.einsum("im,imp->mp", f, ds)                            # f . ds
+    df = (ds - f[:, :, None] * a) * inv[:, None]
+    if d2s is None:
+        return f, df, None
+    b = np.einsum("im,impq->mpq", f, d2s)                         # f . d2s
+    dd = np.einsum("imp,imq->mpq", ds, ds)                        # ds . ds
+    d2f = (d2s - f[:, :, None, None] * b) * inv[:, None, None]
+    d2f += (3.0 * f[:, :, None, None] * (a[:, :, None] * a[:, None, :])
+            - ds[:, :, :, None] * a[:, None, :] - ds[:, :, None, :] * a[:, :, None]
+            - f[:, :, None, None] * dd) * (inv * inv)[:, None, None]
+    return f, df, d2f
+
+
+def _area_jet(T: np.ndarray, G: np.ndarray, order: int):
+    """Area vectors ``v (d, m)`` of tangents ``T (d, dim, m)`` with their derivatives
+    w.r.t. the cell's node coordinates, variables ``(b, c)`` flattened to ``b d + c``:
+    ``dv (d, m, k d)``, ``d2v (d, m, k d, k d)``; ``G (k, dim, m)`` the shape
+    derivatives at the point."""
+    d, _, m = T.shape
+    k = G.shape[0]
+    v = area_vectors(T)
+    if order < 1:
+        return v, None, None
+    if d == 2:   # v = (t_y, -t_x): dv_i/dx_{b c} = G_b R_ic
+        R = np.array([[0.0, 1.0], [-1.0, 0.0]])
+        dv = np.einsum("bm,ic->imbc", G[:, 0], R).reshape(d, m, k * d)
+        d2v = np.zeros((d, m, k * d, k * d)) if order > 1 else None
+        return v, dv, d2v
+    eps = np.zeros((3, 3, 3))
+    eps[0, 1, 2] = eps[1, 2, 0] = eps[2, 0, 1] = 1.0
+    eps[0, 2, 1] = eps[2, 1, 0] = eps[1, 0, 2] = -1.0
+    # dv_i/dx_{b c} = eps_{i c l} (G_{b 0} T2_l - G_{b 1} T1_l)
+    w = G[:, 0, None, :] * T[None, :, 1] - G[:, 1, None, :] * T[None, :, 0]   # (k, l, m)
+    dv = np.einsum("icl,blm->imbc", eps, w).reshape(d, m, k * d)
+    if order < 2:
+        return v, dv, None
+    cross = G[:, 0, None, :] * G[None, :, 1] - G[:, 1, None, :] * G[None, :, 0]  # (b, b', m)
+    d2v = np.einsum("icq,bpm->imbcpq", eps, cross).reshape(d, m, k * d, k * d)
+    return v, dv, d2v
+
+
+def _neighbourhoods(conn: np.ndarray, n_nodes: int) -> tuple[np.ndarray, np.ndarray]:
+    """``nodes (n_nodes, K)`` (the node first, then its cells' other nodes ascending,
+    -1 padded) and ``slot (n_cell, k, k)``: the slot of cell node ``b`` in the
+    neighbourhood of cell node ``a``."""
+    n_cell, k = conn.shape
+    A = np.repeat(conn, k, axis=1).ravel()                      # (n_cell k k): node a
+    B = np.tile(conn, (1, k)).ravel()                           # node b
+    own = A == B
+    key = np.unique(A * (n_nodes + 1) + np.where(own, 0, B + 1))  # the node itself first
+    owner, other = key // (n_nodes + 1), key % (n_nodes + 1) - 1
+    first = np.searchsorted(owner, np.arange(n_nodes))
+    rank = np.arange(key.size) - first[owner]
+    K = int(rank.max()) + 1 if key.size else 1
+    nodes = np.full((n_nodes, K), -1, dtype=np.int64)
+    nodes[owner, rank] = np.where(other < 0, owner, other)
+    pos = np.searchsorted(key, A * (n_nodes + 1) + np.where(own, 0, B + 1))
+    return nodes, rank[pos].reshape(n_cell, k, k)
+
+
+def nodal_normals(x: np.ndarray, conn: np.ndarray, cell: "str | CellType",
+                  order: int = 2) -> NodalNormals:
+    """Averaged unit nodal normals (module docstring) with derivatives up to ``order``.
+
+    Parameters
+    ----------
+    x : ndarray (d, n)
+        Node coordinates (d = cell.dim + 1).
+    conn : int ndarray (n_cell, cell.n_nodes)
+    cell : str or CellType
+    order : {0, 1, 2}
+        0: values only; 1: and first derivatives; 2: and second.
+
+    Returns
+    -------
+    NodalNormals
+    """
+    cell = cell_type(cell)
+    x = np.asarray(x, dtype=float)
+    if x.ndim != 2 or x.shape[0] != cell.dim + 1:
+        raise ValueError(f"x must have shape (d, n) with d = {cell.dim + 1} for "
+                         f"{cell.name} cells, got {x.shape}")
+    if order not in (0, 1, 2):
+        raise ValueError(f"order must be 0, 1 or 2, got {order!r}")
+    n_nodes, d = x.shape[1], x.shape[0]
+    conn = check_connectivity(conn, cell, n_nodes)
+    n_cell, k = conn.shape
+    size = cell_measures(x, conn, cell)
+    weight = (size > DEGENERATE * (size.mean() if size.size else 0.0)).astype(float)
+    G = cell.dshape(cell.ref_nodes)                               # (k, dim, a)
+    Gm = np.repeat(G[:, :, None, :], n_cell, axis=2).reshape(k, cell.dim, n_cell * k)
+    T = np.einsum("dsb,bja->djsa", x[:, conn], G).reshape(d, cell.dim, n_cell * k)
+    v, dv, d2v = _area_jet(T, Gm, order)
+    u, du, d2u = normalize_jet(v, dv, d2v)                        # incidence (e, a)
+    w = np.repeat(weight, k)
+    A = conn.ravel()
+    s = np.stack([np.bincount(A, weights=u[i] * w, minlength=n_nodes) for i in range(d)])
+    nodes, slot = _neighbourhoods(conn, n_nodes)
+    if order == 0:
+        return NodalNormals(normalize_jet(s)[0], nodes)
+    K = nodes.shape[1]
+    P = K * d
+    # variable (b, c) of incidence (e, a) -> variable slot[e, a, b] d + c of node A
+    var = (slot[:, :, :, None] * d + np.arange(d)).reshape(n_cell * k, k * d)
+    row = A[:, None] * P + var                                    # (m, k d)
+    ds = np.stack([np.bincount(row.ravel(), weights=(du[i] * w[:, None]).ravel(),
+                               minlength=n_nodes * P) for i in range(d)]).reshape(d, n_nodes, P)
+    d2s = None
+    if order == 2:
+        idx = (A[:, None, None] * P + var[:, :, None]) * P + var[:, None, :]
+        d2s = np.stack([np.bincount(idx.ravel(), weights=(d2u[i] * w[:, None, None]).ravel(),
+                                    minlength=n_nodes * P * P)
+                        for i in range(d)]).reshape(d, n_nodes, P, P)
+    n, dn, d2n = normalize_jet(s, ds, d2s)
+    return NodalNormals(n, nodes, dn.reshape(d, n_nodes, K, d),
+                        None if d2n is None else d2n.reshape(d, n_nodes, K, d, K, d))
