@@ -160,4 +160,6 @@ SCENE = Scene(
     estimate_dofs=estimate_dofs,
     sizes=("n",),
     derived=derived,
+    one_step=lambda values, method: values["kinematics"] == "small",
+    one_step_text="at small strain (a linear problem)",
 )
