@@ -24,12 +24,15 @@ ELEMENTS_3D = ("tet1", "tet2", "hex1", "hex2", "p2p1", "hex1-md")
 LAWS = {"neo-hooke": NeoHooke, "svk": SaintVenantKirchhoff, "linear": LinearElastic}
 
 #: peak memory of a 3D run (bytes) = BASE + PER_DOF n + FILL n^(4/3), ``n`` the
-#: displacement dofs: the interpreter and scikit-fem (BASE), the assembly and
-#: states (PER_DOF, about 30 floats per dof of element arrays at once) and the
-#: factor of the direct solver (FILL: nested dissection of a 3D mesh fills
-#: ``O(n^(4/3))``); fitted to the peak resident memory of ``bench --scene block3d``
-#: (benchmarks/solve3d.py), a bound within 30 % of it from 1e4 to 3e5 dofs
-BASE, PER_DOF, FILL = 250e6, 4_000.0, 200.0
+#: displacement dofs: the interpreter and its imports (BASE), the assembly's element
+#: arrays, COO triplets and tangent (PER_DOF: hex1 has 576 tangent entries and 8 x 81
+#: A entries per cell of 3 dofs) and the direct solver's factor (FILL: nested
+#: dissection of a 3D mesh fills ``O(n^(4/3))``).  Fitted to the peak resident memory
+#: of ``bench --scene block3d`` (hex1, small strain, the default direct path: 1.4, 2.9,
+#: 5.6, 9.9 GB at 4.7e4, 1.1e5, 2.1e5, 3.5e5 dofs), the fit raised to lie 2 % to 10 %
+#: above each of them (19 % at 1.5e4 dofs; 28 kB per dof at 3.5e5, where the 2D rule's
+#: 8 kB would allow 3.5 times too many)
+BASE, PER_DOF, FILL = 150e6, 27_000.0, 50.0
 
 
 def element_param(default: str = "hex1") -> Param:
