@@ -41,14 +41,35 @@ def model_geometry(geometry: str | None, items: Sequence["Item"], thickness: flo
         raise ValueError(f"geometry must be one of {', '.join(map(repr, GEOMETRIES))}, "
                          f"got {geometry!r}")
     if geometry != "plane" and thickness != 1.0:
-        raise ValueError(f"thickness applies to a plane model only; an {geometry!r} "
+        article = "an" if geometry == "axisymmetric" else "a"
+        raise ValueError(f"thickness applies to a plane model only; {article} {geometry!r} "
                          f"model has none (got thickness={thickness:g}): leave it out")
+    _refuse_mixed_dimensions(items)
     for it in items:
         allowed = getattr(it, "geometries", None)
         if allowed is not None and geometry not in allowed:
+            tail = (f"build it for that geometry or give the model geometry={allowed[0]!r}"
+                    if "3d" not in (geometry, *allowed) else
+                    "it has no form in that geometry (a 3D model holds 3D bodies: Solid on "
+                    "a 3D mesh, and their loads and supports)" if geometry == "3d" else
+                    "a body on a 3D mesh works in a '3d' model only")
             raise ValueError(
                 f"item {getattr(it, 'name', '')!r} ({type(it).__name__}) works in a "
                 f"{' or '.join(map(repr, allowed))} geometry, and this model's geometry "
-                f"is {geometry!r}: build it for that geometry or give the model "
-                f"geometry={allowed[0]!r}")
+                f"is {geometry!r}: {tail}")
     return geometry
+
+
+def _refuse_mixed_dimensions(items: Sequence["Item"]) -> None:
+    """ValueError naming ``items`` and the bodies when 3D bodies (``geometries ==
+    ("3d",)``) and bodies built for 2D geometries are in one model."""
+    bodies = [it for it in items if getattr(it, "dof_kind", None) == "u"
+              and getattr(it, "geometries", None) is not None]
+    three = [it for it in bodies if "3d" in it.geometries]
+    two = [it for it in bodies if "3d" not in it.geometries]
+    if three and two:
+        def names(its):
+            return ", ".join(f"{getattr(it, 'name', '')!r} ({type(it).__name__})"
+                             for it in its)
+        raise ValueError(f"items mix 2D and 3D bodies: {names(three)} 3D, {names(two)} 2D "
+                         f"(plane or axisymmetric); a model's bodies are all 2D or all 3D")
