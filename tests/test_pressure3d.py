@@ -132,3 +132,36 @@ def test_refusals_name_the_argument():
     from skfem import MeshTri1, ElementTriP1
     with pytest.raises(ValueError, match="body must be a solid on a 3D mesh"):
         FollowerPressure3D(_Body(MeshTri1().with_defaults(), ElementTriP1()), 1.0, "right")
+
+
+@pytest.mark.parametrize("element", ["tet2", "p2p1", "hex1-md"])
+def test_on_a_solid_inside_a_model_the_tangent_is_the_derivative(element):
+    """Through real solids (the mixed ones carry pressure dofs after the
+    displacements) placed after another body: the faces' dofs are the body's."""
+    import skfem
+    from skfem_mortar import Model, NeoHooke, Solid
+
+    g = np.linspace(0.0, 1.0, 3)
+    cls = skfem.MeshHex1 if element.startswith("hex") else skfem.MeshTet1
+    mesh = cls.init_tensor(g, g, g).with_defaults()
+    if element == "tet2":
+        mesh = skfem.MeshTet2.from_mesh(mesh).with_defaults()
+    first = Solid(skfem.MeshTet1.init_tensor(g, g, g), NeoHooke(E=1.0, nu=0.3),
+                  element="tet1", name="first")
+    body = Solid(mesh, NeoHooke(E=1.0, nu=0.3), element=element, name="body")
+    load = FollowerPressure3D(body, 1.5, "top")
+    model = Model([first, body, load])
+    assert body.offset == first.n_dofs
+    rng = np.random.default_rng(2)
+    z = 0.05 * rng.standard_normal(model.n)
+    R, K = dense(load.assemble(z, 1.0), model.n)
+    cols = np.unique(body.offset + load._flat)
+    assert cols.min() >= body.offset and cols.max() < body.offset + body.n_dofs
+    assert np.all(body.basis.doflocs[1, cols - body.offset] == 1.0)     # on the face y = 1
+    h = 1e-6
+    for c in cols[::7]:     # every seventh face dof: the same faces, fewer solves
+        e = np.zeros(model.n)
+        e[c] = h
+        fd = (dense(load.assemble(z + e, 1.0, tangent=False), model.n)[0]
+              - dense(load.assemble(z - e, 1.0, tangent=False), model.n)[0]) / (2 * h)
+        assert np.max(np.abs(K[:, c] - fd)) < 1e-8 * np.max(np.abs(K))

@@ -85,3 +85,22 @@ def test_refusals_name_the_argument(tmp_path):
         scene3d([body], z, z, window_size=(10, 10))
     with pytest.raises(ValueError, match="bodies"):
         scene3d([], z, z)
+
+
+def test_the_2d_figure_refuses_a_3d_body_naming_render3d(tmp_path):
+    from skfem_mortar.output.plot import draw
+
+    body, z, items = _stretched_block()
+    with pytest.raises(ValueError, match="bodies: 'block' is a 3D body.*render3d"):
+        draw([body], np.zeros_like(z), z, tmp_path / "x.png", items=items)
+
+
+def test_the_outline_is_drawn_at_the_initial_state():
+    body, z, items = _stretched_block()
+    plotter = scene3d([body], 0.5 * z, z, window_size=(300, 300))
+    try:
+        outline = plotter.actors["outline:block"].mapper.dataset
+        # half the stretch 0.2 z and half the shear 0.1 z x: the top at z = 2.2
+        np.testing.assert_allclose(outline.bounds[4:], [0.0, 2.2], atol=1e-12)
+    finally:
+        plotter.close()

