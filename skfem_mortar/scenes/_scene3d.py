@@ -56,26 +56,15 @@ def law_params(default_kinematics: str = "small") -> tuple[Param, ...]:
                   choices=("finite", "small")))
 
 
-#: quadrature order of the quadratic tetrahedra (tet2, p2p1) on the scenes' curved
-#: cells: a homogeneous field passes the patch test only if ``Grad N det J`` =
-#: ``dN/dxi cof(J)`` is integrated exactly, a cubic where the cell map is quadratic
-#: (the solids' default order 2 leaves 1e-5 in block3d with mid nodes moved by
-#: 0.025 h; order 3 leaves 1e-16)
-CURVED_TET_ORDER = 3
-
-
 def make_solid(mesh, params: dict, name: str) -> Solid:
     """The scene's body on ``mesh``: ``params["law"]`` of ``E``, ``nu`` in ``kinematics``
-    on ``params["element"]`` (ValueError for ``law=linear`` at finite strain); tet2 and
-    p2p1 with the quadrature :data:`CURVED_TET_ORDER` on curved cells."""
+    on ``params["element"]`` (ValueError for ``law=linear`` at finite strain)."""
     law, kinematics = params["law"], params["kinematics"]
     if law == "linear" and kinematics != "small":
         raise ValueError(f"law 'linear' needs kinematics='small' (it is the small-strain "
                          f"law), got kinematics={kinematics!r}")
     material = LAWS[law](E=float(params["E"]), nu=float(params["nu"]))
-    curved = params["element"] in ("tet2", "p2p1") and not getattr(mesh, "affine", True)
-    return Solid(mesh, material, params["element"], name=name, kinematics=kinematics,
-                 intorder=CURVED_TET_ORDER if curved else None)
+    return Solid(mesh, material, params["element"], name=name, kinematics=kinematics)
 
 
 def displacement(solid: Solid, z: np.ndarray) -> np.ndarray:
