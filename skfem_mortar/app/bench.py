@@ -19,15 +19,22 @@ import numpy as np
 
 __all__ = ["SIZES", "run_bench", "fit_slopes", "check_inputs", "size_of"]
 
+#: the 3D block's runs: small strain (one Newton iteration per size, so the time per
+#: iteration is that of one assembly and one factorization) on hex1 cells
+_BLOCK3D = {"kinematics": "small", "element": "hex1"}
+
 #: scene -> list of parameter sets of growing size: hertz 2e3 to 1.7e5 dofs,
-#: seed 4e2 to 3e5 dofs (each cushion refinement is 4x)
+#: seed 4e2 to 3e5 dofs (each cushion refinement is 4x), block3d 2e3 to 3.5e5 dofs
+#: (its scene refuses a size whose estimated memory exceeds half the machine's)
 SIZES: dict[str, list[dict]] = {
     "hertz": [{"refine": r} for r in (-2, -1, 0, 1, 2, 3)],
     "seed": [{"n_cable": 24 * 2**k, "refine_cushion": k + 1} for k in range(6)],
+    "block3d": [{**_BLOCK3D, "n": n} for n in (8, 12, 16, 24, 32, 40, 48)],
 }
 QUICK: dict[str, list[dict]] = {
     "hertz": [{"refine": 0}],
     "seed": [{"n_cable": 24, "refine_cushion": 1}, {"n_cable": 48, "refine_cushion": 2}],
+    "block3d": [{**_BLOCK3D, "n": 4}, {**_BLOCK3D, "n": 8}],
 }
 PHASES = ("bulk", "search", "contact_assembly", "solve", "output")
 
@@ -93,7 +100,8 @@ def fit_slopes(rows: Sequence[dict], size: str = "n_dofs") -> dict[str, float]:
     ``size`` is a row key: ``n_dofs``, or ``n_multipliers`` (the slave nodes:
     the contact work should grow linearly with them, slope 1).
     """
-    ok = [r for r in rows if r.get("status") == "ok"]
+    # a scene without contact has no multipliers: no slope against them
+    ok = [r for r in rows if r.get("status") == "ok" and r.get(size, 0) > 0]
     out = {}
     if len(ok) < 2:
         return out
@@ -133,9 +141,17 @@ def check_inputs(scenes: Sequence[str], method: str, max_dofs: int | None,
         sc = get_scene(scene)  # a clear error for an unknown scene
         if scene not in table:
             raise ValueError(f"scene must be one of {sorted(table)} for bench, got {scene!r}")
-        sc.check_method(method)
+        sc.check_method(scene_method(scene, method))
         for params in table[scene]:
             sc.resolve(params)
+
+
+def scene_method(scene: str, method: str | None) -> str | None:
+    """``method`` for a scene with contact, None for one without (block3d): the
+    contact method of a bench applies to the scenes that have contact."""
+    from ..scenes import get_scene
+
+    return None if get_scene(scene).methods == (None,) else method
 
 
 def run_bench(out: str | Path, scenes: Sequence[str] = ("hertz", "seed"),
@@ -173,14 +189,14 @@ def run_bench(out: str | Path, scenes: Sequence[str] = ("hertz", "seed"),
     report: dict = {"method": method, "scenes": {}}
     for scene, path in [(sc, p) for sc in scenes for p in paths]:
         entry = scene if len(paths) == 1 else f"{scene} ({path})"
-        rows = []
+        rows, own = [], scene_method(scene, method)
         for params in table[scene]:
-            n = size_of(scene, params, method) if max_dofs is not None else None
+            n = size_of(scene, params, own) if max_dofs is not None else None
             if n is not None and n > max_dofs:  # never run a size above the bound
-                rows.append({"scene": scene, "params": params, "method": method,
+                rows.append({"scene": scene, "params": params, "method": own,
                              "n_dofs": n, "status": f"skipped: {n} dofs > max_dofs {max_dofs}"})
                 break
-            row = _one(scene, params, method, steps, path)
+            row = _one(scene, params, own, steps, path)
             rows.append(row)
             if progress:
                 print(f"bench {entry} {params}: {row.get('n_dofs', '?')} dofs, "
@@ -227,7 +243,8 @@ def plot_bench(report: dict, path: str | Path) -> Path:
                 words = PHASE_WORDS.get(ph, ph)
                 label = f"{words} (slope {slopes[ph]:.2f})" if ph in slopes else words
                 ax.loglog(n, np.maximum(t, 1e-7), "o-", color=colours[ph], label=label)
-        title = f"{scene} ({report['method']})"
+        method = next((r.get("method") for r in rows), report["method"])
+        title = scene if method is None else f"{scene} ({method})"
         if failed:
             title += f"\n{failed} of {len(rows)} sizes failed (not drawn)"
         ax.set_title(title, fontsize=11)

@@ -7,7 +7,6 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
-from ..contact import DEFAULT_METHOD
 from .study_plan import PHYSICS_AXES, StudyPlan, error_measures, variant_key
 
 def _measures(row: dict, refs: dict[str, dict]) -> dict[str, float | None]:
@@ -54,6 +53,7 @@ def _references(plan: StudyPlan, out: Path) -> dict[str, dict]:
     :data:`PHYSICS_AXES` the grid sets (the reference parameters with it, cached
     as ``"<scene> <variant>"``, e.g. ``seed {"mu": 0.3}``)."""
     from ..output.io import write_json
+    from ..scenes import get_scene
     from .runner import run_scene
 
     path = out / "references.json"
@@ -67,7 +67,9 @@ def _references(plan: StudyPlan, out: Path) -> dict[str, dict]:
                 if variant else json.dumps({k: ref[k] for k in ("metrics", "params")},
                                            sort_keys=True)
             if cache.get(name, {}).get("key") != key:
-                summary = run_scene(scene, params, method=DEFAULT_METHOD)
+                # the package's method where the scene has contact, none where not
+                method = get_scene(scene).check_method(None)
+                summary = run_scene(scene, params, method=method)
                 values = {q: summary["metrics"].get(q) for q in ref["metrics"]}
                 cache[name] = {"key": key, "values": values, "params": params}
                 write_json(path, cache)

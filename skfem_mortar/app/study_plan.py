@@ -66,6 +66,20 @@ GRIDS: dict[str, dict[str, Any]] = {
     "tied": {"metrics": ["tip_deflection_error", "energy_error", "traction_max_error",
                          "traction_error"],
              "grid": {"refine": [1, 2, 3, 4]}, "quick": {"refine": [1, 2]}},
+    # the 3D scenes: block3d exact on every element, thick_sphere3d against Lame,
+    # cantilever3d against the beam and against its own refinement (hex2, n = 4)
+    "block3d": {"metrics": ["max_displacement_error", "max_stress_error"],
+                "grid": {"element": ["tet1", "tet2", "hex1", "hex2", "p2p1", "hex1-md"],
+                         "mode": ["stretch", "combined"]},
+                "quick": {"element": ["tet1", "hex1"], "n": [2]}},
+    "thick_sphere3d": {"metrics": ["displacement_l2_error", "inner_radial_displacement_error"],
+                       "grid": {"element": ["tet1", "hex1", "tet2", "hex2"], "n": [2, 4, 8]},
+                       "quick": {"element": ["hex1"], "n": [2, 4]}},
+    "cantilever3d": {"reference": ["tip_deflection"],
+                     "reference_params": {"element": "hex2", "n": 4},
+                     "metrics": ["tip_deflection_beam_error"],
+                     "grid": {"element": ["tet2", "hex2", "p2p1", "hex1-md"], "n": [1, 2, 3]},
+                     "quick": {"element": ["hex2"], "n": [1]}},
 }
 #: a study of at most this many grid points is *small*: each point is timed
 #: ``SMALL_REPEAT`` times unless ``repeat`` says otherwise (larger grids once)
