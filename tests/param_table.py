@@ -35,6 +35,9 @@ VALID = {
     "ironing": {"slide": {"0"}, "x_start": {"0"}, "nu": {"0"}, "mu": {"0"}},
     "seed": {"nu_cushion": {"0"}, "refine_cushion": {"0"}, "mu": {"0"}},
     "thick_sphere": {"nu": {"0"}},
+    "block3d": {"shear": {"0", "-1"}, "nu": {"0"}, "distort": {"0"}},
+    "thick_sphere3d": {"nu": {"0"}},
+    "cantilever3d": {"nu": {"0"}},
 }
 
 

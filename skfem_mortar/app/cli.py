@@ -333,7 +333,7 @@ def _add_study(sub) -> None:
 def _add_bench(sub, steps: Callable[[str], int]) -> None:
     """The ``bench`` sub-command and its arguments (``steps``: the load steps' type)."""
     p = sub.add_parser("bench", help="per-phase timings and peak memory at growing sizes")
-    p.add_argument("--scene", action="append", choices=["hertz", "seed"])
+    p.add_argument("--scene", action="append", choices=["hertz", "seed", "block3d"])
     p.add_argument("--method", choices=BUILTIN_METHODS, default=DEFAULT_METHOD,
                    help=f"contact method (default: {DEFAULT_METHOD})")
     p.add_argument("--quick", action="store_true", help="small sizes only (for CI)")

@@ -66,6 +66,10 @@ GRIDS: dict[str, dict[str, Any]] = {
     "tied": {"metrics": ["tip_deflection_error", "energy_error", "traction_max_error",
                          "traction_error"],
              "grid": {"refine": [1, 2, 3, 4]}, "quick": {"refine": [1, 2]}},
+    # thick_sphere: the axisymmetric wall against Lame, linear and quadratic elements
+    "thick_sphere": {"metrics": ["l2_error", "u_inner_error"],
+                     "grid": {"element": ["tri1", "quad1", "tri2", "quad2"], "n": [2, 4, 8]},
+                     "quick": {"element": ["quad1"], "n": [2, 4]}},
     # the 3D scenes: block3d exact on every element, thick_sphere3d against Lame,
     # cantilever3d against the beam and against its own refinement (hex2, n = 4)
     "block3d": {"metrics": ["max_displacement_error", "max_stress_error"],
