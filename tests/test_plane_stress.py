@@ -171,8 +171,8 @@ REFUSED = {  # body, material, option -> the message
     "sri-stress": (SRISolid, NH, {"plane": "stress"}, "plane must be 'strain' for a SRISolid"),
     "solid-kinematics": (Solid, NH, {"kinematics": "large"}, "kinematics must be one of"),
     "linear-finite": (Solid, LIN, {"kinematics": "finite"}, "kinematics must be 'small' for a Lin"),
-    "mixed-small": (MixedSolid, NH, {"kinematics": "small"}, "kinematics must be 'finite' for a M"),
-    "sri-small": (SRISolid, NH, {"kinematics": "small"}, "kinematics must be 'finite' for a SRI"),
+    "mixed-kinematics": (MixedSolid, NH, {"kinematics": "large"}, "kinematics must be one of"),
+    "sri-linear-finite": (SRISolid, LIN, {"kinematics": "finite"}, "kinematics must be 'small' for"),
 }
 
 

@@ -66,6 +66,14 @@ lambda``, and ``D`` adds ``D[4, 4] = mu + (mu - p) / F_thth^2``, ``D[4, 5] =
 ``F^-1`` is block diagonal).  Quadrature: the plane order plus one (the
 weight ``R`` raises the degree by one; 5 by default).
 
+Every law, both kinematics (:func:`mixed_split`): with the split ``W = W_mu(F) +
+lambda/2 q(F)^2`` of :mod:`.volumetric` (``q = ln J``, ``tr E`` or ``tr eps``; small
+strain: that of the linearized law) the density is ``W_mu + p q - p^2 / (2 lambda)``,
+``sigma = [P_mu + p dq/dF; q - p / lambda]`` and ``D = [[A_mu + p d2q/dF2, dq/dF];
+[dq/dF, -1 / lambda]]`` over the same ``B``.  NeoHooke at finite strain keeps the
+closed forms above, so its recorded results stay bit for bit (equal to the split's
+to round-off: tests/test_volumetric_laws.py).
+
 When to use: nearly incompressible bodies (``nu`` above about 0.45) in contact;
 for compressible ones ``Solid(..., "tri1")`` is cheaper and as accurate.
 """
@@ -84,12 +92,13 @@ from skfem.helpers import inv
 from .deformation import checked_det
 from .geometry_terms import terms_of
 from ..core.errors import InversionError
-from .hyperelastic import NeoHooke
 from ..core.item import Contribution
 from .axisymmetric import output_names
-from .solid import Solid, refuse_reduction
+from .material import Material
+from .solid import Solid, constitutive_law, refuse_reduction
+from .volumetric import VolumetricSplit
 
-__all__ = ["MixedSolid", "mixed_stress_and_tangent", "mixed_axisymmetric"]
+__all__ = ["MixedSolid", "mixed_stress_and_tangent", "mixed_axisymmetric", "mixed_split"]
 
 
 def mixed_stress_and_tangent(F: np.ndarray, p: np.ndarray, mu: float, lmbda: float,
@@ -152,28 +161,79 @@ def mixed_axisymmetric(F: np.ndarray, p: np.ndarray, mu: float, lmbda: float,
     return sig, D
 
 
+#: the generalized strain's ``F`` entries ``(i, J)``: in-plane, then the hoop ``(2, 2)``
+_ROWS = (np.array([0, 0, 1, 1, 2]), np.array([0, 1, 0, 1, 2]))
+
+
+def mixed_split(F: np.ndarray, p: np.ndarray, split: VolumetricSplit, tangent: bool = True
+                ) -> tuple[np.ndarray, np.ndarray | None]:
+    """Generalized stress and tangent of the mixed density ``W_mu(F) + p q(F) - p^2 /
+    (2 lambda)`` of any law's :class:`~skfem_mortar.bodies.volumetric.VolumetricSplit`.
+
+    ``F`` ``(2, 2, ...)`` (plane strain) or the block-diagonal ``(3, 3, ...)`` with the
+    hoop stretch; with ``k = 4`` or ``5`` entries of ``F`` (:data:`_ROWS`),
+
+        sigma[:k] = (P_mu + p dq/dF)[i, J],      sigma[k] = q - p / lambda ,
+        D[:k, :k] = (A_mu + p d2q/dF2)[i, J, k, L] ,
+        D[:k, k] = D[k, :k] = dq/dF[i, J],       D[k, k] = -1 / lambda ,
+
+    the layout of :func:`mixed_stress_and_tangent` and :func:`mixed_axisymmetric` (equal
+    to them for NeoHooke up to round-off).  Small strain: the split of the linearized law
+    (``q = tr eps``, ``P_mu = 2 mu eps``).  InversionError where ``det F <= 0`` or the hoop
+    stretch ``<= 0`` (finite strain).
+    """
+    F = np.asarray(F, dtype=float)
+    k = 4 if F.shape[0] == 2 else 5
+    I, J = _ROWS[0][:k], _ROWS[1][:k]
+    if k == 5 and split.kind != "linear" and not np.all(F[2, 2] > 0.0):
+        raise InversionError(f"inverted material point(s): hoop stretch <= 0, min "
+                             f"{F[2, 2].min():.3e}")
+    P, A = split.shear.stress_and_tangent(F, tangent=tangent)
+    q, dq, d2q = split.log_measure(F, tangent)
+    sig = np.empty((k + 1,) + F.shape[2:])
+    sig[:k] = (P + p * dq)[I, J]
+    sig[k] = q - p / split.lmbda
+    if not tangent:
+        return sig, None
+    D = np.empty((k + 1,) + sig.shape)
+    D[:k, :k] = (A + p * d2q)[I[:, None], J[:, None], I[None, :], J[None, :]]
+    D[:k, k] = D[k, :k] = dq[I, J]
+    D[k, k] = -1.0 / split.lmbda
+    return sig, D
+
+
 class MixedSolid(Solid):
-    """A plane-strain neo-Hookean body on MINI triangles (P1 + bubble / P1 pressure).
+    """A plane-strain or axisymmetric body on MINI triangles (P1 + bubble / P1 pressure).
 
     Parameters
     ----------
     mesh : skfem.MeshTri
         Reference configuration; named boundaries can be used by :meth:`dofs_on`.
-    material : NeoHooke
-        Its ``mu`` and ``lmbda`` (``lmbda > 0``, i.e. ``nu > 0``: the pressure
-        equation divides by ``lmbda``).
+    material : Material
+        NeoHooke, SaintVenantKirchhoff or LinearElastic with ``lmbda > 0`` (``nu > 0``:
+        the pressure equation divides by ``lmbda``).
     name : str
         Item name.
     intorder : int
         Quadrature order (>= 2) of the displacement and pressure bases, default 4
         (exact for the linearized integrands, see the module docstring); in an
         axisymmetric model one more (the weight ``R`` raises the degree by one).
-    kinematics : {"finite"}
-        Only finite strain (the mixed form is of the neo-Hookean energy).
-    plane : {"strain"}
-        Only plane strain: the pressure constrains ``ln J`` of the in-plane
+    kinematics : {"finite", "small"}, optional
+        Finite strain (the law's split) or small strain (the split of its
+        linearization, ``q = tr eps``); default as
+        :class:`~skfem_mortar.bodies.solid.Solid`: ``"small"`` for a LinearElastic
+        material, else ``"finite"``.
+    plane : {"strain"}, optional
+        Only plane strain: the pressure constrains the volume of the in-plane
         motion, and plane stress does not lock (use
         :class:`~skfem_mortar.bodies.solid.Solid` with ``plane="stress"``).
+
+    Attributes
+    ----------
+    material : Material
+        The law evaluated (linearized for small kinematics).
+    split : VolumetricSplit
+        Its shear part and volume measure ``q``.
 
     Notes
     -----
@@ -188,24 +248,23 @@ class MixedSolid(Solid):
     geometries = ("plane", "axisymmetric")
     _geometry = "plane"
 
-    def __init__(self, mesh: MeshTri, material: NeoHooke, name: str = "solid",
-                 intorder: int = 4, *, kinematics: str = "finite",
-                 plane: str = "strain"):
-        refuse_reduction(type(self).__name__, kinematics, plane)
+    def __init__(self, mesh: MeshTri, material: Material, name: str = "solid",
+                 intorder: int = 4, *, kinematics: str | None = None,
+                 plane: str | None = None):
+        refuse_reduction(type(self).__name__, plane)
         if not isinstance(mesh, MeshTri):
             raise ValueError(f"mesh must be a skfem.MeshTri (linear triangles), "
                              f"got {type(mesh).__name__}")
-        if not isinstance(material, NeoHooke):
-            raise ValueError(f"material must be a skfem_mortar.bodies.materials.NeoHooke "
-                             f"(the mixed form is of its energy), got {type(material).__name__}")
-        if not material.lmbda > 0.0:
+        law, kinematics = constitutive_law(material, kinematics)
+        self.split = VolumetricSplit(law)
+        if not law.lmbda > 0.0:
             raise ValueError(f"material must have lmbda > 0 (nu > 0): the pressure equation "
-                             f"divides by lmbda (got lmbda = {material.lmbda})")
+                             f"divides by lmbda (got lmbda = {law.lmbda})")
         self._intorder = quadrature_order(intorder, 2)
         check_mesh(mesh, f"mesh of {name!r}")
         self.mesh = mesh
-        self.material = material
-        self.kinematics, self.plane = kinematics, plane
+        self.material = law
+        self.kinematics, self.plane = kinematics, "strain"
         self.name = name
         self._cell_type = "triangle"
         self._n_nodes = int(mesh.nvertices)
@@ -297,6 +356,9 @@ class MixedSolid(Solid):
     def _state(self, z: np.ndarray, tangent: bool):
         F = self.deformation_gradient(z)
         p = self.pressure_at_points(z)
+        if self.split.kind != "log":          # the split of any other law
+            return mixed_split(F, p, self.split, tangent)
+        # NeoHooke at finite strain: its closed form (the same numbers to round-off)
         law = mixed_stress_and_tangent if self._hoop is None else mixed_axisymmetric
         return law(F, p, self.material.mu, self.material.lmbda, tangent)
 
@@ -363,14 +425,17 @@ class MixedSolid(Solid):
 
     # -- output ------------------------------------------------------------------
     def cauchy(self, z: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """Mixed Cauchy stress on the quadrature points: ``sigma = J^-1 (P_mu + p F^-T) F^T``
-        (2, 2, n_el, n_qp) and ``sigma_zz = p / J`` (plane strain, ``F_zz = 1``:
-        ``P_zz = mu (1 - 1) + p``), equal to NeoHooke's when ``p = lambda ln J``;
-        axisymmetric: the hoop ``sigma_thth = P_thth F_thth / J`` in its place."""
+        """Mixed Cauchy stress on the quadrature points: ``sigma = J^-1 (P_mu + p dq/dF)
+        F^T`` (2, 2, n_el, n_qp) and ``sigma_zz = p / J`` (plane strain, ``F_zz = 1``: the
+        shear part has no ``P_zz`` and ``dq/dF_zz = 1`` for every law), equal to the law's
+        own when ``p = lambda q``; axisymmetric: the hoop ``sigma_thth = P_thth F_thth / J``
+        in its place.  Small strain: ``sigma = P_mu + p I`` itself, ``sigma_zz = p``."""
         F = self.deformation_gradient(z)
         sig, _ = self._state(z, False)
-        J = checked_det(F)
         P = sig[:4].reshape((2, 2) + F.shape[2:])
+        if self.kinematics == "small":
+            return P, (sig[4] if self._hoop is not None else self.pressure_at_points(z))
+        J = checked_det(F)
         sigma = np.einsum("iJ...,kJ...->ik...", P, F[:2, :2]) / J
         if self._hoop is not None:
             return sigma, sig[4] * F[2, 2] / J

@@ -125,14 +125,11 @@ def constitutive_law(material: Material, kinematics: str | None = None,
     return (law.linearized() if kinematics == "small" else law), kinematics
 
 
-def refuse_reduction(body: str, kinematics: str, plane: str) -> None:
-    """For the bodies that are finite-strain plane-strain only (MixedSolid, SRISolid):
-    ValueError naming ``kinematics`` or ``plane`` unless they are ``"finite"`` and
-    ``"strain"``."""
-    if kinematics != "finite":
-        raise ValueError(f"kinematics must be 'finite' for a {body} (it has no small-strain "
-                         f"form; use Solid(..., kinematics='small')), got {kinematics!r}")
-    if plane != "strain":
+def refuse_reduction(body: str, plane: str | None) -> None:
+    """For the bodies that treat the volume apart in 2D (MixedSolid, SRISolid): ValueError
+    naming ``plane`` unless it is ``"strain"`` (or None, the default): plane stress does
+    not lock, so they have no plane-stress form."""
+    if plane is not None and plane != "strain":
         raise ValueError(f"plane must be 'strain' for a {body} (plane stress does not lock: "
                          f"use Solid(..., plane='stress')), got {plane!r}")
 

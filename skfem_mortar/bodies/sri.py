@@ -36,7 +36,25 @@ small strain: ``b_l / V_e`` is the B-bar row ``int B_vol 2 pi R dA / V_e``):
     K_lm = lambda (1 - ln J_bar) / (J_bar^2 V_e) b_l b_m
            + lambda ln(J_bar) / J_bar int d^2 J / du_l du_m 2 pi R dA ,
 
-``d^2 J / dF_iJ dF_kL = J (F^-1_Ji F^-1_Lk - F^-1_Jk F^-1_Li)``.  Contact surfaces keep
+``d^2 J / dF_iJ dF_kL = J (F^-1_Ji F^-1_Lk - F^-1_Jk F^-1_Li)``.
+
+Every law, both kinematics (:meth:`SRISolid.assemble_split`): the split ``W = W_mu +
+U(m)`` of :mod:`.volumetric` (SaintVenantKirchhoff: ``m = tr E``, LinearElastic and
+every law at small strain: ``m = tr eps``, ``U = lambda/2 m^2``) with the mean
+dilatation ``Pi_e = int_e W_mu dV + V_e U(m_bar)``, ``m_bar = int_e m dV / V_e`` on the
+2 x 2 points (``dV`` with the ``2 pi R`` weight in an axisymmetric model), as
+:mod:`.mean_dilatation` does for hex1: with ``g_l = int_e dm/dF : G_l dV``
+
+    r_l = int_e P_mu : G_l dV + U'(m_bar) g_l ,
+    K_lm = int_e G_l : (A_mu + U'(m_bar) d2m/dF2) : G_m dV + U''(m_bar) / V_e g_l g_m .
+
+In plane 2D ``m_bar`` of ``tr eps`` is its centre value (``int_e div u dA`` is the
+derivative of ``v_e``, the centre rule's exact volume), so small strain is the one-point
+rule itself; of ``tr E`` it is the mean, which the centre misses by ``O(|Grad u|^2)`` on
+a distorted element.  NeoHooke at finite strain keeps the two forms above (the
+same discrete energy: its recorded results bit for bit, equal to this one to round-off).
+
+Contact surfaces keep
 their straight 2-node segments (quad1 facets), so every contact method applies.
 :func:`split_to_quads` turns a triangle mesh (e.g. the graded Hertz meshes)
 into a quadrilateral one.
@@ -48,9 +66,11 @@ from skfem import Basis, ElementQuad1, ElementVector, MeshQuad, MeshTri
 from skfem.helpers import grad, inv
 
 from .deformation import checked_det
-from .hyperelastic import NeoHooke
+from .hoop import hoop_residual, hoop_tangent
 from ..core.item import Contribution
+from .material import Material
 from .solid import Solid, internal_force, material_stiffness, refuse_reduction
+from .volumetric import VolumetricSplit
 
 __all__ = ["SRISolid", "split_to_quads", "ONE_POINT"]
 
@@ -75,40 +95,51 @@ def _volumetric(F: np.ndarray, lmbda: float, tangent: bool = True):
 
 
 class SRISolid(Solid):
-    """A quad1 neo-Hookean solid with the volumetric energy integrated at one point.
+    """A quad1 solid with the volumetric energy of one point (the mean dilatation) per
+    element (module docstring).
 
     Parameters
     ----------
     mesh : skfem.MeshQuad
-    material : NeoHooke
-        Its ``mu`` goes to the fully integrated part, its ``lmbda`` to the
-        reduced one; any ``nu`` in ``(-1, 0.5)``.
+    material : Material
+        NeoHooke, SaintVenantKirchhoff or LinearElastic: its ``mu`` goes to the fully
+        integrated shear part, its ``lmbda`` to the volumetric one; any ``nu`` in
+        ``(-1, 0.5)``.
     name : str
-    kinematics : {"finite"}
-        Only finite strain (the split is of the neo-Hookean energy).
-    plane : {"strain"}
+    kinematics : {"finite", "small"}, optional
+        Finite strain (the law's split) or small strain (the split of its
+        linearization); default as :class:`~skfem_mortar.bodies.solid.Solid`:
+        ``"small"`` for a LinearElastic material, else ``"finite"``.
+    plane : {"strain"}, optional
         Only plane strain: plane stress does not lock (its in-plane
         ``lambda* = 2 lambda mu / (lambda + 2 mu)`` stays below ``2 mu``), use
         :class:`~skfem_mortar.bodies.solid.Solid`.
+
+    Attributes
+    ----------
+    material : Material
+        The shear part the full 2 x 2 rule integrates (the law at ``lambda = 0``).
+    full_material : Material
+        The law (linearized for small kinematics): the stress output's.
+    split : VolumetricSplit
 
     Notes
     -----
     Residual and tangent are the exact derivatives of the split discrete energy,
     so Newton converges quadratically.  Stress output (``output_data``) is the
-    full neo-Hookean Cauchy stress at the 2 x 2 points, smoothed per element.
+    full law's Cauchy stress at the 2 x 2 points, smoothed per element.
     """
 
     geometries = ("plane", "axisymmetric")
 
-    def __init__(self, mesh: MeshQuad, material: NeoHooke, name: str = "solid", *,
-                 kinematics: str = "finite", plane: str = "strain"):
-        refuse_reduction(type(self).__name__, kinematics, plane)
-        if not isinstance(material, NeoHooke):
-            raise ValueError("material must be a NeoHooke (the split is of its energy)")
-        super().__init__(mesh, NeoHooke(mu=material.mu, lmbda=0.0), element="quad1",
-                         name=name)
-        self.full_material = material
-        self.lmbda = float(material.lmbda)
+    def __init__(self, mesh: MeshQuad, material: Material, name: str = "solid", *,
+                 kinematics: str | None = None, plane: str | None = None):
+        refuse_reduction(type(self).__name__, plane)
+        super().__init__(mesh, material, element="quad1", name=name, kinematics=kinematics)
+        self.full_material = self.material
+        self.split = VolumetricSplit(self.full_material)
+        self.material = self.split.shear
+        self.lmbda = self.split.lmbda
         # one point at the centre of the reference square [0, 1]^2, weight 1:
         # scikit-fem gives quads 2 x 2 points for every intorder, so the rule
         # is passed explicitly (intorder=1 gave 4 points: plain quad1, locking)
@@ -116,6 +147,8 @@ class SRISolid(Solid):
 
     def assemble(self, z: np.ndarray, load_factor: float, tangent: bool = True
                  ) -> Contribution:
+        if self.split.kind != "log":
+            return self.assemble_split(z, tangent)
         dev = super().assemble(z, load_factor, tangent)
         if self._hoop is not None:
             return Contribution.concat([dev, self._mean_dilatation(z, tangent)])
@@ -129,6 +162,47 @@ class SRISolid(Solid):
         if tangent:
             K = material_stiffness.assemble(self.vbasis, At=np.transpose(A, (2, 3, 0, 1, 4, 5)))
         return Contribution.concat([dev, Contribution.from_local(self.offset, r, K)])
+
+    def assemble_split(self, z: np.ndarray, tangent: bool = True) -> Contribution:
+        """The mean-dilatation residual and tangent of the law's split (module
+        docstring), every law; :meth:`assemble` for all but NeoHooke at finite strain."""
+        re, ke = self._split_local(z, tangent)
+        out = Contribution.from_local(self.offset, np.bincount(
+            self._edofs.ravel(), weights=re.ravel(), minlength=self.n_dofs))
+        if tangent:
+            out.k_rows, out.k_cols = self._tangent_index()
+            out.k_vals, out.k_elements = ke.ravel(), self._kidx[3]
+        return out
+
+    def _split_local(self, z: np.ndarray, tangent: bool
+                     ) -> tuple[np.ndarray, np.ndarray | None]:
+        """Element residuals ``(n_loc, n_el)`` and tangents ``(n_loc, n_loc, n_el)`` of
+        :meth:`assemble_split`."""
+        F = self.deformation_gradient(z)
+        split, dx, hoop = self.split, self._dx, self._hoop
+        P, A = split.shear.stress_and_tangent(F, tangent=tangent)
+        m, dm, d2m = split.mean_measure(F, tangent)
+        V = dx.sum(axis=1)
+        dU, d2U = split.energy_derivatives((m * dx).sum(axis=1) / V)
+        P = P + dU[:, None] * dm
+        g, re = self._residuals(dm), self._residuals(P)
+        if hoop is not None:                    # the hoop rows: P_thth h_l, dm_thth h_l
+            g += hoop_residual(dm, hoop, dx)
+            re += hoop_residual(P, hoop, dx)
+        if not tangent:
+            return re, None
+        A = A + dU[:, None] * d2m
+        if hoop is None:
+            ke = self._tangents(A * dx)
+        else:
+            ke = self._tangents(A[:2, :2, :2, :2] * dx) + hoop_tangent(A, self._dN, self._comp,
+                                                                        hoop, dx)
+        return re, ke + (d2U / V) * g[:, None] * g[None, :]
+
+    def internal_force(self, z: np.ndarray) -> np.ndarray:
+        """The whole residual (shear and volumetric parts) on the body's dofs."""
+        c = self.assemble(z, 1.0, tangent=False)
+        return np.bincount(c.r_index - self.offset, weights=c.r_value, minlength=self.n_dofs)
 
     def mean_dilatation(self, z: np.ndarray) -> np.ndarray:
         """``J_bar = v_e / V_e`` per element (the volume ratio of each element's ring;
