@@ -485,7 +485,8 @@ SCENE = Scene(
               "Newton iteration, or once per load step (frozen during the step)", str,
               choices=("iteration", "step")),
         Param("kinematics", "finite", "bodies' strain: finite (neo-Hooke) or small (linear "
-              "elasticity, tri1 only; contact on the current configuration)", str,
+              "elasticity, every element, mini included; contact on the current "
+              "configuration)", str,
               choices=KINEMATICS),
     ),
     build=build,
