@@ -239,9 +239,11 @@ def test_vtu_text_reads_back_as_written(tmp_path, cell_type, k):
 
 def test_vtu_text_leaves_other_cells_and_dtypes_to_meshio():
     from skfem_mortar.output.io import vtu_text
-    pts = np.zeros((4, 3))
-    tet = [("tetra", np.array([[0, 1, 2, 3]]))]
+    pts = np.zeros((6, 3))
+    # the 3D bodies' cells (tetra, hexahedron and their quadratic forms) are written
+    # here now; a cell type no body makes (a wedge) is still meshio's
+    wedge = [("wedge", np.array([[0, 1, 2, 3, 4, 5]]))]
     tri = [("triangle", np.array([[0, 1, 2]]))]
-    assert vtu_text(pts, tet, {}, {}) is None
-    assert vtu_text(pts, tri, {"b": np.ones(4, dtype=bool)}, {}) is None
+    assert vtu_text(pts, wedge, {}, {}) is None
+    assert vtu_text(pts, tri, {"b": np.ones(6, dtype=bool)}, {}) is None
     assert vtu_text(pts, tri, {}, {"s": [np.ones(1), np.ones(1)]}) is None  # blocks mismatch

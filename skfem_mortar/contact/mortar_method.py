@@ -255,7 +255,7 @@ class Mortar(ContactDiscretization):
         k, km = self.cells[0].n_nodes, self.cells[1].n_nodes
         two, own = np.arange(2), np.arange(n_s)
         sc = (2 * snodes[:, :, None] + two).reshape(el.size, -1)
-        mc = (2 * n_s + 2 * seg_m[e_m][:, :, None] + two).reshape(e_m.size, -1)
+        mc = (2 * n_s + 2 * seg_m[e_m][:, :, None] + two).reshape(e_m.size, 2 * km)  # none held: 0 rows
         rows = np.concatenate([np.repeat(seg_s[el], sc.shape[1], axis=1).ravel(),
                                np.repeat(seg_s[e_s], 2 * km, axis=1).ravel(), own, own])
         cols = np.concatenate([np.tile(sc, (1, k)).ravel(), np.tile(mc, (1, k)).ravel(),
