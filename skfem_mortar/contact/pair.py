@@ -172,7 +172,11 @@ class ContactPair(Item):
     """
 
     dof_kind = "lam"
-    geometries = ("plane",)   # the others in their own issues
+    geometries = ("plane",)
+    #: contact in the other geometries comes with axisymmetric and 3D contact
+    geometry_advice = {g: f"contact in {a} model is not offered yet (only in plane models); "
+                          f"it comes with {g} contact"
+                       for g, a in (("axisymmetric", "an axisymmetric"), ("3d", "a 3D"))}
     loaded = False  # its residual does not depend on the load factor
     #: K_lamu = c G on active rows against K_ulam = -G^T (and H): not symmetric
     symmetric = False

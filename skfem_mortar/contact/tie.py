@@ -151,7 +151,11 @@ class TiePair(Item):
     """
 
     dof_kind = "lam"
-    geometries = ("plane",)   # the others in their own issues
+    geometries = ("plane",)
+    #: tying in the other geometries comes with axisymmetric and 3D contact
+    geometry_advice = {g: f"tying in {a} model is not offered yet (only in plane models); "
+                          f"it comes with {g} contact"
+                       for g, a in (("axisymmetric", "an axisymmetric"), ("3d", "a 3D"))}
     loaded = False  # its residual does not depend on the load factor
     symmetric = True  # K_ulam = -B^T, K_lamu = -B
     has_history = False  # D and M depend only on the reference configuration

@@ -29,7 +29,9 @@ def _traction_work(v, w):
 class Traction(Item):
     """A reference (dead) traction ``T`` on a boundary, ramped with the load factor.
 
-    Residual: ``R_a -= load_factor * int_Gamma0 v_a . T dA``.
+    Residual: ``R_a -= load_factor * int_Gamma0 v_a . T dA``; in an axisymmetric
+    model ``dA = 2 pi R dS`` on the surface of revolution (``R`` the reference
+    radius, ``x``), so the force is the total over the full revolution.
 
     Parameters
     ----------
@@ -39,8 +41,8 @@ class Traction(Item):
         A tag of ``body.mesh.boundaries`` or an array of boundary facet indices.
     traction : sequence of d floats, or callable
         The traction vector: in 2D per unit reference length and unit
-        reference thickness (a model's thickness multiplies its force), in 3D
-        per unit reference area; or a function ``T(x) -> array (d, ...)`` of
+        reference thickness (a model's thickness multiplies its force), in an
+        axisymmetric model and in 3D per unit reference area; or a function ``T(x) -> array (d, ...)`` of
         the reference facet quadrature points ``x (d, n_facets, n_qp)``
         (``d`` = 2 or 3, the mesh's dimension).
     name : str
@@ -48,7 +50,7 @@ class Traction(Item):
     """
 
     phase = "loads"
-    geometries = ("plane", "3d")   # axisymmetric in its own issue
+    geometries = ("plane", "axisymmetric", "3d")
 
     def __init__(self, body, boundary: str | np.ndarray,
                  traction: Sequence[float] | Callable[[np.ndarray], np.ndarray],
@@ -73,23 +75,38 @@ class Traction(Item):
                                  f"{x.shape} (one {dim}-vector per point), got {t.shape}")
         else:
             t = t0[:, None, None] * np.ones((1,) + fb.global_coordinates().shape[1:])
-        f = _traction_work.assemble(fb, t=t)
         self.body = body
         tag = boundary if isinstance(boundary, str) else "facets"
         self.name = name or f"traction_{body.name}_{tag}"
-        self._idx = np.flatnonzero(f)
-        self._f = f[self._idx]
+        self._fb, self._t = fb, t
+        self._loads: dict[str, tuple[np.ndarray, np.ndarray]] = {}
+        self._load()                     # the plane (or 3D) load, checked now
+
+    def _load(self) -> tuple[np.ndarray, np.ndarray]:
+        """The loaded local dofs and their full-load forces in the model's geometry
+        (computed once per geometry: the weight ``2 pi R`` of a revolved surface)."""
+        g = self.geometry if self.geometry == "axisymmetric" else "plane"
+        if g not in self._loads:
+            t = self._t
+            if g == "axisymmetric":
+                t = t * (2.0 * np.pi * self._fb.global_coordinates()[0])
+            f = _traction_work.assemble(self._fb, t=t)
+            idx = np.flatnonzero(f)
+            self._loads[g] = (idx, f[idx])
+        return self._loads[g]
 
     @property
     def force(self) -> np.ndarray:
         """The full-load nodal force vector (local to the body)."""
+        idx, f = self._load()
         out = np.zeros(self.body.n_dofs)
-        out[self._idx] = self._f
+        out[idx] = f
         return out
 
     def assemble(self, z: np.ndarray, load_factor: float, tangent: bool = True
                  ) -> Contribution:
-        return Contribution(self.body.offset + self._idx, -load_factor * self._f)
+        idx, f = self._load()
+        return Contribution(self.body.offset + idx, -load_factor * f)
 
 
 class PointLoad(Item):
