@@ -30,7 +30,7 @@ the volumetric energy is that of the mean dilatation,
 
 on the deviatoric part's quadrature points, with ``b_l = dv_e/du_l =
 int J (F^-T : G_l) 2 pi R dA`` (``G_l = dF/du_l``, its hoop entry ``N_l / R``;
-small strain: ``b_l / V_e`` is the B-bar row ``int B_vol 2 pi R dA / V_e``):
+small strain: ``b_l / V_e`` is the B-bar row ``int B_vol 2 pi R dA / V_e``): ::
 
     r_l = lambda ln(J_bar) / J_bar b_l ,
     K_lm = lambda (1 - ln J_bar) / (J_bar^2 V_e) b_l b_m

@@ -18,7 +18,7 @@ meet at a node.
 Derivatives: ``u_e`` is a function of the cell's ``k d`` node coordinates; ``v`` is
 linear (2D) or bilinear (3D: ``d2v_i / dx_{b c} dx_{b' c'} = eps_{i c c'} (G_{b 1} G_{b'
 2} - G_{b 2} G_{b' 1})``, ``G = dN/dxi`` at ``xi_A``) in them, and the normalization
-``f(v) = v / |v|`` has ``df = (I - f f^T) / |v|`` and
+``f(v) = v / |v|`` has ``df = (I - f f^T) / |v|`` and ::
 
     d2f_i / dv_j dv_k = (3 f_i f_j f_k - delta_ij f_k - delta_ik f_j - delta_jk f_i) / |v|^2 .
 

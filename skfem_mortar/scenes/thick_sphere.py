@@ -122,8 +122,8 @@ def _body(mesh, element: str, E: float, nu: float):
 
 
 def pressure_load(body, element: str, p: float) -> PointLoad:
-    """The dead pressure ``p`` on the reference inner face: ``f_l = -int p n . N_l
-    2 pi R ds`` (``n`` the body's outward normal, towards the centre)."""
+    """The dead pressure ``p`` on the reference inner face, nodal forces
+    ``f_l = -int p N_l n 2 pi R ds`` (``n`` the body's outward normal, towards the centre)."""
     mesh = body.mesh
     order = 2 if element.endswith("2") else 1
     fb = FacetBasis(mesh, ElementVector(_SCALAR[element]()),

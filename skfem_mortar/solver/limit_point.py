@@ -49,7 +49,9 @@ MAX_LIMIT_CUTS = 2
 class LimitPointError(ConvergenceError):
     """The load passes a limit point that load control cannot follow.
 
-    Attributes (besides :class:`~skfem_mortar.core.errors.ConvergenceError`'s)
+    Besides :class:`~skfem_mortar.core.errors.ConvergenceError`'s attributes:
+
+    Attributes
     ----------
     estimate : float
         The load factor of the limit point, estimated from ``S_p``.
