@@ -38,6 +38,8 @@ import numpy as np
 import scipy.sparse as sp
 
 from ..core.chain import polyline
+from .cells import CellType
+from .curves import chain_nodes
 from .search import node_segment_pairs
 
 __all__ = ["ActiveSet", "StatusSet", "chain_order", "extrapolated_release", "normal_nodal_force",
@@ -46,15 +48,15 @@ __all__ = ["ActiveSet", "StatusSet", "chain_order", "extrapolated_release", "nor
 log = logging.getLogger("skfem_mortar.contact.pair")
 
 
-def chain_order(segments: np.ndarray, closed: bool, n_nodes: int) -> np.ndarray | None:
-    """Nodes in chain order from chained segments (None when the segments do not
-    visit every node once)."""
+def chain_order(segments: np.ndarray, closed: bool, n_nodes: int,
+                cell: "str | CellType") -> np.ndarray | None:
+    """Nodes in chain order from chained cells of type ``cell`` (None when the cells
+    do not visit every node once): along each cell's edge (``line3`` (start, end,
+    mid): start, mid, start, mid, ..., end; :func:`~.curves.chain_nodes`)."""
     seg = np.asarray(segments)
     if seg.size == 0:
         return None
-    # 3-node segments (start, end, mid): start, mid, start, mid, ..., end
-    first = seg[:, [0, 2]].ravel() if seg.shape[1] == 3 else seg[:, 0]
-    order = first if closed else np.r_[first, seg[-1, 1]]
+    order = chain_nodes(seg, cell, closed)
     if order.size != n_nodes or np.unique(order).size != order.size:
         return None
     return order

@@ -63,6 +63,7 @@ from .kkt import K_GAP, K_LAM, violation
 from .methods import METHODS, make_method  # METHODS: the registry's names, the built-ins in it
 from .multiplier_spaces import MultiplierSpace, space_for
 from .reservation import Reservation
+from .segmentation import surface_cell
 from .surfaces import segment_lengths
 from .tangential_rows import NEAR_BOUND, P_REF_FIT, tangential_rows
 from ..core.binding import rebind
@@ -225,7 +226,7 @@ class ContactPair(Item):
             raise ValueError(f"method {method!r} names its state {sorted(clash)}, which the "
                              f"pair's state uses; rename them")
         self.state = ActiveSet(slave.n_nodes, chain_order(slave.segments, slave.closed,
-                                                        slave.n_nodes),
+                                                        slave.n_nodes, surface_cell(slave)),
                                name, cycle_guard=cycle_guard, accelerate=accelerate)
         self._started = False
         #: (the discretization's pattern, the triplets over it) and how often a
