@@ -37,7 +37,7 @@ from .jets import Jet, at_gauss, sqrt, value
 __all__ = ["is_affine", "check_line", "ends", "polyline", "chain_nodes", "shape_values",
            "curve", "newton_step", "project_values", "projection_jets", "arc_length",
            "cell_nodes", "tributary_weights", "N_NEWTON", "XI_LIMIT", "N_ARC",
-           "N_TRIBUTARY"]
+           "N_TRIBUTARY", "VTK_LINES", "output_cells", "cell_lengths"]
 
 #: Newton steps of the closest-point projection on values (quadratic convergence
 #: from the chord's projection: 1e-15 in ~6 steps on a segment bent by 10 % of its length)
@@ -50,6 +50,36 @@ N_ARC = 8
 #: Gauss points of the tributary weights of a curved cell (that of
 #: :data:`~skfem_mortar.core.chain.N_GAUSS_CURVE`: exact on a straight ``line3``)
 N_TRIBUTARY = 5
+
+
+#: the VTK cell of each line cell type VTK has one for (the others are written as
+#: their chords, :func:`output_cells`)
+VTK_LINES = {"line2": "line", "line3": "line3"}
+
+
+def output_cells(seg: np.ndarray, cell: "str | CellType") -> list[tuple[str, np.ndarray]]:
+    """The cells of a surface for the VTU writer: ``[(vtk_type, connectivity)]``, the
+    cells themselves where VTK has their type (:data:`VTK_LINES`; ``line3`` (start,
+    end, mid) is VTK's quadratic edge), else their chords through every node
+    (:func:`polyline`, ``line``)."""
+    cell = cell_type(cell)
+    seg = np.asarray(seg, dtype=np.int64)
+    vtk = VTK_LINES.get(cell.name)
+    return [(vtk, seg)] if vtk is not None else [("line", polyline(seg, cell))]
+
+
+def cell_lengths(x: np.ndarray, seg: np.ndarray, cell: "str | CellType") -> np.ndarray:
+    """Length (n_seg,) of each cell: ``|x_end - x_start|`` of an affine cell, else
+    ``int |x'| dxi`` by the cell's rule of :data:`N_TRIBUTARY` points."""
+    cell = cell_type(cell)
+    seg = np.asarray(seg, dtype=np.int64)
+    if is_affine(cell):
+        e = ends(seg, cell)
+        return np.hypot(*(x[:, e[:, 1]] - x[:, e[:, 0]]))
+    eta, w = cell.quadrature(2 * N_TRIBUTARY - 1)
+    dN = shape_values(cell, eta[0])[1]
+    t = np.einsum("dsk,kq->dsq", x[:, seg], dN)
+    return np.hypot(t[0], t[1]) @ w
 
 
 def is_affine(cell: "str | CellType") -> bool:

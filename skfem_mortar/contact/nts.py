@@ -37,7 +37,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from .cells import CellType
-from .curves import check_line, curve, ends, is_affine, polyline, projection_jets, tributary_weights
+from .curves import cell_lengths, check_line, curve, ends, is_affine, polyline, projection_jets, tributary_weights
 from .scatter import Triplets
 from .segmentation import line_cells, surface_cell
 from .contact_eval import ContactEval
@@ -177,7 +177,7 @@ def _curve_gap(xs, xm, m, k, pr, cell, second):
 
 
 def _lengths(surface) -> np.ndarray:
-    return segment_lengths(surface.X, surface.segments)
+    return cell_lengths(surface.X, surface.segments, surface_cell(surface))
 
 
 def nearest_nodes(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarray,
@@ -340,7 +340,7 @@ class NTS(ContactDiscretization):
         """The search margin of :func:`project` (default: the median master segment length)."""
         margin = self.options.get("margin")
         if margin is None:
-            lm = segment_lengths(xm, self.master.segments)
+            lm = cell_lengths(xm, self.master.segments, self.cells[1])
             margin = float(np.median(lm)) if lm.size else 0.0
         return margin
 

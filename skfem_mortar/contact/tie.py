@@ -73,6 +73,7 @@ import scipy.sparse as sp
 from ..core.item import Contribution, Item
 from ..core.validate import count
 from . import mortar
+from .curves import output_cells
 from .multiplier_spaces import MultiplierSpace, traction_space
 from .preflight_orientation import nodal_normals
 from .segmentation import surface_cell
@@ -85,10 +86,6 @@ class _Integrals(NamedTuple):
     D: sp.csr_matrix
     M: sp.csr_matrix
     mask: np.ndarray
-
-
-#: the output layer's cell name of each line cell type
-VTK_LINES = {"line2": "line", "line3": "line3"}
 
 
 def _integrals(s: ContactSurface, m: ContactSurface, space: MultiplierSpace, n_gauss: int,
@@ -358,7 +355,7 @@ class TieOutput:  # an Output (skfem_mortar.core.model) for the output layer
     def output_mesh(self) -> tuple[np.ndarray, list[tuple[str, np.ndarray]]]:
         s = self.tie.slave
         seg = np.asarray(s.segments)  # line3 (start, end, mid): VTK's quadratic edge
-        return s.X.T.copy(), [(VTK_LINES[surface_cell(s).name], seg)]
+        return s.X.T.copy(), output_cells(seg, surface_cell(s))
 
     def output_data(self, z: np.ndarray) -> tuple[dict, dict]:
         s = self.tie.slave
