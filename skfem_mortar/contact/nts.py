@@ -1,6 +1,9 @@
-"""Node-to-segment (NTS) contact: closest-point projection, normal gap and its derivatives.
+"""Node-to-segment (NTS) contact: closest-point projection, normal gap and its derivatives,
+one gap over every line cell type of the cell table (:mod:`.cells`, :mod:`.curves`).
 
-For a slave node ``x`` and the master segment ``(x_1, x_2)`` it projects on::
+Affine master cells (``line2``; :func:`~.curves.is_affine`, a declared property of
+the cell) in closed form.  For a slave node ``x`` and the master segment
+``(x_1, x_2)`` it projects on::
 
     t  = x_2 - x_1,   l = |t|,   e = t / l,   n = (t_y, -t_x) / l   (outward master normal)
     xi = (x - x_1) . t / l^2                                      (closest-point parameter)
@@ -18,6 +21,23 @@ and the second variation is the symmetric 6 x 6 matrix
     a = [0; n; -n],   c = [e; -(1 - xi) e; -xi e]
 
 (from ``dn/dt = -e n^T / l`` and ``dxi/dq = c / l - (g / l^2) a``).
+
+Any other line cell (``line3``, a registered one such as a piecewise-linear
+``line2x2``): the cell is the curve ``x(xi) = sum_a N_a(xi) x_a``, ``xi in [-1, 1]``,
+with the table's shape functions; the node projects by Newton on
+``f(xi) = (x - x(xi)) . x'(xi) = 0`` (:func:`~.curves.project_values`) and
+
+    g = (x - x(xi)) . n(xi),   n = (t_y, -t_x) / |t|,   t = x'(xi).
+
+With ``q = [x, x_1, ..., x_n]``, ``g(q) = G(xi(q), q)`` and ``dG/dxi = 0`` at the
+closest point, so ``dg/dq = G_q`` and ``d2g/dq2 = G_qq + G_qxi xi_q + xi_q^T G_xiq +
+G_xixi xi_q xi_q^T``: only the exact gradient of ``xi`` enters.  Both come from jets
+(:func:`~.curves.projection_jets`: two Newton steps in jets from the converged
+``xi``, exact to second order), cross-tested against the closed form on line2 cells
+declared curved (tests/test_nts_cells.py).  ``info["xi"]`` is ``(1 + xi) / 2``, the
+affine kernel's ``[0, 1]``, so the method's segment memory is the same for both.  A
+slave node of any cell weighs ``int N_A dGamma`` (:func:`~.curves.tributary_weights`;
+``line3``: ``L/6, L/6, 2L/3`` on a straight cell).
 
 Projection and partner search: :mod:`.nts_projection`.
 
