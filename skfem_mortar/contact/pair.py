@@ -514,7 +514,8 @@ class ContactPair(Item):
         c = self._c(z, load_factor, ev)
         lam = np.asarray(z)[self._normal]
         touch = touching_nodes(self.slave.x(z), self.slave.segments, self.master.x(z),
-                               self.master.segments, self._touch)
+                               self.master.segments, self._touch,
+                               (surface_cell(self.slave), surface_cell(self.master)))
         return ev.mask & ((lam - c * ev.g >= 0) | touch | (self.gap_length(ev) <= self._touch))
 
     def begin_step(self, z: np.ndarray, load_factor: float) -> None:
