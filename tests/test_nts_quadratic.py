@@ -11,7 +11,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from skfem_mortar.contact import nts, nts_quadratic
+from skfem_mortar.contact import curves, nts
+from skfem_mortar.contact.cells import cell_type
 from skfem_mortar.core.chain import curve_points
 
 H_FD = 1e-6
@@ -122,7 +123,7 @@ def test_a_node_inside_a_strong_bend_still_projects():
     guess (a distance maximum); the safeguarded Newton still reaches the minimum."""
     X = np.array([[1.0, -1.0, 0.0], [0.0, 0.0, 0.6]])          # start, end, mid: an arch
     xs = np.array([[0.3], [0.45]])
-    xi, ok = nts_quadratic.project_values(xs, tuple((X[0, [a]], X[1, [a]]) for a in range(3)))
+    xi, ok = curves.project_values(cell_type("line3"), xs, tuple((X[0, [a]], X[1, [a]]) for a in range(3)))
     assert ok
     pts = curve_points(X, np.array([[0, 1, 2]]), np.linspace(-1, 1, 200001))[:, 0]
     d = np.hypot(pts[0] - xs[0, 0], pts[1] - xs[1, 0])

@@ -71,7 +71,7 @@ def test_curved_surface_lengths_and_weights_sum_to_the_curve_length():
 
 def test_chain_order_visits_mid_nodes_between_their_ends():
     s = ContactSurface.from_solid(_block("quad2"), "top")
-    order = chain_order(s.segments, s.closed, s.n_nodes)
+    order = chain_order(s.segments, s.closed, s.n_nodes, "line3")
     seg = s.segments
     np.testing.assert_array_equal(order, [seg[0, 0], seg[0, 2], seg[1, 0], seg[1, 2],
                                           seg[2, 0], seg[2, 2], seg[2, 1]])

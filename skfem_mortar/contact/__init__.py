@@ -2,7 +2,7 @@
 
 Oriented contact surfaces, rigid planes and circles (:mod:`.surfaces`), the contact search
 (:mod:`.search`), the contact discretization protocol and its registry (:mod:`.discretization`),
-node-to-segment (:mod:`.nts`; onto curved 3-node segments :mod:`.nts_quadratic`) and mortar
+node-to-segment (:mod:`.nts`, any line cell of the table; the cells' curves :mod:`.curves`) and mortar
 contact (:mod:`.mortar_method`, with the kernel in :mod:`.mortar`, :mod:`.mortar_segmentation`
 and :mod:`.jets`; for 3-node segments :mod:`.mortar_quadratic` and
 :mod:`.mortar_quadratic_segmentation`), mesh tying (:mod:`.tie`), the contact pair

@@ -37,7 +37,8 @@ from typing import Callable
 import numpy as np
 import scipy.sparse as sp
 
-from ..core.chain import polyline
+from .cells import CellType
+from .curves import chain_nodes, polyline
 from .search import node_segment_pairs
 
 __all__ = ["ActiveSet", "StatusSet", "chain_order", "extrapolated_release", "normal_nodal_force",
@@ -46,15 +47,15 @@ __all__ = ["ActiveSet", "StatusSet", "chain_order", "extrapolated_release", "nor
 log = logging.getLogger("skfem_mortar.contact.pair")
 
 
-def chain_order(segments: np.ndarray, closed: bool, n_nodes: int) -> np.ndarray | None:
-    """Nodes in chain order from chained segments (None when the segments do not
-    visit every node once)."""
+def chain_order(segments: np.ndarray, closed: bool, n_nodes: int,
+                cell: "str | CellType") -> np.ndarray | None:
+    """Nodes in chain order from chained cells of type ``cell`` (None when the cells
+    do not visit every node once): along each cell's edge (``line3`` (start, end,
+    mid): start, mid, start, mid, ..., end; :func:`~.curves.chain_nodes`)."""
     seg = np.asarray(segments)
     if seg.size == 0:
         return None
-    # 3-node segments (start, end, mid): start, mid, start, mid, ..., end
-    first = seg[:, [0, 2]].ravel() if seg.shape[1] == 3 else seg[:, 0]
-    order = first if closed else np.r_[first, seg[-1, 1]]
+    order = chain_nodes(seg, cell, closed)
     if order.size != n_nodes or np.unique(order).size != order.size:
         return None
     return order
@@ -74,7 +75,7 @@ def _point_segment(xp: np.ndarray, xq: np.ndarray, seg_q: np.ndarray, tol: float
 
 
 def touching_nodes(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarray,
-                   tol: float) -> np.ndarray:
+                   tol: float, cells: tuple = ("line2", "line2")) -> np.ndarray:
     """Slave nodes whose own part of the slave surface the master touches within ``tol``.
 
     A node's own part is its half of each of its segments (the points nearer to it
@@ -87,13 +88,14 @@ def touching_nodes(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.
     at one vertex has, at that vertex, the mortar weighted gap over the tributary
     length ``h^2 / (6 R)`` (the chords leave the line linearly), far above
     ``1e-2 h`` unless ``h < 0.06 R``; a flat slave under a master vertex between
-    two of its nodes has positive gaps at both nodes.  Bool ``(n_s,)``.
+    two of its nodes has positive gaps at both nodes.  ``cells``: the (slave, master)
+    cell types (curved cells: their chords through every node). Bool ``(n_s,)``.
     """
     xs, xm = np.asarray(xs, dtype=float), np.asarray(xm, dtype=float)
-    # 3-node segments: their chords through the mid node (the touch tolerance is
-    # far above the sag of a segment that can touch flat)
-    seg_s = polyline(np.asarray(seg_s, dtype=np.int64).reshape(len(seg_s), -1))
-    seg_m = polyline(np.asarray(seg_m, dtype=np.int64).reshape(len(seg_m), -1))
+    # curved cells: their chords through every node (the touch tolerance is far
+    # above the sag of a cell that can touch flat)
+    seg_s = polyline(np.asarray(seg_s, dtype=np.int64).reshape(len(seg_s), -1), cells[0])
+    seg_m = polyline(np.asarray(seg_m, dtype=np.int64).reshape(len(seg_m), -1), cells[1])
     out = np.zeros(xs.shape[1], dtype=bool)
     if not (seg_s.size and seg_m.size):
         return out

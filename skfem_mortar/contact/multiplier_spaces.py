@@ -39,6 +39,8 @@ from typing import Any
 
 import numpy as np
 
+from ..core.validate import flag
+
 __all__ = ["MultiplierSpace", "NodalSpace", "StandardSpace", "DualSpace", "register_space",
            "unregister_space", "registered_spaces", "space_for", "make_space"]
 
@@ -69,6 +71,12 @@ class MultiplierSpace:
     name = "nodal"
     kind = "force"
     bound_moves = True
+    #: whether ``D`` is diagonal in this space (biorthogonal multipliers)
+    diagonal = False
+
+    def kernel_options(self) -> dict:
+        """The keywords that tell a mortar kernel this space's basis (none for nodal forces)."""
+        return {}
 
     def evaluate(self, method: Any, xs: np.ndarray, xm: np.ndarray, lam: np.ndarray | None,
                  tangent: bool) -> Any:
@@ -130,6 +138,10 @@ class StandardSpace(MultiplierSpace):
     kind = "traction"
     bound_moves = False
 
+    def kernel_options(self) -> dict:
+        """``Phi_A = N_A``: the kernels' ``dual=False``."""
+        return {"dual": False}
+
     def pressure(self, lam: np.ndarray, area: np.ndarray) -> np.ndarray:
         return lam.copy()
 
@@ -174,6 +186,11 @@ class DualSpace(StandardSpace):
     """
 
     name = "dual"
+    diagonal = True
+
+    def kernel_options(self) -> dict:
+        """The biorthogonal basis: the kernels' ``dual=True``."""
+        return {"dual": True}
 
     @staticmethod
     def coefficients(D_e: np.ndarray, M_e: np.ndarray) -> np.ndarray:
@@ -219,6 +236,22 @@ def make_space(name: str) -> MultiplierSpace:
     if name not in _REGISTRY:
         raise ValueError(f"multiplier_space must be one of {', '.join(_REGISTRY)}, got {name!r}")
     return _REGISTRY[name]
+
+
+def traction_space(**flags: Any) -> MultiplierSpace:
+    """The traction space named by a constructor's flags (``TiePair(..., dual=True)``):
+    ``"dual"`` for ``dual=True``, ``"standard"`` for ``dual=False`` or none.
+
+    Raises
+    ------
+    ValueError
+        For a keyword other than ``dual``, or ``dual`` not a bool.
+    """
+    unknown = sorted(set(flags) - {"dual"})
+    if unknown:
+        raise ValueError(f"unexpected keyword(s) {', '.join(unknown)}: the multiplier basis "
+                         f"is chosen by dual=True or False")
+    return make_space("dual" if flag("dual", flags.get("dual", False)) else "standard")
 
 
 def space_for(method: Any) -> MultiplierSpace:

@@ -1,6 +1,9 @@
-"""Node-to-segment (NTS) contact: closest-point projection, normal gap and its derivatives.
+"""Node-to-segment (NTS) contact: closest-point projection, normal gap and its derivatives,
+one gap over every line cell type of the cell table (:mod:`.cells`, :mod:`.curves`).
 
-For a slave node ``x`` and the master segment ``(x_1, x_2)`` it projects on::
+Affine master cells (``line2``; :func:`~.curves.is_affine`, a declared property of
+the cell) in closed form.  For a slave node ``x`` and the master segment
+``(x_1, x_2)`` it projects on::
 
     t  = x_2 - x_1,   l = |t|,   e = t / l,   n = (t_y, -t_x) / l   (outward master normal)
     xi = (x - x_1) . t / l^2                                      (closest-point parameter)
@@ -18,6 +21,23 @@ and the second variation is the symmetric 6 x 6 matrix
     a = [0; n; -n],   c = [e; -(1 - xi) e; -xi e]
 
 (from ``dn/dt = -e n^T / l`` and ``dxi/dq = c / l - (g / l^2) a``).
+
+Any other line cell (``line3``, a registered one such as a piecewise-linear
+``line2x2``): the cell is the curve ``x(xi) = sum_a N_a(xi) x_a``, ``xi in [-1, 1]``,
+with the table's shape functions; the node projects by Newton on
+``f(xi) = (x - x(xi)) . x'(xi) = 0`` (:func:`~.curves.project_values`) and
+
+    g = (x - x(xi)) . n(xi),   n = (t_y, -t_x) / |t|,   t = x'(xi).
+
+With ``q = [x, x_1, ..., x_n]``, ``g(q) = G(xi(q), q)`` and ``dG/dxi = 0`` at the
+closest point, so ``dg/dq = G_q`` and ``d2g/dq2 = G_qq + G_qxi xi_q + xi_q^T G_xiq +
+G_xixi xi_q xi_q^T``: only the exact gradient of ``xi`` enters.  Both come from jets
+(:func:`~.curves.projection_jets`: two Newton steps in jets from the converged
+``xi``, exact to second order), cross-tested against the closed form on line2 cells
+declared curved (tests/test_nts_cells.py).  ``info["xi"]`` is ``(1 + xi) / 2``, the
+affine kernel's ``[0, 1]``, so the method's segment memory is the same for both.  A
+slave node of any cell weighs ``int N_A dGamma`` (:func:`~.curves.tributary_weights`;
+``line3``: ``L/6, L/6, 2L/3`` on a straight cell).
 
 Projection and partner search: :mod:`.nts_projection`.
 
@@ -37,14 +57,14 @@ import numpy as np
 import scipy.sparse as sp
 
 from .cells import CellType
+from .curves import cell_lengths, check_line, curve, ends, is_affine, polyline, projection_jets, tributary_weights
 from .scatter import Triplets
-from .segmentation import check_kernel_cells, line_cells, surface_cell
+from .segmentation import line_cells, surface_cell
 from .contact_eval import ContactEval
 from .discretization import (ContactDiscretization, OptionTable, check_entries, check_options,
                              covers, pattern_matrix, register_method, reserved_keys)
 from .nts_projection import LOCK_STICK, candidates, choose_segments, project
-from ..core.chain import polyline
-from .surfaces import segment_lengths, segment_normals, segments_at_nodes, tributary_lengths
+from .surfaces import segment_lengths, segment_normals, segments_at_nodes
 
 __all__ = ["NTS", "evaluate", "project", "candidates", "choose_segments", "RESERVE_MARGIN", "RESERVE_HALO", "SLIP_HALO", "LOCK_STICK", "COARSE_RATIO", "failure_hints",
            "nearest_nodes", "vertex_trap"]
@@ -85,74 +105,99 @@ def evaluate(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarra
              cells: "tuple[str | CellType, str | CellType] | None" = None) -> ContactEval:
     """NTS gaps ``g_N`` of the slave nodes, ``G = dg/dx`` and ``H = sum_k lam_k d^2 g_k/dx^2``.
 
+    One gap over any line cell type of the table: on an affine master cell
+    (:func:`~.curves.is_affine`, ``line2``) the closed forms of the module doc; on
+    any other (``line3``, a registered cell) ``g = (x_s - x(xi)) . n(xi)`` at the
+    closest point of the curve, with exact derivatives from jets of the projection
+    (:func:`_curve_gap`).
+
     Parameters
     ----------
-    xs, seg_s : slave coordinates (2, n_s) and segments (n_seg_s, 2) or 3-node (n_seg_s, 3)
-        (the segments set the tributary weights ``area = int N_A dGamma``)
-    xm, seg_m : master coordinates (2, n_m) and segments (n_seg_m, 2); 3-node
-        segments (n_seg_m, 3) go to :func:`skfem_mortar.contact.nts_quadratic.evaluate`
+    xs, seg_s : slave coordinates (2, n_s) and cells (n_seg_s, n_nodes of the slave
+        cell) (the cells set the tributary weights ``area = int N_A dGamma``,
+        :func:`~.curves.tributary_weights`)
+    xm, seg_m : master coordinates (2, n_m) and cells (n_seg_m, n_nodes of the master cell)
     lam : ndarray (n_s,), optional
         Nodal contact forces (multipliers); needed for ``H``.
     tangent : bool
         Whether to build ``G`` (and ``H`` when ``lam`` is given).
     margin, end_tolerance, prefer, stick, lock : see :func:`project`.
     cells : (slave, master) cell types, optional
-        ``line2`` or ``line3`` (:func:`~skfem_mortar.contact.segmentation.line_cells`;
-        default: the lines of the connectivities' columns).
+        Line cells of degree at most 2 (:func:`~.curves.check_line`); default:
+        :func:`~skfem_mortar.contact.segmentation.line_cells`.
 
     Returns
     -------
     ContactEval
         Local dof order: slave node k -> 2k, 2k+1; master node j -> 2 n_s + 2j, 2 n_s + 2j + 1.
         ``area`` is the tributary length of each slave node; ``info`` holds
-        ``xi``, ``segment`` and ``normal``.
+        ``xi`` (in ``[0, 1]`` along the cell), ``segment`` and ``normal``.
     """
     xs, seg_s = _check(xs, seg_s, "slave")
     xm, seg_m = _check(xm, seg_m, "master")
-    cells = line_cells(seg_s, seg_m, cells)
-    check_kernel_cells(cells, ("line2", "line3"), "nts")
-    if cells[1].name == "line3":  # curved master segments: closest point on the curve
-        from . import nts_quadratic
-        return nts_quadratic.evaluate(xs, seg_s, xm, seg_m, lam, tangent, margin,
-                                      end_tolerance, prefer, stick, lock)
+    cs, cm = (check_line(c, "nts") for c in line_cells(seg_s, seg_m, cells))
     n_s, n_m = xs.shape[1], xm.shape[1]
     if lam is not None:
         lam = np.asarray(lam, dtype=float).ravel()
         if lam.shape != (n_s,):
             raise ValueError(f"lam must have shape ({n_s},), got {lam.shape}")
-    pr = project(xs, xm, seg_m, margin, end_tolerance, prefer, stick, lock)
-    mask, g, xi, n, e, l = pr["mask"], pr["g"], pr["xi"], pr["n"], pr["e"], pr["l"]
-    area = tributary_lengths(xs, seg_s)
-    info = {"xi": xi, "segment": pr["segment"], "normal": n}
-    ndof = 2 * n_s + 2 * n_m
+    pr = project(xs, xm, seg_m, margin, end_tolerance, prefer, stick, lock, cell=cm)
+    mask, g = pr["mask"], pr["g"]
+    area = tributary_weights(xs, seg_s, cs)
+    info = {"xi": pr["xi"], "segment": pr["segment"], "normal": pr["n"]}
     if not tangent:
         return ContactEval(g=g, G=None, H=None, area=area, mask=mask, info=info)
     k = np.flatnonzero(mask)
-    es = pr["segment"][k]
-    j1, j2 = seg_m[es, 0], seg_m[es, 1]
-    dofs = np.column_stack([2 * k, 2 * k + 1,
-                            2 * n_s + 2 * j1, 2 * n_s + 2 * j1 + 1,
-                            2 * n_s + 2 * j2, 2 * n_s + 2 * j2 + 1])  # (m, 6)
-    nk, ek, xk = n[:, k].T, e[:, k].T, xi[k][:, None]  # (m, 2)
-    dg = np.hstack([nk, -(1 - xk) * nk, -xk * nk])  # (m, 6)
+    m = seg_m[pr["segment"][k]]
+    dofs = np.column_stack([2 * k, 2 * k + 1] + [2 * n_s + 2 * m[:, a] + c
+                                                 for a in range(cm.n_nodes) for c in (0, 1)])
+    kernel = _affine_gap if is_affine(cm) else _curve_gap
+    g, dg, h = kernel(xs, xm, m, k, pr, cm, lam is not None)
+    ndof = 2 * n_s + 2 * n_m
     Gt = Triplets()
     Gt.rows(k, dofs, dg)
-    G = Gt.csr((n_s, ndof))
     H = None
-    if lam is not None:
-        a = np.hstack([np.zeros_like(nk), nk, -nk])
-        c = np.hstack([ek, -(1 - xk) * ek, -xk * ek])
-        lk, gk = l[k][:, None, None], g[k][:, None, None]
-        ac = a[:, :, None] * c[:, None, :]
-        h = (ac + ac.transpose(0, 2, 1)) / lk - gk / lk**2 * (a[:, :, None] * a[:, None, :])
+    if h is not None:
         Ht = Triplets()
-        Ht.block(dofs, h.transpose(1, 2, 0) * lam[k])
+        Ht.block(dofs, h * lam[k])
         H = Ht.csr((ndof, ndof))
-    return ContactEval(g=g, G=G, H=H, area=area, mask=mask, info=info)
+    return ContactEval(g=g, G=Gt.csr((n_s, ndof)), H=H, area=area, mask=mask, info=info)
+
+
+def _affine_gap(xs, xm, m, k, pr, cell, second):
+    """The gap, ``dg/dq`` (m, 6) and ``d2g/dq2`` (6, 6, m) of the nodes ``k`` on affine
+    master cells in closed form (module doc)."""
+    n, e, xi, l, g = pr["n"], pr["e"], pr["xi"], pr["l"], pr["g"]
+    nk, ek, xk = n[:, k].T, e[:, k].T, xi[k][:, None]  # (m, 2)
+    dg = np.hstack([nk, -(1 - xk) * nk, -xk * nk])  # (m, 6)
+    if not second:
+        return g, dg, None
+    a = np.hstack([np.zeros_like(nk), nk, -nk])
+    c = np.hstack([ek, -(1 - xk) * ek, -xk * ek])
+    lk, gk = l[k][:, None, None], g[k][:, None, None]
+    ac = a[:, :, None] * c[:, None, :]
+    h = (ac + ac.transpose(0, 2, 1)) / lk - gk / lk**2 * (a[:, :, None] * a[:, None, :])
+    return g, dg, h.transpose(1, 2, 0)
+
+
+def _curve_gap(xs, xm, m, k, pr, cell, second):
+    """The gap ``g = (x_s - x(xi)) . n(xi)``, ``n = (t_y, -t_x) / |t|``, of the nodes
+    ``k`` on curved master cells, with ``dg/dq`` (m, nv) and ``d2g/dq2`` (nv, nv, m),
+    ``q = [x_s, x_1, ..., x_n]``: jets of ``xi`` refined by two Newton steps in jets
+    (:func:`~.curves.projection_jets`) are exact to second order, and since
+    ``dg/dxi = 0`` at the closest point the gap composed from them is too."""
+    P = tuple((xm[0, m[:, a]], xm[1, m[:, a]]) for a in range(cell.n_nodes))
+    js, JP, z = projection_jets(cell, xs[:, k], P, pr["xi_curve"][k], second)
+    x, t, _ = curve(cell, JP, z)
+    rx, ry = js[0] - x[0], js[1] - x[1]
+    gj = (rx * t[1] - ry * t[0]) / (t[0] * t[0] + t[1] * t[1]).sqrt()
+    g = pr["g"].copy()
+    g[k] = gj.v
+    return g, gj.g.T, gj.hessian() if second else None
 
 
 def _lengths(surface) -> np.ndarray:
-    return segment_lengths(surface.X, surface.segments)
+    return cell_lengths(surface.X, surface.segments, surface_cell(surface))
 
 
 def nearest_nodes(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarray,
@@ -212,8 +257,9 @@ def failure_hints(slave, master, name: str = "contact") -> str:
     hints = []
     ls = _lengths(slave)
     if master.body is not None:
-        seg_s = polyline(slave.segments)  # 3-node segments: their chords
-        near, pr = nearest_nodes(slave.X, seg_s, master.X, polyline(master.segments), band=2.0)
+        seg_s = polyline(slave.segments, surface_cell(slave))  # curved cells: their chords
+        near, pr = nearest_nodes(slave.X, seg_s, master.X,
+                                 polyline(master.segments, surface_cell(master)), band=2.0)
         if near.any():
             h = np.zeros(slave.n_nodes)
             np.maximum.at(h, seg_s[:, :2].ravel(), np.repeat(segment_lengths(slave.X, seg_s), 2))
@@ -292,7 +338,8 @@ class NTS(ContactDiscretization):
         self.slave, self.master, self.pair_name = slave, master, pair_name
         #: the two surfaces' cell types (:func:`~.segmentation.surface_cell`)
         self.cells = (surface_cell(slave), surface_cell(master))
-        check_kernel_cells(self.cells, ("line2", "line3"), "nts")
+        for c in self.cells:
+            check_line(c, "nts")
         self.options = dict(options)
         self._hint = failure_hints(slave, master, pair_name)
         self._pinned: np.ndarray | None = None
@@ -313,7 +360,7 @@ class NTS(ContactDiscretization):
         """The search margin of :func:`project` (default: the median master segment length)."""
         margin = self.options.get("margin")
         if margin is None:
-            lm = segment_lengths(xm, self.master.segments)
+            lm = cell_lengths(xm, self.master.segments, self.cells[1])
             margin = float(np.median(lm)) if lm.size else 0.0
         return margin
 
@@ -321,7 +368,8 @@ class NTS(ContactDiscretization):
         """Reserve the candidates :data:`RESERVE_MARGIN` search margins and
         :data:`RESERVE_HALO` chain neighbours wide (and ``need``)."""
         held = np.union1d(candidates(xs, xm, self.master.segments,
-                                     RESERVE_MARGIN * self._margin(xm), RESERVE_HALO), need)
+                                     RESERVE_MARGIN * self._margin(xm), RESERVE_HALO,
+                                     cell=self.cells[1]), need)
         self._reserved = (held, self._pattern_of(held))
         self.reservations += 1
 
@@ -352,7 +400,7 @@ class NTS(ContactDiscretization):
         checkpoints (:meth:`state_dict`), so a resumed run reserves as the
         uninterrupted one.
         """
-        need = candidates(xs, xm, self.master.segments, self._margin(xm))
+        need = candidates(xs, xm, self.master.segments, self._margin(xm), cell=self.cells[1])
         if self._reserved is None or not covers(self._reserved[0], need):
             self._reserve(xs, xm, need)
         return self._reserved[1]
@@ -454,12 +502,13 @@ class NTS(ContactDiscretization):
         arc length of the slip runs over the segments crossed in the step)."""
         seg_m = self.master.segments
         n_s, n_m = self.slave.n_nodes, self.master.n_nodes
-        ending, starting = segments_at_nodes(seg_m, n_m)
+        chain = ends(seg_m, self.cells[1])
+        ending, starting = segments_at_nodes(chain, n_m)
         e0 = np.asarray(history["segment_prev"], dtype=np.int64)
         near, back, ahead = [e0], e0, e0
         for _ in range(SLIP_HALO):
-            back = np.where(back >= 0, ending[seg_m[np.maximum(back, 0), 0]], -1)
-            ahead = np.where(ahead >= 0, starting[seg_m[np.maximum(ahead, 0), 1]], -1)
+            back = np.where(back >= 0, ending[chain[np.maximum(back, 0), 0]], -1)
+            ahead = np.where(ahead >= 0, starting[chain[np.maximum(ahead, 0), 1]], -1)
             near += [back, ahead]
         e = np.concatenate(near)
         k = np.tile(np.arange(n_s), len(near))

@@ -1,7 +1,7 @@
 """Node-to-segment projection and partner search: the candidate pairs of slave nodes and
 master segments (:func:`candidates`), the choice among them (:func:`choose_segments`)
 and the closest-point projection (:func:`project`); :mod:`.nts` builds the gap on it,
-:mod:`.nts_quadratic` and :mod:`.slip` use the same search.
+:mod:`.slip` uses the same search.
 
 Projection and partner search
 -----------------------------
@@ -25,25 +25,30 @@ from __future__ import annotations
 
 import numpy as np
 
+from .cells import CellType, cell_type
+from .curves import XI_LIMIT, cell_nodes, curve, ends, is_affine, project_values
 from .search import nearest_vertex, node_segment_pairs
 from .surfaces import segment_normals, segments_at_nodes
 
-__all__ = ["project", "candidates", "choose_segments", "LOCK_STICK"]
+__all__ = ["project", "candidates", "choose_segments", "LOCK_STICK", "XI_LIMIT"]
 
 LOCK_STICK = 0.5
 """Hysteresis width (fraction of the segment length) of a node locked at a reflex vertex."""
 
 
 def candidates(xs: np.ndarray, xm: np.ndarray, seg_m: np.ndarray, margin: float,
-               halo: int = 0) -> np.ndarray:
+               halo: int = 0, cell: "str | CellType" = "line2") -> np.ndarray:
     """The candidate (slave node, master segment) pairs of the projection, as sorted
     keys ``node * n_seg + segment``: the segments whose boxes, inflated by ``margin``,
     hold the node, and the two segments at the master vertex nearest to it (so a
     node far from every box, deep penetration after a large Newton step, still
-    finds its partner), with ``halo`` chain neighbours on each side of those two.
+    finds its partner), with ``halo`` chain neighbours on each side of those two
+    (the chain through the cells' corners, :func:`~.curves.ends`, of the master
+    ``cell`` type).
     """
     n_s, n_seg = xs.shape[1], len(seg_m)
     i_n, i_e = node_segment_pairs(xs, xm, seg_m, margin)
+    seg_m = ends(seg_m, cell)
     seg_of_end, seg_of_start = segments_at_nodes(seg_m, xm.shape[1])
     _, jn = nearest_vertex(xm, xs)
     k2 = np.concatenate([np.arange(n_s), np.arange(n_s)])
@@ -66,7 +71,7 @@ def choose_segments(i_n: np.ndarray, i_e: np.ndarray, xi: np.ndarray, dist: np.n
                     lock: np.ndarray | None = None) -> np.ndarray:
     """The winning candidate of every slave node that has one (shared by the linear
     and the curved projection, :func:`project` and
-    :func:`skfem_mortar.contact.nts_quadratic.project`).
+    projection onto curved cells, :func:`_project_curve`).
 
     Among the candidate pairs ``(i_n, i_e)`` (slave node, master segment) with the
     parameter ``xi`` along the segment (``[0, 1]`` inside, unclipped) and the
@@ -101,8 +106,12 @@ def choose_segments(i_n: np.ndarray, i_e: np.ndarray, xi: np.ndarray, dist: np.n
 
 def project(xs: np.ndarray, xm: np.ndarray, seg_m: np.ndarray, margin: float | None = None,
             end_tolerance: float = 1e-8, prefer: np.ndarray | None = None,
-            stick: float = 0.05, lock: np.ndarray | None = None) -> dict:
-    """Closest-point projection of every slave node on the master chain.
+            stick: float = 0.05, lock: np.ndarray | None = None,
+            cell: "str | CellType" = "line2") -> dict:
+    """Closest-point projection of every slave node on the master chain of ``cell``s.
+
+    An affine cell (:func:`~.curves.is_affine`, ``line2``) in closed form, any other
+    line cell by Newton in the cell's coordinate (:func:`_project_curve`).
 
     Parameters
     ----------
@@ -129,17 +138,20 @@ def project(xs: np.ndarray, xm: np.ndarray, seg_m: np.ndarray, margin: float | N
         ``[-LOCK_STICK, 1 + LOCK_STICK]`` (the closest-point projection then
         continues onto the segment's extension line).  Used by
         :class:`NTS` for a node caught at a reflex vertex of the master (see docs/robustness.md).
+    cell : str or CellType
+        The master cell type (a line cell of the table, default ``line2``).
 
     Returns
     -------
     dict with ``segment`` (n_s,) master segment index, ``xi`` (n_s,) unclipped
     parameter, ``mask`` (n_s,) bool, ``n``/``e`` (2, n_s) master normal and
-    tangent, ``l`` (n_s,) segment length, ``g`` (n_s,) normal gap.
+    tangent, ``l`` (n_s,) segment length, ``g`` (n_s,) normal gap; curved cells also
+    ``xi_curve``, the parameter in the cell's ``[-1, 1]`` (``xi`` is ``(1 + xi_curve) / 2``).
     """
-    if not (np.isfinite(stick) and stick >= 0):
-        raise ValueError(f"stick must be a finite number >= 0, got {stick}")
-    if not (np.isfinite(end_tolerance) and end_tolerance >= 0):
-        raise ValueError(f"end_tolerance must be a finite number >= 0, got {end_tolerance}")
+    _check_projection(stick, end_tolerance)
+    cell = cell_type(cell)
+    if not is_affine(cell):
+        return _project_curve(xs, xm, seg_m, margin, end_tolerance, prefer, stick, lock, cell)
     n_s, n_m = xs.shape[1], xm.shape[1]
     nrm, lm = segment_normals(xm, seg_m)
     if margin is None:
@@ -176,3 +188,62 @@ def project(xs: np.ndarray, xm: np.ndarray, seg_m: np.ndarray, margin: float | N
     return {"segment": np.where(mask, segment, -1), "xi": xi_all, "mask": mask,
             "n": n, "e": ev, "l": l, "g": g}
 
+
+def _check_projection(stick: float, end_tolerance: float) -> None:
+    if not (np.isfinite(stick) and stick >= 0):
+        raise ValueError(f"stick must be a finite number >= 0, got {stick}")
+    if not (np.isfinite(end_tolerance) and end_tolerance >= 0):
+        raise ValueError(f"end_tolerance must be a finite number >= 0, got {end_tolerance}")
+
+
+def _project_curve(xs: np.ndarray, xm: np.ndarray, seg_m: np.ndarray, margin: float | None,
+                   end_tolerance: float, prefer: np.ndarray | None, stick: float,
+                   lock: np.ndarray | None, cell: CellType) -> dict:
+    """:func:`project` onto curved line cells: Newton in the cell's coordinate
+    (:func:`~.curves.project_values`) on every candidate, the choice of
+    :func:`choose_segments` with ``xi`` mapped to ``[0, 1]``, the distance to the
+    projection clipped to the cell.  Except at a free end: a node that keeps its
+    segment by the hysteresis keeps it up to ``stick`` beyond the end (the affine
+    projection drops it beyond ``end_tolerance``); a slave end over the master end
+    otherwise toggles in and out.  ``n``, ``e`` at the projection, ``l`` the chord."""
+    n_s, n_m, n_seg = xs.shape[1], xm.shape[1], len(seg_m)
+    chain = ends(seg_m, cell)
+    chord = np.hypot(*(xm[:, chain[:, 1]] - xm[:, chain[:, 0]]))
+    if margin is None:
+        margin = float(np.median(chord)) if chord.size else 0.0
+    seg_of_end, seg_of_start = segments_at_nodes(chain, n_m)
+    key = candidates(xs, xm, seg_m, margin, cell=cell)
+    i_n, i_e = key // n_seg, key % n_seg
+    P = cell_nodes(xm, seg_m, i_e)
+    xq = xs[:, i_n]
+    xi_c, _ = project_values(cell, xq, P)
+    u = 0.5 * (1.0 + xi_c)                       # along the segment, [0, 1] inside
+    (cx, cy), _, _ = curve(cell, P, np.clip(xi_c, -1.0, 1.0))
+    dist = np.hypot(xq[0] - cx, xq[1] - cy)
+    best = choose_segments(i_n, i_e, u, dist, n_s, prefer, stick, lock)
+    k, e = i_n[best], i_e[best]
+    segment = np.full(n_s, -1, dtype=np.int64)
+    segment[k] = e
+    xi_all = np.zeros(n_s)
+    xi_all[k] = xi_c[best]
+    mask = segment >= 0
+    is_first = seg_of_end[chain[:, 0]] < 0
+    is_last = seg_of_start[chain[:, 1]] < 0
+    es = np.where(mask, segment, 0)
+    u_all = 0.5 * (1.0 + xi_all)
+    # a node that kept its segment (the hysteresis ``prefer``) stays on it within
+    # ``stick`` beyond a free end too: sliding off by round-off-sized amounts (a
+    # slave end over the master end) would toggle it on and off every iteration
+    kept = np.zeros(n_s, dtype=bool)
+    if prefer is not None:
+        kept = mask & (segment == prefer)
+    tol = np.where(kept, max(stick, end_tolerance), end_tolerance)
+    off = (is_first[es] & (u_all < -tol)) | (is_last[es] & (u_all > 1 + tol))
+    mask &= ~off
+    x, t, _ = curve(cell, cell_nodes(xm, seg_m, es), xi_all)
+    lt = np.hypot(t[0], t[1])
+    e_vec = np.vstack(t) / np.where(lt > 0, lt, 1.0)
+    n = np.vstack([e_vec[1], -e_vec[0]])
+    g = np.where(mask, np.sum((xs - np.vstack(x)) * n, axis=0), 0.0)
+    return {"segment": np.where(mask, segment, -1), "xi": u_all, "xi_curve": xi_all,
+            "mask": mask, "n": n, "e": e_vec, "l": chord[es], "g": g}

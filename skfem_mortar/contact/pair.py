@@ -63,6 +63,7 @@ from .kkt import K_GAP, K_LAM, violation
 from .methods import METHODS, make_method  # METHODS: the registry's names, the built-ins in it
 from .multiplier_spaces import MultiplierSpace, space_for
 from .reservation import Reservation
+from .segmentation import surface_cell
 from .surfaces import segment_lengths
 from .tangential_rows import NEAR_BOUND, P_REF_FIT, tangential_rows
 from ..core.binding import rebind
@@ -234,7 +235,7 @@ class ContactPair(Item):
             raise ValueError(f"method {method!r} names its state {sorted(clash)}, which the "
                              f"pair's state uses; rename them")
         self.state = ActiveSet(slave.n_nodes, chain_order(slave.segments, slave.closed,
-                                                        slave.n_nodes),
+                                                        slave.n_nodes, surface_cell(slave)),
                                name, cycle_guard=cycle_guard, accelerate=accelerate)
         self._started = False
         #: (the discretization's pattern, the triplets over it) and how often a
@@ -522,7 +523,8 @@ class ContactPair(Item):
         c = self._c(z, load_factor, ev)
         lam = np.asarray(z)[self._normal]
         touch = touching_nodes(self.slave.x(z), self.slave.segments, self.master.x(z),
-                               self.master.segments, self._touch)
+                               self.master.segments, self._touch,
+                               (surface_cell(self.slave), surface_cell(self.master)))
         return ev.mask & ((lam - c * ev.g >= 0) | touch | (self.gap_length(ev) <= self._touch))
 
     def begin_step(self, z: np.ndarray, load_factor: float) -> None:

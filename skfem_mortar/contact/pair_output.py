@@ -13,6 +13,7 @@ import numpy as np
 from ..core.binding import rebind
 from .active_set import chain_order
 from .search import distance_to_polyline
+from .segmentation import surface_cell
 
 __all__ = ["contact_data", "along_surface", "forces"]
 
@@ -42,7 +43,7 @@ def along_surface(s: Any) -> np.ndarray:
     """Surface node indices in the order of :func:`contact_data`'s rows: chain
     order, an open chain from its end with the smaller reference ``x`` (then
     ``y``), a closed one from the start of its first segment."""
-    order = chain_order(s.segments, s.closed, s.n_nodes)
+    order = chain_order(s.segments, s.closed, s.n_nodes, surface_cell(s))
     if order is None:  # not one chain through every node: the surface's order
         return np.arange(s.n_nodes)
     a, b = s.X[:, order[0]], s.X[:, order[-1]]

@@ -37,12 +37,12 @@ changes the slip).  This follows Wriggers, *Computational Contact Mechanics*
 times the metric), with the crossing of segments written as arc length.
 
 On curved 3-node master segments (``x(t) = sum_a N_a(t) x_a``, ``t`` in
-``[-1, 1]``, :mod:`~skfem_mortar.contact.nts_quadratic`) the arc length is
+``[-1, 1]``, :mod:`~skfem_mortar.contact.curves`; any curved line cell) the arc length is
 measured along the current curves: on one segment ``u_t = int_{t_prev}^{t}
 |x'(s)| ds`` (``t_prev = 2 xi_prev - 1``), across segments the rest of the
 previous one, the crossed ones whole and the part of the current one
 (backwards the same, negative), each by the Gauss rule of
-:func:`~skfem_mortar.contact.nts_quadratic.arc_length` with the current
+:func:`~skfem_mortar.contact.curves.arc_length` with the current
 parameter ``t`` a jet (two Newton steps of the projection in jets), so the
 derivatives are exact for the rule; ``tau`` is the curve's unit tangent at
 the projection.  On a straight segment with a centred mid node it is the
@@ -91,8 +91,10 @@ from typing import Any
 import numpy as np
 import scipy.sparse as sp
 
-from . import mortar, mortar_quadratic, nts_quadratic
+from . import mortar, mortar_quadratic
 from .cells import CellType
+from .curves import (arc_length, cell_nodes, check_line, curve, ends, is_affine,
+                     project_values, projection_jets)
 from .scatter import Triplets
 from .segmentation import check_kernel_cells, line_cells
 from .jets import Jet
@@ -230,41 +232,41 @@ def _linear_parts(xs, xm, seg_m, k, e, terms, second):
     return parts, (x2 - x1) / np.where(l_e > 0, l_e, 1.0)
 
 
-def _curve_nodes(xm: np.ndarray, seg_m: np.ndarray, segs: np.ndarray) -> tuple:
-    return tuple((xm[0, seg_m[segs, a]], xm[1, seg_m[segs, a]]) for a in range(3))
+def _node_jets(P: tuple, second: bool) -> tuple:
+    """The nodes ``P`` of cells as jets of their own ``2 n`` coordinates."""
+    nv = 2 * len(P)
+    V = [Jet.variable(c, i, nv, second) for i, c in enumerate(v for pt in P for v in pt)]
+    return tuple((V[2 * a], V[2 * a + 1]) for a in range(len(P)))
 
 
-def _curved_parts(xs, xm, seg_m, k, e, ep, xp, st, crossed, second):
-    """The jets of the slip along curved 3-node segments (module doc): the arc length
+def _curve_parts(xs, xm, seg_m, k, e, ep, xp, st, crossed, second, cell):
+    """The jets of the slip along curved line cells (module doc): the arc length
     from the previous to the current projection, on the current curve."""
     n_s = xs.shape[1]
-    P = _curve_nodes(xm, seg_m, e)
-    xi, _ = nts_quadratic.project_values(xs[:, k], P)
-    js, JP, z = nts_quadratic.projection_jets(xs[:, k], P, xi, second)
-    one = Jet.constant(np.ones(k.size), 8, second)
+    P = cell_nodes(xm, seg_m, e)
+    xi, _ = project_values(cell, xs[:, k], P)
+    js, JP, z = projection_jets(cell, xs[:, k], P, xi, second)
+    nv = 2 + 2 * cell.n_nodes
+    one = Jet.constant(np.ones(k.size), nv, second)
     xpc = 2.0 * xp - 1.0                              # [0, 1] -> the curve's [-1, 1]
-    start = Jet.constant(np.where(st == 0, xpc, -1.0), 8, second)
+    start = Jet.constant(np.where(st == 0, xpc, -1.0), nv, second)
     back = st < 0
     # the current segment: from xi_prev (same segment), from its start (forward), or
     # from xi to its end (backward, negative)
-    a_e = nts_quadratic.arc_length(JP, Jet.where(back, z, start), Jet.where(back, one, z))
+    a_e = arc_length(cell, JP, Jet.where(back, z, start), Jet.where(back, one, z))
     parts = [(k, np.hstack([_node_dofs(n_s, k, False), _segment_dofs(n_s, seg_m, e)]),
               np.where(back, -1.0, 1.0), a_e)]
     moved = st != 0
     kp, epm, xpm, fwd = k[moved], ep[moved], xpc[moved], st[moved] > 0
-    V = [Jet.variable(c, i, 6, second) for i, c in enumerate(
-        v for pt in _curve_nodes(xm, seg_m, epm) for v in pt)]
-    JPp = ((V[0], V[1]), (V[2], V[3]), (V[4], V[5]))
+    JPp = _node_jets(cell_nodes(xm, seg_m, epm), second)
     # the previous segment: from xi_prev to its end (forward) or from its start (backward)
-    a_p = nts_quadratic.arc_length(JPp, np.where(fwd, xpm, -1.0), np.where(fwd, 1.0, xpm))
+    a_p = arc_length(cell, JPp, np.where(fwd, xpm, -1.0), np.where(fwd, 1.0, xpm))
     parts.append((kp, _segment_dofs(n_s, seg_m, epm), np.where(fwd, 1.0, -1.0), a_p))
     for nodes, segs, w in crossed:                    # whole segments in between
-        V = [Jet.variable(c, i, 6, second) for i, c in enumerate(
-            v for pt in _curve_nodes(xm, seg_m, segs) for v in pt)]
-        full = nts_quadratic.arc_length(((V[0], V[1]), (V[2], V[3]), (V[4], V[5])),
-                                        -np.ones(segs.size), np.ones(segs.size))
+        full = arc_length(cell, _node_jets(cell_nodes(xm, seg_m, segs), second),
+                          -np.ones(segs.size), np.ones(segs.size))
         parts.append((nodes, _segment_dofs(n_s, seg_m, segs), w, full))
-    _, t, _ = nts_quadratic.curve_values(P, z.v)
+    _, t, _ = curve(cell, P, z.v)
     lt = np.hypot(t[0], t[1])
     return parts, np.vstack(t) / np.where(lt > 0, lt, 1.0)
 
@@ -292,8 +294,7 @@ def nts_slip(xs: np.ndarray, xm: np.ndarray, seg_m: np.ndarray, xi_prev: np.ndar
     segment : int ndarray (n_s,), optional
         The current segment of each node (the pair's projection, ``info["segment"]``
         of its NTS evaluation, with its hysteresis and locks); by default
-        :func:`skfem_mortar.contact.nts.project` (3-node:
-        :func:`skfem_mortar.contact.nts_quadratic.project`) with ``project_options``.
+        :func:`skfem_mortar.contact.nts.project` (with ``cell``) with ``project_options``.
     lam_t : ndarray (n_s,), optional
         Tangential multipliers, for ``H``.
     tangent : bool
@@ -308,9 +309,8 @@ def nts_slip(xs: np.ndarray, xm: np.ndarray, seg_m: np.ndarray, xi_prev: np.ndar
     """
     xs, xm = np.asarray(xs, float), np.asarray(xm, float)
     seg_m = _segments(seg_m)
-    cells = line_cells(seg_m, seg_m, None if cell is None else (cell, cell))
-    check_kernel_cells(cells, ("line2", "line3"), "nts_slip")
-    curved = cells[1].name == "line3"
+    cell = check_line(line_cells(seg_m, seg_m, None if cell is None else (cell, cell))[1],
+                      "nts_slip")
     n_s, n_m, n_seg = xs.shape[1], xm.shape[1], len(seg_m)
     xi_prev = np.asarray(xi_prev, float)
     segment_prev = np.asarray(segment_prev, dtype=np.int64)
@@ -320,8 +320,7 @@ def nts_slip(xs: np.ndarray, xm: np.ndarray, seg_m: np.ndarray, xi_prev: np.ndar
     if segment_prev.size and (segment_prev.min() < -1 or segment_prev.max() >= n_seg):
         raise ValueError(f"segment_prev must index master segments in [-1, {n_seg})")
     if segment is None:
-        proj = nts_quadratic.project if curved else project
-        segment = proj(xs, xm, seg_m, **project_options)["segment"]
+        segment = project(xs, xm, seg_m, cell=cell, **project_options)["segment"]
     segment = np.asarray(segment, dtype=np.int64)
     if segment.shape != (n_s,):
         raise ValueError(f"segment must have shape ({n_s},), got {segment.shape}")
@@ -330,7 +329,7 @@ def nts_slip(xs: np.ndarray, xm: np.ndarray, seg_m: np.ndarray, xi_prev: np.ndar
         if lam_t.shape != (n_s,):
             raise ValueError(f"lam_t must have shape ({n_s},), got {lam_t.shape}")
     has = (segment >= 0) & (segment_prev >= 0)
-    steps, found, fw, bw = _chain_steps(seg_m[:, :2], n_m, np.where(has, segment_prev, -1),
+    steps, found, fw, bw = _chain_steps(ends(seg_m, cell), n_m, np.where(has, segment_prev, -1),
                                         np.where(has, segment, -1))
     mask = has & found
     second = tangent and lam_t is not None
@@ -343,8 +342,8 @@ def nts_slip(xs: np.ndarray, xm: np.ndarray, seg_m: np.ndarray, xi_prev: np.ndar
         inside = np.abs(st) > j + 1
         crossed.append((k[inside], np.where(st > 0, fwd_j, bwd_j)[inside],
                         np.where(st > 0, 1.0, -1.0)[inside]))
-    if curved:
-        parts, tan_k = _curved_parts(xs, xm, seg_m, k, e, ep, xp, st, crossed, second)
+    if not is_affine(cell):
+        parts, tan_k = _curve_parts(xs, xm, seg_m, k, e, ep, xp, st, crossed, second, cell)
     else:
         # the lengths: (node, segment, weight) -- previous segment, backward: the
         # whole of e, those crossed

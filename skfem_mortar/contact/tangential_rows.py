@@ -34,7 +34,8 @@ from .kkt import friction_violation
 from .normal_rows import assemble_normal
 from .pair_state import check_tangential_state, load_tangential_state, tangential_state
 from .reservation import FrictionReservation, with_triplets
-from .surfaces import tributary_lengths
+from .segmentation import surface_cell
+from .curves import tributary_weights
 from .tributary import tributary_jacobian, tributary_pattern
 
 __all__ = ["TangentialRows", "NoTangentialRows", "tangential_rows", "P_REF_FIT", "NEAR_BOUND"]
@@ -161,7 +162,7 @@ class TangentialRows:
         self.reserved: tuple[Any, Any, FrictionReservation] | None = None
         self.converged: tuple | None = None  # (xs, xm, lam_t, data, history)
         self.slip_pattern_widenings = 0
-        self.area0 = tributary_lengths(slave.X, slave.segments)
+        self.area0 = tributary_weights(slave.X, slave.segments, surface_cell(slave))
 
     @property
     def changed(self) -> bool:
@@ -212,8 +213,8 @@ class TangentialRows:
         if pair.c is None:
             return
         lam = np.asarray(z)[pair._normal]
-        weight = pair.space.bound_weight(tributary_lengths(pair.slave.x(z),
-                                                           pair.slave.segments))
+        weight = pair.space.bound_weight(tributary_weights(
+            pair.slave.x(z), pair.slave.segments, surface_cell(pair.slave)))
         conv = pair.state.converged
         xi, _, _ = self.law.slip_bound(np.where(conv, lam, 0.0), np.zeros_like(lam), pair.c,
                                        weight)
@@ -290,7 +291,7 @@ class TangentialRows:
         B = sp.diags(fr.d_u) @ sl.G + sp.diags(fr.d_g) @ ev.G
         if self.moving_bound:
             B = B + sp.diags(fr.d_bound * self.law.weight_derivative()) @ tributary_jacobian(
-                xs, pair.slave.segments, sl.G.shape[1])
+                xs, pair.slave.segments, sl.G.shape[1], surface_cell(pair.slave))
         B = B.tocsr()
         res = pair._friction_reservation(z, gd)
         if res is not None:  # the triplets over the reserved patterns (explicit zeros)

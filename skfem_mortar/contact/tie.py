@@ -71,8 +71,10 @@ import numpy as np
 import scipy.sparse as sp
 
 from ..core.item import Contribution, Item
-from ..core.validate import count, flag
+from ..core.validate import count
 from . import mortar
+from .curves import output_cells
+from .multiplier_spaces import MultiplierSpace, traction_space
 from .preflight_orientation import nodal_normals
 from .segmentation import surface_cell
 from .surfaces import ContactSurface
@@ -86,11 +88,7 @@ class _Integrals(NamedTuple):
     mask: np.ndarray
 
 
-#: the output layer's cell name of each line cell type
-VTK_LINES = {"line2": "line", "line3": "line3"}
-
-
-def _integrals(s: ContactSurface, m: ContactSurface, dual: bool, n_gauss: int,
+def _integrals(s: ContactSurface, m: ContactSurface, space: MultiplierSpace, n_gauss: int,
                crosspoints: np.ndarray | None) -> _Integrals:
     """``D``, ``M`` and the mask on the reference configuration: the linear kernel's
     :func:`~skfem_mortar.contact.mortar.integrals` for two 2-node surfaces, the curved
@@ -98,12 +96,13 @@ def _integrals(s: ContactSurface, m: ContactSurface, dual: bool, n_gauss: int,
     either has 3-node segments (its Gauss rule: at least 3 points, exact for the
     products of two quadratics on straight segments)."""
     if surface_cell(s).name == "line2" and surface_cell(m).name == "line2":
-        ints = mortar.integrals(s.X, s.segments, m.X, m.segments, dual=dual,
+        ints = mortar.integrals(s.X, s.segments, m.X, m.segments, **space.kernel_options(),
                                 n_gauss=n_gauss, crosspoints=crosspoints)
         return _Integrals(ints.D, ints.M, ints.mask)
     from . import mortar_quadratic
-    ev = mortar_quadratic.evaluate(s.X, s.segments, m.X, m.segments, tangent=False, dual=dual,
-                                   n_gauss=max(n_gauss, 3), crosspoints=crosspoints)
+    ev = mortar_quadratic.evaluate(s.X, s.segments, m.X, m.segments, tangent=False,
+                                   **space.kernel_options(), n_gauss=max(n_gauss, 3),
+                                   crosspoints=crosspoints)
     return _Integrals(ev.info["D"], ev.info["M"], ev.mask)
 
 
@@ -120,18 +119,20 @@ class TiePair(Item):
     master : ContactSurface
         A deformable surface, or a rigid one (then the slave is glued to the
         ground, a weak clamp).
-    dual : bool
-        Dual (biorthogonal) multiplier shape functions: ``D`` is diagonal
-        (exactly: off-diagonal entries below 1e-12 of the diagonal, the kernel's
-        round-off, are dropped; a node merged into its neighbour, module doc,
-        keeps its coupling to it), so each multiplier couples to its own slave
-        node only.  Default False:
-        standard ``Phi_A = N_A``.
     name : str
         Item name (unique among the bodies and multiplier items).
     n_gauss : int
         Gauss points per mortar segment (>= 1); the default 2 integrates
         ``D`` and ``M`` exactly on straight segments.
+    dual : bool, keyword only
+        Dual (biorthogonal) multiplier shape functions: ``D`` is diagonal
+        (exactly: off-diagonal entries below 1e-12 of the diagonal, the kernel's
+        round-off, are dropped; a node merged into its neighbour, module doc,
+        keeps its coupling to it), so each multiplier couples to its own slave
+        node only.  Default False:
+        standard ``Phi_A = N_A``.  Read into :attr:`space`, a
+        :class:`~skfem_mortar.contact.multiplier_spaces.MultiplierSpace`
+        (:func:`~skfem_mortar.contact.multiplier_spaces.traction_space`).
 
     Raises
     ------
@@ -161,8 +162,8 @@ class TiePair(Item):
     has_history = False  # D and M depend only on the reference configuration
     phase = "contact"
 
-    def __init__(self, slave: ContactSurface, master: ContactSurface, dual: bool = False,
-                 name: str = "tie", n_gauss: int = 2):
+    def __init__(self, slave: ContactSurface, master: ContactSurface, name: str = "tie",
+                 n_gauss: int = 2, **basis: bool):
         for what, s in (("slave", slave), ("master", master)):
             if not isinstance(s, ContactSurface):
                 raise ValueError(f"{what} must be a ContactSurface (e.g. "
@@ -175,7 +176,9 @@ class TiePair(Item):
             raise ValueError(f"slave and master must be two different surfaces, got "
                              f"{slave.name!r} twice")
         self.slave, self.master, self.name = slave, master, name
-        self.dual, self.n_gauss = flag("dual", dual), count("n_gauss", n_gauss, 1, 10)
+        #: the multipliers' space (``dual=True``: biorthogonal, else standard)
+        self.space = traction_space(**basis)
+        self.n_gauss = count("n_gauss", n_gauss, 1, 10)
         self.n_dofs = 2 * slave.n_nodes
         self._merged = np.zeros(slave.n_nodes, dtype=bool)  # prescribed slave nodes
         self._integrate()
@@ -192,11 +195,11 @@ class TiePair(Item):
         """``D``, ``M``, the tied mask and the constant triplets of ``B`` (reference)."""
         s, m = self.slave, self.master
         cp = np.flatnonzero(self._merged)
-        ints = _integrals(s, m, self.dual, self.n_gauss, cp if cp.size else None)
+        ints = _integrals(s, m, self.space, self.n_gauss, cp if cp.size else None)
         tied = np.asarray(ints.mask, dtype=bool)
         keep = sp.diags(tied.astype(float))
         D = (keep @ ints.D).tocoo()
-        if self.dual:  # biorthogonal: D_AB = delta_AB int N_A; drop the kernel's round-off
+        if self.space.diagonal:  # D_AB = delta_AB int N_A; drop the kernel's round-off
             d = np.abs(D.diagonal())
             on = (D.row == D.col) | (np.abs(D.data) > 1e-12 * d[D.row])
             D = sp.coo_matrix((D.data[on], (D.row[on], D.col[on])), shape=D.shape)
@@ -299,7 +302,7 @@ class TiePair(Item):
 
     def __repr__(self) -> str:
         """One line: name, multipliers, the two surfaces, the tied slave nodes."""
-        kind = "dual" if self.dual else "standard"
+        kind = self.space.name
         return (f"TiePair({self.name!r}, {kind}: slave {self.slave.name!r} "
                 f"({self.slave.n_nodes} nodes) on master {self.master.name!r} "
                 f"({self.master.n_nodes} nodes), {int(np.sum(self.tied))} tied)")
@@ -356,7 +359,7 @@ class TieOutput:  # an Output (skfem_mortar.core.model) for the output layer
     def output_mesh(self) -> tuple[np.ndarray, list[tuple[str, np.ndarray]]]:
         s = self.tie.slave
         seg = np.asarray(s.segments)  # line3 (start, end, mid): VTK's quadratic edge
-        return s.X.T.copy(), [(VTK_LINES[surface_cell(s).name], seg)]
+        return s.X.T.copy(), output_cells(seg, surface_cell(s))
 
     def output_data(self, z: np.ndarray) -> tuple[dict, dict]:
         s = self.tie.slave

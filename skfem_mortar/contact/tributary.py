@@ -8,33 +8,38 @@ bound ``bound * a_k(x)`` moves with the slave and its rows need ``da_k/dx``:
 
 * 2-node segments: ``a_k = sum_{e ∋ k} l_e / 2``, ``dl_e/dx_end = -dl_e/dx_start
   = (x_end - x_start) / l_e``;
-* 3-node segments: ``a_k = sum_e sum_q w_q N_k(eta_q) J_eq``, ``J_eq = |x'(eta_q)|``,
-  ``dJ_eq/dx_a = dN_a(eta_q) x'(eta_q) / J_eq`` (the Gauss rule of
-  :data:`~skfem_mortar.core.chain.N_GAUSS_CURVE` points, so exact for the rule).
+* any other line cell of the table (``line3``, a registered one):
+  ``a_k = sum_e sum_q w_q N_k(eta_q) J_eq``, ``J_eq = |x'(eta_q)|``,
+  ``dJ_eq/dx_a = dN_a(eta_q) x'(eta_q) / J_eq`` (the cell's rule of
+  :data:`~skfem_mortar.contact.curves.N_TRIBUTARY` points, the weights of
+  :func:`~skfem_mortar.contact.curves.tributary_weights`, so exact for the rule).
 """
 from __future__ import annotations
 
 import numpy as np
 import scipy.sparse as sp
 
-from ..core.chain import N_GAUSS_CURVE, _shape
+from .cells import CellType, cell_type
+from .curves import N_TRIBUTARY, ends, is_affine, shape_values
 
 __all__ = ["tributary_jacobian", "tributary_pattern"]
 
 
-def tributary_jacobian(x: np.ndarray, seg: np.ndarray, n_cols: int | None = None
-                       ) -> sp.csr_matrix:
+def tributary_jacobian(x: np.ndarray, seg: np.ndarray, n_cols: int | None,
+                       cell: "str | CellType") -> sp.csr_matrix:
     """``da_k/dx`` of the tributary lengths of nodes ``x`` (2, n) on segments ``seg``.
 
     Parameters
     ----------
     x : ndarray (2, n)
         Current node coordinates.
-    seg : int ndarray (n_seg, 2) or (n_seg, 3)
-        2-node or 3-node ``(start, end, mid)`` segments.
-    n_cols : int, optional
-        Columns of the result (default ``2 n``); node ``j``'s dofs are columns
+    seg : int ndarray (n_seg, n_nodes of ``cell``)
+        The cells.
+    n_cols : int or None
+        Columns of the result (None: ``2 n``); node ``j``'s dofs are columns
         ``2 j, 2 j + 1`` (the contact kernels' local order, slave first).
+    cell : str or CellType
+        The line cell type of ``seg``.
 
     Returns
     -------
@@ -44,15 +49,17 @@ def tributary_jacobian(x: np.ndarray, seg: np.ndarray, n_cols: int | None = None
     seg = np.asarray(seg, dtype=np.int64)
     n = x.shape[1]
     n_cols = 2 * n if n_cols is None else int(n_cols)
-    if seg.shape[1] == 3:
-        eta, w = np.polynomial.legendre.leggauss(N_GAUSS_CURVE)
-        N, dN = _shape(eta)                                    # (3, q)
+    cell = cell_type(cell)
+    if not is_affine(cell):
+        eta, w = cell.quadrature(2 * N_TRIBUTARY - 1)
+        N, dN, _ = shape_values(cell, eta[0])                  # (n_nodes, q)
         t = np.einsum("dsk,kq->dsq", x[:, seg], dN)            # x'(eta_q), (2, n_seg, q)
         J = np.hypot(t[0], t[1])
         u = t / np.where(J > 0, J, 1.0)                        # unit tangents
         # d a_{seg[e, b]} / d x_{seg[e, a]}, component d: sum_q w_q N_b dN_a u_d
-        D = np.einsum("q,bq,aq,dsq->sbad", w, N, dN, u)        # (n_seg, 3, 3, 2)
+        D = np.einsum("q,bq,aq,dsq->sbad", w, N, dN, u)        # (n_seg, n, n, 2)
     else:
+        seg = ends(seg, cell)
         t = x[:, seg[:, 1]] - x[:, seg[:, 0]]
         l = np.hypot(t[0], t[1])
         u = (t / np.where(l > 0, l, 1.0)).T                    # (n_seg, 2)

@@ -3,7 +3,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..core.chain import curve_points, segment_lengths
+from ..contact.curves import output_cells, shape_values
+from ..contact.segmentation import surface_cell
 
 __all__ = ["ContactOutput", "output_gap", "pressure_profile", "STATUS_CODES"]
 
@@ -41,8 +42,7 @@ class ContactOutput:  # an Output (skfem_mortar.core.model) for the output layer
 
     def output_mesh(self):
         s = self.pair.slave
-        seg = np.asarray(s.segments)  # 3-node segments (start, end, mid): VTK's quadratic edge
-        return s.X.T.copy(), [("line3" if seg.shape[1] == 3 else "line", seg)]
+        return s.X.T.copy(), output_cells(s.segments, surface_cell(s))
 
     def output_data(self, z: np.ndarray):
         s = self.pair.slave
@@ -66,9 +66,9 @@ class ContactOutput:  # an Output (skfem_mortar.core.model) for the output layer
 def pressure_profile(pair, z: np.ndarray, n_per_segment: int = 8) -> dict[str, np.ndarray]:
     """The contact pressure as a continuous profile along the current slave surface.
 
-    On each slave segment ``p(xi) = sum_A N_A(xi) p_A`` with the segment's own shape
-    functions (2-node: linear; 3-node: quadratic, so the profile follows the
-    curved trace) and the nodal pressures ``p_A`` of :meth:`ContactPair.contact_data`
+    On each slave cell ``p(xi) = sum_A N_A(xi) p_A`` with the cell's own shape
+    functions from the cell table (line2: linear; line3: quadratic, so the profile
+    follows the curved trace) and the nodal pressures ``p_A`` of :meth:`ContactPair.contact_data`
     -- for standard mortar multipliers exactly the discrete traction
     ``lam_h = sum_A N_A lam_A``, for NTS and dual multipliers the interpolant of the
     nodal values.  Sampled at ``n_per_segment`` equal steps of ``xi`` per segment.
@@ -88,9 +88,11 @@ def pressure_profile(pair, z: np.ndarray, n_per_segment: int = 8) -> dict[str, n
     x = s.x(z)
     seg = np.asarray(s.segments)
     xi = np.linspace(-1.0, 1.0, n_per_segment + 1)[:-1]
-    pts = curve_points(x, seg, xi)                                  # (2, n_seg, k)
-    ps = curve_points(p[None, :], seg, xi)[0]                       # (n_seg, k)
-    last = seg[-1, 1]
+    cell = surface_cell(s)
+    N = shape_values(cell, xi)[0]                                   # (n_nodes, k)
+    pts = np.einsum("dsk,kq->dsq", x[:, seg], N)                    # (2, n_seg, k)
+    ps = np.einsum("dsk,kq->dsq", p[None, :][:, seg], N)[0]         # (n_seg, k)
+    last = seg[-1, cell.corners[1]]
     X = np.hstack([pts.reshape(2, -1), x[:, [last]]])
     P = np.r_[ps.ravel(), p[last]]
     d = np.hypot(*np.diff(X, axis=1))

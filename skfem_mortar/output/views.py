@@ -92,13 +92,14 @@ def to_pyvista(outputs: Sequence, z: np.ndarray, deformed: bool = True):
 _REVOLVED = {"triangle": (13, 3), "quad": (12, 4), "line": (9, 2)}   # wedge, hexahedron, quad
 
 
-def _sector_cells(cells: np.ndarray, n_points: int, segments: int) -> np.ndarray:
+def _sector_cells(cells: np.ndarray, n_points: int, segments: int, kind: str) -> np.ndarray:
     """The corners of each cell's sectors (``segments`` per cell): the cell's nodes at
     angle ``k`` then at ``k + 1`` (points numbered ``k * n_points + node``), with
-    the VTK node order of a wedge, a hexahedron or (from a line) a quadrilateral."""
+    the VTK node order of a wedge, a hexahedron or (from a line) a quadrilateral;
+    ``kind`` the cells' type, a key of :data:`_REVOLVED`."""
     k = np.arange(segments)[:, None, None]
     lo, hi = cells[None] + k * n_points, cells[None] + (k + 1) * n_points
-    if cells.shape[1] == 2:                        # a line sweeps a quadrilateral
+    if kind == "line":                             # a line sweeps a quadrilateral
         return np.concatenate([lo, hi[..., ::-1]], axis=2).reshape(-1, 4)
     return np.concatenate([lo, hi], axis=2).reshape(-1, 2 * cells.shape[1])
 
@@ -153,7 +154,7 @@ def revolve(result, k: int = -1, *, deformed: bool = True, segments: int = 36,
         kinds, conn, counts = [], [], []
         for cell_type, c in cells:
             vtk, _ = _REVOLVED[cell_type]
-            sec = _sector_cells(np.asarray(c, dtype=np.int64), n, int(segments))
+            sec = _sector_cells(np.asarray(c, dtype=np.int64), n, int(segments), cell_type)
             kinds.append(np.full(len(sec), vtk, dtype=np.uint8))
             conn.append(np.column_stack([np.full(len(sec), sec.shape[1]), sec]).ravel())
             counts.append(len(c))
