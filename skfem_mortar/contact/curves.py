@@ -86,7 +86,7 @@ def is_affine(cell: "str | CellType") -> bool:
     """Whether ``cell``'s geometry is affine: degree 1 with ``dim + 1`` nodes (``line2``,
     ``tri3``), the cells with closed-form projections."""
     cell = cell_type(cell)
-    return cell.degree == 1 and cell.n_nodes == cell.dim + 1
+    return cell.order == 1 and cell.n_nodes == cell.dim + 1
 
 
 def check_line(cell: "str | CellType", what: str) -> CellType:
@@ -99,9 +99,9 @@ def check_line(cell: "str | CellType", what: str) -> CellType:
         is above 2 (the composed jets need ``N''' = 0``, module doc).
     """
     cell = cell_type(cell)
-    if cell.dim != 1 or cell.degree > 2:
+    if cell.dim != 1 or cell.order > 2:
         raise ValueError(f"{what}: cell must be a line cell (dim 1) of degree at most 2, "
-                         f"got {cell.name!r} (dim {cell.dim}, degree {cell.degree})")
+                         f"got {cell.name!r} (dim {cell.dim}, order {cell.order})")
     return cell
 
 

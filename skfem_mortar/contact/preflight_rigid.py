@@ -161,7 +161,7 @@ def _touching_rows(pair: Any, z: np.ndarray, load_factor: float, n: int,
                       tangent=True)
     on = touch & nv.mask
     G = nv.G[np.flatnonzero(on)]
-    if getattr(pair, "friction", None) is not None:
+    if getattr(pair, "multipliers_per_node", 1) > 1:   # tangential rows
         # friction also holds the tangential motion of the touching nodes: the
         # rows turned from the normal n to the tangent e = (-n_y, n_x)
         turn = sp.kron(sp.identity(G.shape[1] // 2), np.array([[0.0, 1.0], [-1.0, 0.0]]))
