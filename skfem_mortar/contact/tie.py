@@ -90,6 +90,11 @@ class _Integrals(NamedTuple):
 VTK_LINES = {"line2": "line", "line3": "line3"}
 
 
+def _space(biorthogonal: bool) -> str:
+    """The mortar kernels' multiplier space of a tie's ``dual`` flag."""
+    return "dual" if biorthogonal else "standard"
+
+
 def _integrals(s: ContactSurface, m: ContactSurface, dual: bool, n_gauss: int,
                crosspoints: np.ndarray | None) -> _Integrals:
     """``D``, ``M`` and the mask on the reference configuration: the linear kernel's
@@ -98,11 +103,12 @@ def _integrals(s: ContactSurface, m: ContactSurface, dual: bool, n_gauss: int,
     either has 3-node segments (its Gauss rule: at least 3 points, exact for the
     products of two quadratics on straight segments)."""
     if surface_cell(s).name == "line2" and surface_cell(m).name == "line2":
-        ints = mortar.integrals(s.X, s.segments, m.X, m.segments, dual=dual,
+        ints = mortar.integrals(s.X, s.segments, m.X, m.segments, space=_space(dual),
                                 n_gauss=n_gauss, crosspoints=crosspoints)
         return _Integrals(ints.D, ints.M, ints.mask)
     from . import mortar_quadratic
-    ev = mortar_quadratic.evaluate(s.X, s.segments, m.X, m.segments, tangent=False, dual=dual,
+    ev = mortar_quadratic.evaluate(s.X, s.segments, m.X, m.segments, tangent=False,
+                                   space=_space(dual),
                                    n_gauss=max(n_gauss, 3), crosspoints=crosspoints)
     return _Integrals(ev.info["D"], ev.info["M"], ev.mask)
 
