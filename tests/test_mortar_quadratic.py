@@ -91,7 +91,7 @@ def test_exact_derivatives(ks, km, dual, x_right, shift):
     slave end (0.17: the last slave element is bounded by a master vertex, its far
     vertex masked), and slid by 0.13 (master vertices inside other slave elements)."""
     xs, ss, xm, sm = configuration(ks, km, x_right, shift)
-    eg, eh, ev = fd_errors(xs, ss, xm, sm, dual=dual)
+    eg, eh, ev = fd_errors(xs, ss, xm, sm, space=("dual" if dual else "standard"))
     assert ev.mask.sum() >= 4 and ev.info["n_segments"] >= 6
     if x_right < 0.3 and ks == 3:   # the partial case really has a partly projectable element
         sg = ev.info["segmentation"]
@@ -105,7 +105,7 @@ def test_exact_derivatives_at_a_crosspoint(dual, crosspoints):
     """The surface end 0 pinned (its function handed to the mid node 5), and both
     the end and that mid node pinned (handed to the other vertex)."""
     xs, ss, xm, sm = configuration(3, 3, 0.37)
-    eg, eh, ev = fd_errors(xs, ss, xm, sm, dual=dual, crosspoints=crosspoints)
+    eg, eh, ev = fd_errors(xs, ss, xm, sm, space=("dual" if dual else "standard"), crosspoints=crosspoints)
     assert not ev.mask[crosspoints].any()
     assert eg < TOL_G and eh < TOL_H
 
@@ -197,7 +197,7 @@ def test_patch_uniform_gap(dual, km):
     g0 = 0.013
     xs, ss = chain(5, lambda x: 0.0 * x, 1.0, 0.0)
     xm, sm = chain(4, lambda x: g0 + 0.0 * x, -0.1, 1.13, km)
-    ev = mq.evaluate(xs, ss, xm, sm, tangent=False, dual=dual)
+    ev = mq.evaluate(xs, ss, xm, sm, tangent=False, space=("dual" if dual else "standard"))
     assert ev.mask.all()
     np.testing.assert_allclose(ev.g, g0 * ev.area, rtol=1e-12)
     np.testing.assert_allclose(ev.area, mq.tributary_weights(xs, ss), rtol=1e-12)
@@ -213,7 +213,7 @@ def test_linear_gap_field(dual):
     g0, s = 0.01, 0.02
     xs, ss = chain(3, lambda x: 0.0 * x, 1.0, 0.0)
     xm, sm = chain(4, lambda x: g0 + s * x, -0.2, 1.2)   # left to right: normal down
-    ev = mq.evaluate(xs, ss, xm, sm, tangent=False, dual=dual, n_gauss=3)
+    ev = mq.evaluate(xs, ss, xm, sm, tangent=False, space=("dual" if dual else "standard"), n_gauss=3)
     exact = np.zeros(xs.shape[1])
     eta, w = np.polynomial.legendre.leggauss(6)
     for e in ss:
@@ -230,7 +230,7 @@ def test_overlap_length():
     xs, ss = chain(4, lambda x: 0.0 * x, 1.0, 0.0)
     xm, sm = chain(3, lambda x: g0 + 0.0 * x, 0.25, 0.8)
     for dual in (False, True):
-        ev = mq.evaluate(xs, ss, xm, sm, tangent=False, dual=dual)
+        ev = mq.evaluate(xs, ss, xm, sm, tangent=False, space=("dual" if dual else "standard"))
         np.testing.assert_allclose(ev.g.sum(), g0 * 0.55, rtol=1e-12)
 
 
@@ -246,8 +246,8 @@ def test_two_node_surfaces_equal_the_linear_kernel(dual, crosspoints):
     (~1e2 here): 1e-12."""
     xs, ss, xm, sm = configuration(2, 2, 0.17)
     lam = np.linspace(0.5, 1.5, xs.shape[1])
-    a = mq.evaluate(xs, ss, xm, sm, lam=lam, dual=dual, n_gauss=2, crosspoints=crosspoints)
-    b = mortar.evaluate(xs, ss, xm, sm, lam=lam, dual=dual, n_gauss=2, crosspoints=crosspoints)
+    a = mq.evaluate(xs, ss, xm, sm, lam=lam, space=("dual" if dual else "standard"), n_gauss=2, crosspoints=crosspoints)
+    b = mortar.evaluate(xs, ss, xm, sm, lam=lam, space=("dual" if dual else "standard"), n_gauss=2, crosspoints=crosspoints)
     assert (a.mask == b.mask).all()
     rel = 1e-12 if dual else 1e-14
     for u, v in ((a.g, b.g), (a.G, b.G), (a.H, b.H), (a.area, b.area),
@@ -269,17 +269,17 @@ def test_converted_surfaces_give_the_linear_totals(dual):
     the functions sum to one) equal the linear kernel's to round-off."""
     xs, ss = chain(4, lambda x: 0.0 * x, 1.0, 0.0, 2)
     xm, sm = chain(3, lambda x: 0.01 + 0.03 * np.abs(x - 0.4), -0.05, 1.1, 2)
-    lin = mortar.evaluate(xs, ss, xm, sm, tangent=False, dual=dual)
+    lin = mortar.evaluate(xs, ss, xm, sm, tangent=False, space=("dual" if dual else "standard"))
     assert lin.mask.all() and lin.g.sum() > 0.01
     xs3, ss3 = _to_three_node(xs, ss)
     xm3, sm3 = _to_three_node(xm, sm)
-    quad = mq.evaluate(xs3, ss3, xm3, sm3, tangent=False, dual=dual)
+    quad = mq.evaluate(xs3, ss3, xm3, sm3, tangent=False, space=("dual" if dual else "standard"))
     np.testing.assert_allclose(quad.g.sum(), lin.g.sum(), rtol=1e-12)
     # per element: each slave element alone (the slave is flat, so its nodal
     # normals do not depend on the neighbours): its nodes' g_A sum to int_e g_n
     for e in range(len(ss)):
-        one = mq.evaluate(xs3[:, ss3[e]], [[0, 1, 2]], xm3, sm3, tangent=False, dual=dual)
-        ref = mortar.evaluate(xs[:, ss[e]], [[0, 1]], xm, sm, tangent=False, dual=dual)
+        one = mq.evaluate(xs3[:, ss3[e]], [[0, 1, 2]], xm3, sm3, tangent=False, space=("dual" if dual else "standard"))
+        ref = mortar.evaluate(xs[:, ss[e]], [[0, 1]], xm, sm, tangent=False, space=("dual" if dual else "standard"))
         np.testing.assert_allclose(one.g.sum(), ref.g.sum(), rtol=1e-12)
 
 
@@ -325,12 +325,12 @@ def test_mortar_dispatch_and_pattern(ks, km, dual):
     linear one otherwise, unchanged); its reserved pattern holds every entry of G,
     and P^T P (what the pair reserves for K_uu) every entry of H."""
     xs, ss, xm, sm = configuration(ks, km, 0.17)
-    meth = Mortar(*_surfaces(xs, ss, xm, sm), dual=dual)
+    meth = Mortar(*_surfaces(xs, ss, xm, sm), multiplier_space=("dual" if dual else "standard"))
     assert meth.curved == (ks == 3 or km == 3)
     lam = np.linspace(0.5, 1.5, xs.shape[1])
     ev = meth.evaluate(xs, xm, lam, True)
     kernel = mq.evaluate if meth.curved else mortar.evaluate
-    ref = kernel(xs, ss, xm, sm, lam=lam, dual=dual)
+    ref = kernel(xs, ss, xm, sm, lam=lam, space=("dual" if dual else "standard"))
     assert abs(ev.G - ref.G).max() == 0.0
     P = meth.pattern(xs, xm).toarray() > 0
     S = (P.T.astype(int) @ P.astype(int)) > 0
@@ -342,11 +342,11 @@ def test_mortar_step_policy_on_curved_segments():
     """Policy ``step``: the segments of the step's start are frozen; G and H are the
     exact derivatives of that frozen g (central differences as above)."""
     xs, ss, xm, sm = configuration(3, 3, 0.17)
-    meth = Mortar(*_surfaces(xs, ss, xm, sm), dual=True, segmentation="step")
+    meth = Mortar(*_surfaces(xs, ss, xm, sm), multiplier_space="dual", segmentation="step")
     meth.begin_step(xs, xm, True)
     sg = meth._sg
     assert sg.frozen and sg.n > 0
-    eg, eh, _ = fd_errors(xs, ss, xm, sm, dual=True, segmentation=sg)
+    eg, eh, _ = fd_errors(xs, ss, xm, sm, space="dual", segmentation=sg)
     assert eg < TOL_G and eh < TOL_H
 
 

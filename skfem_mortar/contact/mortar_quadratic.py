@@ -117,7 +117,8 @@ import numpy as np
 from .contact_eval import ContactEval
 from .scatter import Triplets
 from .jets import Jet, at_gauss, constant_like, value, where
-from .mortar import MASK_TOL, gauss_rule
+from .mortar import MASK_TOL, biorthogonal, gauss_rule
+from .multiplier_spaces import MultiplierSpace
 from .segmentation import Segmentation, check_kernel_cells, line_cells
 from .mortar_quadratic_segmentation import (SlaveSlots, curve, element_normals,
                                             element_polynomial, nodal_normals,
@@ -391,7 +392,7 @@ def _projectable_part(exi: np.ndarray, nodes: tuple, Pc: list, Qc: list, Vb: lis
             where(hi_node >= 0, ph, const(np.ones(n))))
 
 
-def _block(P: _Problem, sl: np.ndarray, nv: int, second: bool, dual: bool,
+def _block(P: _Problem, sl: np.ndarray, nv: int, second: bool, biorth: bool,
            lam: np.ndarray | None, tangential: bool = False) -> _Block:
     """Steps 1 to 7 on the mortar segments ``sl`` in jets of ``nv`` local variables
     (0: values only); ``tangential``: the tangential offsets ``r_A`` of
@@ -419,7 +420,7 @@ def _block(P: _Problem, sl: np.ndarray, nv: int, second: bool, dual: bool,
     # 6. multiplier functions (dual: on the projectable part of e)
     T = P.T[e] if P.merged_any[e].any() else None
     A = None
-    if dual:
+    if biorth:
         part = _projectable_part(sg.elem_xi[e], (lo_node, hi_node), Pc, Qc,
                                  V[ns + km:ns + km + 2] if partial else None, const)
         A = dual_coefficients(Pc, *part, k, T, P.n_gauss_element)
@@ -493,19 +494,19 @@ def _tangential_rows(Phi: list, f: list, lam: np.ndarray | None, rows: np.ndarra
     return r, q
 
 
-def _blocks(P: _Problem, nv_on: bool, dual: bool, second: bool):
+def _blocks(P: _Problem, nv_on: bool, biorth: bool, second: bool):
     """Index blocks of mortar segments with their number of local variables
     (dual multipliers on partly projectable slave elements: 4 more)."""
     sg = P.sg
     if not nv_on:
         groups = [(np.arange(sg.n), 0)]
-    elif dual and not sg.frozen:
+    elif biorth and not sg.frozen:
         node = sg.elem_node[sg.e_s]
         partial = (node[:, 0] >= 0) | (node[:, 1] >= 0)
         groups = [(np.flatnonzero(~partial), P.nv(False)), (np.flatnonzero(partial), P.nv(True))]
     else:
         groups = [(np.arange(sg.n), P.nv(False))]
-    n_g = P.rule[0].size + (P.n_gauss_element if dual else 0)
+    n_g = P.rule[0].size + (P.n_gauss_element if biorth else 0)
     for idx, nv in groups:
         chunk = max(1, _CHUNK_ENTRIES // (n_g * max(nv, 1) ** (2 if second else 1)))
         for start in range(0, idx.size, chunk):
@@ -526,8 +527,8 @@ def _local_dofs(P: _Problem, sl: np.ndarray, nv: int) -> np.ndarray:
 
 
 def evaluate(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarray,
-             lam: np.ndarray | None = None, tangent: bool = True, dual: bool = False,
-             n_gauss: int = N_GAUSS, segmentation: Segmentation | None = None,
+             lam: np.ndarray | None = None, tangent: bool = True,
+             space: "MultiplierSpace | str" = "standard", n_gauss: int = N_GAUSS, segmentation: Segmentation | None = None,
              pairs: tuple[np.ndarray, np.ndarray] | None = None, margin: float | None = None,
              crosspoints: np.ndarray | None = None, reach: float = 0.0,
              n_gauss_element: int = N_GAUSS_ELEMENT, **options: Any) -> ContactEval:
@@ -545,8 +546,10 @@ def evaluate(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarra
         Multipliers; with ``tangent`` the Hessian ``H`` is returned.
     tangent : bool
         Compute ``G`` (and ``H`` if ``lam``).
-    dual : bool
-        Dual multipliers (:func:`dual_coefficients`) instead of ``Phi_A = N_A``.
+    space : MultiplierSpace or str
+        The multiplier space (:func:`~skfem_mortar.contact.mortar.biorthogonal`):
+        ``"standard"`` (``Phi_A = N_A``) or a biorthogonal one (``"dual"``,
+        :func:`dual_coefficients`).
     n_gauss : int in [1, 10]
         Gauss points per mortar segment (default :data:`N_GAUSS`, module doc).
     segmentation : Segmentation, optional
@@ -576,13 +579,13 @@ def evaluate(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarra
         (``int Phi_A N_B dGamma``, ``int Phi_A N_C dGamma``), ``segmentation``
         and ``n_segments``.
     """
-    return _evaluate(xs, seg_s, xm, seg_m, lam, tangent, dual, n_gauss, segmentation, pairs,
+    return _evaluate(xs, seg_s, xm, seg_m, lam, tangent, space, n_gauss, segmentation, pairs,
                      margin, crosspoints, reach, n_gauss_element, options, False, "evaluate")
 
 
 def tangential_evaluate(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarray,
-                        lam: np.ndarray | None = None, tangent: bool = True, dual: bool = False,
-                        n_gauss: int = N_GAUSS, segmentation: Segmentation | None = None,
+                        lam: np.ndarray | None = None, tangent: bool = True,
+                        space: "MultiplierSpace | str" = "standard", n_gauss: int = N_GAUSS, segmentation: Segmentation | None = None,
                         pairs: tuple[np.ndarray, np.ndarray] | None = None,
                         margin: float | None = None, crosspoints: np.ndarray | None = None,
                         reach: float = 0.0, n_gauss_element: int = N_GAUSS_ELEMENT,
@@ -607,12 +610,12 @@ def tangential_evaluate(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m
         ``g`` holds ``r_A``; ``info`` the current ``D``, ``M``, ``tangent``
         (2, n_s) the values ``tau_A``, ``segmentation`` and ``n_segments``.
     """
-    return _evaluate(xs, seg_s, xm, seg_m, lam, tangent, dual, n_gauss, segmentation, pairs,
+    return _evaluate(xs, seg_s, xm, seg_m, lam, tangent, space, n_gauss, segmentation, pairs,
                      margin, crosspoints, reach, n_gauss_element, options, True,
                      "tangential_evaluate")
 
 
-def _evaluate(xs, seg_s, xm, seg_m, lam, tangent, dual, n_gauss, segmentation, pairs, margin,
+def _evaluate(xs, seg_s, xm, seg_m, lam, tangent, space, n_gauss, segmentation, pairs, margin,
               crosspoints, reach, n_gauss_element, options, tangential, name) -> ContactEval:
     """:func:`evaluate` (``tangential`` False) or :func:`tangential_evaluate`."""
     options = dict(options)
@@ -630,10 +633,11 @@ def _evaluate(xs, seg_s, xm, seg_m, lam, tangent, dual, n_gauss, segmentation, p
     lamv = None if lam is None else np.asarray(lam, dtype=float)
     g = np.zeros(n_s)
     Gt, Ht, Dt, Mt = Triplets(), Triplets(), Triplets(), Triplets()
-    for sl, nv in _blocks(P, tangent, dual, second):
+    bi = biorthogonal(space)
+    for sl, nv in _blocks(P, tangent, bi, second):
         if sl.size == 0:
             continue
-        blk = _block(P, sl, nv, second, dual, lamv, tangential)
+        blk = _block(P, sl, nv, second, bi, lamv, tangential)
         rows = P.seg_s[P.sg.e_s[sl]]                   # (n, k)
         for a in range(k):
             np.add.at(g, rows[:, a], value(blk.g[a]))
