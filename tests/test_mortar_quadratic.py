@@ -15,6 +15,8 @@ import pytest
 
 from skfem_mortar.contact import mortar, mortar_quadratic as mq
 from skfem_mortar.contact.mortar_method import Mortar
+from skfem_mortar.contact.cells import cell_type
+from skfem_mortar.contact.mortar_support import tributary_weights
 from skfem_mortar.contact.mortar_quadratic_segmentation import (
     element_polynomial, nodal_normals, project_on_master, project_on_slave, shape_values)
 
@@ -116,11 +118,11 @@ def test_merge_matrix_keeps_a_partition_of_unity():
     the columns sum to one (unless all are merged)."""
     for bits in range(8):
         merged = np.array([[(bits >> j) & 1 for j in range(3)]], bool)
-        T = mq.merge_matrix(merged)[0]
+        T = mq.merge_matrix(merged, cell_type("line3"))[0]
         assert np.all(T[merged[0]] == 0)
         if not merged.all():
             np.testing.assert_array_equal(T.sum(axis=0), np.ones(3))
-    T = mq.merge_matrix(np.array([[True, False, False]]))[0]
+    T = mq.merge_matrix(np.array([[True, False, False]]), cell_type("line3"))[0]
     assert T[2, 0] == 1.0      # a merged vertex goes to the mid node
 
 
@@ -166,7 +168,7 @@ def test_dual_biorthogonal_to_the_modified_functions():
     biorthogonal to N~ = T N and sum to one (round-off: a straight element)."""
     P = _element(False)
     lo, hi = np.array([-1.0]), np.array([1.0])
-    T = mq.merge_matrix(np.array([[True, False, False]]))
+    T = mq.merge_matrix(np.array([[True, False, False]]), cell_type("line3"))
     A = mq.dual_coefficients(P, lo, hi, 3, T)
     m, d = _moments(P, A, -1.0, 1.0, T[0])
     np.testing.assert_allclose(m, np.diag(d), atol=1e-14)
@@ -185,7 +187,7 @@ def _flat(xv, y, k=3):
 def test_tributary_weights_of_a_straight_segment():
     """L/6, L/6, 2L/3 for start, end, mid (summed where elements meet)."""
     xs, ss = _flat([1.0, 0.0], 0.0)
-    np.testing.assert_allclose(mq.tributary_weights(xs, ss), [1 / 6, 1 / 6, 2 / 3], rtol=1e-14)
+    np.testing.assert_allclose(tributary_weights(xs, ss, cell_type("line3"), 9), [1 / 6, 1 / 6, 2 / 3], rtol=1e-14)
 
 
 @pytest.mark.parametrize("dual", [False, True])
@@ -200,7 +202,7 @@ def test_patch_uniform_gap(dual, km):
     ev = mq.evaluate(xs, ss, xm, sm, tangent=False, space=("dual" if dual else "standard"))
     assert ev.mask.all()
     np.testing.assert_allclose(ev.g, g0 * ev.area, rtol=1e-12)
-    np.testing.assert_allclose(ev.area, mq.tributary_weights(xs, ss), rtol=1e-12)
+    np.testing.assert_allclose(ev.area, tributary_weights(xs, ss, cell_type("line3"), 9), rtol=1e-12)
     np.testing.assert_allclose(ev.g.sum(), g0 * 1.0, rtol=1e-12)
 
 

@@ -76,7 +76,8 @@ import scipy.sparse as sp
 
 from .contact_eval import ContactEval
 from .multiplier_spaces import MultiplierSpace, make_space
-from .surfaces import segment_lengths, tributary_lengths
+from .cells import cell_type
+from .mortar_support import multiplier_support, tributary_weights
 from .scatter import Triplets
 from .jets import Jet, at_gauss, constant_like, sqrt, value, where
 from .segmentation import Segmentation, check_kernel_cells, line_cells
@@ -89,7 +90,7 @@ __all__ = ["evaluate", "segment", "Segmentation", "dual_coefficients", "MASK_TOL
            "segment_end_points", "gauss_rule", "Quadrature", "segment_quadrature",
            "multiplier_coefficients", "biorthogonal", "multiplier_shape_functions", "MortarIntegrals",
            "mortar_integrals", "weighted_gap", "gap_jets", "assemble_local",
-           "multiplier_support", "integrals", "SurfaceIntegrals", "nodal_tangents",
+           "integrals", "SurfaceIntegrals", "nodal_tangents",
            "tangential_jets", "tangential_evaluate"]
 
 MASK_TOL = 1e-6
@@ -568,30 +569,6 @@ def _as_arrays(xs, seg_s, xm, seg_m, cells=None):
             np.asarray(xm, dtype=float).reshape(2, -1), np.asarray(seg_m, dtype=np.int64).reshape(-1, 2))
 
 
-def multiplier_support(xs: np.ndarray, seg_s: np.ndarray, sg: Segmentation
-                       ) -> tuple[np.ndarray, np.ndarray]:
-    """Mortar support ``int N_A dGamma`` of each slave node, and its tributary length.
-
-    Exact from the segment end points (``N_A`` is linear): on a segment
-    ``[xi_a, xi_b]`` of an element of length ``l``, ``int N_1 = l/2 ((xi_b - xi_a)
-    - (xi_b^2 - xi_a^2)/2)/2`` and ``int N_2 = l/2 ((xi_b - xi_a) + (xi_b^2 - xi_a^2)/2)/2``.
-
-    Returns
-    -------
-    support, tributary : ndarray (n_s,)
-    """
-    n_s = xs.shape[1]
-    ls = segment_lengths(xs, seg_s)
-    trib = tributary_lengths(xs, seg_s)
-    lo_v, hi_v = sg.xi[:, 0], sg.xi[:, 1]
-    half = 0.5 * ls[sg.e_s]
-    a, b = seg_s[sg.e_s, 0], seg_s[sg.e_s, 1]
-    support = np.zeros(n_s)
-    np.add.at(support, a, half * ((hi_v - lo_v) - 0.5 * (hi_v * hi_v - lo_v * lo_v)) * 0.5)
-    np.add.at(support, b, half * ((hi_v - lo_v) + 0.5 * (hi_v * hi_v - lo_v * lo_v)) * 0.5)
-    return support, trib
-
-
 def assemble_local(values: np.ndarray, rows: np.ndarray, cols: np.ndarray,
                    shape: tuple[int, int]) -> sp.csr_matrix:
     """Sum per-segment 2x2 blocks ``values[k, i, j]`` into ``[rows[k, i], cols[k, j]]``.
@@ -667,7 +644,9 @@ class _Problem(NamedTuple):
         cp_nodes = np.zeros(n_s, bool)
         if crosspoints is not None:
             cp_nodes[np.asarray(crosspoints, dtype=np.int64)] = True
-        support, trib = multiplier_support(xs, seg_s, sg)
+        line2 = cell_type("line2")          # the cells of this kernel (_as_arrays)
+        support = multiplier_support(xs, seg_s, sg, line2, 1)  # N_A |dx/dxi|: degree 1
+        trib = tributary_weights(xs, seg_s, line2, 1)
         mask = (support > MASK_TOL * trib) & ~cp_nodes
         nrm, pnode, nnode = nodal_normals(xs, seg_s, second, nodal_jets)
         loc = _Local.of(sg, seg_s, seg_m, pnode, nnode)

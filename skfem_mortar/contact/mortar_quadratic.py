@@ -114,7 +114,9 @@ from typing import Any, NamedTuple
 
 import numpy as np
 
+from .cells import CellType
 from .contact_eval import ContactEval
+from .mortar_support import multiplier_support, tributary_weights
 from .scatter import Triplets
 from .jets import Jet, at_gauss, constant_like, value, where
 from .mortar import MASK_TOL, biorthogonal, gauss_rule
@@ -127,7 +129,7 @@ from .mortar_quadratic_segmentation import (SlaveSlots, curve, element_normals,
                                             segment, shape_values, slave_slots, tangent)
 
 __all__ = ["evaluate", "tangential_evaluate", "segment", "Segmentation", "merge_matrix", "dual_coefficients",
-           "tributary_weights", "multiplier_support", "N_GAUSS", "N_GAUSS_ELEMENT", "MASK_TOL"]
+           "N_GAUSS", "N_GAUSS_ELEMENT", "MASK_TOL"]
 
 N_GAUSS = 3
 """Default Gauss points per mortar segment (exact to degree 5, see the module doc)."""
@@ -146,14 +148,15 @@ def _check_rule(name: str, n: Any) -> int:
 
 def _as_arrays(xs, seg_s, xm, seg_m, cells=None):
     """The coordinates and connectivities as arrays, checked against ``cells``
-    (:func:`~skfem_mortar.contact.segmentation.line_cells`: line2 or line3)."""
+    (:func:`~skfem_mortar.contact.segmentation.line_cells`: line2 or line3), and the
+    two cell types."""
     xs = np.asarray(xs, dtype=float).reshape(2, -1)
     xm = np.asarray(xm, dtype=float).reshape(2, -1)
     seg_s = np.asarray(seg_s, dtype=np.int64)
     seg_m = np.asarray(seg_m, dtype=np.int64)
-    check_kernel_cells(line_cells(seg_s, seg_m, cells), ("line2", "line3"),
-                       "the curved mortar kernel")
-    return xs, seg_s, xm, seg_m
+    cells = line_cells(seg_s, seg_m, cells)
+    check_kernel_cells(cells, ("line2", "line3"), "the curved mortar kernel")
+    return xs, seg_s, xm, seg_m, cells
 
 
 def _expand(C: list) -> list:
@@ -173,77 +176,47 @@ def _jacobian(P: list, xi):
     return j2.sqrt() if isinstance(j2, Jet) else np.sqrt(j2)
 
 
-# ------------------------------------------------------------ supports and weights
-def tributary_weights(xs: np.ndarray, seg: np.ndarray, n_gauss: int = N_GAUSS_ELEMENT
-                      ) -> np.ndarray:
-    """``area_A = int N_A dGamma`` over the whole (curved) slave surface, (n_s,).
-
-    On a straight 3-node segment of length ``L`` with a centred mid node
-    ``L/6, L/6, 2L/3`` (start, end, mid); ``L/2`` each for 2-node segments.
-    """
-    xs = np.asarray(xs, dtype=float)
-    seg = np.asarray(seg, dtype=np.int64)
-    k = seg.shape[1]
-    eta, w = gauss_rule(n_gauss)
-    P = _expand(element_polynomial([(xs[0, seg[:, a]], xs[1, seg[:, a]]) for a in range(k)], k))
-    xi = np.broadcast_to(eta, (seg.shape[0], eta.size))
-    dG = _jacobian(P, xi) * w
-    out = np.zeros(xs.shape[1])
-    for a, N in enumerate(shape_values(k, xi)):
-        np.add.at(out, seg[:, a], (N * dG).sum(1))
-    return out
-
-
-def multiplier_support(xs: np.ndarray, seg_s: np.ndarray, sg: Segmentation,
-                       n_gauss: int = N_GAUSS) -> np.ndarray:
-    """Mortar support ``int N_A dGamma`` of each slave node over its mortar segments
-    (the rule of :func:`evaluate`), (n_s,); negative for a far vertex of a partly
-    covered 3-node element (module doc)."""
-    k = seg_s.shape[1]
-    e = sg.e_s
-    eta, w = gauss_rule(n_gauss)
-    P = _expand(element_polynomial([(xs[0, seg_s[e, a]], xs[1, seg_s[e, a]]) for a in range(k)],
-                                   k))
-    xi, half = _segment_points(sg.xi[:, 0], sg.xi[:, 1], eta)
-    dG = _jacobian(P, xi) * half * w
-    out = np.zeros(xs.shape[1])
-    for a, N in enumerate(shape_values(k, xi)):
-        np.add.at(out, seg_s[e, a], (N * dG).sum(1))
-    return out
-
-
 # ------------------------------------------------ step 6: multiplier shape functions
-def merge_matrix(merged: np.ndarray) -> np.ndarray:
+def merge_matrix(merged: np.ndarray, cell: CellType) -> np.ndarray:
     """The crosspoint/boundary modification ``N~_A = sum_B T_AB N_B`` per element.
 
-    ``merged`` (n, k) bool: the element's nodes without a multiplier (column
-    order start, end[, mid]).  Kept nodes keep their function; a merged vertex's
-    is added to the mid node if that is kept, else to the other vertex if kept;
-    a merged mid node's is split in halves onto the kept vertices (all of it onto
-    the one kept).  Merged rows are zero.  ``sum_A T_AB = 1`` for every ``B``
-    unless the whole element is merged, so ``sum_A N~_A = 1``.
+    ``merged`` (n, n_nodes) bool: the element's nodes without a multiplier, in the
+    columns of ``cell``.  Kept nodes keep their function; a merged node's goes to
+    the nearest kept node on each side along the cell's edge (``cell.edges``), in
+    halves when there is one on both sides, whole when on one.  For line3 (edge
+    start, mid, end) a merged vertex's goes to the mid node if that is kept, else
+    to the other vertex; a merged mid node's in halves to the kept vertices; for
+    line2 a merged node's to the other.  Merged rows are zero.  ``sum_A T_AB = 1``
+    for every ``B`` unless the whole element is merged, so ``sum_A N~_A = 1``.
 
     Returns
     -------
-    T : ndarray (n, k, k)
+    T : ndarray (n, n_nodes, n_nodes)
     """
     merged = np.asarray(merged, dtype=bool)
     n, k = merged.shape
+    if k != cell.n_nodes or cell.dim != 1:
+        raise ValueError(f"merged must have the columns of the line cell {cell.name} "
+                         f"({cell.n_nodes} nodes), got shape {merged.shape}")
     keep = ~merged
+    order = cell.edges[0]                       # the nodes in order along the line
     T = np.zeros((n, k, k))
     for a in range(k):
         T[:, a, a] = keep[:, a]
-    if k == 2:
-        T[:, 1, 0] += merged[:, 0] & keep[:, 1]
-        T[:, 0, 1] += merged[:, 1] & keep[:, 0]
-        return T
-    for v, o in ((0, 1), (1, 0)):        # a merged vertex: to the mid, else the other vertex
-        to_mid = merged[:, v] & keep[:, 2]
-        T[:, 2, v] += to_mid
-        T[:, o, v] += merged[:, v] & ~to_mid & keep[:, o]
-    both = keep[:, 0] & keep[:, 1]
-    for v in (0, 1):                     # a merged mid node: halves to the kept vertices
-        T[:, v, 2] += merged[:, 2] * np.where(both, 0.5, keep[:, v] * 1.0)
+    rows = np.arange(n)
+    for p, b in enumerate(order):
+        if not merged[:, b].any():
+            continue
+        sides = []
+        for walk in (order[p - 1::-1] if p else (), order[p + 1:]):
+            target = np.full(n, -1)
+            for q in walk:                      # the nearest kept node on this side
+                target = np.where((target < 0) & keep[:, q], q, target)
+            sides.append(target)
+        share = np.where((sides[0] >= 0) & (sides[1] >= 0), 0.5, 1.0)
+        for t in sides:
+            on = merged[:, b] & (t >= 0)
+            T[rows[on], t[on], b] += share[on]
     return T
 
 
@@ -337,17 +310,17 @@ class _Problem(NamedTuple):
 
 def _prepare(xs, seg_s, xm, seg_m, segmentation, pairs, margin, reach, crosspoints,
              n_gauss, n_gauss_element, cells=None) -> _Problem:
-    xs, seg_s, xm, seg_m = _as_arrays(xs, seg_s, xm, seg_m, cells)
+    xs, seg_s, xm, seg_m, cells = _as_arrays(xs, seg_s, xm, seg_m, cells)
     n_s = xs.shape[1]
     sg = segmentation if segmentation is not None else segment(
         xs, seg_s, xm, seg_m, pairs=pairs, margin=margin, frozen=False, reach=reach)
     cp = np.isin(np.arange(n_s), [] if crosspoints is None else crosspoints)
-    support = multiplier_support(xs, seg_s, sg, n_gauss)
-    trib = tributary_weights(xs, seg_s, n_gauss_element)
+    support = multiplier_support(xs, seg_s, sg, cells[0], n_gauss)
+    trib = tributary_weights(xs, seg_s, cells[0], 2 * n_gauss_element - 1)
     mask = (support > MASK_TOL * trib) & ~cp
     merged = ~mask[seg_s]
     return _Problem(xs, seg_s, xm, seg_m, sg, slave_slots(xs, seg_s), mask, support,
-                    merge_matrix(merged), merged.any(axis=1), gauss_rule(n_gauss),
+                    merge_matrix(merged, cells[0]), merged.any(axis=1), gauss_rule(n_gauss),
                     n_gauss_element)
 
 
