@@ -8,11 +8,14 @@ the cell type from the connectivity's columns would integrate it as a parabola
 What holds now: the cell and its segmentation register; the segmentation's
 integration cells are the line2 ones of its halves; the mortar kernels' values-only
 parts read its row (tributary weights and supports by its shape functions and
-composite rule, the crosspoint merge along its edge); and every contact method
-refuses a ``line2x2`` surface at construction, naming the cell, instead of
-integrating it as line3.  The mortar and NTS kernels evaluate line2 and line3
-only (their geometry is monomial coefficients per cell); the patch test through
-them waits for the kernels to read shape functions from the cell table.
+composite rule, the crosspoint merge along its edge); the curved kernel's
+monomials, read from the rows, refuse it (it is no polynomial on [-1, 1]); and
+every contact method refuses a ``line2x2`` surface at construction, naming the
+cell, instead of integrating it as line3.  The mortar and NTS kernels evaluate
+line2 and line3 only (their geometry is monomial coefficients per cell, now derived
+from the cell table); the patch test through them waits for the kernels to
+integrate a cell piece by piece (the dual coefficients over the projectable part
+cross line2x2's kink at the middle node).
 """
 from __future__ import annotations
 
@@ -26,7 +29,7 @@ from skfem_mortar.contact.cells import CELLS, CellType, cell_type, line_quadratu
 from skfem_mortar.contact.methods import make_method
 from skfem_mortar.contact.mortar_quadratic import merge_matrix
 from skfem_mortar.contact.mortar_support import multiplier_support, tributary_weights
-from skfem_mortar.contact.mortar_quadratic_segmentation import segment_lines
+from skfem_mortar.contact.mortar_quadratic_segmentation import monomials, segment_lines
 
 
 def _shape(xi):
@@ -142,3 +145,14 @@ def test_line2x2_merge_follows_its_edge(line2x2):
     np.testing.assert_array_equal(T[1], [[1, 0.5, 0], [0, 0, 0], [0, 0.5, 1]])
     with pytest.raises(ValueError, match="merged"):
         merge_matrix(np.zeros((1, 2), bool), line2x2)
+
+
+def test_the_curved_kernels_monomials_come_from_the_rows_and_refuse_line2x2(line2x2):
+    """The curved mortar kernel writes its geometry in the monomials of the cell's row
+    (exact for line2, line3: the Taylor coefficients at 0 are dyadic); line2x2 is no
+    polynomial on [-1, 1] and is refused naming it, not integrated as a parabola."""
+    np.testing.assert_array_equal(monomials(cell_type("line2")), [[0.5, -0.5, 0], [0.5, 0.5, 0]])
+    np.testing.assert_array_equal(monomials(cell_type("line3")),
+                                  [[0, -0.5, 0.5], [0, 0.5, 0.5], [1, 0, -1]])
+    with pytest.raises(ValueError, match="line2x2"):
+        monomials(line2x2)

@@ -23,6 +23,7 @@ from skfem_mortar.contact.mortar_quadratic_segmentation import (
 # Central differences with h = 1e-6 on unit-size data: truncation ~h^2 |g'''| ~ 1e-12,
 # round-off ~eps |g| / h ~ 1e-12 for G (|g| ~ 1e-2) and ~eps |G| / h ~ 1e-10 for H
 # (|G| ~ 1e-1); a missing chain-rule term shows at the size of the entries (1e-2 .. 1).
+LINE3 = cell_type("line3")
 H_FD = 1e-6
 TOL_G = 1e-9
 TOL_H = 1e-7
@@ -118,11 +119,11 @@ def test_merge_matrix_keeps_a_partition_of_unity():
     the columns sum to one (unless all are merged)."""
     for bits in range(8):
         merged = np.array([[(bits >> j) & 1 for j in range(3)]], bool)
-        T = mq.merge_matrix(merged, cell_type("line3"))[0]
+        T = mq.merge_matrix(merged, LINE3)[0]
         assert np.all(T[merged[0]] == 0)
         if not merged.all():
             np.testing.assert_array_equal(T.sum(axis=0), np.ones(3))
-    T = mq.merge_matrix(np.array([[True, False, False]]), cell_type("line3"))[0]
+    T = mq.merge_matrix(np.array([[True, False, False]]), LINE3)[0]
     assert T[2, 0] == 1.0      # a merged vertex goes to the mid node
 
 
@@ -130,7 +131,7 @@ def _element(curved: bool):
     """One slave element (start, end, mid); straight: the mid node at the midpoint
     (constant Jacobian); curved: moved along and lifted off the chord."""
     x = np.array([[0.0, 1.0, 0.55 if curved else 0.5], [0.0, 0.1, 0.2 if curved else 0.05]])
-    return element_polynomial([(x[0, a:a + 1], x[1, a:a + 1]) for a in range(3)], 3)
+    return element_polynomial([(x[0, a:a + 1], x[1, a:a + 1]) for a in range(3)], LINE3)
 
 
 def _moments(P, A, lo, hi, T=None, n=40):
@@ -139,7 +140,7 @@ def _moments(P, A, lo, hi, T=None, n=40):
     xi = (lo + hi) / 2 + (hi - lo) / 2 * eta
     tx, ty = P[1][0] + 2 * P[2][0] * xi, P[1][1] + 2 * P[2][1] * xi
     dG = np.hypot(tx, ty) * (hi - lo) / 2 * w
-    N = np.array(shape_values(3, xi[None, :]))[:, 0]
+    N = np.array(shape_values(LINE3, xi[None, :]))[:, 0]
     Nt = N if T is None else T @ N
     Phi = np.array([[A[a, b][0] for b in range(3)] for a in range(3)]) @ Nt
     return (Phi * dG) @ Nt.T, (Nt * dG).sum(1)
@@ -156,7 +157,7 @@ def test_dual_biorthogonality(curved, part):
     of its length: ~1e-6 of int N_A, well below its 1e-2 size)."""
     P = _element(curved)
     lo, hi = np.array([part[0]]), np.array([part[1]])
-    A = mq.dual_coefficients(P, lo, hi, 3)
+    A = mq.dual_coefficients(P, lo, hi, LINE3)
     m, d = _moments(P, A, lo[0], hi[0], n=mq.N_GAUSS_ELEMENT)
     np.testing.assert_allclose(m, np.diag(d), atol=1e-14)
     m, d = _moments(P, A, lo[0], hi[0])
@@ -168,13 +169,13 @@ def test_dual_biorthogonal_to_the_modified_functions():
     biorthogonal to N~ = T N and sum to one (round-off: a straight element)."""
     P = _element(False)
     lo, hi = np.array([-1.0]), np.array([1.0])
-    T = mq.merge_matrix(np.array([[True, False, False]]), cell_type("line3"))
-    A = mq.dual_coefficients(P, lo, hi, 3, T)
+    T = mq.merge_matrix(np.array([[True, False, False]]), LINE3)
+    A = mq.dual_coefficients(P, lo, hi, LINE3, T)
     m, d = _moments(P, A, -1.0, 1.0, T[0])
     np.testing.assert_allclose(m, np.diag(d), atol=1e-14)
     assert d[0] == 0.0 and np.all(d[1:] > 0)
     eta = np.linspace(-1, 1, 7)
-    N = np.array(shape_values(3, eta))
+    N = np.array(shape_values(LINE3, eta))
     Phi = np.array([[A[a, b][0] for b in range(3)] for a in range(3)]) @ (T[0] @ N)
     np.testing.assert_allclose(Phi.sum(0), 1.0, atol=1e-13)
 
@@ -187,7 +188,7 @@ def _flat(xv, y, k=3):
 def test_tributary_weights_of_a_straight_segment():
     """L/6, L/6, 2L/3 for start, end, mid (summed where elements meet)."""
     xs, ss = _flat([1.0, 0.0], 0.0)
-    np.testing.assert_allclose(tributary_weights(xs, ss, cell_type("line3"), 9), [1 / 6, 1 / 6, 2 / 3], rtol=1e-14)
+    np.testing.assert_allclose(tributary_weights(xs, ss, LINE3, 9), [1 / 6, 1 / 6, 2 / 3], rtol=1e-14)
 
 
 @pytest.mark.parametrize("dual", [False, True])
@@ -202,7 +203,7 @@ def test_patch_uniform_gap(dual, km):
     ev = mq.evaluate(xs, ss, xm, sm, tangent=False, space=("dual" if dual else "standard"))
     assert ev.mask.all()
     np.testing.assert_allclose(ev.g, g0 * ev.area, rtol=1e-12)
-    np.testing.assert_allclose(ev.area, tributary_weights(xs, ss, cell_type("line3"), 9), rtol=1e-12)
+    np.testing.assert_allclose(ev.area, tributary_weights(xs, ss, LINE3, 9), rtol=1e-12)
     np.testing.assert_allclose(ev.g.sum(), g0 * 1.0, rtol=1e-12)
 
 
@@ -221,7 +222,7 @@ def test_linear_gap_field(dual):
     for e in ss:
         xa, xb = xs[0, e[0]], xs[0, e[1]]
         x = (xa + xb) / 2 + (xb - xa) / 2 * eta
-        N = np.array(shape_values(3, eta))
+        N = np.array(shape_values(LINE3, eta))
         exact[e] += N @ ((g0 + s * x) * abs(xb - xa) / 2 * w)
     np.testing.assert_allclose(ev.g, exact, rtol=1e-12, atol=1e-16)
 
@@ -301,11 +302,11 @@ def test_projections_are_roots():
     zero), and a point projected onto a curved master element."""
     P = _element(True)
     Q = element_polynomial([(np.array([0.1]), np.array([-1.0])), (np.array([0.0]), np.array([-1.0])),
-                            (np.array([0.05]), np.array([-1.0]))], 3)
+                            (np.array([0.05]), np.array([-1.0]))], LINE3)
     xi, ok = project_on_slave(P, Q, (np.array([0.4]), np.array([-0.3])))
     assert ok.all() and -1 < xi[0] < 1
     R = element_polynomial([(np.array([1.0]), np.array([-0.3])), (np.array([0.0]), np.array([-0.35])),
-                            (np.array([0.5]), np.array([-0.25]))], 3)
+                            (np.array([0.5]), np.array([-0.25]))], LINE3)
     eta, ok = project_on_master(R, (np.array([0.4]), np.array([0.2])), (np.array([0.0]), np.array([-1.0])))
     mx = R[0][0] + R[1][0] * eta + R[2][0] * eta ** 2
     assert ok.all() and abs(mx[0] - 0.4) < 1e-14

@@ -251,7 +251,7 @@ def _sym_inverse(M: dict, k: int) -> dict:
     return {key: v * r for key, v in C.items()}
 
 
-def dual_coefficients(P: list, lo, hi, k: int, T: np.ndarray | None = None,
+def dual_coefficients(P: list, lo, hi, cell: CellType, T: np.ndarray | None = None,
                       n_gauss: int = N_GAUSS_ELEMENT) -> dict:
     """Step 6: dual coefficients ``A~ = D~ M~^{-1}`` on the projectable part ``[lo, hi]``.
 
@@ -267,10 +267,11 @@ def dual_coefficients(P: list, lo, hi, k: int, T: np.ndarray | None = None,
     -------
     dict ``(A, B) -> A~_AB``, each of shape (n,).
     """
+    k = cell.n_nodes
     eta, w = gauss_rule(n_gauss)
     xi, half = _segment_points(lo, hi, eta)
     dG = _jacobian(_expand(P), xi) * half * w
-    Nt = _modified(T, shape_values(k, xi), k)
+    Nt = _modified(T, shape_values(cell, xi), k)
     wN = [N * dG for N in Nt]
     D = [x.sum(1) for x in wN]
     M = {(a, b): (wN[a] * Nt[b]).sum(1) for a in range(k) for b in range(a, k)}
@@ -299,13 +300,14 @@ class _Problem(NamedTuple):
     merged_any: np.ndarray         # (n_el_s,) whether T is not the identity
     rule: tuple
     n_gauss_element: int
+    cells: tuple                   # the slave and master cell types
 
     @property
     def n_slots(self) -> int:
         return 3 * self.slots.k - 2
 
     def nv(self, partial: bool) -> int:
-        return 2 * (self.n_slots + self.seg_m.shape[1]) + (4 if partial else 0)
+        return 2 * (self.n_slots + self.cells[1].n_nodes) + (4 if partial else 0)
 
 
 def _prepare(xs, seg_s, xm, seg_m, segmentation, pairs, margin, reach, crosspoints,
@@ -313,15 +315,16 @@ def _prepare(xs, seg_s, xm, seg_m, segmentation, pairs, margin, reach, crosspoin
     xs, seg_s, xm, seg_m, cells = _as_arrays(xs, seg_s, xm, seg_m, cells)
     n_s = xs.shape[1]
     sg = segmentation if segmentation is not None else segment(
-        xs, seg_s, xm, seg_m, pairs=pairs, margin=margin, frozen=False, reach=reach)
+        xs, seg_s, xm, seg_m, pairs=pairs, margin=margin, frozen=False, reach=reach,
+        cells=cells)
     cp = np.isin(np.arange(n_s), [] if crosspoints is None else crosspoints)
     support = multiplier_support(xs, seg_s, sg, cells[0], n_gauss)
     trib = tributary_weights(xs, seg_s, cells[0], 2 * n_gauss_element - 1)
     mask = (support > MASK_TOL * trib) & ~cp
     merged = ~mask[seg_s]
-    return _Problem(xs, seg_s, xm, seg_m, sg, slave_slots(xs, seg_s), mask, support,
+    return _Problem(xs, seg_s, xm, seg_m, sg, slave_slots(xs, seg_s, cells[0]), mask, support,
                     merge_matrix(merged, cells[0]), merged.any(axis=1), gauss_rule(n_gauss),
-                    n_gauss_element)
+                    n_gauss_element, cells)
 
 
 class _Block(NamedTuple):
@@ -370,7 +373,8 @@ def _block(P: _Problem, sl: np.ndarray, nv: int, second: bool, biorth: bool,
     """Steps 1 to 7 on the mortar segments ``sl`` in jets of ``nv`` local variables
     (0: values only); ``tangential``: the tangential offsets ``r_A`` of
     :func:`tangential_evaluate` instead of the weighted gaps."""
-    sg, k, km = P.sg, P.slots.k, P.seg_m.shape[1]
+    (cs, cm), sg = P.cells, P.sg
+    k, km = cs.n_nodes, cm.n_nodes
     e, m = sg.e_s[sl], sg.e_m[sl]
     ns = P.n_slots
     pos = [P.slots.pos[:, e, j] for j in range(ns)]
@@ -385,9 +389,9 @@ def _block(P: _Problem, sl: np.ndarray, nv: int, second: bool, biorth: bool,
     like = V[0][0]
     const = lambda v: constant_like(np.asarray(v, dtype=float), like)  # noqa: E731
     # 1. the slave normal field
-    nrm = element_normals(V[:ns], k, P.slots.wp[e], P.slots.wn[e])
-    Pc, Qc = element_polynomial(V[:k], k), element_polynomial(nrm, k)
-    R = element_polynomial(V[ns:ns + km], km)
+    nrm = element_normals(V[:ns], cs, P.slots.wp[e], P.slots.wn[e])
+    Pc, Qc = element_polynomial(V[:k], cs), element_polynomial(nrm, cs)
+    R = element_polynomial(V[ns:ns + km], cm)
     # 2, 3. end points of the mortar segments: the master vertices projected onto e
     lo, hi = _end_points(sg, sl, Pc, Qc, V[ns:ns + 2], const)
     # 6. multiplier functions (dual: on the projectable part of e)
@@ -396,7 +400,7 @@ def _block(P: _Problem, sl: np.ndarray, nv: int, second: bool, biorth: bool,
     if biorth:
         part = _projectable_part(sg.elem_xi[e], (lo_node, hi_node), Pc, Qc,
                                  V[ns + km:ns + km + 2] if partial else None, const)
-        A = dual_coefficients(Pc, *part, k, T, P.n_gauss_element)
+        A = dual_coefficients(Pc, *part, cs, T, P.n_gauss_element)
     # 4. Gauss points on the mortar segments, 5. their projections onto the master
     eta_r, w = P.rule
     xi, half = _segment_points(lo, hi, eta_r)
@@ -417,7 +421,7 @@ def _block(P: _Problem, sl: np.ndarray, nv: int, second: bool, biorth: bool,
         dx, dy = xm_g[0] - X[0], xm_g[1] - X[1]
         f = [(dx * at_gauss(nrm[a][1]) - dy * at_gauss(nrm[a][0])) * dG for a in range(k)]
     # 6. Phi_A at the Gauss points
-    Nt = _modified(T, shape_values(k, xi), k)
+    Nt = _modified(T, shape_values(cs, xi), k)
     if A is not None:
         Phi = []
         for a in range(k):
@@ -444,8 +448,8 @@ def _block(P: _Problem, sl: np.ndarray, nv: int, second: bool, biorth: bool,
             q = (phl * f).sum(1)
     # values: D_AB = int Phi_A N_B dGamma, M_AC = int Phi_A N_C dGamma
     xv, dGv = value(xi), value(dG)
-    Nb = shape_values(k, xv)
-    Nc = shape_values(km, value(eta))
+    Nb = shape_values(cs, xv)
+    Nc = shape_values(cm, value(eta))
     ph_v = [value(ph) * dGv for ph in Phi]
     D = np.stack([np.stack([(p * N).sum(1) for N in Nb], 1) for p in ph_v], 1)
     M = np.stack([np.stack([(p * N).sum(1) for N in Nc], 1) for p in ph_v], 1)
@@ -627,6 +631,6 @@ def _evaluate(xs, seg_s, xm, seg_m, lam, tangent, space, n_gauss, segmentation, 
     D, M = Dt.csr((n_s, n_s)), Mt.csr((n_s, n_m))
     info = {"D": D, "M": M, "segmentation": P.sg, "n_segments": P.sg.n}
     if tangential:
-        nrm = nodal_normals(P.xs, P.seg_s)
+        nrm = nodal_normals(P.xs, P.seg_s, P.cells[0])
         info["tangent"] = np.stack([nrm[1], -nrm[0]])
     return ContactEval(g=g, G=G, H=H, area=P.area, mask=P.mask, info=info)
