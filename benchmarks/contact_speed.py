@@ -33,7 +33,7 @@ from house_speed import MEASURES as HOUSE, _env  # noqa: E402
 CALL = r"""
 import json, sys, time, types
 import numpy as np
-from skfem_mortar.contact.mortar_method import Mortar
+from skfem_mortar.contact.methods import make_method
 k, dual = int(sys.argv[1]), sys.argv[2] == "dual"
 
 def chain(n, f, x0, x1):
@@ -54,7 +54,7 @@ def chain(n, f, x0, x1):
 
 xs, s = chain(25, lambda x: 0.999 - np.sqrt(1.0 - x * x), -0.3, 0.3)
 xm, m = chain(33, lambda x: 0.0 * x, 0.45, -0.45)
-meth = Mortar(s, m, dual=dual)
+meth = make_method("mortar-dual" if dual else "mortar", s, m)
 lam = np.linspace(0.5, 1.5, xs.shape[1])
 ts = []
 for _ in range(41):

@@ -38,10 +38,10 @@ def main(n_seg: int = 25) -> None:
     xs = xs0 + [[0.02], [0.0]]
     lam = np.ones(ns)
     for dual in (False, True):
-        hist = mortar_history(xs0, seg_s, xm0, seg_m, dual=dual)
-        t_gap = _median_time(lambda: mortar.evaluate(xs, seg_s, xm0, seg_m, lam=lam, dual=dual))
+        hist = mortar_history(xs0, seg_s, xm0, seg_m, space=("dual" if dual else "standard"))
+        t_gap = _median_time(lambda: mortar.evaluate(xs, seg_s, xm0, seg_m, lam=lam, space=("dual" if dual else "standard")))
         t_slip = _median_time(lambda: mortar_slip(xs, seg_s, xm0, seg_m, hist["D_prev"],
-                                                  hist["M_prev"], lam_t=lam, dual=dual))
+                                                  hist["M_prev"], lam_t=lam, space=("dual" if dual else "standard")))
         print(f"{'dual' if dual else 'standard'}: {n_seg} slave segments: frictionless "
               f"evaluate {1e3 * t_gap:.2f} ms, slip {1e3 * t_slip:.2f} ms "
               f"(ratio {t_slip / t_gap:.2f})")

@@ -36,8 +36,8 @@ def test_gap_gradient_is_continuous_at_the_tie(dual, eps):
     # 4e-9).  Within XI_TOL (eps = 1e-13) it is round-off, 4e-13.  The bug made G
     # jump by 0.12 (standard) and 0.09 (dual) within XI_TOL: 1e-3 separates the
     # two by a factor 30 either way.
-    r0 = evaluate(*_tie_pair(0.0), dual=dual)
-    r1 = evaluate(*_tie_pair(eps), dual=dual)
+    r0 = evaluate(*_tie_pair(0.0), space=("dual" if dual else "standard"))
+    r1 = evaluate(*_tie_pair(eps), space=("dual" if dual else "standard"))
     G0, G1 = r0.G.toarray(), r1.G.toarray()
     assert np.abs(G0 - G1).max() <= 1e-3 * np.abs(G0).max()
     # the weighted gaps themselves were always continuous (round-off of eps)
@@ -51,8 +51,8 @@ def test_tangential_gradient_is_continuous_at_the_tie(dual, eps):
     # tie by the Gauss rule's error, 2.5e-5 (standard) and 1.7e-4 (dual) relative,
     # by round-off (1e-12) within XI_TOL; the bug's jump there was 0.038 (dual;
     # standard multipliers hid it below the Gauss error here).  1e-3 separates them.
-    G0 = tangential_evaluate(*_tie_pair(0.0), dual=dual).G.toarray()
-    G1 = tangential_evaluate(*_tie_pair(eps), dual=dual).G.toarray()
+    G0 = tangential_evaluate(*_tie_pair(0.0), space=("dual" if dual else "standard")).G.toarray()
+    G1 = tangential_evaluate(*_tie_pair(eps), space=("dual" if dual else "standard")).G.toarray()
     assert np.abs(G0 - G1).max() <= 1e-3 * np.abs(G0).max()
 
 
@@ -62,14 +62,14 @@ def test_gap_gradient_at_the_tie_against_differences(dual):
     # g is smooth): truncation h |g''| ~ 1e-6 relative plus the 3e-5 offset of G at
     # the tie (the Gauss rule's, see above); 1e-3 is far below the bug's 0.1 error in G.
     xs, ss, xm, sm = _tie_pair()
-    r = evaluate(xs, ss, xm, sm, dual=dual)
+    r = evaluate(xs, ss, xm, sm, space=("dual" if dual else "standard"))
     G = r.G.toarray()
     h = 1e-7
     for sign in (1.0, -1.0):
         for k in (0, 1):             # x and y of the middle slave node (dof 2*4 + k)
             xp = xs.copy()
             xp[k, 4] += sign * h
-            fd = (evaluate(xp, ss, xm, sm, dual=dual).g - r.g) / (sign * h)
+            fd = (evaluate(xp, ss, xm, sm, space=("dual" if dual else "standard")).g - r.g) / (sign * h)
             assert np.abs(fd - G[:, 8 + k]).max() <= 1e-3 * np.abs(G).max()
 
 

@@ -82,7 +82,7 @@ def fd_errors(xs, ss, xm, sm, lam, **kw):
 def test_fd_G_and_H_curved_partial_sliding(dual, shift):
     xs, ss, xm, sm = curved_pair(shift)
     lam = np.random.default_rng(1).uniform(0.5, 1.5, xs.shape[1])
-    eG, eH, r = fd_errors(xs, ss, xm, sm, lam, dual=dual)
+    eG, eH, r = fd_errors(xs, ss, xm, sm, lam, space=("dual" if dual else "standard"))
     assert 0 < r.mask.sum() < xs.shape[1]            # partial overlap indeed
     assert eG <= FD_TOL and eH <= FD_TOL
 
@@ -99,7 +99,7 @@ def test_segments_without_multipliers_skip_only_a_zero_hessian(dual):
     xs, ss, xm, sm = curved_pair(0.1)
     lam = np.random.default_rng(3).uniform(0.5, 1.5, xs.shape[1])
     lam[:3] = 0.0                                     # segments (0, 1), (1, 2): no H
-    eG, eH, r = fd_errors(xs, ss, xm, sm, lam, dual=dual)
+    eG, eH, r = fd_errors(xs, ss, xm, sm, lam, space=("dual" if dual else "standard"))
     assert eG <= FD_TOL and eH <= FD_TOL
     real, seen = kernel._blocks, []
 
@@ -110,10 +110,10 @@ def test_segments_without_multipliers_skip_only_a_zero_hessian(dual):
         seen.append({sec for _, _, sec in out})
         return iter(out)
     with mock.patch.object(kernel, "_blocks", recording):
-        r = evaluate(xs, ss, xm, sm, lam=lam, dual=dual)
+        r = evaluate(xs, ss, xm, sm, lam=lam, space=("dual" if dual else "standard"))
     assert seen.pop() == {True, False}                # both kinds of blocks
     with mock.patch.object(kernel, "_blocks", lambda *a, **k: recording(*a, every=True, **k)):
-        full = evaluate(xs, ss, xm, sm, lam=lam, dual=dual)
+        full = evaluate(xs, ss, xm, sm, lam=lam, space=("dual" if dual else "standard"))
     assert seen.pop() == {True}
     assert abs(full.H - r.H).max() <= 1e-13 * abs(full.H).max()  # the skipped part was zero
     np.testing.assert_array_equal(full.g, r.g)
@@ -134,9 +134,9 @@ def test_values_do_not_depend_on_the_blocks(dual, chunk, monkeypatch):
     xs, ss, xm, sm = curved_pair(0.1)
     lam = np.random.default_rng(3).uniform(0.5, 1.5, xs.shape[1])
     lam[:3] = 0.0
-    full = evaluate(xs, ss, xm, sm, lam=lam, dual=dual)
-    g_only = evaluate(xs, ss, xm, sm, dual=dual)
-    values = evaluate(xs, ss, xm, sm, tangent=False, dual=dual)
+    full = evaluate(xs, ss, xm, sm, lam=lam, space=("dual" if dual else "standard"))
+    g_only = evaluate(xs, ss, xm, sm, space=("dual" if dual else "standard"))
+    values = evaluate(xs, ss, xm, sm, tangent=False, space=("dual" if dual else "standard"))
     for other in (g_only, values):
         for name in ("g", "area", "mask"):
             np.testing.assert_array_equal(getattr(full, name), getattr(other, name))
@@ -150,7 +150,7 @@ def test_fd_crosspoint_and_three_gauss_points(dual):
     """Crosspoint modification (slave node 0, covered by the master) and a 3-point rule."""
     xs, ss, xm, sm = curved_pair(0.1, seed=4)
     lam = np.random.default_rng(2).uniform(0.5, 1.5, xs.shape[1])
-    eG, eH, r = fd_errors(xs, ss, xm, sm, lam, dual=dual, crosspoints=[0], n_gauss=3)
+    eG, eH, r = fd_errors(xs, ss, xm, sm, lam, space=("dual" if dual else "standard"), crosspoints=[0], n_gauss=3)
     assert not r.mask[0] and r.mask[1]
     assert eG <= FD_TOL and eH <= FD_TOL
 
@@ -161,7 +161,7 @@ def test_fd_reused_pair_list(dual):
     xs, ss, xm, sm = curved_pair(0.237, seed=2)
     sg = segment(xs, ss, xm, sm, frozen=False)
     lam = np.random.default_rng(3).uniform(0.5, 1.5, xs.shape[1])
-    eG, eH, _ = fd_errors(xs, ss, xm, sm, lam, dual=dual, segmentation=sg)
+    eG, eH, _ = fd_errors(xs, ss, xm, sm, lam, space=("dual" if dual else "standard"), segmentation=sg)
     assert eG <= FD_TOL and eH <= FD_TOL
 
 
@@ -175,9 +175,9 @@ def test_sliding_path_directional_derivative(dual):
     errs = []
     for t in np.linspace(-0.3, 0.2, 40):     # master nodes cross several slave nodes
         xm_t = xm + np.array([[t], [0.0]])
-        r = evaluate(xs, ss, xm_t, sm, dual=dual)
-        rp = evaluate(xs, ss, xm_t + [[FD_H], [0]], sm, dual=dual)
-        rm = evaluate(xs, ss, xm_t - [[FD_H], [0]], sm, dual=dual)
+        r = evaluate(xs, ss, xm_t, sm, space=("dual" if dual else "standard"))
+        rp = evaluate(xs, ss, xm_t + [[FD_H], [0]], sm, space=("dual" if dual else "standard"))
+        rm = evaluate(xs, ss, xm_t - [[FD_H], [0]], sm, space=("dual" if dual else "standard"))
         fd = (rp.g - rm.g) / (2 * FD_H)
         errs.append(np.abs(r.G @ v - fd).max() / max(np.abs(r.G @ v).max(), 1e-3))
     # measured: median 4e-11, max 1e-9 (dual, a point near a crossing where
@@ -194,7 +194,7 @@ def test_sliding_path_continuity(dual):
     v = np.zeros(2 * n_s + 2 * xm.shape[1])
     v[2 * n_s::2] = 1.0
     ts = np.linspace(-0.3, 0.2, 201)
-    ev = [evaluate(xs, ss, xm + [[t], [0]], sm, dual=dual) for t in ts]
+    ev = [evaluate(xs, ss, xm + [[t], [0]], sm, space=("dual" if dual else "standard")) for t in ts]
     g = np.array([r.g for r in ev])
     slope = np.abs(np.array([r.G @ v for r in ev]))
     bound = np.maximum(slope[1:], slope[:-1]) * (ts[1] - ts[0])
@@ -210,17 +210,17 @@ def test_frozen_segmentation_tangent(dual):
     xs, ss, xm, sm = curved_pair(0.1)
     n_s = xs.shape[1]
     sg = segment(xs, ss, xm, sm, frozen=True)
-    live = evaluate(xs, ss, xm, sm, dual=dual)
+    live = evaluate(xs, ss, xm, sm, space=("dual" if dual else "standard"))
     lam = np.linspace(0.5, 1.5, n_s)
     # perturb the configuration: the frozen g differs from the live one
     rng = np.random.default_rng(3)
     xs2, xm2 = xs + 0.01 * rng.standard_normal(xs.shape), xm + 0.01 * rng.standard_normal(xm.shape)
-    at_build = evaluate(xs, ss, xm, sm, dual=dual, segmentation=sg)
+    at_build = evaluate(xs, ss, xm, sm, space=("dual" if dual else "standard"), segmentation=sg)
     np.testing.assert_allclose(at_build.g, live.g, atol=1e-14)   # same segments at build time
-    eG, eH, r = fd_errors(xs2, ss, xm2, sm, lam, dual=dual, segmentation=sg)
+    eG, eH, r = fd_errors(xs2, ss, xm2, sm, lam, space=("dual" if dual else "standard"), segmentation=sg)
     assert eG <= FD_TOL and eH <= FD_TOL
     # the frozen residual is not the live one away from the build configuration
-    assert np.abs(r.g - evaluate(xs2, ss, xm2, sm, dual=dual).g).max() > 1e-6
+    assert np.abs(r.g - evaluate(xs2, ss, xm2, sm, space=("dual" if dual else "standard")).g).max() > 1e-6
 
 
 # ------------------------------------------------------- invariances (balance)
@@ -242,7 +242,7 @@ def test_linear_and_angular_momentum(dual, curved):
     else:
         xs, ss, xm, sm = flat_pair(np.linspace(0, 1, 6), np.linspace(0.13, 1.4, 5), d=-0.01)
     lam = np.linspace(1.0, 2.0, xs.shape[1])
-    r = evaluate(xs, ss, xm, sm, lam=lam, dual=dual)
+    r = evaluate(xs, ss, xm, sm, lam=lam, space=("dual" if dual else "standard"))
     f = r.G.T @ (lam * r.mask)
     scale = np.abs(f).max()
     assert scale > 0
@@ -267,7 +267,7 @@ def test_flat_zero_gap_and_translation(name, dual):
     overlap: area = tributary lengths, sum D = sum M = contact length."""
     xs_x, xm_x = MESHES[name]
     xs, ss, xm, sm = flat_pair(xs_x, xm_x)
-    r = evaluate(xs, ss, xm, sm, dual=dual)
+    r = evaluate(xs, ss, xm, sm, space=("dual" if dual else "standard"))
     assert np.all(r.mask)
     assert np.abs(r.g).max() <= 1e-15          # exact zeros up to round-off of O(1) products
     h = np.diff(xs_x)
@@ -283,7 +283,7 @@ def test_flat_zero_gap_and_translation(name, dual):
         off = D - np.diag(D.diagonal())
         assert np.abs(off).max() <= 1e-15
     delta = 0.0123
-    r2 = evaluate(xs, ss, xm + [[0.0], [delta]], sm, dual=dual)
+    r2 = evaluate(xs, ss, xm + [[0.0], [delta]], sm, space=("dual" if dual else "standard"))
     np.testing.assert_allclose(r2.g, delta * trib, rtol=1e-13)
 
 
@@ -294,7 +294,7 @@ def test_weighted_gap_is_minus_D_xs_plus_M_xm(dual):
     xs, ss, xm, sm = flat_pair(np.linspace(0, 1, 6), np.array([-0.2, 0.31, 0.52, 0.9, 1.3]))
     xm = xm.copy()
     xm[1] = 0.01 + 0.02 * xm[0]                     # tilted straight master
-    r = evaluate(xs, ss, xm, sm, dual=dual)
+    r = evaluate(xs, ss, xm, sm, space=("dual" if dual else "standard"))
     D, M = r.info["D"], r.info["M"]
     np.testing.assert_allclose(r.g, -D @ xs[1] + M @ xm[1], atol=1e-16)
     # and against the analytic weighted gap int Phi_A (0.01 + 0.02 x) dx
@@ -321,7 +321,7 @@ def test_partial_overlap_flat(dual):
     xs_x = np.linspace(0, 1, 5)                    # nodes 0, .25, .5, .75, 1
     xm_x = np.array([0.3, 0.55, 0.8])
     xs, ss, xm, sm = flat_pair(xs_x, xm_x, d=0.02)
-    r = evaluate(xs, ss, xm, sm, dual=dual)
+    r = evaluate(xs, ss, xm, sm, space=("dual" if dual else "standard"))
 
     def int_hat(xn, h, a, b):                      # int_a^b of the hat function at xn
         xx = np.linspace(a, b, 200001)
@@ -372,7 +372,7 @@ def test_crosspoint_merge():
     assert not r1.mask[cp] and r1.g[cp] == 0.0
     np.testing.assert_allclose(r1.g[nb], r0.g[nb] + r0.g[cp], rtol=1e-14)
     np.testing.assert_allclose(np.delete(r1.g, [cp, nb]), np.delete(r0.g, [cp, nb]), rtol=1e-14)
-    rd = evaluate(xs, ss, xm, sm, crosspoints=[cp], dual=True)
+    rd = evaluate(xs, ss, xm, sm, crosspoints=[cp], space="dual")
     np.testing.assert_allclose(rd.g[nb], 0.01 * (0.25 + 0.125), rtol=1e-13)
 
 
@@ -421,7 +421,7 @@ def test_sliver_support_is_masked(dual):
         # last slave node (x = 0) with element [0, .25]: master starts at .25 (1 - frac)
         xs, ss, xm, sm = flat_pair(np.linspace(0, 1, 5), np.array([0.25 * (1 - frac), 0.6, 1.2]),
                                    d=0.01)
-        r = evaluate(xs, ss, xm, sm, dual=dual)
+        r = evaluate(xs, ss, xm, sm, space=("dual" if dual else "standard"))
         assert r.mask[-1] == inside
         covered = 1.0 - 0.25 * (1 - frac)
         np.testing.assert_allclose(r.g[r.mask].sum(), 0.01 * covered, rtol=1e-12)
@@ -491,9 +491,9 @@ def test_curved_against_brute_force_reference(shift, dual):
     segments)."""
     xs, ss, xm, sm = curved_pair(shift)
     ref = _reference_gaps(xs, ss, xm, sm, dual)
-    r = evaluate(xs, ss, xm, sm, dual=dual, n_gauss=4)
+    r = evaluate(xs, ss, xm, sm, space=("dual" if dual else "standard"), n_gauss=4)
     np.testing.assert_allclose(r.g, ref, atol=2e-8)
-    r2 = evaluate(xs, ss, xm, sm, dual=dual)
+    r2 = evaluate(xs, ss, xm, sm, space=("dual" if dual else "standard"))
     np.testing.assert_allclose(r2.g, ref, atol=2e-7)
 
 
@@ -518,7 +518,7 @@ def test_newton_converges_quadratically(dual, policy):
     sg = segment(xs0, ss, xm, sm, frozen=True) if policy == "step" else None
     x, lam, hist = xs0.copy(), np.zeros(n), []
     for _ in range(12):
-        r = evaluate(x, ss, xm, sm, lam=lam, dual=dual, segmentation=sg)
+        r = evaluate(x, ss, xm, sm, lam=lam, space=("dual" if dual else "standard"), segmentation=sg)
         G, H = r.G[:, :2 * n], r.H[:2 * n, :2 * n]     # rigid master: its columns dropped
         R = np.concatenate([(x - xs0).T.ravel() - f - G.T @ lam, r.g])
         hist.append(np.linalg.norm(R))
@@ -563,7 +563,7 @@ def test_fd_long_master_segment_far_nodes(dual, x_end):
     else:
         assert {3, 4, 5} <= covered and (sg.src >= 0).sum() == 1
     lam = np.linspace(1.0, 2.0, 7)
-    eG, eH, _ = fd_errors(xs, ss, xm, sm, lam, dual=dual)
+    eG, eH, _ = fd_errors(xs, ss, xm, sm, lam, space=("dual" if dual else "standard"))
     assert eG < FD_TOL and eH < FD_TOL
 
 
@@ -577,7 +577,7 @@ def test_fd_sliver_node_merged(dual):
     xs = xs + 0.003 * rng.standard_normal(xs.shape)
     xm = xm + 0.003 * rng.standard_normal(xm.shape)
     xm[:, 0] = [0.25 * (1 - 1e-4), 0.01]      # keep the sliver: 1e-4 of the element
-    r = evaluate(xs, ss, xm, sm, dual=dual)
+    r = evaluate(xs, ss, xm, sm, space=("dual" if dual else "standard"))
     assert not r.mask[-1] and r.mask[:-1].all()
-    eG, eH, _ = fd_errors(xs, ss, xm, sm, np.linspace(1.0, 2.0, 5), dual=dual)
+    eG, eH, _ = fd_errors(xs, ss, xm, sm, np.linspace(1.0, 2.0, 5), space=("dual" if dual else "standard"))
     assert eG < FD_TOL and eH < FD_TOL

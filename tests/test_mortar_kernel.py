@@ -279,7 +279,7 @@ def test_n_AB_and_n_AC_flat_tilted_matching(dual):
     (N_C = N_B on matching meshes).  1e-14: sums of a few O(h) products."""
     x = np.linspace(0, 1, 5)
     xs, ss, xm, sm, n = rotated_flat(0.3, x, x)
-    r = integrals(xs, ss, xm, sm, dual=dual)
+    r = integrals(xs, ss, xm, sm, space=("dual" if dual else "standard"))
     D, M = r.D.toarray(), r.M.toarray()
     nAB, nAC = r.n_AB.toarray(), r.n_AC.toarray()
     for i in (0, 1):
@@ -313,8 +313,8 @@ def test_weighted_gap_identity_equals_direct_integral(dual, n_gauss):
     int Phi_A (x_m - x_s) . n dGamma.  They differ by the round-off of the identity's
     cancellation, eps times |x| (~1) times the supports (~0.2): atol 1e-15."""
     xs, ss, xm, sm = curved_pair(0.05)
-    r = integrals(xs, ss, xm, sm, dual=dual, n_gauss=n_gauss)
-    direct = evaluate(xs, ss, xm, sm, dual=dual, n_gauss=n_gauss, tangent=False)
+    r = integrals(xs, ss, xm, sm, space=("dual" if dual else "standard"), n_gauss=n_gauss)
+    direct = evaluate(xs, ss, xm, sm, space=("dual" if dual else "standard"), n_gauss=n_gauss, tangent=False)
     assert np.abs(direct.g).max() > 1e-3
     np.testing.assert_allclose(r.g, direct.g, atol=1e-15)
     g_sparse = -r.n_AB @ xs.T.ravel() + r.n_AC @ xm.T.ravel()
@@ -330,11 +330,11 @@ def test_G_is_the_derivative_of_the_identity_gap(dual):
     gap assembled by the identity (steps 1-7, integrals().g), all coordinates."""
     xs, ss, xm, sm = curved_pair(0.05, seed=1)
     n_s = xs.shape[1]
-    G = evaluate(xs, ss, xm, sm, dual=dual).G.toarray()
+    G = evaluate(xs, ss, xm, sm, space=("dual" if dual else "standard")).G.toarray()
     z = np.concatenate([xs.T.ravel(), xm.T.ravel()])
 
     def g(q):
         return integrals(q[:2 * n_s].reshape(-1, 2).T, ss, q[2 * n_s:].reshape(-1, 2).T, sm,
-                         dual=dual).g
+                         space=("dual" if dual else "standard")).g
     Gfd = fd_gradient(g, z).T
     np.testing.assert_allclose(G, Gfd, atol=FD_TOL * np.abs(G).max())

@@ -15,12 +15,15 @@ import pytest
 
 from skfem_mortar.contact import mortar, mortar_quadratic as mq
 from skfem_mortar.contact.mortar_method import Mortar
+from skfem_mortar.contact.cells import cell_type
+from skfem_mortar.contact.mortar_support import tributary_weights
 from skfem_mortar.contact.mortar_quadratic_segmentation import (
     element_polynomial, nodal_normals, project_on_master, project_on_slave, shape_values)
 
 # Central differences with h = 1e-6 on unit-size data: truncation ~h^2 |g'''| ~ 1e-12,
 # round-off ~eps |g| / h ~ 1e-12 for G (|g| ~ 1e-2) and ~eps |G| / h ~ 1e-10 for H
 # (|G| ~ 1e-1); a missing chain-rule term shows at the size of the entries (1e-2 .. 1).
+LINE3 = cell_type("line3")
 H_FD = 1e-6
 TOL_G = 1e-9
 TOL_H = 1e-7
@@ -91,7 +94,7 @@ def test_exact_derivatives(ks, km, dual, x_right, shift):
     slave end (0.17: the last slave element is bounded by a master vertex, its far
     vertex masked), and slid by 0.13 (master vertices inside other slave elements)."""
     xs, ss, xm, sm = configuration(ks, km, x_right, shift)
-    eg, eh, ev = fd_errors(xs, ss, xm, sm, dual=dual)
+    eg, eh, ev = fd_errors(xs, ss, xm, sm, space=("dual" if dual else "standard"))
     assert ev.mask.sum() >= 4 and ev.info["n_segments"] >= 6
     if x_right < 0.3 and ks == 3:   # the partial case really has a partly projectable element
         sg = ev.info["segmentation"]
@@ -105,7 +108,7 @@ def test_exact_derivatives_at_a_crosspoint(dual, crosspoints):
     """The surface end 0 pinned (its function handed to the mid node 5), and both
     the end and that mid node pinned (handed to the other vertex)."""
     xs, ss, xm, sm = configuration(3, 3, 0.37)
-    eg, eh, ev = fd_errors(xs, ss, xm, sm, dual=dual, crosspoints=crosspoints)
+    eg, eh, ev = fd_errors(xs, ss, xm, sm, space=("dual" if dual else "standard"), crosspoints=crosspoints)
     assert not ev.mask[crosspoints].any()
     assert eg < TOL_G and eh < TOL_H
 
@@ -116,11 +119,11 @@ def test_merge_matrix_keeps_a_partition_of_unity():
     the columns sum to one (unless all are merged)."""
     for bits in range(8):
         merged = np.array([[(bits >> j) & 1 for j in range(3)]], bool)
-        T = mq.merge_matrix(merged)[0]
+        T = mq.merge_matrix(merged, LINE3)[0]
         assert np.all(T[merged[0]] == 0)
         if not merged.all():
             np.testing.assert_array_equal(T.sum(axis=0), np.ones(3))
-    T = mq.merge_matrix(np.array([[True, False, False]]))[0]
+    T = mq.merge_matrix(np.array([[True, False, False]]), LINE3)[0]
     assert T[2, 0] == 1.0      # a merged vertex goes to the mid node
 
 
@@ -128,7 +131,7 @@ def _element(curved: bool):
     """One slave element (start, end, mid); straight: the mid node at the midpoint
     (constant Jacobian); curved: moved along and lifted off the chord."""
     x = np.array([[0.0, 1.0, 0.55 if curved else 0.5], [0.0, 0.1, 0.2 if curved else 0.05]])
-    return element_polynomial([(x[0, a:a + 1], x[1, a:a + 1]) for a in range(3)], 3)
+    return element_polynomial([(x[0, a:a + 1], x[1, a:a + 1]) for a in range(3)], LINE3)
 
 
 def _moments(P, A, lo, hi, T=None, n=40):
@@ -137,7 +140,7 @@ def _moments(P, A, lo, hi, T=None, n=40):
     xi = (lo + hi) / 2 + (hi - lo) / 2 * eta
     tx, ty = P[1][0] + 2 * P[2][0] * xi, P[1][1] + 2 * P[2][1] * xi
     dG = np.hypot(tx, ty) * (hi - lo) / 2 * w
-    N = np.array(shape_values(3, xi[None, :]))[:, 0]
+    N = np.array(shape_values(LINE3, xi[None, :]))[:, 0]
     Nt = N if T is None else T @ N
     Phi = np.array([[A[a, b][0] for b in range(3)] for a in range(3)]) @ Nt
     return (Phi * dG) @ Nt.T, (Nt * dG).sum(1)
@@ -154,7 +157,7 @@ def test_dual_biorthogonality(curved, part):
     of its length: ~1e-6 of int N_A, well below its 1e-2 size)."""
     P = _element(curved)
     lo, hi = np.array([part[0]]), np.array([part[1]])
-    A = mq.dual_coefficients(P, lo, hi, 3)
+    A = mq.dual_coefficients(P, lo, hi, LINE3)
     m, d = _moments(P, A, lo[0], hi[0], n=mq.N_GAUSS_ELEMENT)
     np.testing.assert_allclose(m, np.diag(d), atol=1e-14)
     m, d = _moments(P, A, lo[0], hi[0])
@@ -166,13 +169,13 @@ def test_dual_biorthogonal_to_the_modified_functions():
     biorthogonal to N~ = T N and sum to one (round-off: a straight element)."""
     P = _element(False)
     lo, hi = np.array([-1.0]), np.array([1.0])
-    T = mq.merge_matrix(np.array([[True, False, False]]))
-    A = mq.dual_coefficients(P, lo, hi, 3, T)
+    T = mq.merge_matrix(np.array([[True, False, False]]), LINE3)
+    A = mq.dual_coefficients(P, lo, hi, LINE3, T)
     m, d = _moments(P, A, -1.0, 1.0, T[0])
     np.testing.assert_allclose(m, np.diag(d), atol=1e-14)
     assert d[0] == 0.0 and np.all(d[1:] > 0)
     eta = np.linspace(-1, 1, 7)
-    N = np.array(shape_values(3, eta))
+    N = np.array(shape_values(LINE3, eta))
     Phi = np.array([[A[a, b][0] for b in range(3)] for a in range(3)]) @ (T[0] @ N)
     np.testing.assert_allclose(Phi.sum(0), 1.0, atol=1e-13)
 
@@ -185,7 +188,7 @@ def _flat(xv, y, k=3):
 def test_tributary_weights_of_a_straight_segment():
     """L/6, L/6, 2L/3 for start, end, mid (summed where elements meet)."""
     xs, ss = _flat([1.0, 0.0], 0.0)
-    np.testing.assert_allclose(mq.tributary_weights(xs, ss), [1 / 6, 1 / 6, 2 / 3], rtol=1e-14)
+    np.testing.assert_allclose(tributary_weights(xs, ss, LINE3, 9), [1 / 6, 1 / 6, 2 / 3], rtol=1e-14)
 
 
 @pytest.mark.parametrize("dual", [False, True])
@@ -197,10 +200,10 @@ def test_patch_uniform_gap(dual, km):
     g0 = 0.013
     xs, ss = chain(5, lambda x: 0.0 * x, 1.0, 0.0)
     xm, sm = chain(4, lambda x: g0 + 0.0 * x, -0.1, 1.13, km)
-    ev = mq.evaluate(xs, ss, xm, sm, tangent=False, dual=dual)
+    ev = mq.evaluate(xs, ss, xm, sm, tangent=False, space=("dual" if dual else "standard"))
     assert ev.mask.all()
     np.testing.assert_allclose(ev.g, g0 * ev.area, rtol=1e-12)
-    np.testing.assert_allclose(ev.area, mq.tributary_weights(xs, ss), rtol=1e-12)
+    np.testing.assert_allclose(ev.area, tributary_weights(xs, ss, LINE3, 9), rtol=1e-12)
     np.testing.assert_allclose(ev.g.sum(), g0 * 1.0, rtol=1e-12)
 
 
@@ -213,13 +216,13 @@ def test_linear_gap_field(dual):
     g0, s = 0.01, 0.02
     xs, ss = chain(3, lambda x: 0.0 * x, 1.0, 0.0)
     xm, sm = chain(4, lambda x: g0 + s * x, -0.2, 1.2)   # left to right: normal down
-    ev = mq.evaluate(xs, ss, xm, sm, tangent=False, dual=dual, n_gauss=3)
+    ev = mq.evaluate(xs, ss, xm, sm, tangent=False, space=("dual" if dual else "standard"), n_gauss=3)
     exact = np.zeros(xs.shape[1])
     eta, w = np.polynomial.legendre.leggauss(6)
     for e in ss:
         xa, xb = xs[0, e[0]], xs[0, e[1]]
         x = (xa + xb) / 2 + (xb - xa) / 2 * eta
-        N = np.array(shape_values(3, eta))
+        N = np.array(shape_values(LINE3, eta))
         exact[e] += N @ ((g0 + s * x) * abs(xb - xa) / 2 * w)
     np.testing.assert_allclose(ev.g, exact, rtol=1e-12, atol=1e-16)
 
@@ -230,7 +233,7 @@ def test_overlap_length():
     xs, ss = chain(4, lambda x: 0.0 * x, 1.0, 0.0)
     xm, sm = chain(3, lambda x: g0 + 0.0 * x, 0.25, 0.8)
     for dual in (False, True):
-        ev = mq.evaluate(xs, ss, xm, sm, tangent=False, dual=dual)
+        ev = mq.evaluate(xs, ss, xm, sm, tangent=False, space=("dual" if dual else "standard"))
         np.testing.assert_allclose(ev.g.sum(), g0 * 0.55, rtol=1e-12)
 
 
@@ -246,8 +249,8 @@ def test_two_node_surfaces_equal_the_linear_kernel(dual, crosspoints):
     (~1e2 here): 1e-12."""
     xs, ss, xm, sm = configuration(2, 2, 0.17)
     lam = np.linspace(0.5, 1.5, xs.shape[1])
-    a = mq.evaluate(xs, ss, xm, sm, lam=lam, dual=dual, n_gauss=2, crosspoints=crosspoints)
-    b = mortar.evaluate(xs, ss, xm, sm, lam=lam, dual=dual, n_gauss=2, crosspoints=crosspoints)
+    a = mq.evaluate(xs, ss, xm, sm, lam=lam, space=("dual" if dual else "standard"), n_gauss=2, crosspoints=crosspoints)
+    b = mortar.evaluate(xs, ss, xm, sm, lam=lam, space=("dual" if dual else "standard"), n_gauss=2, crosspoints=crosspoints)
     assert (a.mask == b.mask).all()
     rel = 1e-12 if dual else 1e-14
     for u, v in ((a.g, b.g), (a.G, b.G), (a.H, b.H), (a.area, b.area),
@@ -269,17 +272,17 @@ def test_converted_surfaces_give_the_linear_totals(dual):
     the functions sum to one) equal the linear kernel's to round-off."""
     xs, ss = chain(4, lambda x: 0.0 * x, 1.0, 0.0, 2)
     xm, sm = chain(3, lambda x: 0.01 + 0.03 * np.abs(x - 0.4), -0.05, 1.1, 2)
-    lin = mortar.evaluate(xs, ss, xm, sm, tangent=False, dual=dual)
+    lin = mortar.evaluate(xs, ss, xm, sm, tangent=False, space=("dual" if dual else "standard"))
     assert lin.mask.all() and lin.g.sum() > 0.01
     xs3, ss3 = _to_three_node(xs, ss)
     xm3, sm3 = _to_three_node(xm, sm)
-    quad = mq.evaluate(xs3, ss3, xm3, sm3, tangent=False, dual=dual)
+    quad = mq.evaluate(xs3, ss3, xm3, sm3, tangent=False, space=("dual" if dual else "standard"))
     np.testing.assert_allclose(quad.g.sum(), lin.g.sum(), rtol=1e-12)
     # per element: each slave element alone (the slave is flat, so its nodal
     # normals do not depend on the neighbours): its nodes' g_A sum to int_e g_n
     for e in range(len(ss)):
-        one = mq.evaluate(xs3[:, ss3[e]], [[0, 1, 2]], xm3, sm3, tangent=False, dual=dual)
-        ref = mortar.evaluate(xs[:, ss[e]], [[0, 1]], xm, sm, tangent=False, dual=dual)
+        one = mq.evaluate(xs3[:, ss3[e]], [[0, 1, 2]], xm3, sm3, tangent=False, space=("dual" if dual else "standard"))
+        ref = mortar.evaluate(xs[:, ss[e]], [[0, 1]], xm, sm, tangent=False, space=("dual" if dual else "standard"))
         np.testing.assert_allclose(one.g.sum(), ref.g.sum(), rtol=1e-12)
 
 
@@ -299,11 +302,11 @@ def test_projections_are_roots():
     zero), and a point projected onto a curved master element."""
     P = _element(True)
     Q = element_polynomial([(np.array([0.1]), np.array([-1.0])), (np.array([0.0]), np.array([-1.0])),
-                            (np.array([0.05]), np.array([-1.0]))], 3)
+                            (np.array([0.05]), np.array([-1.0]))], LINE3)
     xi, ok = project_on_slave(P, Q, (np.array([0.4]), np.array([-0.3])))
     assert ok.all() and -1 < xi[0] < 1
     R = element_polynomial([(np.array([1.0]), np.array([-0.3])), (np.array([0.0]), np.array([-0.35])),
-                            (np.array([0.5]), np.array([-0.25]))], 3)
+                            (np.array([0.5]), np.array([-0.25]))], LINE3)
     eta, ok = project_on_master(R, (np.array([0.4]), np.array([0.2])), (np.array([0.0]), np.array([-1.0])))
     mx = R[0][0] + R[1][0] * eta + R[2][0] * eta ** 2
     assert ok.all() and abs(mx[0] - 0.4) < 1e-14
@@ -325,12 +328,12 @@ def test_mortar_dispatch_and_pattern(ks, km, dual):
     linear one otherwise, unchanged); its reserved pattern holds every entry of G,
     and P^T P (what the pair reserves for K_uu) every entry of H."""
     xs, ss, xm, sm = configuration(ks, km, 0.17)
-    meth = Mortar(*_surfaces(xs, ss, xm, sm), dual=dual)
+    meth = Mortar(*_surfaces(xs, ss, xm, sm), multiplier_space=("dual" if dual else "standard"))
     assert meth.curved == (ks == 3 or km == 3)
     lam = np.linspace(0.5, 1.5, xs.shape[1])
     ev = meth.evaluate(xs, xm, lam, True)
     kernel = mq.evaluate if meth.curved else mortar.evaluate
-    ref = kernel(xs, ss, xm, sm, lam=lam, dual=dual)
+    ref = kernel(xs, ss, xm, sm, lam=lam, space=("dual" if dual else "standard"))
     assert abs(ev.G - ref.G).max() == 0.0
     P = meth.pattern(xs, xm).toarray() > 0
     S = (P.T.astype(int) @ P.astype(int)) > 0
@@ -342,11 +345,11 @@ def test_mortar_step_policy_on_curved_segments():
     """Policy ``step``: the segments of the step's start are frozen; G and H are the
     exact derivatives of that frozen g (central differences as above)."""
     xs, ss, xm, sm = configuration(3, 3, 0.17)
-    meth = Mortar(*_surfaces(xs, ss, xm, sm), dual=True, segmentation="step")
+    meth = Mortar(*_surfaces(xs, ss, xm, sm), multiplier_space="dual", segmentation="step")
     meth.begin_step(xs, xm, True)
     sg = meth._sg
     assert sg.frozen and sg.n > 0
-    eg, eh, _ = fd_errors(xs, ss, xm, sm, dual=True, segmentation=sg)
+    eg, eh, _ = fd_errors(xs, ss, xm, sm, space="dual", segmentation=sg)
     assert eg < TOL_G and eh < TOL_H
 
 

@@ -101,7 +101,7 @@ class Doubled(StandardSpace):
 
 
 def _doubled_mortar(slave, master, **options):
-    m = Mortar(slave, master, dual=False, **options)
+    m = Mortar(slave, master, **options)
     m.multiplier_space = "standard-x2"   # the method names its space; nothing else changes
     return m
 

@@ -157,7 +157,7 @@ CASES = [(3, 3), (3, 2), (2, 3)]
 
 def _mortar_case(ks, km, dual):
     xs0, ss, xm0, sm = configuration(ks, km, 0.37)
-    hist = mortar_history(xs0, ss, xm0, sm, dual=dual)
+    hist = mortar_history(xs0, ss, xm0, sm, space=("dual" if dual else "standard"))
     return xs0, ss, xm0, sm, hist
 
 
@@ -174,7 +174,7 @@ def test_mortar_curved_slip_derivatives(ks, km, dual):
 
     def ev(q, **kw):
         a, b = unpack(q, n_s)
-        return mortar_slip(a, ss, b, sm, hist["D_prev"], hist["M_prev"], dual=dual, **kw)
+        return mortar_slip(a, ss, b, sm, hist["D_prev"], hist["M_prev"], space=("dual" if dual else "standard"), **kw)
     e, eg, eh = fd_check(ev, pack(xs, xm), lam)
     assert e.mask.all() and np.abs(e.u).max() > 1e-3        # a sliding state, all nodes
     assert eg < TOL_G and eh < TOL_H
@@ -185,7 +185,7 @@ def test_mortar_curved_slip_derivatives(ks, km, dual):
 def test_mortar_curved_slip_is_objective_and_the_increment_form_is_not(ks, km, dual):
     xs0, ss, xm0, sm, hist = _mortar_case(ks, km, dual)
     xs, xm = rotate(xs0, 30.0, (0.4, -0.7)), rotate(xm0, 30.0, (0.4, -0.7))
-    e = mortar_slip(xs, ss, xm, sm, hist["D_prev"], hist["M_prev"], dual=dual, tangent=False)
+    e = mortar_slip(xs, ss, xm, sm, hist["D_prev"], hist["M_prev"], space=("dual" if dual else "standard"), tangent=False)
     assert e.mask.all()
     # round-off of D x - M x with |x| ~ 1 and D, M ~ 0.1: a few 1e-17
     np.testing.assert_allclose(e.u, 0.0, atol=1e-15)
@@ -193,7 +193,7 @@ def test_mortar_curved_slip_is_objective_and_the_increment_form_is_not(ks, km, d
                                - hist["M_prev"] @ (xm - xm0).T).T, axis=0)
     assert np.abs(bad).max() > 1e-3                      # the test can fail
     e = mortar_slip(xs0 + [[0.3], [0.2]], ss, xm0 + [[0.3], [0.2]], sm, hist["D_prev"],
-                    hist["M_prev"], dual=dual, tangent=False)
+                    hist["M_prev"], space=("dual" if dual else "standard"), tangent=False)
     np.testing.assert_allclose(e.u, 0.0, atol=1e-15)
 
 
@@ -203,11 +203,11 @@ def test_curved_tangential_offset_is_the_mortar_integrals_identity(ks, km):
     assembled integrals, and ``tau_A`` is the kernel's nodal normal turned."""
     xs, ss, xm, sm = configuration(ks, km, 0.37)
     for dual in (False, True):
-        t = mq.tangential_evaluate(xs, ss, xm, sm, dual=dual, tangent=False)
+        t = mq.tangential_evaluate(xs, ss, xm, sm, space=("dual" if dual else "standard"), tangent=False)
         v = t.info["M"] @ xm.T - t.info["D"] @ xs.T
         np.testing.assert_allclose(t.g, np.sum(t.info["tangent"].T * v, axis=1), atol=1e-15)
         assert np.abs(t.g).max() > 1e-7                # curved: not round-off (1e-17)
-        g = mq.evaluate(xs, ss, xm, sm, dual=dual, tangent=False)
+        g = mq.evaluate(xs, ss, xm, sm, space=("dual" if dual else "standard"), tangent=False)
         for key in ("D", "M"):                          # the same integrals as the gaps'
             assert abs(t.info[key] - g.info[key]).max() == 0.0
 
@@ -222,11 +222,11 @@ def test_mortar_pure_sliding_on_straight_3_node_surfaces(dual):
         return np.array([X, np.full(X.size, y)]), np.c_[0:n, 1:n + 1, n + 1:2 * n + 1]
     xs0, ss = line(0.0, 1.0, 1e-3, 4)
     xm0, sm = line(1.6, -0.6, 0.0, 5)
-    hist = mortar_history(xs0, ss, xm0, sm, dual=dual)
-    area = mq.evaluate(xs0, ss, xm0, sm, dual=dual, tangent=False).area
+    hist = mortar_history(xs0, ss, xm0, sm, space=("dual" if dual else "standard"))
+    area = mq.evaluate(xs0, ss, xm0, sm, space=("dual" if dual else "standard"), tangent=False).area
     d = 0.137
     e = mortar_slip(xs0 + [[-d], [0.0]], ss, xm0, sm, hist["D_prev"], hist["M_prev"],
-                    dual=dual, tangent=False)
+                    space=("dual" if dual else "standard"), tangent=False)
     np.testing.assert_allclose(e.tangent, np.repeat([[-1.0], [0.0]], xs0.shape[1], 1),
                                atol=1e-15)
     np.testing.assert_allclose(e.u, d * area, atol=1e-15)

@@ -97,7 +97,7 @@ def test_a_registered_segmentation_is_the_one_the_method_uses(monkeypatch, segme
     xs, ss, xm, sm = pair(3, 3)
     s = types.SimpleNamespace(segments=ss, n_nodes=xs.shape[1], cell="line3")
     m = types.SimpleNamespace(segments=sm, n_nodes=xm.shape[1], cell="line3")
-    meth = Mortar(s, m, dual=True, segmentation=segmentation)
+    meth = Mortar(s, m, multiplier_space="dual", segmentation=segmentation)
     meth.begin_step(xs, xm, True)
     ev = meth.evaluate(xs, xm, np.ones(xs.shape[1]), True)
     assert ev.info["n_segments"] > 0

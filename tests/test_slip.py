@@ -66,7 +66,7 @@ def rotate(x, deg, shift):
 def test_mortar_slip_derivatives_against_finite_differences(dual):
     """Curved surfaces, the slave slid by 0.05 and both perturbed: G and H against FD."""
     xs0, seg_s, xm0, seg_m = curved()
-    hist = mortar_history(xs0, seg_s, xm0, seg_m, dual=dual)
+    hist = mortar_history(xs0, seg_s, xm0, seg_m, space=("dual" if dual else "standard"))
     rng = np.random.default_rng(0)
     xs = xs0 + [[0.05], [0.0]] + 0.01 * rng.standard_normal(xs0.shape)
     xm = xm0 + 0.01 * rng.standard_normal(xm0.shape)
@@ -75,7 +75,7 @@ def test_mortar_slip_derivatives_against_finite_differences(dual):
 
     def ev(z, **kw):
         a, b = unpack(z, n_s)
-        return mortar_slip(a, seg_s, b, seg_m, hist["D_prev"], hist["M_prev"], dual=dual, **kw)
+        return mortar_slip(a, seg_s, b, seg_m, hist["D_prev"], hist["M_prev"], space=("dual" if dual else "standard"), **kw)
     z = pack(xs, xm)
     e = ev(z, lam_t=lam)
     assert e.mask.all() and np.abs(e.u).max() > 1e-3       # a sliding state, all nodes
@@ -91,7 +91,7 @@ def test_tangential_offset_is_the_mortar_integrals_identity():
     ``tau_A . (M x_m - D x_s)`` from the assembled integrals (round-off)."""
     xs, seg_s, xm, seg_m = curved()
     for dual in (False, True):
-        t = mortar.tangential_evaluate(xs, seg_s, xm, seg_m, dual=dual, tangent=False)
+        t = mortar.tangential_evaluate(xs, seg_s, xm, seg_m, space=("dual" if dual else "standard"), tangent=False)
         v = t.info["M"] @ xm.T - t.info["D"] @ xs.T                       # (n_s, 2)
         np.testing.assert_allclose(t.g, np.sum(t.info["tangent"].T * v, axis=1), atol=1e-15)
         assert np.abs(t.g).max() > 1e-5                    # curved: not trivially zero
@@ -111,9 +111,9 @@ def test_mortar_slip_is_objective_and_the_increment_form_is_not(dual):
     configuration: the objective slip is zero to round-off at every node; the
     non-objective ``-tau . [D (x_s - x_s^prev) - M (x_m - x_m^prev)]`` is not."""
     xs0, seg_s, xm0, seg_m = curved()
-    hist = mortar_history(xs0, seg_s, xm0, seg_m, dual=dual)
+    hist = mortar_history(xs0, seg_s, xm0, seg_m, space=("dual" if dual else "standard"))
     xs, xm = rotate(xs0, 30.0, (0.4, -0.7)), rotate(xm0, 30.0, (0.4, -0.7))
-    e = mortar_slip(xs, seg_s, xm, seg_m, hist["D_prev"], hist["M_prev"], dual=dual,
+    e = mortar_slip(xs, seg_s, xm, seg_m, hist["D_prev"], hist["M_prev"], space=("dual" if dual else "standard"),
                     tangent=False)
     assert e.mask.all()
     # round-off of D x - M x with |x| ~ 1 and D, M ~ 0.2: a few 1e-16
@@ -123,7 +123,7 @@ def test_mortar_slip_is_objective_and_the_increment_form_is_not(dual):
     assert np.abs(bad).max() > 1e-3       # the test can fail: measured 7e-3 (round-off 3e-17)
     # a translation alone
     e = mortar_slip(xs0 + [[0.3], [0.2]], seg_s, xm0 + [[0.3], [0.2]], seg_m, hist["D_prev"],
-                    hist["M_prev"], dual=dual, tangent=False)
+                    hist["M_prev"], space=("dual" if dual else "standard"), tangent=False)
     np.testing.assert_allclose(e.u, 0.0, atol=1e-14)
 
 
@@ -140,16 +140,16 @@ def test_mortar_pure_sliding_gives_the_distance_times_the_support(dual):
     (full overlap): ``u_t,A = d int Phi_A = d area_A``; the master sliding by ``d``
     gives ``-d area_A`` (the slip is the slave's relative motion)."""
     xs0, seg_s, xm0, seg_m = flat(gap=1e-3)
-    hist = mortar_history(xs0, seg_s, xm0, seg_m, dual=dual)
+    hist = mortar_history(xs0, seg_s, xm0, seg_m, space=("dual" if dual else "standard"))
     d = 0.137
     tau = np.array([[-1.0], [0.0]])
-    area = mortar.evaluate(xs0, seg_s, xm0, seg_m, tangent=False, dual=dual).area
+    area = mortar.evaluate(xs0, seg_s, xm0, seg_m, tangent=False, space=("dual" if dual else "standard")).area
     e = mortar_slip(xs0 + d * tau, seg_s, xm0, seg_m, hist["D_prev"], hist["M_prev"],
-                    dual=dual, tangent=False)
+                    space=("dual" if dual else "standard"), tangent=False)
     np.testing.assert_allclose(e.tangent, np.repeat(tau, xs0.shape[1], 1), atol=1e-15)
     np.testing.assert_allclose(e.u, d * area, atol=1e-15)
     e = mortar_slip(xs0, seg_s, xm0 + d * tau, seg_m, hist["D_prev"], hist["M_prev"],
-                    dual=dual, tangent=False)
+                    space=("dual" if dual else "standard"), tangent=False)
     np.testing.assert_allclose(e.u, -d * area, atol=1e-15)
 
 

@@ -39,7 +39,7 @@ triplets follow ``G`` and ``H`` as they come, and the pattern changes with them)
 A new method is one class and one :func:`register_method` call; nothing in
 the pair changes.  The built-ins register where they are defined: ``"nts"``
 (:class:`skfem_mortar.contact.nts.NTS`, in :mod:`.nts`), ``"mortar"`` and ``"mortar-dual"``
-(:class:`skfem_mortar.contact.mortar_method.Mortar` with ``dual=False`` / ``True``, in
+(:class:`skfem_mortar.contact.mortar_method.Mortar` with ``multiplier_space="standard"`` / ``"dual"``, in
 :mod:`.mortar_method`); :mod:`.methods` imports both (the pair imports it), and this
 module imports neither.
 """

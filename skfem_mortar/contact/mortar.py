@@ -75,7 +75,9 @@ import numpy as np
 import scipy.sparse as sp
 
 from .contact_eval import ContactEval
-from .surfaces import segment_lengths, tributary_lengths
+from .multiplier_spaces import MultiplierSpace, make_space
+from .cells import cell_type
+from .mortar_support import multiplier_support, tributary_weights
 from .scatter import Triplets
 from .jets import Jet, at_gauss, constant_like, sqrt, value, where
 from .segmentation import Segmentation, check_kernel_cells, line_cells
@@ -86,9 +88,9 @@ from .mortar_segmentation import (nodal_normals,
 __all__ = ["evaluate", "segment", "Segmentation", "dual_coefficients", "MASK_TOL",
            "nodal_normals", "slave_element", "project_on_slave", "project_on_master",
            "segment_end_points", "gauss_rule", "Quadrature", "segment_quadrature",
-           "multiplier_coefficients", "multiplier_shape_functions", "MortarIntegrals",
+           "multiplier_coefficients", "biorthogonal", "multiplier_shape_functions", "MortarIntegrals",
            "mortar_integrals", "weighted_gap", "gap_jets", "assemble_local",
-           "multiplier_support", "integrals", "SurfaceIntegrals", "nodal_tangents",
+           "integrals", "SurfaceIntegrals", "nodal_tangents",
            "tangential_jets", "tangential_evaluate"]
 
 MASK_TOL = 1e-6
@@ -184,7 +186,29 @@ def dual_coefficients(lo, hi):
             -(d2 * m12) * det_inv, d2 * m11 * det_inv)
 
 
-def multiplier_coefficients(like, dual: bool = False, part=None, merged=None) -> list:
+def biorthogonal(space: "MultiplierSpace | str" = "standard") -> bool:
+    """Step 5: whether the multiplier space ``space`` builds ``Phi_A`` from each slave
+    cell's ``D_e``, ``M_e``.
+
+    ``space`` is a :class:`~skfem_mortar.contact.multiplier_spaces.MultiplierSpace` or
+    a registered name.  A space with ``coefficients(D_e, M_e)`` (``A_e = D_e M_e^-1``,
+    biorthogonal: ``int Phi_A N_B = delta_AB int N_A``) gets the coefficients of
+    :func:`dual_coefficients` on the projectable part of each cell, differentiated;
+    any other traction space ``Phi_A = N_A``.
+
+    Raises
+    ------
+    ValueError
+        When ``space`` is not a registered name or its ``kind`` is not ``"traction"``.
+    """
+    s = space if isinstance(space, MultiplierSpace) else make_space(space)
+    if s.kind != "traction":
+        raise ValueError(f"space must be a traction multiplier space for the mortar kernels, "
+                         f"got {s.name!r} (kind {s.kind!r})")
+    return callable(getattr(s, "coefficients", None))
+
+
+def multiplier_coefficients(like, biorthogonal: bool = False, part=None, merged=None) -> list:
     """Step 5: coefficients ``c`` of ``Phi_a = c11 N1 + c12 N2``, ``Phi_b = c21 N1 + c22 N2``.
 
     Standard multipliers: ``c = I`` (``Phi_A = N_A``).  Dual: ``c = A_e``
@@ -200,7 +224,7 @@ def multiplier_coefficients(like, dual: bool = False, part=None, merged=None) ->
     """
     n = value(like).shape[0]
     one, zero = constant_like(np.ones(n), like), constant_like(np.zeros(n), like)
-    c = list(dual_coefficients(*part)) if dual else [one, zero, zero, one]
+    c = list(dual_coefficients(*part)) if biorthogonal else [one, zero, zero, one]
     if merged is not None:
         cpa, cpb = merged
         if cpa.any() or cpb.any():
@@ -451,7 +475,7 @@ class _Fields(NamedTuple):
 
 
 def _segment_fields(xs, xm, loc: _Local, sg: Segmentation, sl, nv: int, second: bool,
-                    dual: bool, merged: np.ndarray, rule, nrm) -> _Fields:
+                    biorth: bool, merged: np.ndarray, rule, nrm) -> _Fields:
     """Steps 1 to 5 (and the projections of step 2) on the mortar segments ``sl``
     in jets of ``nv`` local variables (see :func:`_block`)."""
     p, a, b, n, m1, m2, lo_node, hi_node = loc
@@ -475,21 +499,21 @@ def _segment_fields(xs, xm, loc: _Local, sg: Segmentation, sl, nv: int, second: 
         lo, hi = segment_end_points(el, M1, M2, sg.src[sl])
     # 5. multiplier shape functions (dual: on the projectable part [l, h] of the element)
     part = None
-    if dual:
+    if biorth:
         exi = sg.elem_xi[e]
         if sg.frozen or nv <= 12:
             part = const(exi[:, 0]), const(exi[:, 1])
         else:
             part = (where(lo_node >= 0, project_on_slave(el, V[6])[0], const(-np.ones(e.size))),
                     where(hi_node >= 0, project_on_slave(el, V[7])[0], const(np.ones(e.size))))
-    K = multiplier_shape_functions(multiplier_coefficients(Xa[0], dual, part, merged[sl].T))
+    K = multiplier_shape_functions(multiplier_coefficients(Xa[0], biorth, part, merged[sl].T))
     # 4. Gauss points; 2. their projections onto the master element
     quad = segment_quadrature(el, lo, hi, *rule)
     proj = project_on_master(el, M1, M2)
     return _Fields(na=na, nb=nb, el=el, K=K, quad=quad, proj=proj)
 
 
-def _block(xs, xm, loc: _Local, sg: Segmentation, sl, nv: int, second: bool, dual: bool,
+def _block(xs, xm, loc: _Local, sg: Segmentation, sl, nv: int, second: bool, biorth: bool,
            merged: np.ndarray, rule, nrm, lam_ab=None, vector: bool = False) -> _Block:
     """Steps 1 to 8 on the mortar segments ``sl`` in jets of ``nv`` local variables.
 
@@ -499,7 +523,7 @@ def _block(xs, xm, loc: _Local, sg: Segmentation, sl, nv: int, second: bool, dua
     vector integrals ``n_AB``, ``n_AC`` and the weighted gaps from them (step 7).
     """
     _, a, b, _, m1, m2, _, _ = loc
-    f = _segment_fields(xs, xm, loc, sg, sl, nv, second, dual, merged, rule, nrm)
+    f = _segment_fields(xs, xm, loc, sg, sl, nv, second, biorth, merged, rule, nrm)
     el, K, quad, proj = f.el, f.K, f.quad, f.proj
     # 8. g_n = alpha |n~| = (x_m - x_s) . n and the weighted gaps with their derivatives
     gn = proj.alpha(quad.xi) * normal_length(el, quad.xi)
@@ -521,11 +545,11 @@ def _block(xs, xm, loc: _Local, sg: Segmentation, sl, nv: int, second: bool, dua
 
 
 def _tangential_block(xs, xm, loc: _Local, sg: Segmentation, sl, nv: int, second: bool,
-                      dual: bool, merged: np.ndarray, rule, nrm, tau, lam_ab=None) -> _Block:
+                      biorth: bool, merged: np.ndarray, rule, nrm, tau, lam_ab=None) -> _Block:
     """:func:`tangential_jets` on the mortar segments ``sl`` (as :func:`_block`;
     ``tau`` the nodal tangent jets), with the mortar integrals (values)."""
     _, a, b, _, _, _, _, _ = loc
-    f = _segment_fields(xs, xm, loc, sg, sl, nv, second, dual, merged, rule, nrm)
+    f = _segment_fields(xs, xm, loc, sg, sl, nv, second, biorth, merged, rule, nrm)
     ta = (_embed(tau[0], a, 0, nv, second), _embed(tau[1], a, 0, nv, second))
     tb = (_embed(tau[0], b, 2, nv, second), _embed(tau[1], b, 2, nv, second))
     ra, rb, q = tangential_jets(f.K, f.proj.alpha(f.quad.xi), f.el, f.quad, ta, tb,
@@ -543,30 +567,6 @@ def _as_arrays(xs, seg_s, xm, seg_m, cells=None):
         check_kernel_cells(line_cells(seg_s, seg_m, cells), ("line2",), "the linear mortar kernel")
     return (np.asarray(xs, dtype=float).reshape(2, -1), np.asarray(seg_s, dtype=np.int64).reshape(-1, 2),
             np.asarray(xm, dtype=float).reshape(2, -1), np.asarray(seg_m, dtype=np.int64).reshape(-1, 2))
-
-
-def multiplier_support(xs: np.ndarray, seg_s: np.ndarray, sg: Segmentation
-                       ) -> tuple[np.ndarray, np.ndarray]:
-    """Mortar support ``int N_A dGamma`` of each slave node, and its tributary length.
-
-    Exact from the segment end points (``N_A`` is linear): on a segment
-    ``[xi_a, xi_b]`` of an element of length ``l``, ``int N_1 = l/2 ((xi_b - xi_a)
-    - (xi_b^2 - xi_a^2)/2)/2`` and ``int N_2 = l/2 ((xi_b - xi_a) + (xi_b^2 - xi_a^2)/2)/2``.
-
-    Returns
-    -------
-    support, tributary : ndarray (n_s,)
-    """
-    n_s = xs.shape[1]
-    ls = segment_lengths(xs, seg_s)
-    trib = tributary_lengths(xs, seg_s)
-    lo_v, hi_v = sg.xi[:, 0], sg.xi[:, 1]
-    half = 0.5 * ls[sg.e_s]
-    a, b = seg_s[sg.e_s, 0], seg_s[sg.e_s, 1]
-    support = np.zeros(n_s)
-    np.add.at(support, a, half * ((hi_v - lo_v) - 0.5 * (hi_v * hi_v - lo_v * lo_v)) * 0.5)
-    np.add.at(support, b, half * ((hi_v - lo_v) + 0.5 * (hi_v * hi_v - lo_v * lo_v)) * 0.5)
-    return support, trib
 
 
 def assemble_local(values: np.ndarray, rows: np.ndarray, cols: np.ndarray,
@@ -644,7 +644,9 @@ class _Problem(NamedTuple):
         cp_nodes = np.zeros(n_s, bool)
         if crosspoints is not None:
             cp_nodes[np.asarray(crosspoints, dtype=np.int64)] = True
-        support, trib = multiplier_support(xs, seg_s, sg)
+        line2 = cell_type("line2")          # the cells of this kernel (_as_arrays)
+        support = multiplier_support(xs, seg_s, sg, line2, 1)  # N_A |dx/dxi|: degree 1
+        trib = tributary_weights(xs, seg_s, line2, 1)
         mask = (support > MASK_TOL * trib) & ~cp_nodes
         nrm, pnode, nnode = nodal_normals(xs, seg_s, second, nodal_jets)
         loc = _Local.of(sg, seg_s, seg_m, pnode, nnode)
@@ -652,10 +654,10 @@ class _Problem(NamedTuple):
         return _Problem(xs, xm, n_s, xm.shape[1], sg, mask, merged, nrm, loc,
                         gauss_rule(n_gauss), second)
 
-    def block(self, ls: _Local, sl, nv: int, dual: bool, lam_ab, vector: bool = False,
+    def block(self, ls: _Local, sl, nv: int, biorth: bool, lam_ab, vector: bool = False,
               second: bool | None = None) -> _Block:
         return _block(self.xs, self.xm, ls, self.sg, sl, nv,
-                      self.second if second is None else second, dual, self.merged,
+                      self.second if second is None else second, biorth, self.merged,
                       self.rule, self.nrm, lam_ab, vector)
 
     def assemble(self, order: list, out: list) -> MortarIntegrals:
@@ -686,7 +688,7 @@ class _Problem(NamedTuple):
             area=area)
 
 
-def _jet_rows(P: "_Problem", tangent: bool, dual: bool, n_gauss: int, lam, block
+def _jet_rows(P: "_Problem", tangent: bool, biorth: bool, n_gauss: int, lam, block
               ) -> tuple[np.ndarray, Any, Any, "MortarIntegrals"]:
     """Per-node rows summed over the mortar segments of ``P``, block by block.
 
@@ -703,7 +705,7 @@ def _jet_rows(P: "_Problem", tangent: bool, dual: bool, n_gauss: int, lam, block
     """
     n_s, sg, loc, second = P.n_s, P.sg, P.loc, P.second
     ndof = 2 * n_s + 2 * P.n_m
-    nv = (16 if (dual and not sg.frozen) else 12) if tangent else 0
+    nv = (16 if (biorth and not sg.frozen) else 12) if tangent else 0
     lamv = None if lam is None else np.asarray(lam, dtype=float)
     itype = np.int32 if ndof < 2**31 - 1 else np.int64   # halves the COO index memory
     # local dofs of each segment: nodes p, a, b, n (slave), m1, m2, lo, hi (master)
@@ -744,7 +746,8 @@ def _jet_rows(P: "_Problem", tangent: bool, dual: bool, n_gauss: int, lam, block
 
 
 def evaluate(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarray,
-             lam: np.ndarray | None = None, tangent: bool = True, dual: bool = False,
+             lam: np.ndarray | None = None, tangent: bool = True,
+             space: "MultiplierSpace | str" = "standard",
              n_gauss: int = 2, segmentation: Segmentation | None = None,
              pairs: tuple[np.ndarray, np.ndarray] | None = None, margin: float | None = None,
              crosspoints: np.ndarray | None = None, reach: float = 0.0,
@@ -761,9 +764,10 @@ def evaluate(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarra
         Multipliers; with ``tangent`` the Hessian ``H`` is returned.
     tangent : bool
         Compute ``G`` (and ``H`` if ``lam``).
-    dual : bool
-        Dual (biorthogonal) multipliers instead of the standard ``Phi_A = N_A``.
-        The coefficients are computed on the projectable part of each slave
+    space : MultiplierSpace or str
+        The multiplier space (:func:`biorthogonal`): ``"standard"`` (``Phi_A = N_A``)
+        or a biorthogonal one (``"dual"``).  Biorthogonal coefficients are
+        computed on the projectable part of each slave
         element and differentiated (unless the segmentation is frozen).
     n_gauss : int
         Gauss points per mortar segment; the default 2 integrates ``Phi_A N_B``,
@@ -825,8 +829,9 @@ def evaluate(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarra
     P = _Problem.of(xs, seg_s, xm, seg_m, segmentation, pairs, margin, reach, crosspoints,
                     n_gauss, nodal_jets=(6 if tangent else 0), second=tangent and lam is not None,
                     cells=cells)
-    g, G, H, A = _jet_rows(P, tangent, dual, n_gauss, lam,
-                           lambda ls, sl, nv_g, lam_ab, sec: P.block(ls, sl, nv_g, dual, lam_ab,
+    bi = biorthogonal(space)
+    g, G, H, A = _jet_rows(P, tangent, bi, n_gauss, lam,
+                           lambda ls, sl, nv_g, lam_ab, sec: P.block(ls, sl, nv_g, bi, lam_ab,
                                                                      second=sec))
     sg = P.sg
     return ContactEval(g=g, G=G, H=H, area=A.area, mask=P.mask,
@@ -834,8 +839,8 @@ def evaluate(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarra
 
 
 def tangential_evaluate(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarray,
-                        lam: np.ndarray | None = None, tangent: bool = True, dual: bool = False,
-                        n_gauss: int = 2, segmentation: Segmentation | None = None,
+                        lam: np.ndarray | None = None, tangent: bool = True,
+                        space: "MultiplierSpace | str" = "standard", n_gauss: int = 2, segmentation: Segmentation | None = None,
                         pairs: tuple[np.ndarray, np.ndarray] | None = None,
                         margin: float | None = None, crosspoints: np.ndarray | None = None,
                         reach: float = 0.0, cells: tuple | None = None) -> ContactEval:
@@ -860,11 +865,12 @@ def tangential_evaluate(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m
     P = _Problem.of(xs, seg_s, xm, seg_m, segmentation, pairs, margin, reach, crosspoints,
                     n_gauss, nodal_jets=(6 if tangent else 0), second=second, cells=cells)
     tau = (P.nrm[1], -P.nrm[0])        # nodal_tangents, from the normals P holds
+    bi = biorthogonal(space)
 
     def block(ls, sl, nv_g, lam_ab, sec):
-        return _tangential_block(P.xs, P.xm, ls, P.sg, sl, nv_g, sec, dual, P.merged,
+        return _tangential_block(P.xs, P.xm, ls, P.sg, sl, nv_g, sec, bi, P.merged,
                                  P.rule, P.nrm, tau, lam_ab)
-    r, G, H, A = _jet_rows(P, tangent, dual, n_gauss, lam, block)
+    r, G, H, A = _jet_rows(P, tangent, bi, n_gauss, lam, block)
     return ContactEval(g=r, G=G, H=H, area=A.area, mask=P.mask,
                        info={"D": A.D, "M": A.M, "tangent": np.stack([tau[0].v, tau[1].v]),
                              "segmentation": P.sg, "n_segments": P.sg.n})
@@ -897,7 +903,8 @@ class SurfaceIntegrals(NamedTuple):
 
 
 def integrals(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarray,
-              dual: bool = False, n_gauss: int = 2, segmentation: Segmentation | None = None,
+              space: "MultiplierSpace | str" = "standard", n_gauss: int = 2,
+              segmentation: Segmentation | None = None,
               pairs: tuple[np.ndarray, np.ndarray] | None = None, margin: float | None = None,
               crosspoints: np.ndarray | None = None, reach: float = 0.0) -> SurfaceIntegrals:
     """The vector mortar integrals ``n_AB``, ``n_AC``, with ``D``, ``M`` and the weighted gap.
@@ -912,10 +919,11 @@ def integrals(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarr
     P = _Problem.of(xs, seg_s, xm, seg_m, segmentation, pairs, margin, reach, crosspoints,
                     n_gauss, nodal_jets=0, second=False)
     g = np.zeros(P.n_s)
+    bi = biorthogonal(space)
     out, order = [], []
     for sl, _, _ in _blocks(P.sg.n, 0, n_gauss, False, P.loc):
         ls = P.loc.take(sl)
-        blk = P.block(ls, sl, 0, dual, None, vector=True)
+        blk = P.block(ls, sl, 0, bi, None, vector=True)
         order.append(sl)
         out.append(blk.ints)
         np.add.at(g, ls.a, blk.g[:, 0])

@@ -20,6 +20,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from . import mortar, mortar_quadratic
+from .mortar import biorthogonal
 from .active_set import normal_nodal_force
 from .contact_eval import ContactEval
 from . import nts  # noqa: F401 (registers "nts" first: the built-ins in BUILTIN_METHODS order)
@@ -103,13 +104,16 @@ class _LastEvaluation:
 
 
 class Mortar(ContactDiscretization):
-    """Mortar weighted gaps with standard (``dual=False``) or dual multipliers.
+    """Mortar weighted gaps with standard or dual multipliers (the method's space).
 
     Parameters
     ----------
     slave, master : ContactSurface
-    dual : bool
-        Dual (biorthogonal) multiplier shape functions.
+    multiplier_space : str
+        The registered multiplier space (:mod:`~skfem_mortar.contact.multiplier_spaces`):
+        ``"standard"`` (``Phi_A = N_A``, method ``"mortar"``) or ``"dual"``
+        (biorthogonal, ``"mortar-dual"``); the kernels ask it
+        :func:`~skfem_mortar.contact.mortar.biorthogonal`.
     pair_name : str
         The pair's name (in messages).
     segmentation : {"iteration", "step"}
@@ -147,14 +151,17 @@ class Mortar(ContactDiscretization):
         "n_gauss": (lambda v: isinstance(v, (int, np.integer)) and 1 <= v <= 10,
                     "an integer in [1, 10]")}
 
-    def __init__(self, slave: Any, master: Any, dual: bool = False, pair_name: str = "contact",
-                 segmentation: str = "iteration", **options: Any):
-        self.method = "mortar-dual" if dual else "mortar"
+    def __init__(self, slave: Any, master: Any, multiplier_space: str = "standard",
+                 pair_name: str = "contact", segmentation: str = "iteration", **options: Any):
+        biorthogonal(multiplier_space)        # a registered traction space (ValueError)
+        self.method = ("mortar" if multiplier_space == "standard"
+                       else f"mortar-{multiplier_space}")
         check_options(self.method, options, self.OPTIONS)
         if segmentation not in ("iteration", "step"):
             raise ValueError(f"segmentation must be 'iteration' or 'step', got {segmentation!r}")
         self.slave, self.master, self.pair_name = slave, master, pair_name
-        self.dual = bool(dual)
+        #: the multiplier space (:mod:`~.multiplier_spaces`, a registered name)
+        self.multiplier_space = multiplier_space
         #: the two surfaces' cell types (:func:`~.segmentation.surface_cell`)
         self.cells = (surface_cell(slave), surface_cell(master))
         check_kernel_cells(self.cells, KERNEL_CELLS, self.method)
@@ -165,7 +172,6 @@ class Mortar(ContactDiscretization):
         self._segment = segmentation_for(self.cells)
         self.segmentation = segmentation
         self.options = dict(options)
-        self._kernel_options = {"dual": self.dual, **options}
         self._sg: Segmentation | None = None
         self._x0: tuple[np.ndarray, np.ndarray] | None = None
         self._pinned: np.ndarray | None = None
@@ -174,6 +180,11 @@ class Mortar(ContactDiscretization):
         self.reservations = 0
         #: the last kernel call (:meth:`evaluate`)
         self._last: _LastEvaluation | None = None
+
+    @property
+    def _kernel_options(self) -> dict:
+        """What every kernel call is told: the multiplier space and the options."""
+        return {"space": self.multiplier_space, **self.options}
 
     def set_pinned(self, pinned: np.ndarray | None) -> None:
         self._pinned = pinned
@@ -423,9 +434,10 @@ class Mortar(ContactDiscretization):
         self._reserved = None if held is None else (held, self._pattern_of(held))
 
     def tail_signal(self, lam: np.ndarray, ev: Any) -> tuple[np.ndarray | None, bool]:
-        """Dual: the multipliers; standard: the normal nodal forces (its
-        multipliers alternate in sign at a too-wide edge)."""
-        if self.dual:
+        """A biorthogonal space (:func:`~.mortar.biorthogonal`, dual): the
+        multipliers; standard: the normal nodal forces (its multipliers alternate
+        in sign at a too-wide edge)."""
+        if biorthogonal(self.multiplier_space):
             return lam, False
         if ev.G is None:
             return None, True
@@ -433,11 +445,11 @@ class Mortar(ContactDiscretization):
 
 
 # -- registered where they are defined (:mod:`.methods` imports this module)
-def _mortar(dual: bool) -> Factory:
+def _mortar(space: str) -> Factory:
     def factory(slave: Any, master: Any, **options: Any) -> ContactDiscretization:
-        return Mortar(slave, master, dual=dual, **options)
+        return Mortar(slave, master, multiplier_space=space, **options)
     return factory
 
 
-register_method("mortar", _mortar(False))
-register_method("mortar-dual", _mortar(True))
+register_method("mortar", _mortar("standard"))
+register_method("mortar-dual", _mortar("dual"))

@@ -114,10 +114,13 @@ from typing import Any, NamedTuple
 
 import numpy as np
 
+from .cells import CellType
 from .contact_eval import ContactEval
+from .mortar_support import multiplier_support, tributary_weights
 from .scatter import Triplets
 from .jets import Jet, at_gauss, constant_like, value, where
-from .mortar import MASK_TOL, gauss_rule
+from .mortar import MASK_TOL, biorthogonal, gauss_rule
+from .multiplier_spaces import MultiplierSpace
 from .segmentation import Segmentation, check_kernel_cells, line_cells
 from .mortar_quadratic_segmentation import (SlaveSlots, curve, element_normals,
                                             element_polynomial, nodal_normals,
@@ -126,7 +129,7 @@ from .mortar_quadratic_segmentation import (SlaveSlots, curve, element_normals,
                                             segment, shape_values, slave_slots, tangent)
 
 __all__ = ["evaluate", "tangential_evaluate", "segment", "Segmentation", "merge_matrix", "dual_coefficients",
-           "tributary_weights", "multiplier_support", "N_GAUSS", "N_GAUSS_ELEMENT", "MASK_TOL"]
+           "N_GAUSS", "N_GAUSS_ELEMENT", "MASK_TOL"]
 
 N_GAUSS = 3
 """Default Gauss points per mortar segment (exact to degree 5, see the module doc)."""
@@ -145,14 +148,15 @@ def _check_rule(name: str, n: Any) -> int:
 
 def _as_arrays(xs, seg_s, xm, seg_m, cells=None):
     """The coordinates and connectivities as arrays, checked against ``cells``
-    (:func:`~skfem_mortar.contact.segmentation.line_cells`: line2 or line3)."""
+    (:func:`~skfem_mortar.contact.segmentation.line_cells`: line2 or line3), and the
+    two cell types."""
     xs = np.asarray(xs, dtype=float).reshape(2, -1)
     xm = np.asarray(xm, dtype=float).reshape(2, -1)
     seg_s = np.asarray(seg_s, dtype=np.int64)
     seg_m = np.asarray(seg_m, dtype=np.int64)
-    check_kernel_cells(line_cells(seg_s, seg_m, cells), ("line2", "line3"),
-                       "the curved mortar kernel")
-    return xs, seg_s, xm, seg_m
+    cells = line_cells(seg_s, seg_m, cells)
+    check_kernel_cells(cells, ("line2", "line3"), "the curved mortar kernel")
+    return xs, seg_s, xm, seg_m, cells
 
 
 def _expand(C: list) -> list:
@@ -172,77 +176,47 @@ def _jacobian(P: list, xi):
     return j2.sqrt() if isinstance(j2, Jet) else np.sqrt(j2)
 
 
-# ------------------------------------------------------------ supports and weights
-def tributary_weights(xs: np.ndarray, seg: np.ndarray, n_gauss: int = N_GAUSS_ELEMENT
-                      ) -> np.ndarray:
-    """``area_A = int N_A dGamma`` over the whole (curved) slave surface, (n_s,).
-
-    On a straight 3-node segment of length ``L`` with a centred mid node
-    ``L/6, L/6, 2L/3`` (start, end, mid); ``L/2`` each for 2-node segments.
-    """
-    xs = np.asarray(xs, dtype=float)
-    seg = np.asarray(seg, dtype=np.int64)
-    k = seg.shape[1]
-    eta, w = gauss_rule(n_gauss)
-    P = _expand(element_polynomial([(xs[0, seg[:, a]], xs[1, seg[:, a]]) for a in range(k)], k))
-    xi = np.broadcast_to(eta, (seg.shape[0], eta.size))
-    dG = _jacobian(P, xi) * w
-    out = np.zeros(xs.shape[1])
-    for a, N in enumerate(shape_values(k, xi)):
-        np.add.at(out, seg[:, a], (N * dG).sum(1))
-    return out
-
-
-def multiplier_support(xs: np.ndarray, seg_s: np.ndarray, sg: Segmentation,
-                       n_gauss: int = N_GAUSS) -> np.ndarray:
-    """Mortar support ``int N_A dGamma`` of each slave node over its mortar segments
-    (the rule of :func:`evaluate`), (n_s,); negative for a far vertex of a partly
-    covered 3-node element (module doc)."""
-    k = seg_s.shape[1]
-    e = sg.e_s
-    eta, w = gauss_rule(n_gauss)
-    P = _expand(element_polynomial([(xs[0, seg_s[e, a]], xs[1, seg_s[e, a]]) for a in range(k)],
-                                   k))
-    xi, half = _segment_points(sg.xi[:, 0], sg.xi[:, 1], eta)
-    dG = _jacobian(P, xi) * half * w
-    out = np.zeros(xs.shape[1])
-    for a, N in enumerate(shape_values(k, xi)):
-        np.add.at(out, seg_s[e, a], (N * dG).sum(1))
-    return out
-
-
 # ------------------------------------------------ step 6: multiplier shape functions
-def merge_matrix(merged: np.ndarray) -> np.ndarray:
+def merge_matrix(merged: np.ndarray, cell: CellType) -> np.ndarray:
     """The crosspoint/boundary modification ``N~_A = sum_B T_AB N_B`` per element.
 
-    ``merged`` (n, k) bool: the element's nodes without a multiplier (column
-    order start, end[, mid]).  Kept nodes keep their function; a merged vertex's
-    is added to the mid node if that is kept, else to the other vertex if kept;
-    a merged mid node's is split in halves onto the kept vertices (all of it onto
-    the one kept).  Merged rows are zero.  ``sum_A T_AB = 1`` for every ``B``
-    unless the whole element is merged, so ``sum_A N~_A = 1``.
+    ``merged`` (n, n_nodes) bool: the element's nodes without a multiplier, in the
+    columns of ``cell``.  Kept nodes keep their function; a merged node's goes to
+    the nearest kept node on each side along the cell's edge (``cell.edges``), in
+    halves when there is one on both sides, whole when on one.  For line3 (edge
+    start, mid, end) a merged vertex's goes to the mid node if that is kept, else
+    to the other vertex; a merged mid node's in halves to the kept vertices; for
+    line2 a merged node's to the other.  Merged rows are zero.  ``sum_A T_AB = 1``
+    for every ``B`` unless the whole element is merged, so ``sum_A N~_A = 1``.
 
     Returns
     -------
-    T : ndarray (n, k, k)
+    T : ndarray (n, n_nodes, n_nodes)
     """
     merged = np.asarray(merged, dtype=bool)
     n, k = merged.shape
+    if k != cell.n_nodes or cell.dim != 1:
+        raise ValueError(f"merged must have the columns of the line cell {cell.name} "
+                         f"({cell.n_nodes} nodes), got shape {merged.shape}")
     keep = ~merged
+    order = cell.edges[0]                       # the nodes in order along the line
     T = np.zeros((n, k, k))
     for a in range(k):
         T[:, a, a] = keep[:, a]
-    if k == 2:
-        T[:, 1, 0] += merged[:, 0] & keep[:, 1]
-        T[:, 0, 1] += merged[:, 1] & keep[:, 0]
-        return T
-    for v, o in ((0, 1), (1, 0)):        # a merged vertex: to the mid, else the other vertex
-        to_mid = merged[:, v] & keep[:, 2]
-        T[:, 2, v] += to_mid
-        T[:, o, v] += merged[:, v] & ~to_mid & keep[:, o]
-    both = keep[:, 0] & keep[:, 1]
-    for v in (0, 1):                     # a merged mid node: halves to the kept vertices
-        T[:, v, 2] += merged[:, 2] * np.where(both, 0.5, keep[:, v] * 1.0)
+    rows = np.arange(n)
+    for p, b in enumerate(order):
+        if not merged[:, b].any():
+            continue
+        sides = []
+        for walk in (order[p - 1::-1] if p else (), order[p + 1:]):
+            target = np.full(n, -1)
+            for q in walk:                      # the nearest kept node on this side
+                target = np.where((target < 0) & keep[:, q], q, target)
+            sides.append(target)
+        share = np.where((sides[0] >= 0) & (sides[1] >= 0), 0.5, 1.0)
+        for t in sides:
+            on = merged[:, b] & (t >= 0)
+            T[rows[on], t[on], b] += share[on]
     return T
 
 
@@ -277,7 +251,7 @@ def _sym_inverse(M: dict, k: int) -> dict:
     return {key: v * r for key, v in C.items()}
 
 
-def dual_coefficients(P: list, lo, hi, k: int, T: np.ndarray | None = None,
+def dual_coefficients(P: list, lo, hi, cell: CellType, T: np.ndarray | None = None,
                       n_gauss: int = N_GAUSS_ELEMENT) -> dict:
     """Step 6: dual coefficients ``A~ = D~ M~^{-1}`` on the projectable part ``[lo, hi]``.
 
@@ -293,10 +267,11 @@ def dual_coefficients(P: list, lo, hi, k: int, T: np.ndarray | None = None,
     -------
     dict ``(A, B) -> A~_AB``, each of shape (n,).
     """
+    k = cell.n_nodes
     eta, w = gauss_rule(n_gauss)
     xi, half = _segment_points(lo, hi, eta)
     dG = _jacobian(_expand(P), xi) * half * w
-    Nt = _modified(T, shape_values(k, xi), k)
+    Nt = _modified(T, shape_values(cell, xi), k)
     wN = [N * dG for N in Nt]
     D = [x.sum(1) for x in wN]
     M = {(a, b): (wN[a] * Nt[b]).sum(1) for a in range(k) for b in range(a, k)}
@@ -325,29 +300,31 @@ class _Problem(NamedTuple):
     merged_any: np.ndarray         # (n_el_s,) whether T is not the identity
     rule: tuple
     n_gauss_element: int
+    cells: tuple                   # the slave and master cell types
 
     @property
     def n_slots(self) -> int:
         return 3 * self.slots.k - 2
 
     def nv(self, partial: bool) -> int:
-        return 2 * (self.n_slots + self.seg_m.shape[1]) + (4 if partial else 0)
+        return 2 * (self.n_slots + self.cells[1].n_nodes) + (4 if partial else 0)
 
 
 def _prepare(xs, seg_s, xm, seg_m, segmentation, pairs, margin, reach, crosspoints,
              n_gauss, n_gauss_element, cells=None) -> _Problem:
-    xs, seg_s, xm, seg_m = _as_arrays(xs, seg_s, xm, seg_m, cells)
+    xs, seg_s, xm, seg_m, cells = _as_arrays(xs, seg_s, xm, seg_m, cells)
     n_s = xs.shape[1]
     sg = segmentation if segmentation is not None else segment(
-        xs, seg_s, xm, seg_m, pairs=pairs, margin=margin, frozen=False, reach=reach)
+        xs, seg_s, xm, seg_m, pairs=pairs, margin=margin, frozen=False, reach=reach,
+        cells=cells)
     cp = np.isin(np.arange(n_s), [] if crosspoints is None else crosspoints)
-    support = multiplier_support(xs, seg_s, sg, n_gauss)
-    trib = tributary_weights(xs, seg_s, n_gauss_element)
+    support = multiplier_support(xs, seg_s, sg, cells[0], n_gauss)
+    trib = tributary_weights(xs, seg_s, cells[0], 2 * n_gauss_element - 1)
     mask = (support > MASK_TOL * trib) & ~cp
     merged = ~mask[seg_s]
-    return _Problem(xs, seg_s, xm, seg_m, sg, slave_slots(xs, seg_s), mask, support,
-                    merge_matrix(merged), merged.any(axis=1), gauss_rule(n_gauss),
-                    n_gauss_element)
+    return _Problem(xs, seg_s, xm, seg_m, sg, slave_slots(xs, seg_s, cells[0]), mask, support,
+                    merge_matrix(merged, cells[0]), merged.any(axis=1), gauss_rule(n_gauss),
+                    n_gauss_element, cells)
 
 
 class _Block(NamedTuple):
@@ -391,12 +368,13 @@ def _projectable_part(exi: np.ndarray, nodes: tuple, Pc: list, Qc: list, Vb: lis
             where(hi_node >= 0, ph, const(np.ones(n))))
 
 
-def _block(P: _Problem, sl: np.ndarray, nv: int, second: bool, dual: bool,
+def _block(P: _Problem, sl: np.ndarray, nv: int, second: bool, biorth: bool,
            lam: np.ndarray | None, tangential: bool = False) -> _Block:
     """Steps 1 to 7 on the mortar segments ``sl`` in jets of ``nv`` local variables
     (0: values only); ``tangential``: the tangential offsets ``r_A`` of
     :func:`tangential_evaluate` instead of the weighted gaps."""
-    sg, k, km = P.sg, P.slots.k, P.seg_m.shape[1]
+    (cs, cm), sg = P.cells, P.sg
+    k, km = cs.n_nodes, cm.n_nodes
     e, m = sg.e_s[sl], sg.e_m[sl]
     ns = P.n_slots
     pos = [P.slots.pos[:, e, j] for j in range(ns)]
@@ -411,18 +389,18 @@ def _block(P: _Problem, sl: np.ndarray, nv: int, second: bool, dual: bool,
     like = V[0][0]
     const = lambda v: constant_like(np.asarray(v, dtype=float), like)  # noqa: E731
     # 1. the slave normal field
-    nrm = element_normals(V[:ns], k, P.slots.wp[e], P.slots.wn[e])
-    Pc, Qc = element_polynomial(V[:k], k), element_polynomial(nrm, k)
-    R = element_polynomial(V[ns:ns + km], km)
+    nrm = element_normals(V[:ns], cs, P.slots.wp[e], P.slots.wn[e])
+    Pc, Qc = element_polynomial(V[:k], cs), element_polynomial(nrm, cs)
+    R = element_polynomial(V[ns:ns + km], cm)
     # 2, 3. end points of the mortar segments: the master vertices projected onto e
     lo, hi = _end_points(sg, sl, Pc, Qc, V[ns:ns + 2], const)
     # 6. multiplier functions (dual: on the projectable part of e)
     T = P.T[e] if P.merged_any[e].any() else None
     A = None
-    if dual:
+    if biorth:
         part = _projectable_part(sg.elem_xi[e], (lo_node, hi_node), Pc, Qc,
                                  V[ns + km:ns + km + 2] if partial else None, const)
-        A = dual_coefficients(Pc, *part, k, T, P.n_gauss_element)
+        A = dual_coefficients(Pc, *part, cs, T, P.n_gauss_element)
     # 4. Gauss points on the mortar segments, 5. their projections onto the master
     eta_r, w = P.rule
     xi, half = _segment_points(lo, hi, eta_r)
@@ -443,7 +421,7 @@ def _block(P: _Problem, sl: np.ndarray, nv: int, second: bool, dual: bool,
         dx, dy = xm_g[0] - X[0], xm_g[1] - X[1]
         f = [(dx * at_gauss(nrm[a][1]) - dy * at_gauss(nrm[a][0])) * dG for a in range(k)]
     # 6. Phi_A at the Gauss points
-    Nt = _modified(T, shape_values(k, xi), k)
+    Nt = _modified(T, shape_values(cs, xi), k)
     if A is not None:
         Phi = []
         for a in range(k):
@@ -470,8 +448,8 @@ def _block(P: _Problem, sl: np.ndarray, nv: int, second: bool, dual: bool,
             q = (phl * f).sum(1)
     # values: D_AB = int Phi_A N_B dGamma, M_AC = int Phi_A N_C dGamma
     xv, dGv = value(xi), value(dG)
-    Nb = shape_values(k, xv)
-    Nc = shape_values(km, value(eta))
+    Nb = shape_values(cs, xv)
+    Nc = shape_values(cm, value(eta))
     ph_v = [value(ph) * dGv for ph in Phi]
     D = np.stack([np.stack([(p * N).sum(1) for N in Nb], 1) for p in ph_v], 1)
     M = np.stack([np.stack([(p * N).sum(1) for N in Nc], 1) for p in ph_v], 1)
@@ -493,19 +471,19 @@ def _tangential_rows(Phi: list, f: list, lam: np.ndarray | None, rows: np.ndarra
     return r, q
 
 
-def _blocks(P: _Problem, nv_on: bool, dual: bool, second: bool):
+def _blocks(P: _Problem, nv_on: bool, biorth: bool, second: bool):
     """Index blocks of mortar segments with their number of local variables
     (dual multipliers on partly projectable slave elements: 4 more)."""
     sg = P.sg
     if not nv_on:
         groups = [(np.arange(sg.n), 0)]
-    elif dual and not sg.frozen:
+    elif biorth and not sg.frozen:
         node = sg.elem_node[sg.e_s]
         partial = (node[:, 0] >= 0) | (node[:, 1] >= 0)
         groups = [(np.flatnonzero(~partial), P.nv(False)), (np.flatnonzero(partial), P.nv(True))]
     else:
         groups = [(np.arange(sg.n), P.nv(False))]
-    n_g = P.rule[0].size + (P.n_gauss_element if dual else 0)
+    n_g = P.rule[0].size + (P.n_gauss_element if biorth else 0)
     for idx, nv in groups:
         chunk = max(1, _CHUNK_ENTRIES // (n_g * max(nv, 1) ** (2 if second else 1)))
         for start in range(0, idx.size, chunk):
@@ -526,8 +504,8 @@ def _local_dofs(P: _Problem, sl: np.ndarray, nv: int) -> np.ndarray:
 
 
 def evaluate(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarray,
-             lam: np.ndarray | None = None, tangent: bool = True, dual: bool = False,
-             n_gauss: int = N_GAUSS, segmentation: Segmentation | None = None,
+             lam: np.ndarray | None = None, tangent: bool = True,
+             space: "MultiplierSpace | str" = "standard", n_gauss: int = N_GAUSS, segmentation: Segmentation | None = None,
              pairs: tuple[np.ndarray, np.ndarray] | None = None, margin: float | None = None,
              crosspoints: np.ndarray | None = None, reach: float = 0.0,
              n_gauss_element: int = N_GAUSS_ELEMENT, **options: Any) -> ContactEval:
@@ -545,8 +523,10 @@ def evaluate(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarra
         Multipliers; with ``tangent`` the Hessian ``H`` is returned.
     tangent : bool
         Compute ``G`` (and ``H`` if ``lam``).
-    dual : bool
-        Dual multipliers (:func:`dual_coefficients`) instead of ``Phi_A = N_A``.
+    space : MultiplierSpace or str
+        The multiplier space (:func:`~skfem_mortar.contact.mortar.biorthogonal`):
+        ``"standard"`` (``Phi_A = N_A``) or a biorthogonal one (``"dual"``,
+        :func:`dual_coefficients`).
     n_gauss : int in [1, 10]
         Gauss points per mortar segment (default :data:`N_GAUSS`, module doc).
     segmentation : Segmentation, optional
@@ -576,13 +556,13 @@ def evaluate(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarra
         (``int Phi_A N_B dGamma``, ``int Phi_A N_C dGamma``), ``segmentation``
         and ``n_segments``.
     """
-    return _evaluate(xs, seg_s, xm, seg_m, lam, tangent, dual, n_gauss, segmentation, pairs,
+    return _evaluate(xs, seg_s, xm, seg_m, lam, tangent, space, n_gauss, segmentation, pairs,
                      margin, crosspoints, reach, n_gauss_element, options, False, "evaluate")
 
 
 def tangential_evaluate(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarray,
-                        lam: np.ndarray | None = None, tangent: bool = True, dual: bool = False,
-                        n_gauss: int = N_GAUSS, segmentation: Segmentation | None = None,
+                        lam: np.ndarray | None = None, tangent: bool = True,
+                        space: "MultiplierSpace | str" = "standard", n_gauss: int = N_GAUSS, segmentation: Segmentation | None = None,
                         pairs: tuple[np.ndarray, np.ndarray] | None = None,
                         margin: float | None = None, crosspoints: np.ndarray | None = None,
                         reach: float = 0.0, n_gauss_element: int = N_GAUSS_ELEMENT,
@@ -607,12 +587,12 @@ def tangential_evaluate(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m
         ``g`` holds ``r_A``; ``info`` the current ``D``, ``M``, ``tangent``
         (2, n_s) the values ``tau_A``, ``segmentation`` and ``n_segments``.
     """
-    return _evaluate(xs, seg_s, xm, seg_m, lam, tangent, dual, n_gauss, segmentation, pairs,
+    return _evaluate(xs, seg_s, xm, seg_m, lam, tangent, space, n_gauss, segmentation, pairs,
                      margin, crosspoints, reach, n_gauss_element, options, True,
                      "tangential_evaluate")
 
 
-def _evaluate(xs, seg_s, xm, seg_m, lam, tangent, dual, n_gauss, segmentation, pairs, margin,
+def _evaluate(xs, seg_s, xm, seg_m, lam, tangent, space, n_gauss, segmentation, pairs, margin,
               crosspoints, reach, n_gauss_element, options, tangential, name) -> ContactEval:
     """:func:`evaluate` (``tangential`` False) or :func:`tangential_evaluate`."""
     options = dict(options)
@@ -630,10 +610,11 @@ def _evaluate(xs, seg_s, xm, seg_m, lam, tangent, dual, n_gauss, segmentation, p
     lamv = None if lam is None else np.asarray(lam, dtype=float)
     g = np.zeros(n_s)
     Gt, Ht, Dt, Mt = Triplets(), Triplets(), Triplets(), Triplets()
-    for sl, nv in _blocks(P, tangent, dual, second):
+    bi = biorthogonal(space)
+    for sl, nv in _blocks(P, tangent, bi, second):
         if sl.size == 0:
             continue
-        blk = _block(P, sl, nv, second, dual, lamv, tangential)
+        blk = _block(P, sl, nv, second, bi, lamv, tangential)
         rows = P.seg_s[P.sg.e_s[sl]]                   # (n, k)
         for a in range(k):
             np.add.at(g, rows[:, a], value(blk.g[a]))
@@ -650,6 +631,6 @@ def _evaluate(xs, seg_s, xm, seg_m, lam, tangent, dual, n_gauss, segmentation, p
     D, M = Dt.csr((n_s, n_s)), Mt.csr((n_s, n_m))
     info = {"D": D, "M": M, "segmentation": P.sg, "n_segments": P.sg.n}
     if tangential:
-        nrm = nodal_normals(P.xs, P.seg_s)
+        nrm = nodal_normals(P.xs, P.seg_s, P.cells[0])
         info["tangent"] = np.stack([nrm[1], -nrm[0]])
     return ContactEval(g=g, G=G, H=H, area=P.area, mask=P.mask, info=info)

@@ -67,6 +67,7 @@ bound a mortar segment: a master element is one curve from its start to its end.
 """
 from __future__ import annotations
 
+from functools import lru_cache
 from typing import Any, NamedTuple
 
 import numpy as np
@@ -79,15 +80,46 @@ from .mortar_segmentation import LEN_TOL, _side, clip_to_slave, master_coordinat
 from .segmentation import Segmentation, line_cells, register_default
 from .search import box_pairs
 
-__all__ = ["SHAPE", "shape_values", "element_polynomial", "poly", "poly_derivative",
+__all__ = ["monomials", "shape_values", "element_polynomial", "poly", "poly_derivative",
            "element_normals", "slave_slots", "SlaveSlots", "nodal_normals", "nodal_normal_jets",
            "project_on_slave", "project_on_master", "newton_jet", "candidate_pairs",
            "segment", "segment_lines", "Segmentation", "chord_lengths"]
 
-#: monomial coefficients of the shape functions: ``N_A(xi) = sum_p SHAPE[k][A, p] xi^p``
-#: for ``k`` nodes (columns start, end[, mid])
-SHAPE = {2: np.array([[0.5, -0.5, 0.0], [0.5, 0.5, 0.0]]),
-         3: np.array([[0.0, -0.5, 0.5], [0.0, 0.5, 0.5], [1.0, 0.0, -1.0]])}
+
+@lru_cache(maxsize=None)
+def monomials(cell: CellType) -> np.ndarray:
+    """Monomial coefficients ``C`` (n_nodes, 3) of a line cell's shape functions,
+    ``N_A(xi) = sum_p C[A, p] xi^p``, read from its row: the Taylor coefficients
+    ``N(0)``, ``N'(0)``, ``N''(0)/2`` (line2: ``[[1/2, -1/2, 0], [1/2, 1/2, 0]]``;
+    line3: ``[[0, -1/2, 1/2], [0, 1/2, 1/2], [1, 0, -1]]``, exact in floating point).
+
+    Raises
+    ------
+    ValueError
+        When the cell is not a line whose shape functions are one polynomial of
+        degree at most 2 on ``[-1, 1]`` (checked against ``cell.shape`` at the
+        reference nodes and at seven points inside): the kernels of this module
+        and :mod:`~skfem_mortar.contact.mortar_quadratic` write the geometry in
+        these monomials.
+    """
+    if cell.dim != 1:
+        raise ValueError(f"cell must be a line (dim 1) for the curved mortar kernel, got "
+                         f"{cell.name} (dim {cell.dim})")
+    zero = np.zeros((1, 1))
+    C = np.stack([np.asarray(cell.shape(zero))[:, 0], np.asarray(cell.dshape(zero))[:, 0, 0],
+                  0.5 * np.asarray(cell.d2shape(zero))[:, 0, 0, 0]], 1) + 0.0
+    x = np.concatenate([np.asarray(cell.ref_nodes, dtype=float)[0], np.linspace(-0.9, 0.9, 7)])
+    if not np.allclose(C @ np.stack([x ** 0, x, x * x]), np.asarray(cell.shape(x[None])),
+                       rtol=0.0, atol=1e-12):
+        raise ValueError(f"cells must be one polynomial of degree <= 2 on [-1, 1] for the "
+                         f"curved mortar kernel, got {cell.name}")
+    C.setflags(write=False)
+    return C
+
+
+def interior(cell: CellType) -> list[int]:
+    """The columns of a line cell that are not its two corners (line3: the mid node)."""
+    return [a for a in range(cell.n_nodes) if a not in cell.corners]
 
 _NEWTON = 12  # Newton iterations on values (quadratic convergence from the chord estimate)
 
@@ -97,10 +129,13 @@ def chord_lengths(x: np.ndarray, seg: np.ndarray) -> np.ndarray:
     return np.hypot(*(x[:, seg[:, 1]] - x[:, seg[:, 0]]))
 
 
-def shape_values(k: int, xi):
-    """``N_A(xi)`` for ``k`` nodes, a list of ``k`` arrays or jets of the shape of ``xi``."""
-    C = SHAPE[k]
-    return [poly([C[a, 0], C[a, 1], C[a, 2] if k == 3 else None], xi) for a in range(k)]
+def shape_values(cell: CellType, xi):
+    """``N_A(xi)`` of ``cell`` (:func:`monomials`), a list of ``n_nodes`` arrays or jets
+    of the shape of ``xi``."""
+    C = monomials(cell)
+    quadratic = bool(C[:, 2].any())
+    return [poly([C[a, 0], C[a, 1], C[a, 2] if quadratic else None], xi)
+            for a in range(cell.n_nodes)]
 
 
 def poly(c: list, xi):
@@ -118,18 +153,25 @@ def poly_derivative(c: list, xi):
     return xi * (c[2] * 2.0) + c[1]
 
 
-def element_polynomial(nodes: list, k: int) -> list:
-    """Monomial coefficients ``[P_0, P_1, P_2]`` of ``x(xi) = sum_A N_A x_A``.
+def element_polynomial(nodes: list, cell: CellType) -> list:
+    """Monomial coefficients ``[P_0, P_1, P_2]`` of ``x(xi) = sum_A N_A x_A``,
+    ``P_p = sum_A C[A, p] x_A`` (:func:`monomials`; zero terms skipped, a
+    coefficient 1 taken as it is).
 
-    ``nodes``: the ``k`` node positions (pairs) in column order (start, end[, mid]);
-    ``P_2`` is None for ``k = 2``.  Each ``P_p`` is a pair.
+    ``nodes``: the ``n_nodes`` node positions (pairs) in the cell's column order;
+    ``P_2`` is None for cells of degree 1.  Each ``P_p`` is a pair.
     """
-    (sx, sy), (ex, ey) = nodes[0], nodes[1]
-    if k == 2:
-        return [((sx + ex) * 0.5, (sy + ey) * 0.5), ((ex - sx) * 0.5, (ey - sy) * 0.5), None]
-    mx, my = nodes[2]
-    return [(mx, my), ((ex - sx) * 0.5, (ey - sy) * 0.5),
-            ((sx + ex) * 0.5 - mx, (sy + ey) * 0.5 - my)]
+    C = monomials(cell)
+    out = []
+    for p in range(3):
+        acc = None
+        for a, c in enumerate(C[:, p]):
+            if c == 0.0:
+                continue
+            term = nodes[a] if c == 1.0 else (nodes[a][0] * c, nodes[a][1] * c)
+            acc = term if acc is None else (acc[0] + term[0], acc[1] + term[1])
+        out.append(acc)
+    return out
 
 
 def _components(P: list, i: int) -> list:
@@ -146,12 +188,12 @@ def tangent(P: list, xi):
     return poly_derivative(_components(P, 0), xi), poly_derivative(_components(P, 1), xi)
 
 
-def _tangent_at(nodes: list, k: int, xi: float):
+def _tangent_at(nodes: list, cell: CellType, xi: float):
     """``dx/dxi`` at a fixed ``xi`` as the combination ``sum_A N_A'(xi) x_A``."""
-    C = SHAPE[k]
+    C = monomials(cell)
     d = C[:, 1] + 2.0 * C[:, 2] * xi
-    tx = sum(nodes[a][0] * d[a] for a in range(k))
-    ty = sum(nodes[a][1] * d[a] for a in range(k))
+    tx = sum(nodes[a][0] * d[a] for a in range(cell.n_nodes))
+    ty = sum(nodes[a][1] * d[a] for a in range(cell.n_nodes))
     return tx, ty
 
 
@@ -181,36 +223,44 @@ class SlaveSlots(NamedTuple):
         ``x`` (its end tangent is nonzero, its weight zero).
     wp, wn : ndarray (n_el,)
         1.0 where the previous (next) element takes part in the vertex normal, else 0.0.
-    k : int
-        Nodes per element.
+    cell : CellType
+        The slave cell type.
     """
 
     nodes: np.ndarray
     pos: np.ndarray
     wp: np.ndarray
     wn: np.ndarray
-    k: int
+    cell: CellType
+
+    @property
+    def k(self) -> int:
+        """Nodes per element."""
+        return self.cell.n_nodes
 
 
-def slave_slots(xs: np.ndarray, seg: np.ndarray) -> SlaveSlots:
-    """The local slave nodes of every slave element and their positions (values)."""
-    k = seg.shape[1]
+def slave_slots(xs: np.ndarray, seg: np.ndarray, cell: CellType) -> SlaveSlots:
+    """The local slave nodes of every slave element and their positions (values):
+    its own nodes, then the previous element's start and interior nodes, then the
+    next element's end and interior nodes (:func:`interior`)."""
+    k = cell.n_nodes
+    c0, c1 = cell.corners
+    inner = interior(cell)
+    ref = np.asarray(cell.ref_nodes, dtype=float)[0]
     n_s = xs.shape[1]
-    ending, starting = segments_at_nodes(seg[:, :2], n_s)
+    ending, starting = segments_at_nodes(seg[:, [c0, c1]], n_s)
     length = chord_lengths(xs, seg)
     good = length > LEN_TOL * (length.mean() if length.size else 0.0)
-    pe, ne = ending[seg[:, 0]], starting[seg[:, 1]]
+    pe, ne = ending[seg[:, c0]], starting[seg[:, c1]]
     has_p = (pe >= 0) & good[np.maximum(pe, 0)]
     has_n = (ne >= 0) & good[np.maximum(ne, 0)]
     pe, ne = np.maximum(pe, 0), np.maximum(ne, 0)
-    s, t = seg[:, 0], seg[:, 1]
-    if k == 3:
-        prev = [seg[pe, 0], seg[pe, 2]]       # start, mid of the previous element
-        nxt = [seg[ne, 1], seg[ne, 2]]        # end, mid of the next element
-        dprev, dnext = (-2.0, -1.0), (2.0, 1.0)
-    else:
-        prev, nxt = [seg[pe, 0]], [seg[ne, 1]]
-        dprev, dnext = (-1.0,), (1.0,)
+    s, t = seg[:, c0], seg[:, c1]
+    prev = [seg[pe, c0]] + [seg[pe, a] for a in inner]   # start, interior of the previous
+    nxt = [seg[ne, c1]] + [seg[ne, a] for a in inner]    # end, interior of the next
+    # dummy neighbours along x (the reference coordinate shifted by one cell length)
+    dprev = [ref[c0] - ref[c1]] + [ref[a] - ref[c1] for a in inner]
+    dnext = [ref[c1] - ref[c0]] + [ref[a] - ref[c0] for a in inner]
     cols = [seg[:, a] for a in range(k)]
     cols += [np.where(has_p, q, s) for q in prev] + [np.where(has_n, q, t) for q in nxt]
     nodes = np.stack(cols, 1)
@@ -220,51 +270,60 @@ def slave_slots(xs: np.ndarray, seg: np.ndarray) -> SlaveSlots:
         pos[:, ~has_p, k + j] = xs[:, s[~has_p]] + d * ex
     for j, d in enumerate(dnext):
         pos[:, ~has_n, 2 * k - 1 + j] = xs[:, t[~has_n]] + d * ex
-    return SlaveSlots(nodes, pos, has_p * 1.0, has_n * 1.0, k)
+    return SlaveSlots(nodes, pos, has_p * 1.0, has_n * 1.0, cell)
 
 
-def element_normals(slot_pos: list, k: int, wp, wn) -> list:
+def element_normals(slot_pos: list, cell: CellType, wp, wn) -> list:
     """Step 1: the nodal normals of an element's own nodes, in column order.
 
     ``slot_pos``: the ``3 k - 2`` slot positions of :class:`SlaveSlots` (pairs of
-    arrays or jets).  Vertices: ``normalize(wp nu_prev(+1) + nu(-1))`` and
-    ``normalize(nu(+1) + wn nu_next(-1))``; mid node: ``nu(0)``.
+    arrays or jets).  Corners: ``normalize(wp nu_prev(end) + nu(start))`` and
+    ``normalize(nu(end) + wn nu_next(start))``; an interior node: ``nu`` at its
+    reference coordinate (line3's mid node: ``nu(0)``).
 
     Returns
     -------
     list of ``k`` pairs.
     """
+    k = cell.n_nodes
+    c0, c1 = cell.corners
+    inner = interior(cell)
+    ref = np.asarray(cell.ref_nodes, dtype=float)[0]
     own = slot_pos[:k]
-    if k == 3:
-        prev = [slot_pos[3], own[0], slot_pos[4]]      # (start, end, mid) of the previous
-        nxt = [own[1], slot_pos[5], slot_pos[6]]
-    else:
-        prev, nxt = [slot_pos[2], own[0]], [own[1], slot_pos[3]]
-    nu_p = _unit_normal(_tangent_at(prev, k, 1.0))
-    nu_n = _unit_normal(_tangent_at(nxt, k, -1.0))
-    nu_a = _unit_normal(_tangent_at(own, k, -1.0))
-    nu_b = _unit_normal(_tangent_at(own, k, 1.0))
-    n_a = normalize(nu_p[0] * wp + nu_a[0], nu_p[1] * wp + nu_a[1])
-    n_b = normalize(nu_b[0] + nu_n[0] * wn, nu_b[1] + nu_n[1] * wn)
-    if k == 2:
-        return [n_a, n_b]
-    return [n_a, n_b, _unit_normal(_tangent_at(own, k, 0.0))]
+    prev, nxt = [None] * k, [None] * k             # the neighbours in their own columns
+    prev[c0], prev[c1], nxt[c0], nxt[c1] = slot_pos[k], own[c0], own[c1], slot_pos[2 * k - 1]
+    for j, a in enumerate(inner):
+        prev[a], nxt[a] = slot_pos[k + 1 + j], slot_pos[2 * k + j]
+    nu_p = _unit_normal(_tangent_at(prev, cell, ref[c1]))
+    nu_n = _unit_normal(_tangent_at(nxt, cell, ref[c0]))
+    nu_a = _unit_normal(_tangent_at(own, cell, ref[c0]))
+    nu_b = _unit_normal(_tangent_at(own, cell, ref[c1]))
+    out = [None] * k
+    out[c0] = normalize(nu_p[0] * wp + nu_a[0], nu_p[1] * wp + nu_a[1])
+    out[c1] = normalize(nu_b[0] + nu_n[0] * wn, nu_b[1] + nu_n[1] * wn)
+    for a in inner:
+        out[a] = _unit_normal(_tangent_at(own, cell, ref[a]))
+    return out
 
 
 def _slot_pairs(pos: np.ndarray) -> list:
     return [(pos[0, :, j], pos[1, :, j]) for j in range(pos.shape[2])]
 
 
-def nodal_normals(xs: np.ndarray, seg: np.ndarray) -> np.ndarray:
+def nodal_normals(xs: np.ndarray, seg: np.ndarray, cell: CellType | None = None
+                  ) -> np.ndarray:
     """Step 1 (values): the nodal normal of every slave node, (2, n_s).
 
     Vertices: the normalized sum of the adjacent elements' unit normals at that
-    vertex; mid nodes: their element's normal at ``xi = 0``.
+    vertex; mid nodes: their element's normal at ``xi = 0``.  ``cell``: the slave
+    cell type (default: the line of the connectivity's columns,
+    :func:`~skfem_mortar.contact.segmentation.line_cells`).
     """
     xs = np.asarray(xs, dtype=float)
     seg = np.asarray(seg, dtype=np.int64)
-    sl = slave_slots(xs, seg)
-    nrm = element_normals(_slot_pairs(sl.pos), sl.k, sl.wp, sl.wn)
+    cell = line_cells(seg, seg, None if cell is None else (cell, cell))[0]
+    sl = slave_slots(xs, seg, cell)
+    nrm = element_normals(_slot_pairs(sl.pos), cell, sl.wp, sl.wn)
     out = np.zeros((2, xs.shape[1]))
     for a in range(sl.k):
         out[0, seg[:, a]] = value(nrm[a][0])
@@ -272,8 +331,8 @@ def nodal_normals(xs: np.ndarray, seg: np.ndarray) -> np.ndarray:
     return out
 
 
-def nodal_normal_jets(xs: np.ndarray, seg: np.ndarray, second: bool = True
-                      ) -> tuple[tuple[Jet, Jet], np.ndarray]:
+def nodal_normal_jets(xs: np.ndarray, seg: np.ndarray, second: bool = True,
+                      cell: CellType | None = None) -> tuple[tuple[Jet, Jet], np.ndarray]:
     """Step 1 in jets: the nodal normal of every slave node, with its exact first
     (and ``second``) derivatives.
 
@@ -291,8 +350,9 @@ def nodal_normal_jets(xs: np.ndarray, seg: np.ndarray, second: bool = True
     """
     xs = np.asarray(xs, dtype=float)
     seg = np.asarray(seg, dtype=np.int64)
-    n_s, k = xs.shape[1], seg.shape[1]
-    sl = slave_slots(xs, seg)
+    cell = line_cells(seg, seg, None if cell is None else (cell, cell))[0]
+    n_s, k = xs.shape[1], cell.n_nodes
+    sl = slave_slots(xs, seg, cell)
     elem = np.full(n_s, -1, dtype=np.int64)
     col = np.zeros(n_s, dtype=np.int64)
     for a in range(k):
@@ -303,7 +363,7 @@ def nodal_normal_jets(xs: np.ndarray, seg: np.ndarray, second: bool = True
     ns = 3 * k - 2
     V = [(Jet.variable(sl.pos[0, el, j], 2 * j, 2 * ns, second),
           Jet.variable(sl.pos[1, el, j], 2 * j + 1, 2 * ns, second)) for j in range(ns)]
-    nrm = element_normals(V, k, sl.wp[el], sl.wn[el])
+    nrm = element_normals(V, cell, sl.wp[el], sl.wn[el])
     out = []
     for i in (0, 1):
         acc = nrm[k - 1][i]
@@ -467,14 +527,13 @@ def _hull(e_s, xi, node_lo, node_hi, n_es):
     return elem_xi, elem_node
 
 
-def element_fields(xs: np.ndarray, seg_s: np.ndarray) -> tuple[list, list]:
+def element_fields(xs: np.ndarray, seg_s: np.ndarray, cell: CellType) -> tuple[list, list]:
     """Position and normal-field coefficients ``P``, ``Q`` of every slave element (values)."""
-    k = seg_s.shape[1]
-    sl = slave_slots(xs, seg_s)
+    sl = slave_slots(xs, seg_s, cell)
     pos = _slot_pairs(sl.pos)
-    nrm = element_normals(pos, k, sl.wp, sl.wn)
-    return (element_polynomial(pos[:k], k),
-            element_polynomial([(value(n[0]), value(n[1])) for n in nrm], k))
+    nrm = element_normals(pos, cell, sl.wp, sl.wn)
+    return (element_polynomial(pos[:cell.n_nodes], cell),
+            element_polynomial([(value(n[0]), value(n[1])) for n in nrm], cell))
 
 
 def _take(C: list, idx) -> list:
@@ -483,7 +542,8 @@ def _take(C: list, idx) -> list:
 
 def segment(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarray,
             pairs: tuple[np.ndarray, np.ndarray] | None = None, margin: float | None = None,
-            frozen: bool = True, reach: float = 0.0) -> Segmentation:
+            frozen: bool = True, reach: float = 0.0,
+            cells: tuple[CellType, CellType] | None = None) -> Segmentation:
     """Step 3: the mortar segments of curved (or straight) slave and master elements.
 
     Parameters as :func:`skfem_mortar.contact.mortar_segmentation.segment`;
@@ -500,8 +560,7 @@ def segment(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarray
     xm = np.asarray(xm, dtype=float).reshape(2, -1)
     seg_s = np.asarray(seg_s, dtype=np.int64)
     seg_m = np.asarray(seg_m, dtype=np.int64)
-    line_cells(seg_s, seg_m)             # (n, 2) or (n, 3) (start, end[, mid])
-    km = seg_m.shape[1]
+    cs, cm = line_cells(seg_s, seg_m, cells)   # default: (n, 2) or (n, 3) (start, end[, mid])
     candidates = None
     if pairs is None:
         pairs = candidates = candidate_pairs(xs, seg_s, xm, seg_m, margin, reach)
@@ -513,9 +572,10 @@ def segment(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarray
     keep = good_s[i_s] & good_m[i_m]
     i_s, i_m = i_s[keep], i_m[keep]
 
-    Pe, Qe = element_fields(xs, seg_s)
+    Pe, Qe = element_fields(xs, seg_s, cs)
     P, Q = _take(Pe, i_s), _take(Qe, i_s)
-    R = element_polynomial([(xm[0, seg_m[i_m, a]], xm[1, seg_m[i_m, a]]) for a in range(km)], km)
+    R = element_polynomial([(xm[0, seg_m[i_m, a]], xm[1, seg_m[i_m, a]])
+                            for a in range(cm.n_nodes)], cm)
     c1 = (xm[0, seg_m[i_m, 0]], xm[1, seg_m[i_m, 0]])
     c2 = (xm[0, seg_m[i_m, 1]], xm[1, seg_m[i_m, 1]])
     ts = xs[:, seg_s[i_s, 1]] - xs[:, seg_s[i_s, 0]]
@@ -559,8 +619,11 @@ def segment_lines(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.n
     cells' curves).
     """
     straight = cells[0].name == "line2" and cells[1].name == "line2"
-    run = mortar_segmentation.segment if straight else segment
-    return run(xs, seg_s, xm, seg_m, pairs=pairs, margin=margin, frozen=frozen, reach=reach)
+    if straight:
+        return mortar_segmentation.segment(xs, seg_s, xm, seg_m, pairs=pairs, margin=margin,
+                                           frozen=frozen, reach=reach)
+    return segment(xs, seg_s, xm, seg_m, pairs=pairs, margin=margin, frozen=frozen,
+                   reach=reach, cells=cells)
 
 
 register_default(1, segment_lines)

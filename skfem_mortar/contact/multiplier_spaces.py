@@ -139,8 +139,8 @@ class StandardSpace(MultiplierSpace):
     bound_moves = False
 
     def kernel_options(self) -> dict:
-        """``Phi_A = N_A``: the kernels' ``dual=False``."""
-        return {"dual": False}
+        """``Phi_A = N_A``: the kernels' ``space`` is this one (standard shape functions)."""
+        return {"space": self}
 
     def pressure(self, lam: np.ndarray, area: np.ndarray) -> np.ndarray:
         return lam.copy()
@@ -189,8 +189,9 @@ class DualSpace(StandardSpace):
     diagonal = True
 
     def kernel_options(self) -> dict:
-        """The biorthogonal basis: the kernels' ``dual=True``."""
-        return {"dual": True}
+        """The biorthogonal basis: the kernels' ``space`` is this one (it has
+        :meth:`coefficients`)."""
+        return {"space": self}
 
     @staticmethod
     def coefficients(D_e: np.ndarray, M_e: np.ndarray) -> np.ndarray:

@@ -391,7 +391,7 @@ def mortar_history(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.
     The mortar integrals of :func:`skfem_mortar.contact.mortar.evaluate`
     (3-node segments on either side:
     :func:`skfem_mortar.contact.mortar_quadratic.evaluate`; values only;
-    ``kernel_options`` as there: ``dual``, ``n_gauss``, ``crosspoints``, ...),
+    ``kernel_options`` as there: ``space``, ``n_gauss``, ``crosspoints``, ...),
     which the pair also has as ``info["D"]``, ``info["M"]`` of its last
     evaluation at the converged state.
     """

@@ -1,0 +1,76 @@
+"""The slave nodes' mortar supports and tributary weights, read from the cell table.
+
+Values only (no derivatives), for any line cell type: the shape functions and their
+derivatives come from the cell's row (:attr:`~skfem_mortar.contact.cells.CellType.shape`,
+:attr:`~skfem_mortar.contact.cells.CellType.dshape`), the whole-cell rule from its
+:attr:`~skfem_mortar.contact.cells.CellType.quadrature` (a piecewise cell brings its
+composite rule), so the linear and the curved mortar kernels share them.
+
+* the tributary weight of slave node ``A``, over the whole slave surface,
+
+      w_A = sum_e int_{-1}^{1} N_A(xi) |dx/dxi| dxi,   x(xi) = sum_B N_B(xi) x_B;
+
+* its mortar support, over the integration cells ``[xi_a, xi_b]`` of a segmentation
+  (:class:`~skfem_mortar.contact.segmentation.Segmentation`),
+
+      s_A = sum_c int_{xi_a}^{xi_b} N_A(xi) |dx/dxi| dxi,
+
+  by the ``n_gauss``-point Gauss rule mapped onto each integration cell (an
+  integration cell lies in one smooth piece of its slave cell).  The kernels mask a
+  node whose ``s_A`` is at most ``MASK_TOL`` times ``w_A``
+  (:func:`skfem_mortar.contact.mortar.evaluate`, Notes).
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from .cells import CellType, line_quadrature
+from .segmentation import Segmentation
+
+__all__ = ["cell_jacobian", "tributary_weights", "multiplier_support"]
+
+
+def cell_jacobian(cell: CellType, X: np.ndarray, xi: np.ndarray) -> np.ndarray:
+    """``|dx/dxi| = |sum_B dN_B/dxi x_B|`` at ``xi`` (n, nq) of line cells with node
+    positions ``X`` (2, n, n_nodes), (n, nq)."""
+    dN = np.asarray(cell.dshape(xi[None]))[:, 0]              # (n_nodes, n, nq)
+    t = np.einsum("ink,knq->inq", X, dN)
+    return np.sqrt(t[0] * t[0] + t[1] * t[1])
+
+
+def _scatter(n_s: int, nodes: np.ndarray, N: np.ndarray, dG: np.ndarray) -> np.ndarray:
+    """``out_A = sum N_A dGamma`` summed into the nodes (n, n_nodes) of each cell."""
+    out = np.zeros(n_s)
+    for a in range(nodes.shape[1]):
+        np.add.at(out, nodes[:, a], (N[a] * dG).sum(1))
+    return out
+
+
+def tributary_weights(xs: np.ndarray, seg: np.ndarray, cell: CellType, degree: int
+                      ) -> np.ndarray:
+    """``w_A = int N_A dGamma`` over the whole slave surface (module doc), (n_s,).
+
+    ``degree``: the cell's rule is exact for polynomials of that degree in ``xi``
+    (a straight cell's integrand ``N_A |dx/dxi|`` has the degree of ``N_A``).  On a
+    straight line3 cell of length ``L`` with a centred mid node ``L/6, L/6, 2L/3``;
+    ``L/2`` each for line2.
+    """
+    xs = np.asarray(xs, dtype=float)
+    seg = np.asarray(seg, dtype=np.int64)
+    pts, w = cell.quadrature(degree)
+    xi = np.broadcast_to(pts[0], (seg.shape[0], pts.shape[1]))
+    dG = cell_jacobian(cell, xs[:, seg], xi) * w
+    return _scatter(xs.shape[1], seg, np.asarray(cell.shape(xi[None])), dG)
+
+
+def multiplier_support(xs: np.ndarray, seg_s: np.ndarray, sg: Segmentation, cell: CellType,
+                       n_gauss: int) -> np.ndarray:
+    """``s_A = int N_A dGamma`` over the integration cells of ``sg`` (module doc), (n_s,);
+    negative for a far vertex of a partly covered line3 cell."""
+    xs = np.asarray(xs, dtype=float)
+    e = sg.e_s
+    eta, w = line_quadrature(2 * n_gauss - 1)
+    lo, hi = sg.xi[:, :1], sg.xi[:, 1:]
+    xi = lo * ((1.0 - eta[0]) * 0.5) + hi * ((1.0 + eta[0]) * 0.5)
+    dG = cell_jacobian(cell, xs[:, seg_s[e]], xi) * ((hi - lo) * 0.5) * w
+    return _scatter(xs.shape[1], seg_s[e], np.asarray(cell.shape(xi[None])), dG)
