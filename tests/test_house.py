@@ -1,4 +1,4 @@
-"""The house (issue 33): no import circle inside the package, one job per module.
+"""The house (issues 33 and 34): no import circle inside the package, one job per module.
 
 Read from the source, nothing imported: every module's imports (those inside functions
 too) and its lines of code (blank lines, comments and docstrings not counted). Both tests
@@ -16,14 +16,10 @@ import skfem_mortar
 
 ROOT = pathlib.Path(skfem_mortar.__file__).parent
 
-#: the most lines of code of a module, and of a function outside ``contact/``
+#: the most lines of code of a module, and of a function, anywhere in the package
+#: (``contact/`` included since the contact layer's redesign, issue 34)
 MODULE_LIMIT = 500
 FUNCTION_LIMIT = 80
-
-#: file-name prefixes of the ``contact/`` modules that count already: the preflight
-#: checks' modules (``contact/preflight*.py``). The contact layer is counted whole by
-#: issue 34 (its redesign), which extends this test to all of ``contact/``.
-CONTACT_COUNTED = ("preflight",)
 
 #: how many of the largest modules and functions the report shows
 SHOWN = 5
@@ -141,18 +137,6 @@ def circles(graph):
 
 # --- the house --------------------------------------------------------------------
 
-def _counted(name):
-    """Whether module ``name`` counts (outside ``contact/``, or a preflight module)."""
-    parts = name.split(".")
-    if len(parts) < 2 or parts[1] != "contact":
-        return True
-    return len(parts) > 2 and parts[-1].startswith(CONTACT_COUNTED)
-
-
-def _in_contact(name):
-    return name.split(".")[1:2] == ["contact"]
-
-
 def _largest(rows, title):
     rows = sorted(rows, reverse=True)[:SHOWN]
     return "\n".join([f"the {len(rows)} largest {title}:"]
@@ -178,12 +162,9 @@ def test_no_import_circle_in_the_package(request, capsys):
 def test_modules_and_functions_are_not_too_long(request, capsys):
     modules, functions = [], []
     for name, (source, _) in package_sources().items():
-        if not _counted(name):
-            continue
         module_lines, function_lines = sizes(source)
         modules.append((module_lines, name))
-        if not _in_contact(name):
-            functions += [(n, f"{name}.{f}") for n, f in function_lines]
+        functions += [(n, f"{name}.{f}") for n, f in function_lines]
     report = "\n".join([_largest(modules, f"modules (limit {MODULE_LIMIT} lines of code)"),
                         _largest(functions, f"functions (limit {FUNCTION_LIMIT} lines of code)")])
     _show(request, capsys, report)
@@ -240,15 +221,6 @@ def test_the_circle_finder_finds_a_circle_through_any_kind_of_import():
     assert circles(graph) == [["pkg.a", "pkg.b", "pkg.sub.c"]]
     assert circles({"x": {"y"}, "y": {"x"}, "z": {"x"}}) == [["x", "y"]]
     assert circles({"x": {"y"}, "y": set()}) == []
-
-
-@pytest.mark.parametrize("name, counted", [
-    ("skfem_mortar", True), ("skfem_mortar.core.model", True),
-    ("skfem_mortar.contact", False), ("skfem_mortar.contact.pair", False),
-    ("skfem_mortar.contact.preflight", True), ("skfem_mortar.contact.preflight_rigid", True),
-])
-def test_which_modules_count(name, counted):
-    assert _counted(name) is counted
 
 
 def test_architecture_lists_every_module():
