@@ -3,9 +3,6 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..contact.curves import output_cells, shape_values
-from ..contact.segmentation import surface_cell
-
 __all__ = ["ContactOutput", "output_gap", "pressure_profile", "STATUS_CODES"]
 
 #: the friction statuses of ``contact_data["status"]`` as the VTU series writes
@@ -42,7 +39,9 @@ class ContactOutput:  # an Output (skfem_mortar.core.model) for the output layer
 
     def output_mesh(self):
         s = self.pair.slave
-        return s.X.T.copy(), output_cells(s.segments, surface_cell(s))
+        # the surface's cell type names its VTK cells (its own method: this layer
+        # does not import contact)
+        return s.X.T.copy(), s.output_cells()
 
     def output_data(self, z: np.ndarray):
         s = self.pair.slave
@@ -87,12 +86,10 @@ def pressure_profile(pair, z: np.ndarray, n_per_segment: int = 8) -> dict[str, n
     p[data["node"]] = data["pressure"]
     x = s.x(z)
     seg = np.asarray(s.segments)
-    xi = np.linspace(-1.0, 1.0, n_per_segment + 1)[:-1]
-    cell = surface_cell(s)
-    N = shape_values(cell, xi)[0]                                   # (n_nodes, k)
-    pts = np.einsum("dsk,kq->dsq", x[:, seg], N)                    # (2, n_seg, k)
-    ps = np.einsum("dsk,kq->dsq", p[None, :][:, seg], N)[0]         # (n_seg, k)
-    last = seg[-1, cell.corners[1]]
+    xi = np.linspace(-1.0, 1.0, n_per_segment + 1)[None, :-1]
+    pts = s.interpolate(x, xi)                                      # (2, n_seg, k)
+    ps = s.interpolate(p[None, :], xi)[0]                           # (n_seg, k)
+    last = seg[-1, s.cell.corners[1]]
     X = np.hstack([pts.reshape(2, -1), x[:, [last]]])
     P = np.r_[ps.ravel(), p[last]]
     d = np.hypot(*np.diff(X, axis=1))
