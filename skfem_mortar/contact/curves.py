@@ -9,7 +9,7 @@ A line cell with nodes ``x_a`` is the curve
 
 ``N`` the cell's shape functions (``line3``: ``xi (xi - 1)/2, xi (xi + 1)/2,
 1 - xi^2``; a test's piecewise-linear ``line2x2`` is a new row of the table, not a
-new code path here).  The closest point of ``x_s`` solves
+new code path here).  The closest point of ``x_s`` solves ::
 
     f(xi) = (x_s - x(xi)) . x'(xi) = 0,   f'(xi) = (x_s - x(xi)) . x'' - |x'|^2,
 

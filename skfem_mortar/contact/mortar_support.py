@@ -6,12 +6,12 @@ derivatives come from the cell's row (:attr:`~skfem_mortar.contact.cells.CellTyp
 :attr:`~skfem_mortar.contact.cells.CellType.quadrature` (a piecewise cell brings its
 composite rule), so the linear and the curved mortar kernels share them.
 
-* the tributary weight of slave node ``A``, over the whole slave surface,
+* the tributary weight of slave node ``A``, over the whole slave surface, ::
 
       w_A = sum_e int_{-1}^{1} N_A(xi) |dx/dxi| dxi,   x(xi) = sum_B N_B(xi) x_B;
 
 * its mortar support, over the integration cells ``[xi_a, xi_b]`` of a segmentation
-  (:class:`~skfem_mortar.contact.segmentation.Segmentation`),
+  (:class:`~skfem_mortar.contact.segmentation.Segmentation`), ::
 
       s_A = sum_c int_{xi_a}^{xi_b} N_A(xi) |dx/dxi| dxi,
 

@@ -25,7 +25,7 @@ and the second variation is the symmetric 6 x 6 matrix
 Any other line cell (``line3``, a registered one such as a piecewise-linear
 ``line2x2``): the cell is the curve ``x(xi) = sum_a N_a(xi) x_a``, ``xi in [-1, 1]``,
 with the table's shape functions; the node projects by Newton on
-``f(xi) = (x - x(xi)) . x'(xi) = 0`` (:func:`~.curves.project_values`) and
+``f(xi) = (x - x(xi)) . x'(xi) = 0`` (:func:`~.curves.project_values`) and ::
 
     g = (x - x(xi)) . n(xi),   n = (t_y, -t_x) / |t|,   t = x'(xi).
 

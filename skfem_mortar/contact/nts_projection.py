@@ -108,7 +108,7 @@ def project(xs: np.ndarray, xm: np.ndarray, seg_m: np.ndarray, margin: float | N
             end_tolerance: float = 1e-8, prefer: np.ndarray | None = None,
             stick: float = 0.05, lock: np.ndarray | None = None,
             cell: "str | CellType" = "line2") -> dict:
-    """Closest-point projection of every slave node on the master chain of ``cell``s.
+    """Closest-point projection of every slave node on the master chain (cells of type ``cell``).
 
     An affine cell (:func:`~.curves.is_affine`, ``line2``) in closed form, any other
     line cell by Newton in the cell's coordinate (:func:`_project_curve`).
