@@ -162,11 +162,15 @@ class TaylorHoodSolid(Solid):
 
     def output_data(self, z: np.ndarray) -> tuple[dict, dict]:
         """As :meth:`Solid.output_data <skfem_mortar.bodies.solid.Solid.output_data>`
-        (the stress from ``P_mu + p dq/dF``) and ``pressure`` on the vertices (NaN on
-        the other nodes)."""
+        (the stress from ``P_mu + p dq/dF``) and ``pressure`` on every output node: the
+        linear pressure field evaluated there (at a mid-edge node the mean of its
+        edge's vertices), so that the series has no NaN."""
         point, cells = super().output_data(z)
-        pn = np.full(point["displacement"].shape[0], np.nan)
-        nodes = np.asarray(self.pbasis.nodal_dofs[0], dtype=np.int64)
-        pn[:nodes.size] = self.pressure(z)[nodes]
+        pv = self.pressure(z)[np.asarray(self.pbasis.nodal_dofs[0], dtype=np.int64)]
+        edges = np.asarray(self.mesh.edges, dtype=np.int64)     # the output's mid-edge nodes,
+        pn = np.concatenate([pv, 0.5 * (pv[edges[0]] + pv[edges[1]])])  # in edge order
+        if pn.size != point["displacement"].shape[0]:
+            raise RuntimeError(f"p2p1 output: {pn.size} pressures for "
+                               f"{point['displacement'].shape[0]} nodes")
         point["pressure"] = pn
         return point, cells
