@@ -87,12 +87,11 @@ def _facet_index(mesh: Any, corners: np.ndarray, name: str) -> np.ndarray:
     if want.shape[1] != facets.shape[0]:
         raise ValueError(f"path: boundary {name!r} has {want.shape[1]}-corner cells, the "
                          f"mesh's facets have {facets.shape[0]} corners")
-    base = int(mesh.p.shape[1]) + 1
-    key = np.zeros(facets.shape[1], dtype=np.int64)
-    wkey = np.zeros(len(want), dtype=np.int64)
-    for r in range(facets.shape[0]):   # corners sorted, so the key is the set's
-        key = key * base + facets[r]
-        wkey = wkey * base + want[:, r]
+    # one integer per corner set (sorted corners: the key is the set's), numbered by
+    # np.unique over the rows: no positional base that overflows int64 on quad facets
+    _, ids = np.unique(np.vstack([facets.T, want]), axis=0, return_inverse=True)
+    ids = ids.ravel()
+    key, wkey = ids[:facets.shape[1]], ids[facets.shape[1]:]
     order = np.argsort(key)
     pos = np.searchsorted(key[order], wkey)
     pos = np.minimum(pos, len(order) - 1)
