@@ -10,6 +10,7 @@ discretization*: an object with the hooks of :class:`ContactDiscretization`.
 The pair calls exactly these hooks, in this order::
 
     d = make_method(method, slave, master, pair_name=name, **options)  # options checked here
+    d.set_measure(measure)                # at bind, if the method has it (MeasuredDiscretization)
     d.set_pinned(mask)                    # before every step attempt (stepping: set_fixed)
     d.set_reference(xs0, xm0)             # positions of the last converged state
     d.begin_step(xs, xm, first)           # every attempt of a load step
@@ -53,9 +54,10 @@ import scipy.sparse as sp
 
 from . import BUILTIN_METHODS
 from .contact_eval import ContactEval
+from .measures import Measure
 from .multiplier_spaces import registered_spaces
 
-__all__ = ["ContactDiscretization", "PatternedDiscretization", "FrictionDiscretization", "register_method", "unregister_method", "make_method",
+__all__ = ["ContactDiscretization", "PatternedDiscretization", "MeasuredDiscretization", "FrictionDiscretization", "register_method", "unregister_method", "make_method",
            "registered_methods", "check_options", "check_entries", "METHODS",
            "BUILTIN_METHODS"]
 
@@ -183,6 +185,22 @@ class PatternedDiscretization(Protocol):
         Called with the positions of a tangent evaluation, after :meth:`evaluate`;
         must not change what :meth:`evaluate` returns.
         """
+        ...
+
+
+@runtime_checkable
+class MeasuredDiscretization(Protocol):
+    """The optional hook of a :class:`ContactDiscretization` outside plane models.
+
+    A method with it integrates with the weight ``w(x) dGamma`` of the model's
+    geometry (:mod:`~skfem_mortar.contact.measures`: ``2 pi r`` in an
+    axisymmetric model); a pair in a model of another geometry than plane
+    refuses a method without it.
+    """
+
+    def set_measure(self, measure: Measure) -> None:
+        """The weight of ``dGamma`` in the model's geometry, told by the pair
+        when the model binds it, before any other hook."""
         ...
 
 
