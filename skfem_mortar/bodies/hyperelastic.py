@@ -130,12 +130,9 @@ class NeoHooke(Material):
         return (0.5 * self.mu * (trC - float(F.shape[0]) - 2.0 * lnJ)
                 + 0.5 * self.lmbda * lnJ ** 2)
 
-    def stress_zz(self, F: np.ndarray) -> np.ndarray:
+    def _plane_strain_stress_zz(self, F: np.ndarray) -> np.ndarray:
+        """``sigma_zz = lambda ln J / J``."""
         J = checked_det(F)
-        if np.shape(F)[0] == 3:
-            return self.cauchy(F)[0][2, 2]
-        if self.plane == "stress":
-            return np.zeros_like(J)
         return self.lmbda * np.log(J) / J
 
 
@@ -217,11 +214,8 @@ class SaintVenantKirchhoff(Material):
                                  "(1 + 2 E_zz <= 0)")
         return np.sqrt(c33)
 
-    def stress_zz(self, F: np.ndarray) -> np.ndarray:
+    def _plane_strain_stress_zz(self, F: np.ndarray) -> np.ndarray:
+        """``sigma_zz = lambda tr E / J``."""
         J = checked_det(F)
-        if np.shape(F)[0] == 3:
-            return self.cauchy(F)[0][2, 2]
-        if self.plane == "stress":
-            return np.zeros_like(J)
         _, trE = self._pk2(np.asarray(F, dtype=float))
         return self.lmbda * trE / J

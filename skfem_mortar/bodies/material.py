@@ -117,7 +117,17 @@ class Material:
         raise NotImplementedError
 
     def stress_zz(self, F: np.ndarray) -> np.ndarray:
-        """Out-of-plane Cauchy stress ``sigma_zz`` (0 in plane stress)."""
+        """Out-of-plane Cauchy stress ``sigma_zz``: ``sigma[2, 2]`` of a 3 x 3
+        ``F``, 0 in plane stress, else the law's plane-strain value
+        (:meth:`_plane_strain_stress_zz`)."""
+        if np.shape(F)[0] == 3:
+            return self.cauchy(F)[0][2, 2]
+        if self.plane == "stress":
+            return np.zeros(np.shape(F)[2:])
+        return self._plane_strain_stress_zz(F)
+
+    def _plane_strain_stress_zz(self, F: np.ndarray) -> np.ndarray:
+        """``sigma_zz`` of a 2 x 2 ``F`` in plane strain (``F_zz = 1``)."""
         raise NotImplementedError
 
     def stretch_zz(self, F: np.ndarray) -> np.ndarray:
@@ -225,15 +235,13 @@ class LinearElastic(Material):
         """``1 + eps_zz``."""
         return 1.0 + self.strain_zz(F)
 
-    def stress_zz(self, F: np.ndarray) -> np.ndarray:
-        """``sigma_zz = lambda tr eps`` (plane strain) or 0 (plane stress)."""
+    def _plane_strain_stress_zz(self, F: np.ndarray) -> np.ndarray:
+        """``sigma_zz = lambda tr eps``."""
         eps = self.strain(F)
-        if eps.shape[0] == 3:
-            return self.stress(F)[2, 2]
-        if self.plane == "stress":
-            return np.zeros(eps.shape[2:])
         return self.lmbda * (eps[0, 0] + eps[1, 1])
 
     def cauchy(self, F: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """``sigma`` itself (no push-forward at small strain) and ``sigma_zz``."""
-        return self.stress(F), self.stress_zz(F)
+        """``sigma`` itself (no push-forward at small strain) and ``sigma_zz``
+        (its ``[2, 2]`` entry for a 3 x 3 ``F``)."""
+        sigma = self.stress(F)
+        return sigma, (sigma[2, 2] if sigma.shape[0] == 3 else self.stress_zz(F))
