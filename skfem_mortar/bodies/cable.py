@@ -55,6 +55,27 @@ def _per_element(name: str, value: object, n_el: int) -> np.ndarray:
     return np.broadcast_to(a, (n_el,)).copy()
 
 
+def node_chain(X: np.ndarray, elements: np.ndarray | None, closed: bool
+               ) -> tuple[np.ndarray, np.ndarray]:
+    """The checked nodes ``X (2, n)`` and 2-node ``elements (n_el, 2)`` of a chain
+    (a cable's, a membrane's meridian); ``elements=None``: the nodes in order,
+    closed into a loop if ``closed``.  ValueError naming ``X`` or ``elements``."""
+    X = real_array("X", X)
+    if X.ndim != 2 or X.shape[0] != 2 or X.shape[1] < 2:
+        raise ValueError(f"X must have shape (2, n_nodes) with n_nodes >= 2, got {X.shape}")
+    n = X.shape[1]
+    if elements is None:
+        k = np.arange(n)
+        elements = np.column_stack([k, np.roll(k, -1)]) if closed else \
+            np.column_stack([k[:-1], k[1:]])
+    elements = index_array("elements", elements, n)
+    if elements.ndim != 2 or elements.shape[1] != 2 or len(elements) == 0:
+        raise ValueError(f"elements must have shape (n_el, 2) with n_el >= 1, "
+                         f"got {elements.shape}")
+    _refuse_duplicates(elements)
+    return X, elements
+
+
 def _refuse_duplicates(elements: np.ndarray) -> None:
     """ValueError naming the first two elements that join the same two nodes (either
     order: the pair's stiffness would count twice) or an element joining a node to itself."""
@@ -171,20 +192,9 @@ class Cable(Item):
                  rest_length: float | np.ndarray | None = None,
                  slack_stiffness: float = 1.0, tension_floor: float = 0.0,
                  name: str = "cable"):
-        X = real_array("X", X)
-        if X.ndim != 2 or X.shape[0] != 2 or X.shape[1] < 2:
-            raise ValueError(f"X must have shape (2, n_nodes) with n_nodes >= 2, got {X.shape}")
-        n = X.shape[1]
         closed = flag("closed", closed)
-        if elements is None:
-            k = np.arange(n)
-            elements = np.column_stack([k, np.roll(k, -1)]) if closed else \
-                np.column_stack([k[:-1], k[1:]])
-        elements = index_array("elements", elements, n)
-        if elements.ndim != 2 or elements.shape[1] != 2 or len(elements) == 0:
-            raise ValueError(f"elements must have shape (n_el, 2) with n_el >= 1, "
-                             f"got {elements.shape}")
-        _refuse_duplicates(elements)
+        X, elements = node_chain(X, elements, closed)
+        n = X.shape[1]
         self.X = X
         self.elements = elements
         self.closed = closed

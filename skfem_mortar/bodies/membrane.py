@@ -36,8 +36,7 @@ from ..core.chain import segment_lengths
 from ..core.errors import InversionError
 from ..core.item import Contribution, Item
 from ..core.validate import flag, real
-from ..core.validate_arrays import index_array, real_array
-from .cable import _refuse_duplicates
+from .cable import node_chain
 from .membrane_laws import MembraneLaw, membrane_law
 
 __all__ = ["Membrane", "AXIS_RTOL"]
@@ -87,20 +86,10 @@ class Membrane(Item):
                  law: str | MembraneLaw = "neo-hooke", mu: float | None = None,
                  E: float | None = None, nu: float | None = None, closed: bool = False,
                  name: str = "membrane"):
-        X = real_array("X", X).copy()
-        if X.ndim != 2 or X.shape[0] != 2 or X.shape[1] < 2:
-            raise ValueError(f"X must have shape (2, n_nodes) with n_nodes >= 2, got {X.shape}")
-        n = X.shape[1]
         self.closed = flag("closed", closed)
-        if elements is None:
-            k = np.arange(n)
-            elements = np.column_stack([k, np.roll(k, -1)]) if self.closed else \
-                np.column_stack([k[:-1], k[1:]])
-        elements = index_array("elements", elements, n)
-        if elements.ndim != 2 or elements.shape[1] != 2 or len(elements) == 0:
-            raise ValueError(f"elements must have shape (n_el, 2) with n_el >= 1, "
-                             f"got {elements.shape}")
-        _refuse_duplicates(elements)
+        X, elements = node_chain(X, elements, self.closed)
+        X = X.copy()
+        n = X.shape[1]
         self.name = name
         self.pole = _snap_axis(X, name)
         if np.any(self.pole[elements].all(axis=1)):
