@@ -64,7 +64,7 @@ import numpy as np
 
 from .cell_map import cell_normals, cell_points, check_connectivity
 from .cells import CellType, cell_type
-from .clipping import clip_polygons, fan_cells, polygon_areas
+from .clipping import DIST_TOL, clip_polygons, fan_cells, polygon_areas
 from .segmentation import (EDGE_INTERSECTION, MASTER_VERTEX, SLAVE_VERTEX,
                            check_kernel_cells, register_default)
 
@@ -75,8 +75,9 @@ __all__ = ["FaceSegmentation", "segment_faces", "clip_vertex_points", "auxiliary
 FACES = ("tri3", "quad4")
 #: a quad4 whose projected corners have a corner sine below this is split in two
 SPLIT_SINE = 1e-3
-#: Newton along n_0 stops where the step is below this (reference coordinates)
-NEWTON_TOL = 1e-14
+#: Newton along n_0 stops after a step below this (reference coordinates; quadratic
+#: convergence leaves round-off after it, while steps stall at about 1e-14)
+NEWTON_TOL = 1e-12
 #: most Newton steps of the back-mapping
 NEWTON_STEPS = 30
 
@@ -247,11 +248,14 @@ def _newton_back(cell: CellType, P: np.ndarray, q: np.ndarray, axes: np.ndarray,
     the plane normal onto faces of nodes ``P (N, k, 3)``: ``t_a . (x(xi) - q) = 0``
     (module docstring, step 5), from ``xi``; and whether each converged."""
     done = np.zeros(q.shape[0], dtype=bool)
+    Pa = np.einsum("Nkd,Nad->aNk", P, axes)          # the nodes' plane coordinates
+    qa = np.einsum("Nd,Nad->aN", q, axes)
     for _ in range(NEWTON_STEPS):
-        x = np.einsum("kN,Nkd->Nd", cell.shape(xi), P)
-        T = np.einsum("kbN,Nkd->Nbd", cell.dshape(xi), P)
-        r = np.einsum("Nad,Nd->Na", axes, x - q)
-        J = np.einsum("Nad,Nbd->Nab", axes, T)
+        N, G = cell.shape(xi), cell.dshape(xi)
+        r = np.stack([sum(Pa[a, :, k] * N[k] for k in range(N.shape[0])) - qa[a]
+                      for a in range(2)], axis=1)
+        J = np.stack([np.stack([sum(Pa[a, :, k] * G[k, b] for k in range(N.shape[0]))
+                                for b in range(2)], axis=1) for a in range(2)], axis=1)
         det = J[:, 0, 0] * J[:, 1, 1] - J[:, 0, 1] * J[:, 1, 0]
         det = np.where(det != 0, det, 1.0)
         step = -np.stack([J[:, 1, 1] * r[:, 0] - J[:, 0, 1] * r[:, 1],
@@ -323,6 +327,15 @@ def _corner_coords(x, conn, cell, x0, axes):
     return U
 
 
+def _boxes_meet(A: np.ndarray, B: np.ndarray) -> np.ndarray:
+    """Whether the bounding boxes of the plane polygons ``A (m, k_a, 2)`` and
+    ``B (m, k_b, 2)`` meet, within ``DIST_TOL`` times their size (pairs that cannot
+    overlap skip the clipping)."""
+    lo_a, hi_a, lo_b, hi_b = A.min(axis=1), A.max(axis=1), B.min(axis=1), B.max(axis=1)
+    tol = DIST_TOL * np.maximum((hi_a - lo_a).max(axis=1), (hi_b - lo_b).max(axis=1))
+    return np.all((lo_a <= hi_b + tol[:, None]) & (lo_b <= hi_a + tol[:, None]), axis=1)
+
+
 def _local_labels(origin, index, vmap_s, cnt_s, k_s, vmap_m, cnt_m, k_m):
     """The clip vertices' ``src (m, K, 2)`` in the faces' corners and line codes from
     the sub-polygons' vertex and edge indices."""
@@ -346,11 +359,13 @@ def _back_map(cell, x, conn, e, U, vmap, cnt, q, u, axes, corner):
     ``corner >= 0``; and whether Newton converged everywhere."""
     if q.shape[0] == 0:
         return np.zeros((0, 2)), True
-    P = np.transpose(x[:, conn[e]], (1, 2, 0))
-    xi, ok = _newton_back(cell, P, q, axes, _start(cell, U, vmap, cnt, u))
     ref = np.asarray(cell.ref_nodes, dtype=float)
-    xi = np.where(corner >= 0, ref[:, np.maximum(corner, 0)], xi)
-    return xi.T, bool(np.all(ok | (corner >= 0)))
+    xi = ref[:, np.maximum(corner, 0)]
+    todo = np.flatnonzero(corner < 0)
+    P = np.transpose(x[:, conn[e[todo]]], (1, 2, 0))
+    xi[:, todo], ok = _newton_back(cell, P, q[todo], axes[todo],
+                                   _start(cell, U[todo], vmap[todo], cnt[todo], u[todo]))
+    return xi.T, bool(np.all(ok))
 
 
 def segment_faces(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarray,
@@ -400,6 +415,8 @@ def segment_faces(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.n
     k_s, k_m = len(cs.corners), len(cm.corners)
     U_s = _corner_coords(xs, seg_s, cs, x0, axes)
     U_m = _corner_coords(xm, seg_m[i_m], cm, x0[i_s], axes[i_s])
+    near = _boxes_meet(U_s[i_s, :k_s], U_m[:, :k_m])
+    i_s, i_m, U_m = i_s[near], i_m[near], U_m[near]
     own_s, vmap_s, cnt_s = _sub_polygons(U_s, np.full(len(seg_s), k_s))
     own_m, vmap_m, cnt_m = _sub_polygons(U_m, np.full(i_s.size, k_m))
     pair, sub_s, sub_m = _pair_subs(i_s, *_counts_first(own_s, len(seg_s)),
@@ -454,8 +471,9 @@ def clip_vertex_points(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray,
     edge = seg.origin == EDGE_INTERSECTION
     t = np.where(edge, num / np.where(edge & (den != 0), den, 1.0), 0.0)
     p = np.where(edge[..., None], a + t[..., None] * (b - a), 0.0)
-    p = np.where((seg.origin == SLAVE_VERTEX)[..., None], take(Xs, i), p)
-    p = np.where((seg.origin == MASTER_VERTEX)[..., None], take(Xm, j), p)
+    sv, mv = seg.origin == SLAVE_VERTEX, seg.origin == MASTER_VERTEX
+    p = np.where(sv[..., None], take(Xs, np.where(sv, i, 0)), p)
+    p = np.where(mv[..., None], take(Xm, np.where(mv, j, 0)), p)
     return p - np.sum((p - x0) * n0, axis=-1, keepdims=True) * n0
 
 
