@@ -244,3 +244,16 @@ def test_bad_input_is_refused():
         segment_faces(x, T, x, T, ("tri3", "tri3"), pairs=([0], [1]))
     with pytest.raises(ValueError, match="reach must be a finite number >= 0"):
         segment_faces(x, T, x, T, ("tri3", "tri3"), reach=-1.0)
+
+
+def test_chunks_give_the_same_cells(monkeypatch):
+    import skfem_mortar.contact.segmentation3d as s3
+    rng = np.random.default_rng(3)
+    xs, Ss = _quad_square(5, rng)
+    xm, Sm = _tri_square(4, rng, 0.01, False)
+    whole = segment_faces(xs, Ss, xm, Sm, ("quad4", "tri3"))
+    monkeypatch.setattr(s3, "CHUNK_PAIRS", 7)
+    parts = segment_faces(xs, Ss, xm, Sm, ("quad4", "tri3"))
+    assert whole.candidates[0].size > 10 * 7                      # many chunks
+    for name in ("e_s", "e_m", "xi", "xi_m", "origin", "src", "u", "area"):
+        np.testing.assert_array_equal(getattr(parts, name), getattr(whole, name))

@@ -80,6 +80,9 @@ SPLIT_SINE = 1e-3
 NEWTON_TOL = 1e-12
 #: most Newton steps of the back-mapping
 NEWTON_STEPS = 30
+#: candidate pairs segmented at once: the peak of the temporary arrays is about 0.4 kB
+#: per pair (``benchmarks/segmentation3d.py``), so about 20 MB a chunk
+CHUNK_PAIRS = 50_000
 
 
 @dataclass
@@ -321,9 +324,11 @@ def _candidates(xs, seg_s, xm, seg_m, cells, pairs, margin, reach):
 
 def _corner_coords(x, conn, cell, x0, axes):
     """Plane coordinates ``(m, 4, 2)`` of the faces' corners (padded with zeros)."""
-    X = np.transpose(x[:, conn[:, list(cell.corners)]], (1, 2, 0))      # (m, k, 3)
     U = np.zeros((conn.shape[0], 4, 2))
-    U[:, :X.shape[1]] = np.einsum("mkd,mad->mka", X - x0[:, None, :], axes)
+    corners = list(cell.corners)
+    for d in range(3):                     # sum_d (X_d - x0_d) t_a,d, no einsum: m is large
+        dX = x[d][conn[:, corners]] - x0[:, d:d + 1]
+        U[:, :len(corners)] += dX[..., None] * axes[:, None, :, d]
     return U
 
 
@@ -410,39 +415,69 @@ def segment_faces(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.n
     seg_m = check_connectivity(seg_m, cm, xm.shape[1])
     (i_s, i_m), candidates = _candidates(xs, seg_s, xm, seg_m, (cs, cm), pairs, margin, reach)
     x0, n0, axes = auxiliary_planes(xs, seg_s, cs)
+    U_s = _corner_coords(xs, seg_s, cs, x0, axes)
+    k_s = np.full(len(seg_s), len(cs.corners))
+    slave = _Slave(cs, xs, seg_s, x0, axes, U_s, polygon_areas(U_s, k_s),
+                   _sub_polygons(U_s, k_s))
     facing = np.sum(cell_normals(xm, seg_m, cm)[0].T[i_m] * n0[i_s], axis=1) < 0
     i_s, i_m = i_s[facing], i_m[facing]
-    k_s, k_m = len(cs.corners), len(cm.corners)
-    U_s = _corner_coords(xs, seg_s, cs, x0, axes)
-    U_m = _corner_coords(xm, seg_m[i_m], cm, x0[i_s], axes[i_s])
-    near = _boxes_meet(U_s[i_s, :k_s], U_m[:, :k_m])
+    parts = [_segment_chunk(slave, cm, xm, seg_m, i_s[k:k + CHUNK_PAIRS], i_m[k:k + CHUNK_PAIRS])
+             for k in range(0, max(i_s.size, 1), CHUNK_PAIRS)]
+    out = [np.concatenate([p[j] for p in parts]) for j in range(8)]
+    return FaceSegmentation(*out, x0, n0, axes, all(p[8] for p in parts), bool(frozen),
+                            candidates)
+
+
+@dataclass
+class _Slave:
+    """What the chunks share of the slave faces: the cell, nodes and faces, the
+    auxiliary planes, the corners' plane coordinates, the polygons' areas, the
+    sub-polygons (owner, corner map, count)."""
+
+    cell: CellType
+    x: np.ndarray
+    conn: np.ndarray
+    x0: np.ndarray
+    axes: np.ndarray
+    U: np.ndarray
+    area: np.ndarray
+    subs: tuple[np.ndarray, np.ndarray, np.ndarray]
+
+
+def _segment_chunk(slave: _Slave, cm: CellType, xm: np.ndarray, seg_m: np.ndarray,
+                   i_s: np.ndarray, i_m: np.ndarray) -> tuple:
+    """Steps 3 to 5 of the module docstring for the facing pairs ``(i_s, i_m)``: the
+    cells' ``e_s, e_m, xi, xi_m, origin, src, u, area`` and whether Newton converged."""
+    cs, k_s, k_m = slave.cell, len(slave.cell.corners), len(cm.corners)
+    U_m = _corner_coords(xm, seg_m[i_m], cm, slave.x0[i_s], slave.axes[i_s])
+    near = _boxes_meet(slave.U[i_s, :k_s], U_m[:, :k_m])
     i_s, i_m, U_m = i_s[near], i_m[near], U_m[near]
-    own_s, vmap_s, cnt_s = _sub_polygons(U_s, np.full(len(seg_s), k_s))
+    own_s, vmap_s, cnt_s = slave.subs
     own_m, vmap_m, cnt_m = _sub_polygons(U_m, np.full(i_s.size, k_m))
-    pair, sub_s, sub_m = _pair_subs(i_s, *_counts_first(own_s, len(seg_s)),
+    pair, sub_s, sub_m = _pair_subs(i_s, *_counts_first(own_s, len(slave.U)),
                                     *_counts_first(own_m, i_s.size))
-    poly_s = _gather(U_s, own_s[sub_s], vmap_s[sub_s])
+    poly_s = _gather(slave.U, own_s[sub_s], vmap_s[sub_s])
     poly_m = _gather(U_m, own_m[sub_m], vmap_m[sub_m])
     clip = clip_polygons(poly_s, cnt_s[sub_s], poly_m, cnt_m[sub_m])
-    area_s = polygon_areas(U_s, np.full(len(seg_s), k_s))[i_s[pair]]
-    cell_pair, slot, area = fan_cells(clip, np.abs(area_s))
+    cell_pair, slot, area = fan_cells(clip, np.abs(slave.area[i_s[pair]]))
     src = _local_labels(clip.origin, clip.index, vmap_s[sub_s], cnt_s[sub_s], k_s,
                         vmap_m[sub_m], cnt_m[sub_m], k_m)
     # every clip vertex of a kept cell, once: back to slave and master coordinates
-    used = np.unique(cell_pair[:, None] * clip.u.shape[1] + slot)
-    r, c = used // clip.u.shape[1], used % clip.u.shape[1]
+    K = clip.u.shape[1]
+    used = np.unique(cell_pair[:, None] * K + slot)
+    r, c = used // K, used % K
     e_s, e_m = i_s[pair[r]], i_m[pair[r]]
-    u = clip.u[r, c]
-    q = x0[e_s] + np.einsum("Na,Nad->Nd", u, axes[e_s])
-    o, sv = clip.origin[r, c], src[r, c]
-    xi_s, ok_s = _back_map(cs, xs, seg_s, e_s, poly_s[r], vmap_s[sub_s[r]], cnt_s[sub_s[r]],
-                           q, u, axes[e_s], np.where(o == SLAVE_VERTEX, sv[:, 0], -1))
+    u, o, sv = clip.u[r, c], clip.origin[r, c], src[r, c]
+    axes = slave.axes[e_s]
+    q = slave.x0[e_s] + u[:, :1] * axes[:, 0] + u[:, 1:] * axes[:, 1]
+    xi_s, ok_s = _back_map(cs, slave.x, slave.conn, e_s, poly_s[r], vmap_s[sub_s[r]],
+                           cnt_s[sub_s[r]], q, u, axes, np.where(o == SLAVE_VERTEX, sv[:, 0], -1))
     xi_m, ok_m = _back_map(cm, xm, seg_m, e_m, poly_m[r], vmap_m[sub_m[r]], cnt_m[sub_m[r]],
-                           q, u, axes[e_s], np.where(o == MASTER_VERTEX, sv[:, 1], -1))
-    at = np.searchsorted(used, cell_pair[:, None] * clip.u.shape[1] + slot)      # (n, 3)
+                           q, u, axes, np.where(o == MASTER_VERTEX, sv[:, 1], -1))
+    at = np.searchsorted(used, cell_pair[:, None] * K + slot)                  # (n, 3)
     cp = pair[cell_pair]
-    return FaceSegmentation(i_s[cp], i_m[cp], xi_s[at], xi_m[at], o[at], sv[at], u[at],
-                            area, x0, n0, axes, ok_s and ok_m, bool(frozen), candidates)
+    return (i_s[cp], i_m[cp], xi_s[at], xi_m[at], o[at], sv[at], u[at], area,
+            ok_s and ok_m)
 
 
 def clip_vertex_points(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray,
