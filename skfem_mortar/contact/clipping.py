@@ -11,7 +11,7 @@ Sutherland-Hodgman
 ------------------
 The subject polygon is cut by the line of each clip edge ``k`` in turn (from clip
 vertex ``k`` to ``k + 1``, a loop over at most four edges, every pair at once):
-a vertex ``v`` is kept when it lies on the inner (left) side,
+a vertex ``v`` is kept when it lies on the inner (left) side::
 
     s(v) = e_k x (v - c_k) >= -tol |e_k|,     e_k = c_{k+1} - c_k,
 
