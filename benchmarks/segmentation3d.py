@@ -17,10 +17,11 @@ time per pair.
 from __future__ import annotations
 
 import argparse
-import time
 import tracemalloc
 
 import numpy as np
+
+from search_grid import median_time  # benchmarks/ (run as a script)
 
 from skfem_mortar.contact.segmentation3d import segment_faces
 
@@ -48,15 +49,6 @@ def problem(n: int, tri: bool):
     xm, Sm = surface(n_m, 0.01 / n, False, tri, 2)
     cells = ("tri3", "tri3") if tri else ("quad4", "quad4")
     return xs, Ss, xm, Sm, cells
-
-
-def median_time(f, repeat: int):
-    ts, out = [], None
-    for _ in range(repeat):
-        t0 = time.perf_counter()
-        out = f()
-        ts.append(time.perf_counter() - t0)
-    return float(np.median(ts)), out
 
 
 def main(argv=None) -> int:
