@@ -232,6 +232,24 @@ def test_faces_that_do_not_face_each_other_give_no_cells():
     assert seg.n == 0 and seg.candidates[0].size == 1
 
 
+def test_touching_faces_and_faces_of_no_area_give_no_cells_and_no_nan():
+    xs = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0.0]]).T
+    touching = {                                   # master faces, facing the slave
+        "edge": np.array([[1, 0, 0.01], [0, 1, 0.01], [1, 1, 0.01]]).T,
+        "vertex": np.array([[1, 0, 0.01], [2, 1, 0.01], [2, 0, 0.01]]).T,
+        "no area": np.array([[0.2, 0.2, 0.01], [0.4, 0.2, 0.01], [0.6, 0.2, 0.01]]).T,
+    }
+    T = np.array([[0, 1, 2]])
+    for name, xm in touching.items():
+        normal = np.cross(xm[:, 1] - xm[:, 0], xm[:, 2] - xm[:, 0])
+        assert normal[2] < 0 or name == "no area"           # facing: clipped, not dropped
+        seg = segment_faces(xs, T, xm, T, ("tri3", "tri3"), pairs=([0], [0]))
+        assert seg.n == 0, name
+    flat = np.array([[0, 0, 0], [1, 0, 0], [2, 0, 0.0]]).T        # a slave of no area
+    seg = segment_faces(flat, T, touching["edge"], T, ("tri3", "tri3"), pairs=([0], [0]))
+    assert seg.n == 0 and np.all(np.isfinite(seg.normal)) and np.all(np.isfinite(seg.axes))
+
+
 def test_registered_for_surfaces_only():
     tri3, quad4, line2 = (cell_type(n) for n in ("tri3", "quad4", "line2"))
     assert segmentation_for((tri3, quad4)) is segment_faces
