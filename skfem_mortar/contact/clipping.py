@@ -37,6 +37,12 @@ A vertex whose two carriers are one line or two edges of one polygon that do not
 meet (only in degenerate polygons of no area: a vertex in the middle of an edge) is
 dropped; it does not change the polygon.
 
+Convex parts
+------------
+A quadrilateral whose corners are not strictly convex in the plane (a projected
+warped face) is cut at its reflex corner into two triangles first
+(:func:`convex_parts`); a clockwise polygon (a projected master face) is reversed.
+
 Integration cells
 -----------------
 The clip polygon is cut into triangles by a fan from its first vertex, cells
@@ -57,8 +63,8 @@ import numpy as np
 
 from .segmentation import EDGE_INTERSECTION, MASTER_VERTEX, SLAVE_VERTEX
 
-__all__ = ["Clip", "clip_polygons", "fan_cells", "polygon_areas", "MAX_CORNERS",
-           "DIST_TOL", "AREA_TOL"]
+__all__ = ["Clip", "clip_polygons", "fan_cells", "polygon_areas", "convex_parts",
+           "boxes_meet", "MAX_CORNERS", "DIST_TOL", "AREA_TOL", "SPLIT_SINE"]
 
 #: most vertices of an input polygon (quad4's corners)
 MAX_CORNERS = 4
@@ -66,6 +72,8 @@ MAX_CORNERS = 4
 DIST_TOL = 1e-12
 #: integration cells of at most this many clip-polygon areas are dropped
 AREA_TOL = 1e-12
+#: a quadrilateral with a corner sine below this is split in two (:func:`convex_parts`)
+SPLIT_SINE = 1e-3
 
 
 @dataclass
@@ -268,3 +276,58 @@ def fan_cells(clip: Clip, area_ref: np.ndarray) -> tuple[np.ndarray, np.ndarray,
     area = 0.5 * (d1[:, 0] * d2[:, 1] - d1[:, 1] * d2[:, 0])
     keep = area > AREA_TOL * np.asarray(area_ref, dtype=float)[pair]
     return pair[keep], corner[keep], area[keep]
+
+
+def convex_parts(U: np.ndarray, k: np.ndarray
+                 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Each polygon ``U (m, 4, 2)`` of ``k`` corners (3 or 4) as one or two convex
+    counter-clockwise polygons of its corners: the polygon itself, its order reversed
+    where it runs clockwise; a quadrilateral with a corner sine ``(e_in x e_out) /
+    (|e_in| |e_out|)`` (signed by its orientation) below :data:`SPLIT_SINE` split at
+    that corner ``r`` into ``(r, r+1, r+2)`` and ``(r, r+2, r+3)``.
+
+    Returns
+    -------
+    owner : int ndarray (p,)
+        The polygon each part comes from, ascending.
+    vmap : int ndarray (p, 4)
+        Its corners (-1 unused).
+    count : int ndarray (p,)
+        Its corner count.
+    """
+    m = U.shape[0]
+    idx = np.arange(4)[None, :]
+    sign = np.where(polygon_areas(U, k) >= 0, 1.0, -1.0)
+    prev = np.where(idx == 0, k[:, None] - 1, idx - 1)
+    nxt = np.where(idx + 1 < k[:, None], idx + 1, 0)
+    e_in = U - np.take_along_axis(U, prev[..., None], axis=1)
+    e_out = np.take_along_axis(U, nxt[..., None], axis=1) - U
+    cross = e_in[..., 0] * e_out[..., 1] - e_in[..., 1] * e_out[..., 0]
+    lens = np.linalg.norm(e_in, axis=2) * np.linalg.norm(e_out, axis=2)
+    sine = sign[:, None] * cross / np.where(lens > 0, lens, 1.0)
+    sine = np.where(idx < k[:, None], sine, np.inf)
+    r = np.argmin(sine, axis=1)
+    split = (k == 4) & (sine[np.arange(m), r] < SPLIT_SINE)
+    whole = np.where(idx < k[:, None], idx, -1)
+    tri_a = np.stack([r, r + 1, r + 2, r], axis=1) % 4
+    tri_b = np.stack([r, r + 2, r + 3, r], axis=1) % 4
+    tri_a[:, 3], tri_b[:, 3] = -1, -1
+    owner = np.concatenate([np.flatnonzero(~split), np.flatnonzero(split),
+                            np.flatnonzero(split)])
+    vmap = np.concatenate([whole[~split], tri_a[split], tri_b[split]])
+    count = np.where(vmap[:, 3] >= 0, 4, 3)
+    order = np.argsort(owner, kind="stable")
+    owner, vmap, count = owner[order], vmap[order], count[order]
+    flip = sign[owner] < 0         # reverse to counter-clockwise: v_0, v_{c-1}, ..., v_1
+    rev = np.where(count[:, None] == 4, [0, 3, 2, 1], [0, 2, 1, 3])
+    vmap[flip] = np.take_along_axis(vmap[flip], rev[flip], axis=1)
+    return owner, vmap, count
+
+
+def boxes_meet(A: np.ndarray, B: np.ndarray) -> np.ndarray:
+    """Whether the bounding boxes of the plane polygons ``A (m, k_a, 2)`` and
+    ``B (m, k_b, 2)`` meet, within ``DIST_TOL`` times their size (pairs that cannot
+    overlap skip the clipping)."""
+    lo_a, hi_a, lo_b, hi_b = A.min(axis=1), A.max(axis=1), B.min(axis=1), B.max(axis=1)
+    tol = DIST_TOL * np.maximum((hi_a - lo_a).max(axis=1), (hi_b - lo_b).max(axis=1))
+    return np.all((lo_a <= hi_b + tol[:, None]) & (lo_b <= hi_a + tol[:, None]), axis=1)

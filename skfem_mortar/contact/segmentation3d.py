@@ -21,8 +21,9 @@ search.segment_pairs`, O(n log n)):
 3. **Polygons**: the corners of both faces in plane coordinates, the master's order
    reversed when its projection runs clockwise (it does for a facing master).  A
    quad4 whose projected corners are not strictly convex (a corner's sine
-   ``(e_in x e_out) / (|e_in| |e_out|)`` below :data:`SPLIT_SINE`, which needs a
-   warp of the order of the face's size) is split at that corner ``r`` into the
+   ``(e_in x e_out) / (|e_in| |e_out|)`` below
+   :data:`~skfem_mortar.contact.clipping.SPLIT_SINE`, which needs a warp of the
+   order of the face's size) is split at that corner ``r`` into the
    triangles ``(r, r+1, r+2)`` and ``(r, r+2, r+3)``; the diagonal is line code
    ``4 + r mod 2`` below.  A convex projected bilinear quad is the one-to-one
    image of its face: its straight edges project to straight edges, so the polygon
@@ -64,17 +65,15 @@ import numpy as np
 
 from .cell_map import cell_normals, cell_points, check_connectivity
 from .cells import CellType, cell_type
-from .clipping import DIST_TOL, clip_polygons, fan_cells, polygon_areas
+from .clipping import boxes_meet, clip_polygons, convex_parts, fan_cells, polygon_areas
 from .segmentation import (EDGE_INTERSECTION, MASTER_VERTEX, SLAVE_VERTEX,
                            check_kernel_cells, register_default)
 
 __all__ = ["FaceSegmentation", "segment_faces", "clip_vertex_points", "auxiliary_planes",
-           "line_corners", "SPLIT_SINE", "FACES"]
+           "line_corners", "FACES"]
 
 #: the face cells the 3D segmentation handles
 FACES = ("tri3", "quad4")
-#: a quad4 whose projected corners have a corner sine below this is split in two
-SPLIT_SINE = 1e-3
 #: Newton along n_0 stops after a step below this (reference coordinates; quadratic
 #: convergence leaves round-off after it, while steps stall at about 1e-14)
 NEWTON_TOL = 1e-12
@@ -189,39 +188,6 @@ def _line_code(a: np.ndarray, b: np.ndarray, k: np.ndarray) -> np.ndarray:
     return np.where(b == (a + 1) % k, a, np.where(a == (b + 1) % k, b, k + np.minimum(a, b)))
 
 
-def _sub_polygons(U: np.ndarray, k: np.ndarray):
-    """Each polygon ``U (m, 4, 2)`` of ``k`` corners as one or two convex
-    counter-clockwise polygons of its corners (step 3): ``owner (p,)``, corner map
-    ``vmap (p, 4)`` (-1 unused) and count ``(p,)``."""
-    m = U.shape[0]
-    idx = np.arange(4)[None, :]
-    sign = np.where(polygon_areas(U, k) >= 0, 1.0, -1.0)
-    prev = np.where(idx == 0, k[:, None] - 1, idx - 1)
-    nxt = np.where(idx + 1 < k[:, None], idx + 1, 0)
-    e_in = U - np.take_along_axis(U, prev[..., None], axis=1)
-    e_out = np.take_along_axis(U, nxt[..., None], axis=1) - U
-    cross = e_in[..., 0] * e_out[..., 1] - e_in[..., 1] * e_out[..., 0]
-    lens = np.linalg.norm(e_in, axis=2) * np.linalg.norm(e_out, axis=2)
-    sine = sign[:, None] * cross / np.where(lens > 0, lens, 1.0)
-    sine = np.where(idx < k[:, None], sine, np.inf)
-    r = np.argmin(sine, axis=1)
-    split = (k == 4) & (sine[np.arange(m), r] < SPLIT_SINE)
-    whole = np.where(idx < k[:, None], idx, -1)
-    tri_a = np.stack([r, r + 1, r + 2, r], axis=1) % 4
-    tri_b = np.stack([r, r + 2, r + 3, r], axis=1) % 4
-    tri_a[:, 3], tri_b[:, 3] = -1, -1
-    owner = np.concatenate([np.flatnonzero(~split), np.flatnonzero(split),
-                            np.flatnonzero(split)])
-    vmap = np.concatenate([whole[~split], tri_a[split], tri_b[split]])
-    count = np.where(vmap[:, 3] >= 0, 4, 3)
-    order = np.argsort(owner, kind="stable")
-    owner, vmap, count = owner[order], vmap[order], count[order]
-    flip = sign[owner] < 0         # reverse to counter-clockwise: v_0, v_{c-1}, ..., v_1
-    rev = np.where(count[:, None] == 4, [0, 3, 2, 1], [0, 2, 1, 3])
-    vmap[flip] = np.take_along_axis(vmap[flip], rev[flip], axis=1)
-    return owner, vmap, count
-
-
 def _gather(U: np.ndarray, rows: np.ndarray, vmap: np.ndarray) -> np.ndarray:
     """The polygons ``U[rows]`` at the corners ``vmap`` (unused slots zero)."""
     out = U[rows[:, None], np.maximum(vmap, 0)]
@@ -332,15 +298,6 @@ def _corner_coords(x, conn, cell, x0, axes):
     return U
 
 
-def _boxes_meet(A: np.ndarray, B: np.ndarray) -> np.ndarray:
-    """Whether the bounding boxes of the plane polygons ``A (m, k_a, 2)`` and
-    ``B (m, k_b, 2)`` meet, within ``DIST_TOL`` times their size (pairs that cannot
-    overlap skip the clipping)."""
-    lo_a, hi_a, lo_b, hi_b = A.min(axis=1), A.max(axis=1), B.min(axis=1), B.max(axis=1)
-    tol = DIST_TOL * np.maximum((hi_a - lo_a).max(axis=1), (hi_b - lo_b).max(axis=1))
-    return np.all((lo_a <= hi_b + tol[:, None]) & (lo_b <= hi_a + tol[:, None]), axis=1)
-
-
 def _local_labels(origin, index, vmap_s, cnt_s, k_s, vmap_m, cnt_m, k_m):
     """The clip vertices' ``src (m, K, 2)`` in the faces' corners and line codes from
     the sub-polygons' vertex and edge indices."""
@@ -418,7 +375,7 @@ def segment_faces(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.n
     U_s = _corner_coords(xs, seg_s, cs, x0, axes)
     k_s = np.full(len(seg_s), len(cs.corners))
     slave = _Slave(cs, xs, seg_s, x0, axes, U_s, polygon_areas(U_s, k_s),
-                   _sub_polygons(U_s, k_s))
+                   convex_parts(U_s, k_s))
     facing = np.sum(cell_normals(xm, seg_m, cm)[0].T[i_m] * n0[i_s], axis=1) < 0
     i_s, i_m = i_s[facing], i_m[facing]
     parts = [_segment_chunk(slave, cm, xm, seg_m, i_s[k:k + CHUNK_PAIRS], i_m[k:k + CHUNK_PAIRS])
@@ -450,10 +407,10 @@ def _segment_chunk(slave: _Slave, cm: CellType, xm: np.ndarray, seg_m: np.ndarra
     cells' ``e_s, e_m, xi, xi_m, origin, src, u, area`` and whether Newton converged."""
     cs, k_s, k_m = slave.cell, len(slave.cell.corners), len(cm.corners)
     U_m = _corner_coords(xm, seg_m[i_m], cm, slave.x0[i_s], slave.axes[i_s])
-    near = _boxes_meet(slave.U[i_s, :k_s], U_m[:, :k_m])
+    near = boxes_meet(slave.U[i_s, :k_s], U_m[:, :k_m])
     i_s, i_m, U_m = i_s[near], i_m[near], U_m[near]
     own_s, vmap_s, cnt_s = slave.subs
-    own_m, vmap_m, cnt_m = _sub_polygons(U_m, np.full(i_s.size, k_m))
+    own_m, vmap_m, cnt_m = convex_parts(U_m, np.full(i_s.size, k_m))
     pair, sub_s, sub_m = _pair_subs(i_s, *_counts_first(own_s, len(slave.U)),
                                     *_counts_first(own_m, i_s.size))
     poly_s = _gather(slave.U, own_s[sub_s], vmap_s[sub_s])
