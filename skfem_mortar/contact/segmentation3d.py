@@ -22,8 +22,9 @@ search.segment_pairs`, O(n log n)):
    reversed when its projection runs clockwise (it does for a facing master).  A
    quad4 whose projected corners are not strictly convex (a corner's sine
    ``(e_in x e_out) / (|e_in| |e_out|)`` below
-   :data:`~skfem_mortar.contact.clipping.SPLIT_SINE`, which needs a warp of the
-   order of the face's size) is split at that corner ``r`` into the
+   :data:`~skfem_mortar.contact.clipping.SPLIT_SINE`; a planar face projects onto a
+   convex polygon, the projection being affine, so this needs a warp comparable to
+   the projected face's width) is split at that corner ``r`` into the
    triangles ``(r, r+1, r+2)`` and ``(r, r+2, r+3)``; the diagonal is line code
    ``4 + r mod 2`` below.  A convex projected bilinear quad is the one-to-one
    image of its face: its straight edges project to straight edges, so the polygon
