@@ -37,6 +37,20 @@ A vertex whose two carriers are one line or two edges of one polygon that do not
 meet (only in degenerate polygons of no area: a vertex in the middle of an edge) is
 dropped; it does not change the polygon.
 
+Nearly parallel edges
+---------------------
+The intersection of a clip edge and a subject edge that meet at a small angle
+``theta`` is ill-conditioned: the kernel rebuilds it from the two lines
+(:func:`~skfem_mortar.contact.segmentation3d.clip_vertex_points`) with an error of
+about ``eps h / sin(theta)`` along them, and a vertex moved along a line changes
+the area of a fan cell whose apex lies off it.  Such a vertex (``|sin(theta)|`` below
+:data:`PARALLEL_SINE`, ``1e-8 ~ sqrt(eps)``; an edge within ``DIST_TOL`` of a line
+makes no intersection at all, so exactly collinear edges never get here) is dropped:
+the polygon loses the triangle of the vertex and its two neighbours, of area at most
+``1/2 l_1 l_2 sin(theta) < 1e-8 h^2 / 2``, while every vertex kept is rebuilt from its
+origin to about ``1e-8 h`` at worst (``eps / sin(theta)``), to round-off on pairs
+away from that near-degeneracy.
+
 Convex parts
 ------------
 A quadrilateral whose corners are not strictly convex in the plane (a projected
@@ -64,7 +78,7 @@ import numpy as np
 from .segmentation import EDGE_INTERSECTION, MASTER_VERTEX, SLAVE_VERTEX
 
 __all__ = ["Clip", "clip_polygons", "fan_cells", "polygon_areas", "convex_parts",
-           "boxes_meet", "MAX_CORNERS", "DIST_TOL", "AREA_TOL", "SPLIT_SINE"]
+           "boxes_meet", "MAX_CORNERS", "DIST_TOL", "AREA_TOL", "PARALLEL_SINE", "SPLIT_SINE"]
 
 #: most vertices of an input polygon (quad4's corners)
 MAX_CORNERS = 4
@@ -72,6 +86,8 @@ MAX_CORNERS = 4
 DIST_TOL = 1e-12
 #: integration cells of at most this many clip-polygon areas are dropped
 AREA_TOL = 1e-12
+#: edge intersections of lines meeting at a sine below this are dropped (module docstring)
+PARALLEL_SINE = 1e-8
 #: a quadrilateral with a corner sine below this is split in two (:func:`convex_parts`)
 SPLIT_SINE = 1e-3
 
@@ -174,6 +190,18 @@ def _labels(C, n, k_c, k_s):
     return origin, index
 
 
+def _near_parallel(clip, k_c, subject, k_s, origin, index):
+    """The edge intersections whose two lines meet at a sine below
+    :data:`PARALLEL_SINE` (module docstring)."""
+    rows = np.arange(origin.shape[0])[:, None]
+    a, b = np.maximum(index[..., 0], 0), np.maximum(index[..., 1], 0)
+    d_c = clip[rows, (a + 1) % k_c[:, None]] - clip[rows, a]
+    d_s = subject[rows, (b + 1) % k_s[:, None]] - subject[rows, b]
+    cross = d_c[..., 0] * d_s[..., 1] - d_c[..., 1] * d_s[..., 0]
+    size = np.hypot(d_c[..., 0], d_c[..., 1]) * np.hypot(d_s[..., 0], d_s[..., 1])
+    return (origin == EDGE_INTERSECTION) & (np.abs(cross) < PARALLEL_SINE * size)
+
+
 def _compact(u, origin, index):
     """Drop the vertices of origin -1, keeping the order."""
     keep = origin >= 0
@@ -240,6 +268,7 @@ def clip_polygons(clip: np.ndarray, k_c: np.ndarray, subject: np.ndarray,
         C = np.where(act[:, None], C2, C)
         n = np.where(act, n2, n)
     origin, index = _labels(C, n, k_c, k_s)
+    origin[_near_parallel(clip, k_c, subject, k_s, origin, index)] = -1
     u, count, origin, index = _compact(V, origin, index)
     count = np.where(count >= 3, count, 0)
     return Clip(u, count, origin, index)
