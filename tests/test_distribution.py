@@ -32,7 +32,8 @@ def _name(requirement: str) -> str:
 IMPORT_NAME = {"scikit-fem": "skfem"}
 
 #: the tools of the dev extra: run by the developer, never imported by the package
-TOOLS = {"pytest", "pytest-xdist", "nbmake", "ipykernel"}
+#: (shapely: the tests' independent polygon intersection)
+TOOLS = {"pytest", "pytest-xdist", "nbmake", "ipykernel", "shapely"}
 
 
 def _imports(path: Path) -> list[tuple[str, bool]]:

@@ -104,10 +104,13 @@ def test_a_registered_segmentation_is_the_one_the_method_uses(monkeypatch, segme
     assert calls == ([True] if segmentation == "step" else [False])
 
 
-def test_registry_refusals():
+def test_registry_refusals(monkeypatch):
     line2, tri3 = cell_type("line2"), cell_type("tri3")
     with pytest.raises(ValueError, match="one dimension"):
         sgm.segmentation_for((line2, tri3))
+    # a dimension without a default (surfaces have one once contact.segmentation3d
+    # is imported: taken away here)
+    monkeypatch.delitem(sgm.DEFAULTS, 2, raising=False)
     with pytest.raises(ValueError, match="dimension 2"):
         sgm.segmentation_for((tri3, tri3))
     with pytest.raises(ValueError, match="callable"):
