@@ -12,22 +12,11 @@ from fd import fd_tangent
 from skfem_mortar import Coulomb, Tresca
 from skfem_mortar.bodies.materials import LinearElastic
 from skfem_mortar.bodies.solid import Solid
-from skfem_mortar.contact.discretization import MeasuredDiscretization
 from skfem_mortar.contact.measures import AXISYMMETRIC
 from skfem_mortar.contact.pair import ContactPair
 from skfem_mortar.contact.surfaces import ContactSurface, RigidPlane
 from skfem_mortar.core.model import Model
 from test_friction_pair import _check_tangent, _mixed_multipliers, _tresca_multipliers
-
-
-def _measured(method):
-    """The method's discretization has the measure hook (mortar: from the kernel
-    helper's branch once merged); otherwise the case is skipped, saying so."""
-    b = _block(0, 1, 0, 1, 1, 1, "b")
-    pair = ContactPair(ContactSurface.from_solid(b, "bottom"),
-                       RigidPlane((1.0, 0.0), (0.0, 1.0)), method)
-    if not isinstance(pair.discretization, MeasuredDiscretization):
-        pytest.skip(f"{method}: the mortar kernel's measure (set_measure) is not on this branch")
 
 
 METHODS = ("nts", "mortar", "mortar-dual")
@@ -96,7 +85,6 @@ def _ev_fd(pair, z):
 
 @pytest.mark.parametrize("method", METHODS)
 def test_g_and_h_of_the_method_in_the_measure(method):
-    _measured(method)
     top, bot, pair, model = _stacked(method)
     assert pair.discretization.measure is AXISYMMETRIC
     z = _state(model, (top, bot), np.random.default_rng(0), curve=0.02)
@@ -127,7 +115,6 @@ def _frictionless_fd(pair, model, z):
 
 @pytest.mark.parametrize("method", METHODS)
 def test_the_pair_frictionless(method):
-    _measured(method)
     top, bot, pair, model = _stacked(method)
     z = _state(model, (top, bot), np.random.default_rng(1), curve=0.02)
     lam = np.linspace(1.0, 2.0, pair.slave.n_nodes)
@@ -140,7 +127,6 @@ def test_the_pair_frictionless(method):
 @pytest.mark.parametrize("method", METHODS)
 @pytest.mark.parametrize("where", ["plate", "stacked"])
 def test_the_pair_with_coulomb(method, where):
-    _measured(method)
     if where == "plate":
         b, pair, model = _on_plate(method, Coulomb(0.3))
         bodies = (b,)
@@ -160,7 +146,6 @@ def test_the_pair_with_coulomb(method, where):
 
 @pytest.mark.parametrize("method", METHODS)
 def test_the_pair_with_tresca(method):
-    _measured(method)
     b, pair, model = _on_plate(method, Tresca(0.5))
     z0 = np.zeros(model.n)
     pair.begin_step(z0, 1.0)
