@@ -8,15 +8,16 @@ import numpy as np
 import pytest
 from skfem import MeshTri
 
-from fd import fd_tangent
+from fd import dense
 from skfem_mortar import Coulomb, Tresca
 from skfem_mortar.bodies.materials import LinearElastic
 from skfem_mortar.bodies.solid import Solid
+from skfem_mortar.contact.friction import OPEN, SLIP, STICK
 from skfem_mortar.contact.measures import AXISYMMETRIC
 from skfem_mortar.contact.pair import ContactPair
 from skfem_mortar.contact.surfaces import ContactSurface, RigidPlane
 from skfem_mortar.core.model import Model
-from test_friction_pair import _check_tangent, _mixed_multipliers, _tresca_multipliers
+from test_friction_pair import _mixed_multipliers, _tresca_multipliers
 
 
 METHODS = ("nts", "mortar", "mortar-dual")
@@ -99,17 +100,51 @@ def test_g_and_h_of_the_method_in_the_measure(method):
     np.testing.assert_allclose(H, Hfd, rtol=0, atol=1e-6 * max(np.abs(H).max(), 1e-300))
 
 
-def _frictionless_fd(pair, model, z):
-    """The pair's tangent against central differences, the active set frozen."""
-    pair.begin_step(z, 1.0)
+def _fd(pair, model, z, h=1e-7):
+    """The pair's tangent (dense) and its central differences over the pair's own
+    columns (its surfaces' dofs and its multipliers; the pair's residual depends on
+    nothing else, and its tangent must have no entry elsewhere)."""
     c0 = pair.assemble(z, 1.0)
     K = np.zeros((model.n, model.n))
     np.add.at(K, (c0.k_rows, c0.k_cols), c0.k_vals)
+    gd = pair.global_dofs()
+    cols = np.r_[gd[gd >= 0], pair.offset + np.arange(pair.n_dofs)]
+    Kfd = np.zeros_like(K)
+    for k in cols:
+        e = np.zeros(model.n)
+        e[k] = h
+        Kfd[:, k] = (dense(pair.assemble(z + e, 1.0, tangent=False), model.n)[0]
+                     - dense(pair.assemble(z - e, 1.0, tangent=False), model.n)[0]) / (2 * h)
+    assert not np.delete(K, cols, axis=1).any()
+    return K, Kfd
+
+
+def _frictionless_fd(pair, model, z):
+    """The pair's tangent against central differences, the active set frozen."""
+    pair.begin_step(z, 1.0)
     pair.state.frozen = pair.active.copy()
-    Kfd = fd_tangent(pair, z, 1.0, h=1e-7)
+    K, Kfd = _fd(pair, model, z)
     pair.state.frozen = None
     assert pair.active[0]
     # as in tests/test_contact_pair.py: 1e-6 of the largest entry
+    np.testing.assert_allclose(K, Kfd, rtol=0, atol=1e-6 * np.abs(K).max())
+
+
+def _friction_fd(pair, model, z):
+    """As tests/test_friction_pair.py's ``_check_tangent`` (the normal set and the
+    statuses frozen at those of ``z``, both stick and slip nodes, the exact slip
+    derivatives), over the pair's own columns (:func:`_fd`)."""
+    on = np.ones(pair.slave.n_nodes, bool)
+    ev, sl, fr = pair.friction_rows(z, tangent=False, active=on & pair.evaluate(
+        z, tangent=False, with_lam=False).mask)
+    assert np.any(fr.status == STICK) and np.any(fr.status == SLIP)
+    assert fr.status[0] == OPEN                  # the axis node: symmetry holds it
+    pair.state.frozen, pair.statuses.frozen = ev.mask.copy(), fr.status.copy()
+    pair.friction_jacobian = "exact"
+    K, Kfd = _fd(pair, model, z)
+    pair.state.frozen = pair.statuses.frozen = None
+    pair.friction_jacobian = "projected"
+    # h = 1e-7 on unit-size geometry: truncation ~1e-12, round-off ~1e-9 |R|
     np.testing.assert_allclose(K, Kfd, rtol=0, atol=1e-6 * np.abs(K).max())
 
 
@@ -141,7 +176,7 @@ def test_the_pair_with_coulomb(method, where):
         u = z[b.offset:b.offset + b.n_dofs].reshape(-1, 2)
         u[:, 0] += 0.03 * b.mesh.p[0] * (b is bodies[0])
     _mixed_multipliers(pair, z, rng)
-    _check_tangent(pair, model, z)
+    _friction_fd(pair, model, z)
 
 
 @pytest.mark.parametrize("method", METHODS)
@@ -151,7 +186,7 @@ def test_the_pair_with_tresca(method):
     pair.begin_step(z0, 1.0)
     z = _state(model, (b,), np.random.default_rng(3))
     _tresca_multipliers(pair, z)
-    _check_tangent(pair, model, z)
+    _friction_fd(pair, model, z)
 
 
 def test_nts_weights_at_the_axis_node():
@@ -166,3 +201,40 @@ def test_nts_weights_at_the_axis_node():
                   2 * np.pi * h * (r[-1] / 2 - h / 6)]
     np.testing.assert_allclose(ev.area[np.argsort(pair.slave.X[0])], exact, rtol=1e-14)
     assert ev.area.sum() == pytest.approx(np.pi * 2.0 ** 2, rel=1e-14)   # the disk's area
+
+
+@pytest.mark.parametrize("cell", ["line2", "line3"])
+def test_tributary_weights_and_their_jacobian_in_the_measure(cell):
+    """``a_A = int N_A 2 pi r dGamma`` on a bent chain from the axis, its derivative
+    (what NTS's Tresca bound chains in) against central differences, and the weights'
+    sum against the exact surface area of the revolved chords (line2: the frustums'
+    ``pi (r_1 + r_2) l``; line3 straight cells likewise)."""
+    from skfem_mortar.contact.curves import tributary_weights
+    from skfem_mortar.contact.tributary import tributary_jacobian
+    rng = np.random.default_rng(5)
+    if cell == "line2":
+        x = np.array([[0.0, 0.1, 0.25, 0.4], [0.0, 0.01, -0.02, 0.03]])
+        seg = np.array([[0, 1], [1, 2], [2, 3]])
+    else:
+        x = np.array([[0.0, 0.2, 0.1, 0.35, 0.28], [0.0, 0.02, 0.015, 0.0, 0.01]])
+        seg = np.array([[0, 1, 2], [1, 3, 4]])
+    x = x + 1e-3 * rng.standard_normal(x.shape) * (x[0] > 0)
+    J = tributary_jacobian(x, seg, None, cell, AXISYMMETRIC).toarray()
+    h = 1e-7
+    Jfd = np.zeros_like(J)
+    flat = x.T.ravel()
+    for k in range(flat.size):
+        e = np.zeros(flat.size)
+        e[k] = h
+        ap = tributary_weights((flat + e).reshape(-1, 2).T, seg, cell, AXISYMMETRIC)
+        am = tributary_weights((flat - e).reshape(-1, 2).T, seg, cell, AXISYMMETRIC)
+        Jfd[:, k] = (ap - am) / (2 * h)
+    # h = 1e-7, entries O(1): truncation ~1e-14, round-off ~1e-9
+    np.testing.assert_allclose(J, Jfd, rtol=0, atol=1e-7 * np.abs(J).max())
+    if cell == "line2":
+        a, b = x[:, seg[:, 0]], x[:, seg[:, 1]]
+        area = np.sum(np.pi * (a[0] + b[0]) * np.hypot(*(b - a)))
+        w = tributary_weights(x, seg, cell, AXISYMMETRIC)
+        assert w.sum() == pytest.approx(area, rel=1e-14)
+        assert w[0] == pytest.approx(2 * np.pi * np.hypot(*(b[:, 0] - a[:, 0])) * b[0, 0] / 6,
+                                     rel=1e-14)    # the axis node: 2 pi l r_2 / 6

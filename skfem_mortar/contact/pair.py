@@ -108,7 +108,17 @@ def _check_surface(role: str, surface: Any) -> None:
 
 class ContactPair(Item):
     """Contact between a slave and a master surface with Lagrange multipliers,
-    frictionless or with Coulomb or Tresca friction.
+    frictionless or with Coulomb or Tresca friction, in plane and axisymmetric models.
+
+    In an axisymmetric model (``Model(..., geometry="axisymmetric")``, ``(r, z) =
+    (x, y)``) every integral over the slave weighs ``2 pi r dGamma`` (the measure
+    the pair tells its method at bind, :attr:`measure`): the multipliers' forces
+    and :meth:`total_force` are totals over the revolution, NTS's tributary weights
+    ``2 pi int N_A r dGamma`` (``2 pi h^2 / 6`` at an axis node of a flat ``line2``
+    cell); a rigid master is a plate normal to the axis, a cylinder about it or a
+    sphere centred on it (:func:`~.surfaces.check_geometry`); friction acts along
+    the meridian, and slave nodes on the axis cannot slip (their tangential rows
+    are open).
 
     Parameters
     ----------
@@ -655,7 +665,8 @@ class ContactPair(Item):
         return [ContactOutput(self)]
 
     def contact_data(self, z: np.ndarray) -> dict[str, np.ndarray]:
-        """Per slave node: ``x, y`` (current), ``gap`` (length) and ``pressure`` (traction).
+        """Per slave node: ``x, y`` (current; in an axisymmetric model also as ``r, z``),
+        ``gap`` (length) and ``pressure`` (traction).
 
         The rows follow the slave surface: chain order, an open chain from its
         end with the smaller reference ``x`` (then ``y``), a closed one from the
