@@ -34,6 +34,8 @@ def contact_data(pair: Any, z: np.ndarray) -> dict[str, np.ndarray]:
         dist[far] = distance_to_polyline(x[:, far], pair.master.x(z), pair.master.segments)
     data = {"x": x[0], "y": x[1], "gap": g, "pressure": p, "has_master": ev.mask,
             "distance": dist}
+    if pair.geometry == "axisymmetric":   # the coordinates by their names there
+        data.update(r=x[0], z=x[1])
     data.update(pair.rows.columns(z))
     k = along_surface(pair.slave)
     return {**{name: v[k] for name, v in data.items()}, "node": k}

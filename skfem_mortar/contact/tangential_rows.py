@@ -162,7 +162,13 @@ class TangentialRows:
         self.reserved: tuple[Any, Any, FrictionReservation] | None = None
         self.converged: tuple | None = None  # (xs, xm, lam_t, data, history)
         self.slip_pattern_widenings = 0
-        self.area0 = tributary_weights(slave.X, slave.segments, surface_cell(slave))
+
+    @property
+    def area0(self) -> np.ndarray:
+        """The slave nodes' tributary weights in the reference configuration (the
+        pair's measure: lengths in plane, ``2 pi int N_A r dGamma`` in axisymmetry)."""
+        slave = self.pair.slave
+        return tributary_weights(slave.X, slave.segments, surface_cell(slave), self.pair.measure)
 
     @property
     def changed(self) -> bool:
@@ -214,7 +220,7 @@ class TangentialRows:
             return
         lam = np.asarray(z)[pair._normal]
         weight = pair.space.bound_weight(tributary_weights(
-            pair.slave.x(z), pair.slave.segments, surface_cell(pair.slave)))
+            pair.slave.x(z), pair.slave.segments, surface_cell(pair.slave), pair.measure))
         conv = pair.state.converged
         xi, _, _ = self.law.slip_bound(np.where(conv, lam, 0.0), np.zeros_like(lam), pair.c,
                                        weight)
@@ -291,7 +297,7 @@ class TangentialRows:
         B = sp.diags(fr.d_u) @ sl.G + sp.diags(fr.d_g) @ ev.G
         if self.moving_bound:
             B = B + sp.diags(fr.d_bound * self.law.weight_derivative()) @ tributary_jacobian(
-                xs, pair.slave.segments, sl.G.shape[1], surface_cell(pair.slave))
+                xs, pair.slave.segments, sl.G.shape[1], surface_cell(pair.slave), pair.measure)
         B = B.tocsr()
         res = pair._friction_reservation(z, gd)
         if res is not None:  # the triplets over the reserved patterns (explicit zeros)
