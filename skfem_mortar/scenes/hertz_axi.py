@@ -81,7 +81,7 @@ def _bodies(params: dict, a: float, h0: float) -> tuple[list, object, ContactSur
                   NeoHooke(E=float(params["E"]), nu=float(params["nu"])), name="sphere", **kin)
     items = [sphere, Traction(sphere, "top", (0.0, -F / (math.pi * R * R)), name="load")]
     if params["base"] == "rigid":
-        return items, sphere, rigid_plate(0.0, -h0, 3.0 * a, math.sqrt(2.0) * h0), None
+        return items, sphere, rigid_plate(0.0, 0.0, 3.0 * a, math.sqrt(2.0) * h0), None
     W = 30.0 * a
     base = body(graded_block(W, h0, FINE_ZONE * a, mesh_element),
                 NeoHooke(E=float(params["E_base"]), nu=float(params["nu_base"])), name="base",
