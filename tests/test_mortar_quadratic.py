@@ -73,6 +73,12 @@ def fd_errors(xs, ss, xm, sm, **kw):
     def ev(q, tangent=False, lam=None):
         return mq.evaluate(q[:2 * n_s].reshape(-1, 2).T, ss, q[2 * n_s:].reshape(-1, 2).T, sm,
                            lam=lam, tangent=tangent, **kw)
+    return fd_check(ev, z, lam)
+
+
+def fd_check(ev, z: np.ndarray, lam: np.ndarray):
+    """Largest |G - G_fd|, |H - H_fd| of ``ev(q, tangent, lam)`` at ``z`` and the
+    evaluation there."""
     e0 = ev(z, True, lam)
     G, H = e0.G.toarray(), e0.H.toarray()
     eg = eh = 0.0

@@ -23,6 +23,7 @@ from . import mortar, mortar_quadratic
 from .mortar import biorthogonal
 from .active_set import normal_nodal_force
 from .contact_eval import ContactEval
+from .measures import PLANE, Measure
 from . import nts  # noqa: F401 (registers "nts" first: the built-ins in BUILTIN_METHODS order)
 from .discretization import (ContactDiscretization, Factory, OptionTable, check_options, covers,
                              pattern_matrix, register_method, reserved_keys)
@@ -180,11 +181,25 @@ class Mortar(ContactDiscretization):
         self.reservations = 0
         #: the last kernel call (:meth:`evaluate`)
         self._last: _LastEvaluation | None = None
+        #: the weight of ``dGamma`` (:meth:`set_measure`; plane until told)
+        self.measure: Measure = PLANE
+
+    def set_measure(self, measure: Measure) -> None:
+        """The weight ``w(x)`` of ``dGamma`` in the model's geometry
+        (:class:`~skfem_mortar.contact.discretization.MeasuredDiscretization`):
+        every kernel call integrates in ``w(x_s) dGamma`` (``2 pi r`` axisymmetric)."""
+        if not isinstance(measure, Measure):
+            raise ValueError(f"measure must be a Measure of contact.measures, got {measure!r}")
+        self.measure = measure
+        self._last = None
 
     @property
     def _kernel_options(self) -> dict:
-        """What every kernel call is told: the multiplier space and the options."""
-        return {"space": self.multiplier_space, **self.options}
+        """What every kernel call is told: the multiplier space, the options and
+        (outside plane models) the measure."""
+        if self.measure.unit:
+            return {"space": self.multiplier_space, **self.options}
+        return {"space": self.multiplier_space, "measure": self.measure, **self.options}
 
     def set_pinned(self, pinned: np.ndarray | None) -> None:
         self._pinned = pinned

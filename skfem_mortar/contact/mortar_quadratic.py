@@ -115,6 +115,7 @@ from typing import Any, NamedTuple
 import numpy as np
 
 from .cells import CellType
+from .measures import PLANE, Measure
 from .contact_eval import ContactEval
 from .mortar_support import multiplier_support, tributary_weights
 from .scatter import Triplets
@@ -252,7 +253,7 @@ def _sym_inverse(M: dict, k: int) -> dict:
 
 
 def dual_coefficients(P: list, lo, hi, cell: CellType, T: np.ndarray | None = None,
-                      n_gauss: int = N_GAUSS_ELEMENT) -> dict:
+                      n_gauss: int = N_GAUSS_ELEMENT, measure: Measure = PLANE) -> dict:
     """Step 6: dual coefficients ``A~ = D~ M~^{-1}`` on the projectable part ``[lo, hi]``.
 
     ``D~ = diag(int N~_A dGamma)``, ``M~_AB = int N~_A N~_B dGamma`` over
@@ -262,6 +263,8 @@ def dual_coefficients(P: list, lo, hi, cell: CellType, T: np.ndarray | None = No
     (:func:`merge_matrix`; a zero row gets ``M~_AA = 1``, ``D~_AA = 0``), by an
     ``n_gauss``-point rule; arrays or jets.  ``Phi_A = sum_B A~_AB N~_B`` then
     satisfies ``int Phi_A N~_B dGamma = delta_AB int N~_A dGamma`` for that rule.
+    ``measure``: ``dGamma`` times its weight ``w(x_s(xi))``
+    (:mod:`~skfem_mortar.contact.measures`), so the basis is biorthogonal in ``w dGamma``.
 
     Returns
     -------
@@ -270,7 +273,10 @@ def dual_coefficients(P: list, lo, hi, cell: CellType, T: np.ndarray | None = No
     k = cell.n_nodes
     eta, w = gauss_rule(n_gauss)
     xi, half = _segment_points(lo, hi, eta)
-    dG = _jacobian(_expand(P), xi) * half * w
+    PE = _expand(P)
+    dG = _jacobian(PE, xi) * half * w
+    if not measure.unit:
+        dG = dG * measure.weight(curve(PE, xi))
     Nt = _modified(T, shape_values(cell, xi), k)
     wN = [N * dG for N in Nt]
     D = [x.sum(1) for x in wN]
@@ -301,6 +307,7 @@ class _Problem(NamedTuple):
     rule: tuple
     n_gauss_element: int
     cells: tuple                   # the slave and master cell types
+    measure: Measure               # the weight of dGamma
 
     @property
     def n_slots(self) -> int:
@@ -311,20 +318,23 @@ class _Problem(NamedTuple):
 
 
 def _prepare(xs, seg_s, xm, seg_m, segmentation, pairs, margin, reach, crosspoints,
-             n_gauss, n_gauss_element, cells=None) -> _Problem:
+             n_gauss, n_gauss_element, cells=None, measure: Measure = PLANE) -> _Problem:
     xs, seg_s, xm, seg_m, cells = _as_arrays(xs, seg_s, xm, seg_m, cells)
     n_s = xs.shape[1]
     sg = segmentation if segmentation is not None else segment(
         xs, seg_s, xm, seg_m, pairs=pairs, margin=margin, frozen=False, reach=reach,
         cells=cells)
     cp = np.isin(np.arange(n_s), [] if crosspoints is None else crosspoints)
-    support = multiplier_support(xs, seg_s, sg, cells[0], n_gauss)
-    trib = tributary_weights(xs, seg_s, cells[0], 2 * n_gauss_element - 1)
+    support = multiplier_support(xs, seg_s, sg, cells[0], n_gauss, measure)
+    # outside plane models the scale is int |N_A| w dGamma: int N_A w dGamma of a line3
+    # vertex on the axis vanishes (mortar_support.tributary_weights)
+    trib = tributary_weights(xs, seg_s, cells[0], 2 * n_gauss_element - 1, measure,
+                             absolute=not measure.unit)
     mask = (support > MASK_TOL * trib) & ~cp
     merged = ~mask[seg_s]
     return _Problem(xs, seg_s, xm, seg_m, sg, slave_slots(xs, seg_s, cells[0]), mask, support,
                     merge_matrix(merged, cells[0]), merged.any(axis=1), gauss_rule(n_gauss),
-                    n_gauss_element, cells)
+                    n_gauss_element, cells, measure)
 
 
 class _Block(NamedTuple):
@@ -400,7 +410,7 @@ def _block(P: _Problem, sl: np.ndarray, nv: int, second: bool, biorth: bool,
     if biorth:
         part = _projectable_part(sg.elem_xi[e], (lo_node, hi_node), Pc, Qc,
                                  V[ns + km:ns + km + 2] if partial else None, const)
-        A = dual_coefficients(Pc, *part, cs, T, P.n_gauss_element)
+        A = dual_coefficients(Pc, *part, cs, T, P.n_gauss_element, P.measure)
     # 4. Gauss points on the mortar segments, 5. their projections onto the master
     eta_r, w = P.rule
     xi, half = _segment_points(lo, hi, eta_r)
@@ -408,6 +418,8 @@ def _block(P: _Problem, sl: np.ndarray, nv: int, second: bool, biorth: bool,
     X = curve(PE, xi)
     Nn = curve(QE, xi)
     dG = _jacobian(PE, xi) * half * w
+    if not P.measure.unit:
+        dG = dG * P.measure.weight(X)
     Rv = [None if r is None else (value(r[0]), value(r[1])) for r in RE]
     eta0, _ = project_on_master(Rv, (value(X[0]), value(X[1])), (value(Nn[0]), value(Nn[1])))
     eta0 = np.nan_to_num(eta0)
@@ -508,7 +520,8 @@ def evaluate(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarra
              space: "MultiplierSpace | str" = "standard", n_gauss: int = N_GAUSS, segmentation: Segmentation | None = None,
              pairs: tuple[np.ndarray, np.ndarray] | None = None, margin: float | None = None,
              crosspoints: np.ndarray | None = None, reach: float = 0.0,
-             n_gauss_element: int = N_GAUSS_ELEMENT, **options: Any) -> ContactEval:
+             n_gauss_element: int = N_GAUSS_ELEMENT, measure: Measure = PLANE,
+             **options: Any) -> ContactEval:
     """Mortar weighted gaps ``g``, ``G = dg/dx`` and ``H = sum_A lam_A d^2 g_A/dx^2``
     on curved 3-node (or 2-node) segments.
 
@@ -542,6 +555,10 @@ def evaluate(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarra
         merged into their elements' other nodes (:func:`merge_matrix`).
     n_gauss_element : int in [1, 10]
         Points of the element rule of the dual basis and the tributary weights.
+    measure : Measure
+        The weight ``w(x)`` of ``dGamma`` (:mod:`~skfem_mortar.contact.measures`,
+        default plane ``w = 1``): every integral (``g``, ``D``, ``M``, the supports,
+        the dual basis) is taken in ``w(x_s) dGamma``, with its derivatives.
     **options
         ``cells``: the (slave, master) cell types, ``line2`` or ``line3`` (default:
         the lines of the connectivities' columns,
@@ -557,7 +574,8 @@ def evaluate(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarra
         and ``n_segments``.
     """
     return _evaluate(xs, seg_s, xm, seg_m, lam, tangent, space, n_gauss, segmentation, pairs,
-                     margin, crosspoints, reach, n_gauss_element, options, False, "evaluate")
+                     margin, crosspoints, reach, n_gauss_element, options, False, "evaluate",
+                     measure)
 
 
 def tangential_evaluate(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarray,
@@ -566,7 +584,7 @@ def tangential_evaluate(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m
                         pairs: tuple[np.ndarray, np.ndarray] | None = None,
                         margin: float | None = None, crosspoints: np.ndarray | None = None,
                         reach: float = 0.0, n_gauss_element: int = N_GAUSS_ELEMENT,
-                        **options: Any) -> ContactEval:
+                        measure: Measure = PLANE, **options: Any) -> ContactEval:
     """The tangential offsets ``r_A = dot(tau_A, sum_C M_AC x_C - sum_B D_AB x_B)``,
     ``G = dr/dx`` and ``H = sum_A lam_A d^2 r_A/dx^2`` on curved segments, exact.
 
@@ -589,11 +607,12 @@ def tangential_evaluate(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m
     """
     return _evaluate(xs, seg_s, xm, seg_m, lam, tangent, space, n_gauss, segmentation, pairs,
                      margin, crosspoints, reach, n_gauss_element, options, True,
-                     "tangential_evaluate")
+                     "tangential_evaluate", measure)
 
 
 def _evaluate(xs, seg_s, xm, seg_m, lam, tangent, space, n_gauss, segmentation, pairs, margin,
-              crosspoints, reach, n_gauss_element, options, tangential, name) -> ContactEval:
+              crosspoints, reach, n_gauss_element, options, tangential, name,
+              measure: Measure = PLANE) -> ContactEval:
     """:func:`evaluate` (``tangential`` False) or :func:`tangential_evaluate`."""
     options = dict(options)
     cells = options.pop("cells", None)
@@ -602,7 +621,7 @@ def _evaluate(xs, seg_s, xm, seg_m, lam, tangent, space, n_gauss, segmentation, 
     _check_rule("n_gauss", n_gauss)
     _check_rule("n_gauss_element", n_gauss_element)
     P = _prepare(xs, seg_s, xm, seg_m, segmentation, pairs, margin, reach, crosspoints,
-                 n_gauss, n_gauss_element, cells)
+                 n_gauss, n_gauss_element, cells, measure)
     n_s, n_m = P.xs.shape[1], P.xm.shape[1]
     k = P.slots.k
     ndof = 2 * n_s + 2 * n_m
