@@ -49,7 +49,8 @@ from ..loads.traction import Traction
 from . import METHODS, Param, Scene, Setup, lame_quantities, positive, ratio
 from ._axi import (compression_span, fit_ellipse, profile, reference_pressure,
                    revolved_trapezoid, rigid_plate)
-from .hertz import ELEMENTS, FINE_ZONE, _body_class, graded_block, graded_quarter_disk
+from .hertz import (ELEMENTS, FINE_ZONE, _body_class, graded_block, graded_quarter_disk,
+                    one_step)
 
 __all__ = ["SCENE", "build", "hertz_sphere"]
 
@@ -152,12 +153,6 @@ def derived(params: dict) -> list:
     return out + [positive("E*", ex["E_star"], *moduli),
                   ratio("the contact radius over the radius a / R",
                         ex["contact_radius"] / R, ("load", "radius") + moduli, *A_OVER_R)]
-
-
-def one_step(params: dict, method: str | None) -> bool:
-    """As ``hertz``: one load step with the mortar methods re-segmenting every
-    iteration (no history); NTS and ``segmentation=step`` keep their steps."""
-    return method in ("mortar", "mortar-dual") and params["segmentation"] == "iteration"
 
 
 SCENE = Scene(
