@@ -207,7 +207,8 @@ SCENE = Scene(
         Param("ratio", 5.0, "mean radius over the cross-section diameter R_m / d", float,
               low=0.5, high=200.0, low_inclusive=False),
         Param("E", 1.0, "Young's modulus", float, low=0.0, low_inclusive=False),
-        Param("nu", 0.4995, "Poisson's ratio", float, low=0.0, high=0.5,
+        Param("nu", 0.4995, "Poisson's ratio (> 0: the mixed elements' pressure equation "
+              "divides by lambda)", float, low=0.0, high=0.5, low_inclusive=False,
               high_inclusive=False),
         Param("squeeze", 0.25, "final height reduction over d", float, low=0.0, high=0.4,
               low_inclusive=False),
