@@ -3,12 +3,15 @@ rigid masters off the axis (a tilted line, a line parallel to the axis at r <= 0
 circle whose centre is off the axis, a rigid polygon reaching r < 0), a method
 without the measure hook (``set_measure``), a pair moved to another geometry after
 its first step, and contact in a 3D model; and what it accepts (a plate, a cylinder
-about the axis, a sphere centred on it), with the measure told to the method at bind."""
+about the axis, a sphere centred on it), with the measure told to the method at bind.
+The preflight in (r, z): the one rigid mode of a body of revolution (the axial
+translation) held by nothing, and surfaces that do not face each other."""
 import numpy as np
 import pytest
 import skfem
 
-from skfem_mortar import ContactPair, ContactSurface, Model, NeoHooke, RigidCircle, RigidPlane, Solid
+from skfem_mortar import (ContactPair, ContactSurface, Dirichlet, Model, NeoHooke, RigidCircle,
+                          RigidPlane, Solid, Traction, solve)
 from skfem_mortar.contact.discretization import register_method, unregister_method
 from skfem_mortar.contact.measures import AXISYMMETRIC, PLANE
 
@@ -82,3 +85,31 @@ def test_contact_in_a_3d_model_is_still_refused():
     slave = ContactSurface.from_solid(body, "bottom")
     with pytest.raises(ValueError, match="3D bodies is not offered yet"):
         ContactPair(slave, RigidPlane((0.0, -0.1), (0.0, 1.0)), method="nts")
+
+
+def _stacked(gap, slave_side="bottom"):
+    """A cylinder r <= 1 above another (gap ``gap``), the lower one held axially; the
+    upper one's ``slave_side`` the slave."""
+    def body(n, z0, name):
+        m = skfem.MeshTri.init_tensor(np.linspace(0, 1, n + 1), np.linspace(z0, z0 + 1, 3))
+        return Solid(m.with_defaults(), NeoHooke(E=1.0, nu=0.3), name=name)
+
+    low, up = body(3, 0.0, "low"), body(4, 1.0 + gap, "up")
+    pair = ContactPair(ContactSurface.from_solid(up, slave_side),
+                       ContactSurface.from_solid(low, "top"), method="nts", name="c")
+    return Model([low, up, pair, Dirichlet(low, low.dofs_on("bottom", "y"), 0.0),
+                  Traction(up, "top", [0.0, -1e-3])], geometry="axisymmetric")
+
+
+def test_preflight_names_the_axial_translation_held_by_nothing():
+    """A body of revolution has one rigid mode, the translation along the axis (the
+    axis nodes hold u_r); an open gap holds nothing."""
+    with pytest.raises(ValueError, match="body 'up': translation along the axis .z. is held "
+                                         "by nothing .*hold the z-dofs of a node"):
+        solve(_stacked(0.1))
+
+
+def test_preflight_refuses_surfaces_that_do_not_face_each_other():
+    """The upper cylinder's top (normal +z) as the slave on the lower one's top (+z)."""
+    with pytest.raises(ValueError, match="point the same way"):
+        solve(_stacked(0.0, slave_side="top"))

@@ -67,7 +67,7 @@ from .contact_eval import ContactEval
 from .discretization import (ContactDiscretization, OptionTable, check_entries, check_options,
                              covers, pattern_matrix, register_method, reserved_keys)
 from .nts_projection import LOCK_STICK, candidates, choose_segments, project
-from .surfaces import segment_lengths, segment_normals, segments_at_nodes
+from .surfaces import AXIS_TOL, segment_lengths, segment_normals, segments_at_nodes
 
 __all__ = ["NTS", "evaluate", "project", "candidates", "choose_segments", "RESERVE_MARGIN", "RESERVE_HALO", "SLIP_HALO", "LOCK_STICK", "COARSE_RATIO", "failure_hints",
            "nearest_nodes", "vertex_trap"]
@@ -106,7 +106,7 @@ def evaluate(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarra
              prefer: np.ndarray | None = None, stick: float = 0.05,
              lock: np.ndarray | None = None,
              cells: "tuple[str | CellType, str | CellType] | None" = None,
-             measure: Measure = PLANE) -> ContactEval:
+             measure: Measure = PLANE, mirrored: np.ndarray | None = None) -> ContactEval:
     """NTS gaps ``g_N`` of the slave nodes, ``G = dg/dx`` and ``H = sum_k lam_k d^2 g_k/dx^2``.
 
     One gap over any line cell type of the table: on an affine master cell
@@ -133,6 +133,9 @@ def evaluate(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarra
         The weight ``w`` of ``dGamma`` (:mod:`~.measures`) in the tributary weights
         ``area = int N_A w dGamma`` (default :data:`~.measures.PLANE`, ``w = 1``; an
         axisymmetric model's ``2 pi r``); the gap does not depend on it.
+    mirrored : bool ndarray (n_m,), optional
+        Master nodes on a symmetry line (:func:`project`: a chain end there is no
+        free end; :class:`NTS` passes those on the axis of its measure).
 
     Returns
     -------
@@ -149,7 +152,8 @@ def evaluate(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarra
         lam = np.asarray(lam, dtype=float).ravel()
         if lam.shape != (n_s,):
             raise ValueError(f"lam must have shape ({n_s},), got {lam.shape}")
-    pr = project(xs, xm, seg_m, margin, end_tolerance, prefer, stick, lock, cell=cm)
+    pr = project(xs, xm, seg_m, margin, end_tolerance, prefer, stick, lock, cell=cm,
+                 mirrored=mirrored)
     mask, g = pr["mask"], pr["g"]
     area = tributary_weights(xs, seg_s, cs, measure)
     info = {"xi": pr["xi"], "segment": pr["segment"], "normal": pr["n"]}
@@ -353,6 +357,7 @@ class NTS(ContactDiscretization):
         self._pinned: np.ndarray | None = None
         #: the weight of ``dGamma`` (:meth:`set_measure`)
         self.measure: Measure = PLANE
+        self._mirrored: np.ndarray | None = None   # master nodes on the measure's axis
         self._prefer: np.ndarray | None = None
         self._prefer_converged: np.ndarray | None = None
         self._lock: np.ndarray | None = None
@@ -366,8 +371,15 @@ class NTS(ContactDiscretization):
     def set_measure(self, measure: Measure) -> None:
         """The weight of ``dGamma`` (:class:`~.discretization.MeasuredDiscretization`):
         the tributary weights ``area`` (the nodal force over it is the pressure) are
-        ``int N_A w dGamma`` over the current slave surface; the gaps are not weighted."""
+        ``int N_A w dGamma`` over the current slave surface; the gaps are not weighted.
+        A measure with an axis (``2 pi r``) makes the master nodes on it (within
+        :data:`~.surfaces.AXIS_TOL` of the master's size, in its reference
+        coordinates) mirrored: a chain end there is no free end (:func:`project`)."""
         self.measure = measure
+        self._mirrored = None
+        if measure.axis is not None and self.master.n_nodes:
+            X = np.asarray(self.master.X, dtype=float)
+            self._mirrored = np.abs(X[measure.axis]) <= AXIS_TOL * float(np.ptp(X, axis=1).max())
 
     def set_pinned(self, pinned: np.ndarray | None) -> None:
         self._pinned = pinned
@@ -439,7 +451,7 @@ class NTS(ContactDiscretization):
                 extra["lock"] = self._lock
         ev = evaluate(xs, self.slave.segments, xm, self.master.segments, lam=lam,
                       tangent=tangent, **extra, **self.options, cells=self.cells,
-                      measure=self.measure)
+                      measure=self.measure, mirrored=self._mirrored)
         if self._pinned is not None and self._pinned.any():
             ev.mask = ev.mask & ~self._pinned
         return ev
