@@ -76,13 +76,13 @@ def fd_errors(xs, ss, xm, sm, **kw):
     return fd_check(ev, z, lam)
 
 
-def fd_check(ev, z: np.ndarray, lam: np.ndarray):
+def fd_check(ev, z: np.ndarray, lam: np.ndarray, skip=()):
     """Largest |G - G_fd|, |H - H_fd| of ``ev(q, tangent, lam)`` at ``z`` and the
-    evaluation there."""
+    evaluation there (the variables ``skip`` not varied)."""
     e0 = ev(z, True, lam)
     G, H = e0.G.toarray(), e0.H.toarray()
     eg = eh = 0.0
-    for i in range(z.size):
+    for i in np.setdiff1d(np.arange(z.size), skip):
         d = np.zeros(z.size)
         d[i] = H_FD
         gfd = (ev(z + d).g - ev(z - d).g) / (2 * H_FD)

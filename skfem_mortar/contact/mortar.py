@@ -78,6 +78,7 @@ from .contact_eval import ContactEval
 from .multiplier_spaces import MultiplierSpace, make_space
 from .cells import cell_type
 from .measures import PLANE, Measure
+from .normals import mirror_of_axis
 from .mortar_support import multiplier_support, tributary_weights
 from .scatter import Triplets
 from .jets import Jet, at_gauss, constant_like, sqrt, value, where
@@ -684,8 +685,10 @@ class _Problem(NamedTuple):
            nodal_jets: int, second: bool, cells=None, measure: Measure = PLANE) -> "_Problem":
         xs, seg_s, xm, seg_m = _as_arrays(xs, seg_s, xm, seg_m, cells)
         n_s = xs.shape[1]
+        mirror = mirror_of_axis(measure.axis)   # the axis of revolution: axial normals there
         sg = segmentation if segmentation is not None else segment(
-            xs, seg_s, xm, seg_m, pairs=pairs, margin=margin, frozen=False, reach=reach)
+            xs, seg_s, xm, seg_m, pairs=pairs, margin=margin, frozen=False, reach=reach,
+            mirror=mirror)
         # a node supported over a sliver only is masked and merged like a crosspoint,
         # so that the multiplier functions still sum to one there (evaluate, Notes)
         cp_nodes = np.zeros(n_s, bool)
@@ -695,7 +698,7 @@ class _Problem(NamedTuple):
         support = multiplier_support(xs, seg_s, sg, line2, 1, measure)  # N_A |dx/dxi|: degree 1
         trib = tributary_weights(xs, seg_s, line2, 1, measure)
         mask = (support > MASK_TOL * trib) & ~cp_nodes
-        nrm, pnode, nnode = nodal_normals(xs, seg_s, second, nodal_jets)
+        nrm, pnode, nnode = nodal_normals(xs, seg_s, second, nodal_jets, mirror)
         loc = _Local.of(sg, seg_s, seg_m, pnode, nnode)
         merged = (cp_nodes | ~mask)[np.stack([loc.a, loc.b], 1)]
         return _Problem(xs, xm, n_s, xm.shape[1], sg, mask, merged, nrm, loc,
@@ -851,7 +854,9 @@ def evaluate(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarra
         The weight ``w(x)`` of ``dGamma`` (:mod:`~skfem_mortar.contact.measures`,
         default plane ``w = 1``): every integral (``g``, ``D``, ``M``, the supports,
         the dual basis) is taken in ``w(x_s) dGamma`` at the current slave point,
-        with its derivatives.
+        with its derivatives.  A measure with an axis (axisymmetric) makes the
+        slave nodes on it take the mirror normal, axial
+        (:func:`~skfem_mortar.contact.normals.mirror_of_axis`).
 
     Notes
     -----

@@ -116,6 +116,7 @@ import numpy as np
 
 from .cells import CellType
 from .measures import PLANE, Measure
+from .normals import mirror_of_axis
 from .contact_eval import ContactEval
 from .mortar_support import multiplier_support, tributary_weights
 from .scatter import Triplets
@@ -321,9 +322,10 @@ def _prepare(xs, seg_s, xm, seg_m, segmentation, pairs, margin, reach, crosspoin
              n_gauss, n_gauss_element, cells=None, measure: Measure = PLANE) -> _Problem:
     xs, seg_s, xm, seg_m, cells = _as_arrays(xs, seg_s, xm, seg_m, cells)
     n_s = xs.shape[1]
+    mirror = mirror_of_axis(measure.axis)   # the axis of revolution: axial normals there
     sg = segmentation if segmentation is not None else segment(
         xs, seg_s, xm, seg_m, pairs=pairs, margin=margin, frozen=False, reach=reach,
-        cells=cells)
+        cells=cells, mirror=mirror)
     cp = np.isin(np.arange(n_s), [] if crosspoints is None else crosspoints)
     support = multiplier_support(xs, seg_s, sg, cells[0], n_gauss, measure)
     # outside plane models the scale is int |N_A| w dGamma: int N_A w dGamma of a line3
@@ -332,7 +334,8 @@ def _prepare(xs, seg_s, xm, seg_m, segmentation, pairs, margin, reach, crosspoin
                              absolute=not measure.unit)
     mask = (support > MASK_TOL * trib) & ~cp
     merged = ~mask[seg_s]
-    return _Problem(xs, seg_s, xm, seg_m, sg, slave_slots(xs, seg_s, cells[0]), mask, support,
+    return _Problem(xs, seg_s, xm, seg_m, sg, slave_slots(xs, seg_s, cells[0], mirror), mask,
+                    support,
                     merge_matrix(merged, cells[0]), merged.any(axis=1), gauss_rule(n_gauss),
                     n_gauss_element, cells, measure)
 
@@ -399,7 +402,7 @@ def _block(P: _Problem, sl: np.ndarray, nv: int, second: bool, biorth: bool,
     like = V[0][0]
     const = lambda v: constant_like(np.asarray(v, dtype=float), like)  # noqa: E731
     # 1. the slave normal field
-    nrm = element_normals(V[:ns], cs, P.slots.wp[e], P.slots.wn[e])
+    nrm = element_normals(V[:ns], cs, P.slots.wp[e], P.slots.wn[e], P.slots.mirrored_of(e))
     Pc, Qc = element_polynomial(V[:k], cs), element_polynomial(nrm, cs)
     R = element_polynomial(V[ns:ns + km], cm)
     # 2, 3. end points of the mortar segments: the master vertices projected onto e
@@ -558,7 +561,9 @@ def evaluate(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarra
     measure : Measure
         The weight ``w(x)`` of ``dGamma`` (:mod:`~skfem_mortar.contact.measures`,
         default plane ``w = 1``): every integral (``g``, ``D``, ``M``, the supports,
-        the dual basis) is taken in ``w(x_s) dGamma``, with its derivatives.
+        the dual basis) is taken in ``w(x_s) dGamma``, with its derivatives.  A
+        measure with an axis (axisymmetric) makes the slave nodes on it take the
+        mirror normal, axial (:func:`~skfem_mortar.contact.normals.mirror_of_axis`).
     **options
         ``cells``: the (slave, master) cell types, ``line2`` or ``line3`` (default:
         the lines of the connectivities' columns,
@@ -650,6 +655,6 @@ def _evaluate(xs, seg_s, xm, seg_m, lam, tangent, space, n_gauss, segmentation, 
     D, M = Dt.csr((n_s, n_s)), Mt.csr((n_s, n_m))
     info = {"D": D, "M": M, "segmentation": P.sg, "n_segments": P.sg.n}
     if tangential:
-        nrm = nodal_normals(P.xs, P.seg_s, P.cells[0])
+        nrm = nodal_normals(P.xs, P.seg_s, P.cells[0], mirror_of_axis(P.measure.axis))
         info["tangent"] = np.stack([nrm[1], -nrm[0]])
     return ContactEval(g=g, G=G, H=H, area=P.area, mask=P.mask, info=info)
