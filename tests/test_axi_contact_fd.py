@@ -97,7 +97,14 @@ def test_g_and_h_of_the_method_in_the_measure(method):
     # ~ 1e-9 |G|; 1e-6 of the largest entry is far above both, far below a wrong term
     np.testing.assert_allclose(G[on], Gfd[on], rtol=0, atol=1e-6 * np.abs(G).max())
     H = ev.H.toarray()
-    np.testing.assert_allclose(H, Hfd, rtol=0, atol=1e-6 * max(np.abs(H).max(), 1e-300))
+    # the axis nodes' radial columns: the bodies hold u_r = 0 there, and a node moved
+    # off the axis by the difference step leaves the mirror normal's regime (within
+    # 1e-10 of the size), so central differences there measure the unmirrored field
+    held = np.flatnonzero(np.concatenate([pair.slave.x(z)[0] == 0.0,
+                                          pair.master.x(z)[0] == 0.0]))
+    keep = np.setdiff1d(np.arange(H.shape[1]), 2 * held)
+    np.testing.assert_allclose(H[np.ix_(keep, keep)], Hfd[np.ix_(keep, keep)], rtol=0,
+                               atol=1e-6 * max(np.abs(H).max(), 1e-300))
 
 
 def _fd(pair, model, z, h=1e-7):
@@ -116,6 +123,13 @@ def _fd(pair, model, z, h=1e-7):
         Kfd[:, k] = (dense(pair.assemble(z + e, 1.0, tangent=False), model.n)[0]
                      - dense(pair.assemble(z - e, 1.0, tangent=False), model.n)[0]) / (2 * h)
     assert not np.delete(K, cols, axis=1).any()
+    # the axis nodes' radial dofs: the bodies hold u_r = 0 there, and a node moved off
+    # the axis by the difference step leaves the mirror normal's regime (within 1e-10
+    # of the size), so central differences there measure the unmirrored field
+    xs, xm = pair.slave.x(z), pair.master.x(z)
+    held = gd[2 * np.flatnonzero(np.concatenate([xs[0] == 0.0, xm[0] == 0.0]))]
+    held = held[held >= 0]
+    K[held, :] = K[:, held] = Kfd[held, :] = Kfd[:, held] = 0.0
     return K, Kfd
 
 
