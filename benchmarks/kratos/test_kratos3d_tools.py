@@ -11,7 +11,7 @@ import pytest
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import decks3d  # noqa: E402
-from side_by_side3d import stored_errors  # noqa: E402
+from side_by_side3d import slave_weights, stored_errors  # noqa: E402
 
 #: deck -> (nodes, hex1 elements, tet1 elements, load conditions, contact part nodes)
 COUNTS = {"patch_matching": (432, 264, 0, 64, 34), "patch_nonmatching": (432, 264, 0, 64, 18),
@@ -198,3 +198,14 @@ def test_our_foundation_alone_under_the_follower_pressure_meets_the_exact_answer
         s = (1 + nu * s / E) ** 2 + (nu * s / E) ** 2
     np.testing.assert_allclose(top, -s * 4.0 / E, rtol=1e-12)   # Newton's tolerance 1e-12
     assert top.mean() / ex["u_interface"] - 1 == pytest.approx(1.6e-7, rel=0.01)
+
+
+def test_the_slave_weights_are_the_tributary_areas_of_the_slave_faces(deck):
+    """Each face's area shared equally by its vertices (exact for flat tri3 and
+    parallelogram quad4): the weights sum to the slave area; on the non-matching
+    deck's 3 x 3 unit grid a corner gets 1/4, an edge node 1/2, the centre 1."""
+    w = slave_weights(deck)
+    area = {"patch_matching": 4.0, "patch_nonmatching": 4.0}.get(deck.name, 1.0)
+    assert sum(w.values()) == pytest.approx(area, rel=1e-14)
+    if deck.name == "patch_nonmatching":
+        assert sorted(np.round(list(w.values()), 12)) == [0.25] * 4 + [0.5] * 4 + [1.0]
