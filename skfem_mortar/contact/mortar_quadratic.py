@@ -122,7 +122,7 @@ from .mortar_support import multiplier_support, tributary_weights
 from .scatter import Triplets
 from .jets import Jet, at_gauss, constant_like, value, where
 from .mortar import MASK_TOL, biorthogonal, gauss_rule
-from .multiplier_spaces import MultiplierSpace
+from .multiplier_spaces import DualSpace, MultiplierSpace, make_space
 from .segmentation import Segmentation, check_kernel_cells, line_cells
 from .mortar_quadratic_segmentation import (SlaveSlots, curve, element_normals,
                                             element_polynomial, nodal_normals,
@@ -140,6 +140,7 @@ N_GAUSS_ELEMENT = 5
 the tributary weights (exact to degree 9; the integrands of a straight element
 have degree 4)."""
 _CHUNK_ENTRIES = 200_000  # Hessian entries per block of segments
+_DUAL = DualSpace()        # the biorthogonal space's A_e = D_e M_e^-1 (dual_coefficients)
 
 
 def _check_rule(name: str, n: Any) -> int:
@@ -239,22 +240,9 @@ def _modified(T: np.ndarray | None, N: list, k: int) -> list:
     return out
 
 
-def _sym_inverse(M: dict, k: int) -> dict:
-    """Inverse of the symmetric ``k x k`` matrix ``M[(a, b)]`` (a <= b) by cofactors."""
-    if k == 2:
-        a, b, d = M[0, 0], M[0, 1], M[1, 1]
-        r = (a * d - b * b).inv() if isinstance(a, Jet) else 1.0 / (a * d - b * b)
-        return {(0, 0): d * r, (0, 1): -(b * r), (1, 1): a * r}
-    a, b, c, d, e, f = M[0, 0], M[0, 1], M[0, 2], M[1, 1], M[1, 2], M[2, 2]
-    C = {(0, 0): d * f - e * e, (0, 1): c * e - b * f, (0, 2): b * e - c * d,
-         (1, 1): a * f - c * c, (1, 2): b * c - a * e, (2, 2): a * d - b * b}
-    det = a * C[0, 0] + b * C[0, 1] + c * C[0, 2]
-    r = det.inv() if isinstance(det, Jet) else 1.0 / det
-    return {key: v * r for key, v in C.items()}
-
-
 def dual_coefficients(P: list, lo, hi, cell: CellType, T: np.ndarray | None = None,
-                      n_gauss: int = N_GAUSS_ELEMENT, measure: Measure = PLANE) -> dict:
+                      n_gauss: int = N_GAUSS_ELEMENT, measure: Measure = PLANE,
+                      space: DualSpace | None = None) -> dict:
     """Step 6: dual coefficients ``A~ = D~ M~^{-1}`` on the projectable part ``[lo, hi]``.
 
     ``D~ = diag(int N~_A dGamma)``, ``M~_AB = int N~_A N~_B dGamma`` over
@@ -266,6 +254,9 @@ def dual_coefficients(P: list, lo, hi, cell: CellType, T: np.ndarray | None = No
     satisfies ``int Phi_A N~_B dGamma = delta_AB int N~_A dGamma`` for that rule.
     ``measure``: ``dGamma`` times its weight ``w(x_s(xi))``
     (:mod:`~skfem_mortar.contact.measures`), so the basis is biorthogonal in ``w dGamma``.
+    ``A~`` from ``D~``, ``M~`` is the space's
+    (:meth:`~skfem_mortar.contact.multiplier_spaces.DualSpace.cell_coefficients`;
+    default the registered ``"dual"``).
 
     Returns
     -------
@@ -287,8 +278,7 @@ def dual_coefficients(P: list, lo, hi, cell: CellType, T: np.ndarray | None = No
         for a in range(k):
             if dead[:, a].any():
                 M[a, a] = M[a, a] + dead[:, a] * 1.0
-    Mi = _sym_inverse(M, k)
-    return {(a, b): D[a] * Mi[min(a, b), max(a, b)] for a in range(k) for b in range(k)}
+    return (space if space is not None else _DUAL).cell_coefficients(D, M)
 
 
 # -------------------------------------------------------------- one block of segments
@@ -381,7 +371,7 @@ def _projectable_part(exi: np.ndarray, nodes: tuple, Pc: list, Qc: list, Vb: lis
             where(hi_node >= 0, ph, const(np.ones(n))))
 
 
-def _block(P: _Problem, sl: np.ndarray, nv: int, second: bool, biorth: bool,
+def _block(P: _Problem, sl: np.ndarray, nv: int, second: bool, biorth: "DualSpace | None",
            lam: np.ndarray | None, tangential: bool = False) -> _Block:
     """Steps 1 to 7 on the mortar segments ``sl`` in jets of ``nv`` local variables
     (0: values only); ``tangential``: the tangential offsets ``r_A`` of
@@ -413,7 +403,7 @@ def _block(P: _Problem, sl: np.ndarray, nv: int, second: bool, biorth: bool,
     if biorth:
         part = _projectable_part(sg.elem_xi[e], (lo_node, hi_node), Pc, Qc,
                                  V[ns + km:ns + km + 2] if partial else None, const)
-        A = dual_coefficients(Pc, *part, cs, T, P.n_gauss_element, P.measure)
+        A = dual_coefficients(Pc, *part, cs, T, P.n_gauss_element, P.measure, biorth)
     # 4. Gauss points on the mortar segments, 5. their projections onto the master
     eta_r, w = P.rule
     xi, half = _segment_points(lo, hi, eta_r)
@@ -615,6 +605,12 @@ def tangential_evaluate(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m
                      "tangential_evaluate", measure)
 
 
+def _dual_space(space: "MultiplierSpace | str") -> DualSpace:
+    """The biorthogonal space object that gives ``A_e`` (:func:`dual_coefficients`)."""
+    s = space if isinstance(space, MultiplierSpace) else make_space(space)
+    return s if callable(getattr(s, "cell_coefficients", None)) else _DUAL
+
+
 def _evaluate(xs, seg_s, xm, seg_m, lam, tangent, space, n_gauss, segmentation, pairs, margin,
               crosspoints, reach, n_gauss_element, options, tangential, name,
               measure: Measure = PLANE) -> ContactEval:
@@ -634,7 +630,7 @@ def _evaluate(xs, seg_s, xm, seg_m, lam, tangent, space, n_gauss, segmentation, 
     lamv = None if lam is None else np.asarray(lam, dtype=float)
     g = np.zeros(n_s)
     Gt, Ht, Dt, Mt = Triplets(), Triplets(), Triplets(), Triplets()
-    bi = biorthogonal(space)
+    bi = _dual_space(space) if biorthogonal(space) else None
     for sl, nv in _blocks(P, tangent, bi, second):
         if sl.size == 0:
             continue

@@ -556,6 +556,19 @@ def element_fields(xs: np.ndarray, seg_s: np.ndarray, cell: CellType, mirror=()
             element_polynomial([(value(n[0]), value(n[1])) for n in nrm], cell))
 
 
+def _chord_side(p: np.ndarray, lost: np.ndarray, c: tuple, xa: tuple, xb: tuple) -> np.ndarray:
+    """The side of a master vertex ``c`` where the side rule had no slave end projected
+    onto the master curve (``lost``: the Newton projection onto the curve's quadratic
+    extension found no root) and its own projection lay outside the slave cell
+    (``p = +-inf``, possibly from a spurious root of the wrong sign): beyond the slave
+    end b (``+inf``) where the vertex lies past b along the slave chord
+    ``x_a -> x_b``, beyond a (``-inf``) where past a, else ``p`` kept."""
+    dx, dy = xb[0] - xa[0], xb[1] - xa[1]
+    t = 2.0 * ((c[0] - xa[0]) * dx + (c[1] - xa[1]) * dy) / (dx * dx + dy * dy) - 1.0
+    side = np.where(t > 1.0, np.inf, np.where(t < -1.0, -np.inf, p))
+    return np.where(lost & np.isinf(p), side, p)
+
+
 def _take(C: list, idx) -> list:
     return [None if c is None else (c[0][idx], c[1][idx]) for c in C]
 
@@ -615,6 +628,9 @@ def segment(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarray
         dab = eta_b - eta_a
         p1, ok1 = _side(p1, ok1, -1.0 - eta_a, -1.0 - eta_b, dab)
         p2, ok2 = _side(p2, ok2, 1.0 - eta_a, 1.0 - eta_b, dab)
+    lost = ~(np.isfinite(eta_a) & np.isfinite(eta_b))
+    if lost.any():
+        p1, p2 = _chord_side(p1, lost, c1, xa, xb), _chord_side(p2, lost, c2, xa, xb)
     keep, xi, src = clip_to_slave(p1, p2, facing & ok1 & ok2)
     e_s, e_m = i_s[keep], i_m[keep]
     xi_m = master_coordinates(src, eta_a[keep], eta_b[keep])

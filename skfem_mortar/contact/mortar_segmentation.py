@@ -89,9 +89,9 @@ def _unit_normal(x1, y1, x2, y2):
 
 
 def mirror_normal(n: tuple, mirrored) -> tuple:
-    """Step 1, mirror normals (:mod:`~skfem_mortar.contact.normals`): where ``on``,
-    ``normalize(n - (e . n) e)`` for each ``(e, on)`` of ``mirrored`` (2D, jets or
-    arrays of one length); elsewhere ``n`` unchanged.  On the axis of an
+    """Step 1, mirror normals: ``normalize(n - (e·n) e)`` where ``on``, for each
+    ``(e, on)`` of ``mirrored`` (2D, jets or arrays of one length), elsewhere ``n``
+    unchanged (:mod:`~skfem_mortar.contact.normals`).  On the axis of an
     axisymmetric model (``e = e_r``) the normal becomes axial, with zero derivatives."""
     nx, ny = n
     for e, on in mirrored:

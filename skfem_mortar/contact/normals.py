@@ -54,9 +54,11 @@ MIRROR_TOL = 1e-10
 
 
 def mirror_nodes(x: np.ndarray, mirror) -> list[tuple[np.ndarray, np.ndarray]]:
-    """The symmetry lines or planes ``mirror`` (pairs ``(e, c)``: ``e . x = c``) with the
-    nodes on each: ``[(e / |e|, on)]``, ``on`` (n,) bool, ``|e . x - c| <= MIRROR_TOL *
-    size`` with ``size`` the largest side of the nodes' bounding box (1 for one node).
+    """The symmetry lines or planes ``mirror`` with the nodes on each.
+
+    ``mirror`` holds pairs ``(e, c)``, the line or plane ``e·x = c``; returns
+    ``[(e / |e|, on)]``, ``on`` (n,) bool where ``|e·x - c| <= MIRROR_TOL * size``,
+    ``size`` the largest side of the nodes' bounding box (1 for one node).
 
     Raises
     ------
