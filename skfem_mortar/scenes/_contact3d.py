@@ -19,7 +19,8 @@ from skfem import MeshHex1, MeshTet1
 from ._meshes3d import _cells, mesh_kind
 
 __all__ = ["grid_mesh", "tilted_lines", "graded_octant", "graded_quarter_cylinder",
-           "tets_to_hexes", "mirrored", "nodes_on_plane", "GRADING"]
+           "tets_to_hexes", "mirrored", "nodes_on_plane", "tagged", "octant_planes",
+           "cylinder_planes", "symmetry_planes", "GRADING"]
 
 #: element size growth per unit distance beyond the fine zone (``hertz``'s is 0.3;
 #: 0.5 in 3D keeps the cell count of the default mesh near 3e4)
@@ -119,11 +120,31 @@ def _graded(mesh: MeshTet1, h0: float, fine: float, snap, planes, tol: float) ->
     raise ValueError("graded mesh did not converge: refine is too large")
 
 
-def graded_octant(R: float, h0: float, fine: float) -> MeshTet1:
+def _finish(mesh: MeshTet1, element: str, snap, planes, names, curved: str, tol: float):
+    """The graded tetrahedra as ``element``'s mesh (``hex1``: :func:`tets_to_hexes`, the
+    new nodes of the curved faces snapped), tagged by :func:`tagged`."""
+    if element == "hex1":
+        on = tagged(mesh, planes, names, curved, tol).boundaries[curved]
+        mesh = tets_to_hexes(mesh, snap, on)
+    return tagged(mesh, planes, names, curved, tol)
+
+
+def _coarser(h0: float, element: str) -> float:
+    """The tetrahedron size to grade: :func:`tets_to_hexes` halves it."""
+    return 2.0 * h0 if element == "hex1" else h0
+
+
+def octant_planes(R: float) -> tuple[list, tuple]:
+    """The planes and names of :func:`graded_octant`'s flat boundaries."""
+    return [(0, 0.0), (1, 0.0), (2, R)], ("x0", "y0", "top")
+
+
+def graded_octant(R: float, h0: float, fine: float, element: str = "tet1"):
     """The quarter of the hemisphere ``|X - C| <= R``, ``Z <= R``, ``X, Y >= 0``
-    (``C = (0, 0, R)``: it touches ``Z = 0`` at the origin), tetrahedra of edge
-    about ``h0`` within ``fine`` of the origin, growing by :data:`GRADING` beyond;
-    boundaries ``x0`` (``X = 0``), ``y0``, ``top`` (``Z = R``), ``sphere``."""
+    (``C = (0, 0, R)``: it touches ``Z = 0`` at the origin), tetrahedra (or
+    hexahedra, ``element="hex1"``) of edge about ``h0`` within ``fine`` of the
+    origin, growing by :data:`GRADING` beyond; boundaries ``x0`` (``X = 0``),
+    ``y0``, ``top`` (``Z = R``), ``sphere``."""
     p, t = _kuhn_block(2)
     x = _cube_to_ball(p)
     P = np.array([[0.0], [0.0], [R]]) + R * np.vstack([x[0], x[1], -x[2]])
@@ -134,12 +155,18 @@ def graded_octant(R: float, h0: float, fine: float) -> MeshTet1:
         v = q - C
         return C + R * v / np.linalg.norm(v, axis=0)
 
-    planes = [(0, 0.0), (1, 0.0), (2, R)]
-    mesh = _graded(MeshTet1(P, _orient(P, t)), h0, fine, snap, planes, tol)
-    return _tagged(mesh, planes, ("x0", "y0", "top"), "sphere", tol)
+    planes, names = octant_planes(R)
+    mesh = _graded(MeshTet1(P, _orient(P, t)), _coarser(h0, element), fine, snap, planes,
+                   tol)
+    return _finish(mesh, element, snap, planes, names, "sphere", tol)
 
 
-def graded_quarter_cylinder(W: float, h0: float, fine: float) -> MeshTet1:
+def cylinder_planes(W: float) -> tuple[list, tuple]:
+    """The planes and names of :func:`graded_quarter_cylinder`'s flat boundaries."""
+    return [(0, 0.0), (1, 0.0), (2, 0.0), (2, -W)], ("x0", "y0", "top", "bottom")
+
+
+def graded_quarter_cylinder(W: float, h0: float, fine: float, element: str = "tet1"):
     """The quarter cylinder ``X, Y >= 0``, ``X^2 + Y^2 <= W^2``, ``-W <= Z <= 0``,
     graded towards the origin as :func:`graded_octant`; boundaries ``x0``, ``y0``,
     ``top`` (``Z = 0``), ``bottom`` (``Z = -W``), ``side``."""
@@ -153,12 +180,13 @@ def graded_quarter_cylinder(W: float, h0: float, fine: float) -> MeshTet1:
         out[:2] *= W / np.linalg.norm(q[:2], axis=0)
         return out
 
-    planes = [(0, 0.0), (1, 0.0), (2, 0.0), (2, -W)]
-    mesh = _graded(MeshTet1(P, _orient(P, t)), h0, fine, snap, planes, tol)
-    return _tagged(mesh, planes, ("x0", "y0", "top", "bottom"), "side", tol)
+    planes, names = cylinder_planes(W)
+    mesh = _graded(MeshTet1(P, _orient(P, t)), _coarser(h0, element), fine, snap, planes,
+                   tol)
+    return _finish(mesh, element, snap, planes, names, "side", tol)
 
 
-def _tagged(mesh, planes, names, curved: str, tol: float):
+def tagged(mesh, planes, names, curved: str, tol: float):
     """``mesh`` with its boundary faces tagged by the plane they lie on, the rest
     ``curved``."""
     bf = mesh.boundary_facets()
@@ -239,3 +267,36 @@ def mirrored(mesh, axis: int):
     else:                              # hexahedra: swap the corners across local axis 0
         t2 = t2[[2, 4, 0, 6, 1, 7, 3, 5]]
     return type(mesh)(np.hstack([p, q]), np.hstack([t, t2]))
+
+
+def symmetry_planes(items) -> list[tuple[int, float]]:
+    """The symmetry planes ``(axis, value)`` declared by rollers among ``items``: a
+    :class:`~skfem_mortar.core.dirichlet.Dirichlet` of value 0 on one component ``k``
+    of a body's vertices that all lie on one plane ``X[k] = c`` (within ``1e-9`` of
+    the body's size) and span it (three of them not on a line)."""
+    from ..core.dirichlet import Dirichlet
+
+    found = []
+    for item in items:
+        if not isinstance(item, Dirichlet) or item.path is not None:
+            continue
+        body, dofs = item.body, np.asarray(item.local_dofs)
+        nd = np.asarray(body.node_dofs)
+        where = np.full(int(nd.max()) + 1, -1, dtype=np.int64)
+        where[nd.ravel()] = np.arange(nd.size)
+        at = where[dofs[dofs < where.size]]
+        if at.size != dofs.size or np.any(at < 0) or np.any(np.asarray(item.value) != 0.0):
+            continue
+        comp, node = np.divmod(at, nd.shape[1])
+        if np.unique(comp).size != 1:
+            continue
+        k, X = int(comp[0]), body.X[:, node]
+        size = float(np.ptp(body.X))
+        if np.ptp(X[k]) > 1e-9 * size or node.size < 3:
+            continue
+        inplane = np.delete(X, k, axis=0)
+        spread = np.linalg.svd(inplane - inplane.mean(axis=1, keepdims=True),
+                               compute_uv=False)
+        if spread[-1] > 1e-9 * size:
+            found.append((k, float(X[k].mean())))
+    return sorted(set(found))
