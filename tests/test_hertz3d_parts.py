@@ -138,3 +138,14 @@ def test_parameters_are_hertz_axis_and_refused_alike():
     scene = Scene("hertz3d_parts", "", PARAMS, build=lambda v, m: None, derived=derived)
     with pytest.raises(ValueError, match="a / R"):
         scene.resolve({"load": "1e6"})
+
+
+def test_rigid_plane_grid_faces_up_over_its_rectangle():
+    from skfem_mortar.scenes._contact3d import plane_grid
+
+    X, faces = plane_grid((-0.6, 0.6), (0.0, 0.6), 0.0, 0.05)
+    a, b, c, d = (X[:, faces[:, k]] for k in range(4))
+    n = np.cross(c - a, d - b, axis=0)                     # twice the area, along +z
+    assert np.all(n[2] > 0.0) and np.abs(n[:2]).max() == 0.0
+    assert 0.5 * n[2].sum() == pytest.approx(1.2 * 0.6, rel=1e-13)
+    assert X[0].min() == -0.6 and X[1].max() == 0.6 and np.all(X[2] == 0.0)

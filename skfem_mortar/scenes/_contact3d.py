@@ -9,7 +9,9 @@
   curved boundary moved onto it after every pass; :func:`tets_to_hexes` makes
   hexahedra of them (each tetrahedron split into four);
 * :func:`mirrored`: a mesh and its mirror image across a coordinate plane, glued
-  there (the half model of a quarter).
+  there (the half model of a quarter);
+* :func:`symmetry_planes`: the symmetry planes that rollers declare;
+* :func:`plane_grid`: a rigid plane as quad4 faces.
 """
 from __future__ import annotations
 
@@ -20,7 +22,7 @@ from ._meshes3d import _cells, mesh_kind
 
 __all__ = ["grid_mesh", "tilted_lines", "graded_octant", "graded_quarter_cylinder",
            "tets_to_hexes", "mirrored", "nodes_on_plane", "tagged", "octant_planes",
-           "cylinder_planes", "symmetry_planes", "GRADING"]
+           "cylinder_planes", "symmetry_planes", "plane_grid", "GRADING"]
 
 #: element size growth per unit distance beyond the fine zone (``hertz``'s is 0.3;
 #: 0.5 in 3D keeps the cell count of the default mesh near 3e4)
@@ -300,3 +302,21 @@ def symmetry_planes(items) -> list[tuple[int, float]]:
         if spread[-1] > 1e-9 * size:
             found.append((k, float(X[k].mean())))
     return sorted(set(found))
+
+
+def plane_grid(x_range: tuple[float, float], y_range: tuple[float, float], level: float,
+               h: float) -> tuple[np.ndarray, np.ndarray]:
+    """A rigid plane ``Z = level`` over ``x_range x y_range`` as quad4 faces about ``h``
+    a side (a master's faces should be about the slave's size: the mortar clipping
+    and the closest-point search work face by face): nodes ``(3, n)`` and faces
+    ``(n_faces, 4)``, each counter-clockwise seen from ``+z`` (outward normal ``+z``:
+    a body rests on it)."""
+    nx = max(1, int(np.ceil((x_range[1] - x_range[0]) / h)))
+    ny = max(1, int(np.ceil((y_range[1] - y_range[0]) / h)))
+    gx, gy = np.meshgrid(np.linspace(*x_range, nx + 1), np.linspace(*y_range, ny + 1),
+                         indexing="ij")
+    X = np.vstack([gx.ravel(), gy.ravel(), np.full(gx.size, float(level))])
+    k = np.arange((nx + 1) * (ny + 1)).reshape(nx + 1, ny + 1)
+    faces = np.column_stack([k[:-1, :-1].ravel(), k[1:, :-1].ravel(), k[1:, 1:].ravel(),
+                             k[:-1, 1:].ravel()])
+    return X, faces

@@ -50,7 +50,7 @@ from ..loads.traction import Traction
 from . import Param, hertz_axi
 from ._axi import fit_ellipse
 from ._contact3d import (cylinder_planes, graded_octant, graded_quarter_cylinder, mirrored,
-                         nodes_on_plane, octant_planes, tagged)
+                         nodes_on_plane, octant_planes, plane_grid, tagged)
 from ._scene3d import make_solid
 from .hertz_axi import FIT_WINDOW, hertz_sphere
 
@@ -59,6 +59,9 @@ __all__ = ["PARAMS", "HertzParts", "build_bodies", "exact_hertz3d", "hertz_metri
 
 #: the zone of ``h0``-sized elements, in units of ``a`` (as ``hertz_axi``)
 FINE_ZONE = 1.2
+
+#: the rigid plane's extent from the axis, in units of ``a``
+RIGID_SIZE = 3.0
 
 #: the symmetry planes ``(axis, value)`` and the share of the sphere of each model
 SYMMETRY = {"quarter": ([(0, 0.0), (1, 0.0)], 4.0), "half": ([(1, 0.0)], 2.0)}
@@ -78,8 +81,9 @@ class HertzParts:
     slave : tuple (Solid, str)
         The sphere and its boundary ``sphere``.
     master : tuple (Solid, str) or dict
-        The base and ``top``, or the rigid plane: ``{"point", "normal", "size"}``
-        (``Z = 0``, normal ``+z``, a square of side ``size`` over the contact zone).
+        The base and ``top``, or the rigid plane ``Z = 0`` (outward normal ``+z``) over
+        ``RIGID_SIZE a`` from the axis: ``{"X": (3, n), "faces": (n_faces, 4)}``
+        (:func:`~skfem_mortar.scenes._contact3d.plane_grid`, faces ``1.5 h0`` a side).
     symmetry : list of (int, float)
         The symmetry planes ``X[axis] = value`` the rollers declare.
     share : float
@@ -147,7 +151,9 @@ def build_bodies(params: dict) -> HertzParts:
     items = [sphere, Traction(sphere, "top", [0.0, 0.0, -F / (share * top_area)],
                               name="load"), *_rollers(sphere, model, "sphere")]
     if params["base"] == "rigid":
-        plane = {"point": (0.0, 0.0, 0.0), "normal": (0.0, 0.0, 1.0), "size": 3.0 * a}
+        xs = (0.0 if model == "quarter" else -RIGID_SIZE * a, RIGID_SIZE * a)
+        X, faces = plane_grid(xs, (0.0, RIGID_SIZE * a), 0.0, 1.5 * h0)
+        plane = {"X": X, "faces": faces}
         return HertzParts(sphere, None, items, (sphere, "sphere"), plane, symmetry, share, h0)
     W = 30.0 * a
     planes, names = cylinder_planes(W)
