@@ -63,15 +63,15 @@ def test_quarter_cylinder_is_valid_and_on_its_side():
 
 
 def test_hexahedra_of_the_tetrahedra_are_valid_and_on_the_sphere():
-    tets = graded_octant(R, 2 * A / 1.875, 1.2 * A)
+    tets = graded_octant(R, A / 1.875, 1.2 * A)
+    split = tets_to_hexes(tets)                   # four per tetrahedron, all valid
+    assert split.t.shape[1] == 4 * tets.t.shape[1]
+    assert split._mapping().detDF(CORNERS).min() > 0.0
     mesh = graded_octant(R, A / 1.875, 1.2 * A, element="hex1")
-    assert mesh.t.shape[1] == 4 * tets.t.shape[1]
     assert mesh._mapping().detDF(CORNERS).min() > 0.0
     on = np.unique(mesh.facets[:, mesh.boundaries["sphere"]])
     dist = np.linalg.norm(mesh.p[:, on] - np.array([[0.0], [0.0], [R]]), axis=0)
     assert np.abs(dist - R).max() < 1e-12 * R
-    split = tets_to_hexes(tets)                  # without snapping: the same cell count
-    assert split.t.shape == mesh.t.shape
 
 
 @pytest.mark.parametrize("model,planes", [("quarter", [(0, 0.0), (1, 0.0)]),
@@ -149,3 +149,13 @@ def test_rigid_plane_grid_faces_up_over_its_rectangle():
     assert np.all(n[2] > 0.0) and np.abs(n[:2]).max() == 0.0
     assert 0.5 * n[2].sum() == pytest.approx(1.2 * 0.6, rel=1e-13)
     assert X[0].min() == -0.6 and X[1].max() == 0.6 and np.all(X[2] == 0.0)
+
+
+def test_dof_estimate_is_near_the_mesh():
+    # the estimate refuses sizes the machine cannot hold: within 30 % of the mesh
+    from skfem_mortar.scenes.hertz3d import estimate_dofs
+
+    for element in ("tet1", "hex1"):
+        params = {**COARSE, "element": element}
+        n = 3 * build_bodies(params).sphere.mesh.p.shape[1]
+        assert 0.7 < estimate_dofs(params) / n < 1.3, (element, estimate_dofs(params), n)

@@ -101,8 +101,9 @@ def _curved_nodes(mesh: MeshTet1, planes: list[tuple[int, float]], tol: float) -
     return np.unique(f[:, ~on_plane])
 
 
-def _graded(mesh: MeshTet1, h0: float, fine: float, snap, planes, tol: float) -> MeshTet1:
-    """Longest-edge bisection of the tetrahedra until ``h_e <= 1.5 h0 + GRADING
+def _graded(mesh: MeshTet1, h0: float, fine: float, snap, planes, tol: float,
+            growth: float = GRADING) -> MeshTet1:
+    """Longest-edge bisection of the tetrahedra until ``h_e <= 1.5 h0 + growth
     max(d - fine, 0)`` (``d`` the distance of a tetrahedron from the origin, ``h_e``
     its longest edge), the curved boundary's nodes moved by ``snap`` after each
     pass (ValueError after 60 passes)."""
@@ -111,7 +112,7 @@ def _graded(mesh: MeshTet1, h0: float, fine: float, snap, planes, tol: float) ->
         e = mesh.p[:, mesh.t]                                    # (3, 4, n)
         h = np.max([np.linalg.norm(e[:, i] - e[:, j], axis=0) for i, j in pairs], axis=0)
         d = np.maximum(np.linalg.norm(e.mean(axis=1), axis=0) - h, 0.0)
-        marked = np.flatnonzero(h > 1.5 * h0 + GRADING * np.maximum(d - fine, 0.0))
+        marked = np.flatnonzero(h > 1.5 * h0 + growth * np.maximum(d - fine, 0.0))
         if marked.size == 0:
             return mesh
         mesh = mesh.refined(marked)
@@ -131,9 +132,9 @@ def _finish(mesh: MeshTet1, element: str, snap, planes, names, curved: str, tol:
     return tagged(mesh, planes, names, curved, tol)
 
 
-def _coarser(h0: float, element: str) -> float:
-    """The tetrahedron size to grade: :func:`tets_to_hexes` halves it."""
-    return 2.0 * h0 if element == "hex1" else h0
+def _coarser(h0: float, element: str) -> tuple[float, float]:
+    """The tetrahedron size and growth to grade: :func:`tets_to_hexes` halves both."""
+    return (2.0 * h0, 2.0 * GRADING) if element == "hex1" else (h0, GRADING)
 
 
 def octant_planes(R: float) -> tuple[list, tuple]:
@@ -158,8 +159,8 @@ def graded_octant(R: float, h0: float, fine: float, element: str = "tet1"):
         return C + R * v / np.linalg.norm(v, axis=0)
 
     planes, names = octant_planes(R)
-    mesh = _graded(MeshTet1(P, _orient(P, t)), _coarser(h0, element), fine, snap, planes,
-                   tol)
+    size, growth = _coarser(h0, element)
+    mesh = _graded(MeshTet1(P, _orient(P, t)), size, fine, snap, planes, tol, growth)
     return _finish(mesh, element, snap, planes, names, "sphere", tol)
 
 
@@ -183,8 +184,8 @@ def graded_quarter_cylinder(W: float, h0: float, fine: float, element: str = "te
         return out
 
     planes, names = cylinder_planes(W)
-    mesh = _graded(MeshTet1(P, _orient(P, t)), _coarser(h0, element), fine, snap, planes,
-                   tol)
+    size, growth = _coarser(h0, element)
+    mesh = _graded(MeshTet1(P, _orient(P, t)), size, fine, snap, planes, tol, growth)
     return _finish(mesh, element, snap, planes, names, "side", tol)
 
 
