@@ -36,7 +36,9 @@ nodal pressure), ``contact_radius`` (the least-squares fit of
 ``r = sqrt(x^2 + y^2) < 0.8 a``, :func:`~skfem_mortar.scenes._axi.fit_ellipse`;
 ``peak_pressure_fit`` the fitted ``p0``), each with ``_exact`` and ``_error``, and
 ``contact_force`` (the slave's resultant times the symmetry factor 4 or 2)
-against ``F``.  The registration (the contact pair) waits for the 3D pair.
+against ``F``.  The fit runs over the whole sphere's nodes (a node on one symmetry
+plane stands for two, one off both for four), so a quarter and a half on mirrored
+meshes fit the same points.  The registration (the contact pair) waits for the 3D pair.
 """
 from __future__ import annotations
 
@@ -55,7 +57,7 @@ from ._scene3d import make_solid, memory_quantity
 from .hertz_axi import FIT_WINDOW, hertz_sphere
 
 __all__ = ["PARAMS", "HertzParts", "build_bodies", "exact_hertz3d", "hertz_metrics",
-           "derived", "estimate_dofs", "FINE_ZONE", "SYMMETRY"]
+           "multiplicity", "derived", "estimate_dofs", "FINE_ZONE", "SYMMETRY"]
 
 #: the zone of ``h0``-sized elements, in units of ``a`` (as ``hertz_axi``)
 FINE_ZONE = 1.2
@@ -167,16 +169,31 @@ def build_bodies(params: dict) -> HertzParts:
                       share, h0)
 
 
+def multiplicity(x: np.ndarray, symmetry: list) -> np.ndarray:
+    """How many nodes of the whole sphere each node ``x`` (3, n) of the model stands for:
+    2 per symmetry plane ``(axis, value)`` it is not on (within ``1e-9`` of the
+    largest ``|x|``), so the quarter's interior nodes count 4, those on one plane 2,
+    those on the axis 1."""
+    tol = 1e-9 * float(np.abs(x).max())
+    m = np.ones(x.shape[1], dtype=np.int64)
+    for axis, value in symmetry:
+        m *= np.where(np.abs(x[axis] - value) <= tol, 1, 2)
+    return m
+
+
 def hertz_metrics(exact: dict, x: np.ndarray, pressure: np.ndarray, force_z: float,
-                  share: float, load: float) -> dict:
+                  symmetry: list, load: float) -> dict:
     """The readings of the module docstring from the slave nodes' current positions
     ``x`` (3, n), their nodal ``pressure`` and the slave's contact resultant
-    ``force_z`` (upwards, on the model's part of the sphere)."""
-    r = np.hypot(x[0], x[1])
-    p = np.asarray(pressure, dtype=float)
+    ``force_z`` (upwards, on the model's part of the sphere) of a model with the
+    ``symmetry`` planes: the fit runs over the whole sphere's nodes (each node
+    repeated by its :func:`multiplicity`), so the quarter and the half fit alike."""
+    m = multiplicity(x, symmetry)
+    r = np.repeat(np.hypot(x[0], x[1]), m)
+    p = np.repeat(np.asarray(pressure, dtype=float), m)
     a = exact["contact_radius"]
     fit_p0, fit_a = fit_ellipse(r, p, FIT_WINDOW * a)
-    force = share * float(force_z)
+    force = 2.0 ** len(symmetry) * float(force_z)
     out = {"peak_pressure_fit": fit_p0, "contact_force": force, "load": load,
            "contact_force_error": abs(force - load) / load, "E_star": exact["E_star"]}
     for key, val in (("peak_pressure", float(np.nanmax(p))), ("contact_radius", fit_a)):
@@ -187,6 +204,7 @@ def hertz_metrics(exact: dict, x: np.ndarray, pressure: np.ndarray, force_z: flo
 
 #: ``hertz_axi``'s parameters by name: the same names, ranges and defaults
 _AXI = {p.name: p for p in hertz_axi.SCENE.params}
+
 
 def estimate_dofs(params: dict) -> int:
     """Displacement dofs (no mesh built): ``3 (1500 + 18000 6^(refine + 1))`` nodes a
