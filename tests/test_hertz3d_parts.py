@@ -10,7 +10,7 @@ from skfem import MeshTet1
 from skfem_mortar.core.dirichlet import Dirichlet
 from skfem_mortar.scenes._contact3d import (graded_octant, graded_quarter_cylinder,
                                             symmetry_planes, tets_to_hexes)
-from skfem_mortar.scenes.hertz3d import PARAMS, build_bodies, exact_hertz3d, hertz_metrics
+from skfem_mortar.scenes._hertz3d import PARAMS, build_bodies, exact_hertz3d, hertz_metrics
 
 DEFAULTS = {p.name: p.default for p in PARAMS}
 COARSE = {**DEFAULTS, "refine": -3}
@@ -129,7 +129,7 @@ def test_hertz_fit_recovers_a_synthetic_profile():
 
 def test_parameters_are_hertz_axis_and_refused_alike():
     from skfem_mortar.scenes import Scene
-    from skfem_mortar.scenes.hertz3d import derived
+    from skfem_mortar.scenes._hertz3d import derived
     from skfem_mortar.scenes.hertz_axi import SCENE as AXI
 
     axi = {p.name: p for p in AXI.params}
@@ -154,7 +154,7 @@ def test_rigid_plane_grid_faces_up_over_its_rectangle():
 
 def test_dof_estimate_is_near_the_mesh():
     # the estimate refuses sizes the machine cannot hold: within 30 % of the mesh
-    from skfem_mortar.scenes.hertz3d import estimate_dofs
+    from skfem_mortar.scenes._hertz3d import estimate_dofs
 
     for element in ("tet1", "hex1"):
         params = {**COARSE, "element": element}
@@ -165,7 +165,7 @@ def test_dof_estimate_is_near_the_mesh():
 def test_quarter_and_half_fit_the_same_points():
     # a profile that is no ellipse: the fit depends on the weights, and the half's
     # nodes (the quarter's and their mirror images) weigh as the quarter's do
-    from skfem_mortar.scenes.hertz3d import multiplicity
+    from skfem_mortar.scenes._hertz3d import multiplicity
 
     exact = exact_hertz3d(COARSE)
     a = exact["contact_radius"]

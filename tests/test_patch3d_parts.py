@@ -10,7 +10,7 @@ from skfem_mortar.core.dirichlet import Dirichlet
 from skfem_mortar.core.model import Model
 from skfem_mortar.loads.pressure3d import FollowerPressure3D
 from skfem_mortar.scenes import Scene
-from skfem_mortar.scenes.patch3d import (PAIRINGS, PARAMS, build_bodies, derived,
+from skfem_mortar.scenes._patch3d import (PAIRINGS, PARAMS, build_bodies, derived,
                                          displacement_error, exact_patch3d, patch_metrics)
 from skfem_mortar.solver.newton import NewtonOptions
 from skfem_mortar.solver.stepping import solve

@@ -6,7 +6,7 @@ import pytest
 
 from skfem_mortar.core.model import Model
 from skfem_mortar.scenes import cantilever3d
-from skfem_mortar.scenes.tied3d import (PARAMS, build_bodies, one_piece, tied_metrics,
+from skfem_mortar.scenes._tied3d import (PARAMS, build_bodies, one_piece, tied_metrics,
                                         tip_deflection)
 from skfem_mortar.solver.newton import NewtonOptions
 from skfem_mortar.solver.stepping import solve

@@ -1,4 +1,5 @@
-"""Scene ``patch3d`` (parts): the 3D contact patch test, two stacked non-matching blocks.
+"""The parts of scene ``patch3d``: the 3D contact patch test, two stacked non-matching
+blocks (private until the 3D contact pair registers the scene).
 
 The lower block ``[0, 1]^2 x [0, H]`` (``n_lower`` cells a side) stands on
 frictionless rollers (``u_z = 0`` on ``Z = 0``); the upper block

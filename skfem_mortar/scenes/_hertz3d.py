@@ -1,4 +1,5 @@
-"""Scene ``hertz3d`` (parts): Hertz contact of a sphere, a quarter (or a half) in 3D.
+"""The parts of scene ``hertz3d``: Hertz contact of a sphere, a quarter (or a half) in 3D
+(private until the 3D contact pair registers the scene).
 
 The quarter ``X, Y >= 0`` of the hemisphere of ``hertz_axi`` (radius ``R``, centre
 ``(0, 0, R)``, touching ``Z = 0`` at the origin), pressed by the total force ``F``

@@ -1,5 +1,6 @@
-"""Scene ``tied3d`` (parts): a 3D cantilever meshed as two non-matching parts, to be
-glued by a ``TiePair``, against the one-piece beam.
+"""The parts of scene ``tied3d``: a 3D cantilever meshed as two non-matching parts, to be
+glued by a ``TiePair``, against the one-piece beam (private until the 3D tie registers
+the scene).
 
 The beam ``[0, L] x [0, h] x [0, h]`` (``L = length``, ``h = 1``) of ``cantilever3d``
 is clamped at ``X = 0`` and carries the dead tip load ``P`` in ``-z`` (a uniform
