@@ -1,13 +1,12 @@
 """A dead traction in an axisymmetric model acts on the surface of revolution
 (``dA = 2 pi R dS``): a cylinder pulled along its axis stretches uniformly to
-round-off, with the support's reaction the traction times the end's area; a
-contact pair in an axisymmetric or 3D model is refused with what to expect."""
+round-off, with the support's reaction the traction times the end's area.
+(Contact in axisymmetric models and its refusals: tests/test_axi_contact_*.py.)"""
 import numpy as np
 import pytest
 import skfem
 
-from skfem_mortar import (ContactPair, ContactSurface, Dirichlet, LinearElastic, Model,
-                          NeoHooke, RigidPlane, Solid, Traction, solve)
+from skfem_mortar import Dirichlet, LinearElastic, Model, Solid, Traction, solve
 
 
 @pytest.mark.parametrize("element", ["tri1", "quad2"])
@@ -27,13 +26,3 @@ def test_axial_pull_of_a_cylinder_is_uniform(element):
     R = model.assemble(result.z, 1.0, tangent=False)[0]
     assert body.reaction(R, bottom) == pytest.approx(-1e-3 * np.pi, rel=1e-12)
     assert pull.force.sum() == pytest.approx(1e-3 * np.pi, rel=1e-12)   # over 2 pi R dR
-
-
-@pytest.mark.parametrize("geometry", ["axisymmetric"])
-def test_contact_outside_plane_models_is_refused_with_what_to_expect(geometry):
-    mesh = skfem.MeshTri.init_tensor(np.linspace(0.0, 1.0, 3), np.linspace(0.0, 1.0, 3))
-    body = Solid(mesh.with_defaults(), NeoHooke(E=1.0, nu=0.3), name="a")
-    pair = ContactPair(ContactSurface.from_solid(body, "top"), RigidPlane((0.0, 1.1), (0.0, -1.0)),
-                       name="c")
-    with pytest.raises(ValueError, match="contact in an axisymmetric model is not offered yet"):
-        Model([body, pair], geometry=geometry)

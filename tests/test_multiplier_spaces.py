@@ -110,3 +110,36 @@ def test_a_method_naming_an_unknown_space_is_refused():
             make_method("nts-nowhere", pair.slave, pair.master)
     finally:
         unregister_method("nts-nowhere")
+
+
+@pytest.mark.parametrize("k", [2, 3])
+def test_cell_coefficients_in_jets_are_the_arrays_and_differentiate(k):
+    """DualSpace.cell_coefficients (the kernels' entry: upper triangles of M_e, jets)
+    equals coefficients (np.linalg.solve) to round-off (1e-13 on well-conditioned
+    SPD M_e), and its first derivatives are those of central differences (h = 1e-6:
+    truncation h^2 ~ 1e-12, rounding eps/h ~ 1e-10 on entries O(1))."""
+    from skfem_mortar.contact.jets import Jet
+    rng = np.random.default_rng(k)
+    B = rng.standard_normal((4, k, k))
+    M = B @ np.swapaxes(B, 1, 2) + k * np.eye(k)
+    d = rng.uniform(0.5, 1.5, (4, k))
+    ref = DualSpace.coefficients(d[:, :, None] * np.eye(k), M)
+    up = [(a, b) for a in range(k) for b in range(a, k)]
+    A = DualSpace.cell_coefficients(list(d.T), {ab: M[:, ab[0], ab[1]] for ab in up})
+    got = np.array([[A[a, b] for b in range(k)] for a in range(k)]).transpose(2, 0, 1)
+    np.testing.assert_allclose(got, ref, atol=1e-13)
+    nv = len(up) + k                      # variables: the entries of M's triangle, then d
+    Mj = {ab: Jet.variable(M[:, ab[0], ab[1]], i, nv, False) for i, ab in enumerate(up)}
+    dj = [Jet.variable(d[:, a], len(up) + a, nv, False) for a in range(k)]
+    Aj = DualSpace.cell_coefficients(dj, Mj)
+    h = 1e-6
+    for i, ab in enumerate(up + [None] * k):
+        def at(step):
+            Ms = {key: M[:, key[0], key[1]] + (step if key == ab else 0.0) for key in up}
+            ds = [d[:, a] + (step if ab is None and i == len(up) + a else 0.0) for a in range(k)]
+            return DualSpace.cell_coefficients(ds, Ms)
+        Ap, Am = at(h), at(-h)
+        for key in Aj:
+            np.testing.assert_allclose(Aj[key].g[i], (Ap[key] - Am[key]) / (2 * h), atol=1e-8)
+    with pytest.raises(ValueError, match="k must be 2 or 3"):
+        DualSpace.cell_coefficients([1.0] * 4, {})

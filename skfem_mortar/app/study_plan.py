@@ -84,6 +84,19 @@ GRIDS: dict[str, dict[str, Any]] = {
                      "metrics": ["tip_deflection_beam_error"],
                      "grid": {"element": ["tet2", "hex2", "p2p1", "hex1-md"], "n": [1, 2, 3]},
                      "quick": {"element": ["hex2"], "n": [1]}},
+    # the axisymmetric contact scenes: hertz_axi against Hertz's sphere (the *_ref_*
+    # readings as hertz's), oring and seed_axi against a fine mortar run (oring's
+    # geometry a physics axis: each its own reference)
+    "hertz_axi": {"metrics": ["peak_pressure_error", "contact_radius_error",
+                              "peak_pressure_ref_error", "contact_radius_ref_error"],
+                  "grid": {"refine": [-1, 0, 1, 2]}, "quick": {"refine": [-1, 0]}},
+    "oring": {"reference": ["force_per_circumference", "contact_width", "peak_pressure"],
+              "reference_params": {"refine": 1},
+              "grid": {"refine": [-2, -1, 0], "geometry": ["axisymmetric", "plane"]},
+              "quick": {"refine": [-2]}},
+    "seed_axi": {"reference": ["pressure", "contact_force_radial"],
+                 "reference_params": {"refine": 3},
+                 "grid": {"refine": [-1, 0, 1, 2]}, "quick": {"refine": [-1, 0]}},
 }
 #: a study of at most this many grid points is *small*: each point is timed
 #: ``SMALL_REPEAT`` times unless ``repeat`` says otherwise (larger grids once)
@@ -97,7 +110,7 @@ MORTAR_ONLY = ("n_gauss", "segmentation")
 #: coefficient): each value of such an axis a grid sets gets its own reference
 #: run (the reference parameters with that value), so that ``<q>_error`` of a
 #: friction run is measured against a fine run with the same friction
-PHYSICS_AXES = ("mu",)
+PHYSICS_AXES = ("mu", "geometry")
 
 
 @dataclass
@@ -309,8 +322,17 @@ def _variants(scene, runs: list[dict]) -> list[dict]:
 
 
 def variant_key(values: dict) -> str:
-    """The key of a reference variant (its physics-axis values, as floats)."""
-    return json.dumps({k: float(v) for k, v in values.items()}, sort_keys=True)
+    """The key of a reference variant (its physics-axis values, as floats where they
+    read as numbers, a CSV's strings included; a choice such as ``geometry`` as text)."""
+    return json.dumps({k: _number_or_text(v) for k, v in values.items()}, sort_keys=True)
+
+
+def _number_or_text(value: Any) -> float | str:
+    """``float(value)``, or ``value`` as text when it is not a number."""
+    try:
+        return float(value)
+    except (TypeError, ValueError):
+        return str(value)
 
 
 def _check_point(scene, params: dict) -> None:

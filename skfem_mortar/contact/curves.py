@@ -29,6 +29,8 @@ the cell's edge through every node.  An *affine* cell (degree 1, ``dim + 1`` nod
 """
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
 
 from .cells import CellType, cell_type
@@ -230,17 +232,28 @@ def arc_length(cell: CellType, P: tuple, a, b, n_gauss: int = N_ARC):
     return speed.sum(1) * ((b - a) * 0.5)
 
 
-def tributary_weights(x: np.ndarray, seg: np.ndarray, cell: "str | CellType") -> np.ndarray:
-    """Tributary length of each node, ``a_k = int N_k dGamma`` over its cells.
+def tributary_weights(x: np.ndarray, seg: np.ndarray, cell: "str | CellType",
+                      measure: Any = None) -> np.ndarray:
+    """Tributary weight of each node, ``a_k = int N_k w dGamma`` over its cells.
 
-    Affine cells: half the length of each cell at each of its two nodes; any other
-    cell: the cell's rule of :data:`N_TRIBUTARY` points (``cell.quadrature``, a
-    composite one for a piecewise-smooth cell), ``a_k = sum_e sum_q w_q N_k(eta_q)
-    |x'(eta_q)|`` (``line3``: ``L/6, L/6, 2L/3`` on a straight cell with a centred
-    mid node).
+    ``w`` is the weight of ``measure`` (:mod:`~skfem_mortar.contact.measures`; None or
+    a unit measure: ``w = 1``, the tributary length).  Unit weight on affine cells:
+    half the length of each cell at each of its two nodes; otherwise the cell's rule
+    of :data:`N_TRIBUTARY` points (``cell.quadrature``, a composite one for a
+    piecewise-smooth cell)::
+
+        a_k = sum_e sum_q w_q N_k(eta_q) |x'(eta_q)| w(x(eta_q))
+
+    (``line3``, ``w = 1``: ``L/6, L/6, 2L/3`` on a straight cell with a centred mid
+    node; ``w = 2 pi r`` on a ``line2`` cell from the axis, ``r`` from 0 to ``h``:
+    ``2 pi h^2 / 6`` at the axis node, exact: the rule integrates degree 9).
     """
     cell = cell_type(cell)
     seg = np.asarray(seg, dtype=np.int64)
+    if measure is not None and not measure.unit:
+        N, J, xq = _rule_points(x, seg, cell)
+        wJ = J * measure.weight(xq) * cell.quadrature(2 * N_TRIBUTARY - 1)[1]
+        return np.bincount(seg.ravel(), weights=(wJ @ N.T).ravel(), minlength=x.shape[1])
     if is_affine(cell):
         e = ends(seg, cell)
         l = np.hypot(*(x[:, e[:, 1]] - x[:, e[:, 0]]))
@@ -250,3 +263,13 @@ def tributary_weights(x: np.ndarray, seg: np.ndarray, cell: "str | CellType") ->
     t = np.einsum("dsk,kq->dsq", x[:, seg], dN)      # (2, n_seg, q)
     J = np.hypot(t[0], t[1])
     return np.bincount(seg.ravel(), weights=((J * w) @ N.T).ravel(), minlength=x.shape[1])
+
+
+def _rule_points(x: np.ndarray, seg: np.ndarray, cell: CellType) -> tuple:
+    """At the cell's rule of :data:`N_TRIBUTARY` points: ``N`` (n_nodes, q), the
+    speed ``|x'|`` (n_seg, q) and the points ``x(eta_q)``, a pair of (n_seg, q)."""
+    eta, _ = cell.quadrature(2 * N_TRIBUTARY - 1)
+    N, dN, _ = shape_values(cell, eta[0])
+    t = np.einsum("dsk,kq->dsq", x[:, seg], dN)
+    xq = np.einsum("dsk,kq->dsq", x[:, seg], N)
+    return N, np.hypot(t[0], t[1]), (xq[0], xq[1])

@@ -4,7 +4,8 @@
 residual passed whether the contact conditions hold, to tolerances
 ``tol_g = K_GAP h`` (``h`` the median slave segment length) and
 ``tol_p = K_LAM * scale / L_c`` (``L_c`` the tributary length of the active
-nodes, at least ``h``).
+nodes, at least ``h``; in an axisymmetric model their tributary area
+``2 pi int N_A r dGamma``, at least the smallest node's, :func:`_floor`).
 """
 from __future__ import annotations
 
@@ -12,7 +13,9 @@ from typing import Any
 
 import numpy as np
 
+from .curves import tributary_weights
 from .friction import OPEN, SLIP, STICK
+from .segmentation import surface_cell
 
 __all__ = ["K_GAP", "K_LAM", "violation", "friction_violation"]
 
@@ -37,7 +40,7 @@ def violation(pair: Any, z: np.ndarray, scale: float) -> str:
     m = ev.mask
     g = np.where(m, g, 0.0)
     act = pair.active
-    length = max(float(np.sum(np.where(act, ev.area, 0.0))), pair._h)
+    length = max(float(np.sum(np.where(act, ev.area, 0.0))), _floor(pair))
     tol_g, tol_p = K_GAP * pair._h, K_LAM * scale / length
     pair._tol_p = tol_p
     bad = {"penetration": m & (g < -tol_g), "tension": p < -tol_p,
@@ -57,6 +60,21 @@ def violation(pair: Any, z: np.ndarray, scale: float) -> str:
         return ""
     return (f"{pair.name}: KKT violated ({'; '.join(msgs)}; tolerances: gap "
             f"{tol_g:.3g}, pressure {tol_p:.3g})")
+
+
+def _floor(pair: Any) -> float:
+    """The least contact measure ``L_c`` of :func:`violation`: the median slave
+    segment length ``h`` (plane, per unit thickness); with a weighted measure
+    (``2 pi r`` in an axisymmetric model, where ``L_c`` is an area) the smallest
+    positive reference tributary weight, so that ``L_c`` is the sum of the active
+    nodes' weights whenever one is active (one node on the axis weighs
+    ``2 pi h^2 / 6``, a node at ``r`` about ``2 pi r h``: no length in between fits both)."""
+    measure = getattr(pair, "measure", None)
+    if measure is None or measure.unit:
+        return pair._h
+    s = pair.slave
+    w = tributary_weights(s.X, s.segments, surface_cell(s), measure)
+    return float(w[w > 0].min(initial=pair._h))
 
 
 def friction_violation(d: dict, tol_g: float, tol_p: float) -> tuple[dict, dict]:

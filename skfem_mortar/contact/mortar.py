@@ -77,6 +77,8 @@ import scipy.sparse as sp
 from .contact_eval import ContactEval
 from .multiplier_spaces import MultiplierSpace, make_space
 from .cells import cell_type
+from .measures import PLANE, Measure
+from .normals import mirror_of_axis
 from .mortar_support import multiplier_support, tributary_weights
 from .scatter import Triplets
 from .jets import Jet, at_gauss, constant_like, sqrt, value, where
@@ -133,36 +135,48 @@ class Quadrature(NamedTuple):
         times ``dxi/deta`` (constant along a segment of a linear element).
     w : ndarray (n_gauss,)
         The weights ``w_k``.
+    mw : ndarray or Jet (n, n_gauss) or None
+        The measure's weight ``w(x_s(xi1_k))`` at the Gauss points
+        (:mod:`~skfem_mortar.contact.measures`); None: 1 (plane, no product).
     """
 
     xi: Any
     jac: Any
     w: np.ndarray
+    mw: Any = None
 
     def dgamma(self, f):
-        """``f dGamma`` at the Gauss points: ``f * jac * w_k``."""
-        return f * at_gauss(self.jac) * self.w
+        """``f dGamma`` at the Gauss points: ``f * jac * w_k`` (times ``mw``)."""
+        out = f * at_gauss(self.jac) * self.w
+        return out if self.mw is None else out * self.mw
 
     def weights(self) -> np.ndarray:
-        """The values ``dGamma_k = jac w_k`` (n, n_gauss)."""
-        return value(self.jac)[:, None] * self.w
+        """The values ``dGamma_k = jac w_k`` (times ``mw``) (n, n_gauss)."""
+        out = value(self.jac)[:, None] * self.w
+        return out if self.mw is None else out * value(self.mw)
 
 
-def segment_quadrature(el, xi_a, xi_b, eta: np.ndarray, w: np.ndarray) -> Quadrature:
+def segment_quadrature(el, xi_a, xi_b, eta: np.ndarray, w: np.ndarray,
+                       measure: Measure = PLANE) -> Quadrature:
     """Step 4: the Gauss rule ``(eta, w)`` mapped onto the mortar segments ``[xi_a, xi_b]``.
 
     ``xi1 = (1 - eta)/2 xi_a + (1 + eta)/2 xi_b`` and
     ``dGamma = |x_b - x_a| / 2 * (xi_b - xi_a) / 2 * w`` with ``|x_b - x_a| / 2 = |dx|``
-    of the slave element ``el`` (:class:`~skfem_mortar.contact.mortar_segmentation.SlaveElement`).
+    of the slave element ``el`` (:class:`~skfem_mortar.contact.mortar_segmentation.SlaveElement`),
+    times the measure's weight ``w(x_s(xi1))``, ``x_s = x0 + xi1 dx`` (unless
+    ``measure.unit``).
     """
     d1x, d1y = el.dx
     jac = sqrt(d1x * d1x + d1y * d1y) * ((xi_b - xi_a) * 0.5)
     xi = at_gauss(xi_a) * ((1.0 - eta) * 0.5) + at_gauss(xi_b) * ((1.0 + eta) * 0.5)
-    return Quadrature(xi=xi, jac=jac, w=w)
+    mw = None
+    if not measure.unit:
+        mw = measure.weight(tuple(at_gauss(c) + at_gauss(d) * xi for c, d in zip(el.x0, el.dx)))
+    return Quadrature(xi=xi, jac=jac, w=w, mw=mw)
 
 
 # ------------------------------------------------ step 5: multiplier shape functions
-def dual_coefficients(lo, hi):
+def dual_coefficients(lo, hi, weights=None):
     """Step 5: dual shape function coefficients ``A_e = D_e M_e^{-1}`` on the projectable part.
 
     With ``D_e = diag(int N_A)`` and ``M_e = int N_A N_B`` over ``xi in [lo, hi]``
@@ -170,10 +184,18 @@ def dual_coefficients(lo, hi):
     ``int Phi_A N_B = delta_AB int N_A`` on that part (Popp et al. 2013).  On the
     full element ``A = [[2, -1], [-1, 2]]``.  Works on arrays and on jets.
 
+    ``weights = (w_a, w_b)``: the measure's weight at the element's nodes
+    (:mod:`~skfem_mortar.contact.measures`, linear in ``x``, so
+    ``w(xi) = N_1 w_a + N_2 w_b`` on the element); then ``D_e = diag(int N_A w)``,
+    ``M_e = int N_A N_B w`` (:func:`_weighted_dual`), biorthogonal in ``w dGamma``.
+
     Returns
     -------
     (a11, a12, a21, a22)
     """
+    if weights is not None:
+        return _weighted_dual(lo, hi, *weights)
+
     def prim(f):
         return f(hi) - f(lo)
     d1 = prim(lambda x: (x - x * x * 0.5) * 0.5)                      # int N1
@@ -182,6 +204,22 @@ def dual_coefficients(lo, hi):
     m22 = prim(lambda x: (1.0 + x) * (1.0 + x) * (1.0 + x) * (1.0 / 12.0))   # int N2^2
     m12 = prim(lambda x: (x - x * x * x * (1.0 / 3.0)) * 0.25)         # int N1 N2
     det_inv = 1.0 / (m11 * m22 - m12 * m12)
+    return (d1 * m22 * det_inv, -(d1 * m12) * det_inv,
+            -(d2 * m12) * det_inv, d2 * m11 * det_inv)
+
+
+def _weighted_dual(lo, hi, wa, wb):
+    """:func:`dual_coefficients` in ``w dGamma`` with ``w = N_1 w_a + N_2 w_b``: the
+    integrands are cubic in ``xi``, so the 2-point Gauss rule on ``[lo, hi]`` is exact
+    (the constant Jacobian and ``(hi - lo)/2`` cancel in ``D_e M_e^{-1}``)."""
+    eta, w = gauss_rule(2)
+    xi = at_gauss(lo) * ((1.0 - eta) * 0.5) + at_gauss(hi) * ((1.0 + eta) * 0.5)
+    n1, n2 = (1.0 - xi) * 0.5, (1.0 + xi) * 0.5
+    ww = (at_gauss(wa) * n1 + at_gauss(wb) * n2) * w
+    d1, d2 = (n1 * ww).sum(1), (n2 * ww).sum(1)
+    m11, m12, m22 = (n1 * n1 * ww).sum(1), (n1 * n2 * ww).sum(1), (n2 * n2 * ww).sum(1)
+    det = m11 * m22 - m12 * m12
+    det_inv = det.inv() if isinstance(det, Jet) else 1.0 / det
     return (d1 * m22 * det_inv, -(d1 * m12) * det_inv,
             -(d2 * m12) * det_inv, d2 * m11 * det_inv)
 
@@ -208,14 +246,16 @@ def biorthogonal(space: "MultiplierSpace | str" = "standard") -> bool:
     return callable(getattr(s, "coefficients", None))
 
 
-def multiplier_coefficients(like, biorthogonal: bool = False, part=None, merged=None) -> list:
+def multiplier_coefficients(like, biorthogonal: bool = False, part=None, merged=None,
+                            weights=None) -> list:
     """Step 5: coefficients ``c`` of ``Phi_a = c11 N1 + c12 N2``, ``Phi_b = c21 N1 + c22 N2``.
 
     Standard multipliers: ``c = I`` (``Phi_A = N_A``).  Dual: ``c = A_e``
     (:func:`dual_coefficients`) on the projectable part ``part = (l, h)`` of
     the slave element.  ``merged = (merged_a, merged_b)`` (bool arrays): a
     crosspoint or masked node is merged into its neighbour: its ``Phi = 0`` and
-    the neighbour's ``Phi = 1`` on that element.  ``like`` (an array or jet of
+    the neighbour's ``Phi = 1`` on that element.  ``weights``: the measure's nodal
+    weights of :func:`dual_coefficients` (None: plane).  ``like`` (an array or jet of
     shape (n,)) sets the kind and the length of the result.
 
     Returns
@@ -224,7 +264,7 @@ def multiplier_coefficients(like, biorthogonal: bool = False, part=None, merged=
     """
     n = value(like).shape[0]
     one, zero = constant_like(np.ones(n), like), constant_like(np.zeros(n), like)
-    c = list(dual_coefficients(*part)) if biorthogonal else [one, zero, zero, one]
+    c = list(dual_coefficients(*part, weights)) if biorthogonal else [one, zero, zero, one]
     if merged is not None:
         cpa, cpb = merged
         if cpa.any() or cpb.any():
@@ -475,9 +515,11 @@ class _Fields(NamedTuple):
 
 
 def _segment_fields(xs, xm, loc: _Local, sg: Segmentation, sl, nv: int, second: bool,
-                    biorth: bool, merged: np.ndarray, rule, nrm) -> _Fields:
+                    biorth: bool, merged: np.ndarray, rule, nrm,
+                    measure: Measure = PLANE) -> _Fields:
     """Steps 1 to 5 (and the projections of step 2) on the mortar segments ``sl``
-    in jets of ``nv`` local variables (see :func:`_block`)."""
+    in jets of ``nv`` local variables (see :func:`_block`), every integral in the
+    measure's ``w(x) dGamma``."""
     p, a, b, n, m1, m2, lo_node, hi_node = loc
     e = sg.e_s[sl]
     pos = [xs[:, p], xs[:, a], xs[:, b], xs[:, n], xm[:, m1], xm[:, m2]]
@@ -506,24 +548,28 @@ def _segment_fields(xs, xm, loc: _Local, sg: Segmentation, sl, nv: int, second: 
         else:
             part = (where(lo_node >= 0, project_on_slave(el, V[6])[0], const(-np.ones(e.size))),
                     where(hi_node >= 0, project_on_slave(el, V[7])[0], const(np.ones(e.size))))
-    K = multiplier_shape_functions(multiplier_coefficients(Xa[0], biorth, part, merged[sl].T))
+    wab = None if measure.unit or not biorth else (measure.weight(Xa), measure.weight(Xb))
+    K = multiplier_shape_functions(multiplier_coefficients(Xa[0], biorth, part, merged[sl].T,
+                                                           wab))
     # 4. Gauss points; 2. their projections onto the master element
-    quad = segment_quadrature(el, lo, hi, *rule)
+    quad = segment_quadrature(el, lo, hi, *rule, measure)
     proj = project_on_master(el, M1, M2)
     return _Fields(na=na, nb=nb, el=el, K=K, quad=quad, proj=proj)
 
 
 def _block(xs, xm, loc: _Local, sg: Segmentation, sl, nv: int, second: bool, biorth: bool,
-           merged: np.ndarray, rule, nrm, lam_ab=None, vector: bool = False) -> _Block:
+           merged: np.ndarray, rule, nrm, lam_ab=None, vector: bool = False,
+           measure: Measure = PLANE) -> _Block:
     """Steps 1 to 8 on the mortar segments ``sl`` in jets of ``nv`` local variables.
 
     Local variables: ``x`` and ``y`` of the slave nodes p, a, b, n, the master
     nodes m1, m2 and (``nv = 16``) the two master nodes bounding the projectable
     part of the slave element; ``nv = 0``: values only.  ``vector``: also the
     vector integrals ``n_AB``, ``n_AC`` and the weighted gaps from them (step 7).
+    ``measure``: the weight ``w(x)`` of every ``dGamma``.
     """
     _, a, b, _, m1, m2, _, _ = loc
-    f = _segment_fields(xs, xm, loc, sg, sl, nv, second, biorth, merged, rule, nrm)
+    f = _segment_fields(xs, xm, loc, sg, sl, nv, second, biorth, merged, rule, nrm, measure)
     el, K, quad, proj = f.el, f.K, f.quad, f.proj
     # 8. g_n = alpha |n~| = (x_m - x_s) . n and the weighted gaps with their derivatives
     gn = proj.alpha(quad.xi) * normal_length(el, quad.xi)
@@ -545,11 +591,12 @@ def _block(xs, xm, loc: _Local, sg: Segmentation, sl, nv: int, second: bool, bio
 
 
 def _tangential_block(xs, xm, loc: _Local, sg: Segmentation, sl, nv: int, second: bool,
-                      biorth: bool, merged: np.ndarray, rule, nrm, tau, lam_ab=None) -> _Block:
+                      biorth: bool, merged: np.ndarray, rule, nrm, tau, lam_ab=None,
+                      measure: Measure = PLANE) -> _Block:
     """:func:`tangential_jets` on the mortar segments ``sl`` (as :func:`_block`;
     ``tau`` the nodal tangent jets), with the mortar integrals (values)."""
     _, a, b, _, _, _, _, _ = loc
-    f = _segment_fields(xs, xm, loc, sg, sl, nv, second, biorth, merged, rule, nrm)
+    f = _segment_fields(xs, xm, loc, sg, sl, nv, second, biorth, merged, rule, nrm, measure)
     ta = (_embed(tau[0], a, 0, nv, second), _embed(tau[1], a, 0, nv, second))
     tb = (_embed(tau[0], b, 2, nv, second), _embed(tau[1], b, 2, nv, second))
     ra, rb, q = tangential_jets(f.K, f.proj.alpha(f.quad.xi), f.el, f.quad, ta, tb,
@@ -631,34 +678,37 @@ class _Problem(NamedTuple):
     loc: _Local
     rule: tuple
     second: bool
+    measure: Measure
 
     @staticmethod
     def of(xs, seg_s, xm, seg_m, segmentation, pairs, margin, reach, crosspoints, n_gauss,
-           nodal_jets: int, second: bool, cells=None) -> "_Problem":
+           nodal_jets: int, second: bool, cells=None, measure: Measure = PLANE) -> "_Problem":
         xs, seg_s, xm, seg_m = _as_arrays(xs, seg_s, xm, seg_m, cells)
         n_s = xs.shape[1]
+        mirror = mirror_of_axis(measure.axis)   # the axis of revolution: axial normals there
         sg = segmentation if segmentation is not None else segment(
-            xs, seg_s, xm, seg_m, pairs=pairs, margin=margin, frozen=False, reach=reach)
+            xs, seg_s, xm, seg_m, pairs=pairs, margin=margin, frozen=False, reach=reach,
+            mirror=mirror)
         # a node supported over a sliver only is masked and merged like a crosspoint,
         # so that the multiplier functions still sum to one there (evaluate, Notes)
         cp_nodes = np.zeros(n_s, bool)
         if crosspoints is not None:
             cp_nodes[np.asarray(crosspoints, dtype=np.int64)] = True
         line2 = cell_type("line2")          # the cells of this kernel (_as_arrays)
-        support = multiplier_support(xs, seg_s, sg, line2, 1)  # N_A |dx/dxi|: degree 1
-        trib = tributary_weights(xs, seg_s, line2, 1)
+        support = multiplier_support(xs, seg_s, sg, line2, 1, measure)  # N_A |dx/dxi|: degree 1
+        trib = tributary_weights(xs, seg_s, line2, 1, measure)
         mask = (support > MASK_TOL * trib) & ~cp_nodes
-        nrm, pnode, nnode = nodal_normals(xs, seg_s, second, nodal_jets)
+        nrm, pnode, nnode = nodal_normals(xs, seg_s, second, nodal_jets, mirror)
         loc = _Local.of(sg, seg_s, seg_m, pnode, nnode)
         merged = (cp_nodes | ~mask)[np.stack([loc.a, loc.b], 1)]
         return _Problem(xs, xm, n_s, xm.shape[1], sg, mask, merged, nrm, loc,
-                        gauss_rule(n_gauss), second)
+                        gauss_rule(n_gauss), second, measure)
 
     def block(self, ls: _Local, sl, nv: int, biorth: bool, lam_ab, vector: bool = False,
               second: bool | None = None) -> _Block:
         return _block(self.xs, self.xm, ls, self.sg, sl, nv,
                       self.second if second is None else second, biorth, self.merged,
-                      self.rule, self.nrm, lam_ab, vector)
+                      self.rule, self.nrm, lam_ab, vector, self.measure)
 
     def assemble(self, order: list, out: list) -> MortarIntegrals:
         """Steps 6 assembled: the blocks' integrals summed into (n_s, .) arrays and csr,
@@ -751,7 +801,8 @@ def evaluate(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarra
              n_gauss: int = 2, segmentation: Segmentation | None = None,
              pairs: tuple[np.ndarray, np.ndarray] | None = None, margin: float | None = None,
              crosspoints: np.ndarray | None = None, reach: float = 0.0,
-             cells: tuple | None = None, **options: Any) -> ContactEval:
+             cells: tuple | None = None, measure: Measure = PLANE,
+             **options: Any) -> ContactEval:
     """Mortar weighted gaps ``g``, ``G = dg/dx`` and ``H = sum_A lam_A d^2 g_A/dx^2``.
 
     Parameters
@@ -799,6 +850,13 @@ def evaluate(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarra
         function becomes 1 and theirs 0; they are never in ``mask``.
     cells : (slave, master) cell types, optional
         Both ``line2`` (checked; the cells of this kernel).
+    measure : Measure
+        The weight ``w(x)`` of ``dGamma`` (:mod:`~skfem_mortar.contact.measures`,
+        default plane ``w = 1``): every integral (``g``, ``D``, ``M``, the supports,
+        the dual basis) is taken in ``w(x_s) dGamma`` at the current slave point,
+        with its derivatives.  A measure with an axis (axisymmetric) makes the
+        slave nodes on it take the mirror normal, axial
+        (:func:`~skfem_mortar.contact.normals.mirror_of_axis`).
 
     Notes
     -----
@@ -828,7 +886,7 @@ def evaluate(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarra
         raise TypeError(f"unknown options for mortar.evaluate: {sorted(options)}")
     P = _Problem.of(xs, seg_s, xm, seg_m, segmentation, pairs, margin, reach, crosspoints,
                     n_gauss, nodal_jets=(6 if tangent else 0), second=tangent and lam is not None,
-                    cells=cells)
+                    cells=cells, measure=measure)
     bi = biorthogonal(space)
     g, G, H, A = _jet_rows(P, tangent, bi, n_gauss, lam,
                            lambda ls, sl, nv_g, lam_ab, sec: P.block(ls, sl, nv_g, bi, lam_ab,
@@ -843,7 +901,8 @@ def tangential_evaluate(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m
                         space: "MultiplierSpace | str" = "standard", n_gauss: int = 2, segmentation: Segmentation | None = None,
                         pairs: tuple[np.ndarray, np.ndarray] | None = None,
                         margin: float | None = None, crosspoints: np.ndarray | None = None,
-                        reach: float = 0.0, cells: tuple | None = None) -> ContactEval:
+                        reach: float = 0.0, cells: tuple | None = None,
+                        measure: Measure = PLANE) -> ContactEval:
     """The tangential offsets ``r_A = tau_A * (sum_C M_AC x_C - sum_B D_AB x_B)`` (a dot product),
     ``G = dr/dx`` and ``H = sum_A lam_A d^2 r_A/dx^2``, exact.
 
@@ -863,13 +922,14 @@ def tangential_evaluate(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m
     """
     second = tangent and lam is not None
     P = _Problem.of(xs, seg_s, xm, seg_m, segmentation, pairs, margin, reach, crosspoints,
-                    n_gauss, nodal_jets=(6 if tangent else 0), second=second, cells=cells)
+                    n_gauss, nodal_jets=(6 if tangent else 0), second=second, cells=cells,
+                    measure=measure)
     tau = (P.nrm[1], -P.nrm[0])        # nodal_tangents, from the normals P holds
     bi = biorthogonal(space)
 
     def block(ls, sl, nv_g, lam_ab, sec):
         return _tangential_block(P.xs, P.xm, ls, P.sg, sl, nv_g, sec, bi, P.merged,
-                                 P.rule, P.nrm, tau, lam_ab)
+                                 P.rule, P.nrm, tau, lam_ab, P.measure)
     r, G, H, A = _jet_rows(P, tangent, bi, n_gauss, lam, block)
     return ContactEval(g=r, G=G, H=H, area=A.area, mask=P.mask,
                        info={"D": A.D, "M": A.M, "tangent": np.stack([tau[0].v, tau[1].v]),
@@ -906,7 +966,8 @@ def integrals(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarr
               space: "MultiplierSpace | str" = "standard", n_gauss: int = 2,
               segmentation: Segmentation | None = None,
               pairs: tuple[np.ndarray, np.ndarray] | None = None, margin: float | None = None,
-              crosspoints: np.ndarray | None = None, reach: float = 0.0) -> SurfaceIntegrals:
+              crosspoints: np.ndarray | None = None, reach: float = 0.0,
+              measure: Measure = PLANE) -> SurfaceIntegrals:
     """The vector mortar integrals ``n_AB``, ``n_AC``, with ``D``, ``M`` and the weighted gap.
 
     Steps 1 to 7 of the module doc, values only, on the same mortar segments,
@@ -917,7 +978,7 @@ def integrals(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarr
     round-off), which is what its exact derivatives differentiate.
     """
     P = _Problem.of(xs, seg_s, xm, seg_m, segmentation, pairs, margin, reach, crosspoints,
-                    n_gauss, nodal_jets=0, second=False)
+                    n_gauss, nodal_jets=0, second=False, measure=measure)
     g = np.zeros(P.n_s)
     bi = biorthogonal(space)
     out, order = [], []

@@ -23,6 +23,8 @@ from . import mortar, mortar_quadratic
 from .mortar import biorthogonal
 from .active_set import normal_nodal_force
 from .contact_eval import ContactEval
+from .measures import PLANE, Measure
+from .normals import mirror_of_axis
 from . import nts  # noqa: F401 (registers "nts" first: the built-ins in BUILTIN_METHODS order)
 from .discretization import (ContactDiscretization, Factory, OptionTable, check_options, covers,
                              pattern_matrix, register_method, reserved_keys)
@@ -180,11 +182,34 @@ class Mortar(ContactDiscretization):
         self.reservations = 0
         #: the last kernel call (:meth:`evaluate`)
         self._last: _LastEvaluation | None = None
+        #: the weight of ``dGamma`` (:meth:`set_measure`; plane until told)
+        self.measure: Measure = PLANE
+
+    def set_measure(self, measure: Measure) -> None:
+        """The weight ``w(x)`` of ``dGamma`` in the model's geometry
+        (:class:`~skfem_mortar.contact.discretization.MeasuredDiscretization`):
+        every kernel call integrates in ``w(x_s) dGamma`` (``2 pi r`` axisymmetric), and
+        slave nodes on the axis take the mirror (axial) normal
+        (:func:`~skfem_mortar.contact.normals.mirror_of_axis`)."""
+        if not isinstance(measure, Measure):
+            raise ValueError(f"measure must be a Measure of contact.measures, got {measure!r}")
+        self.measure = measure
+        self._last = None
+
+    @property
+    def _mirror(self) -> dict:
+        """The segmentation's symmetry lines: the axis of an axisymmetric measure (its
+        slave nodes take axial normals, as in the kernels); none in plane models."""
+        mirror = mirror_of_axis(self.measure.axis)
+        return {"mirror": mirror} if mirror else {}
 
     @property
     def _kernel_options(self) -> dict:
-        """What every kernel call is told: the multiplier space and the options."""
-        return {"space": self.multiplier_space, **self.options}
+        """What every kernel call is told: the multiplier space, the options and
+        (outside plane models) the measure."""
+        if self.measure.unit:
+            return {"space": self.multiplier_space, **self.options}
+        return {"space": self.multiplier_space, "measure": self.measure, **self.options}
 
     def set_pinned(self, pinned: np.ndarray | None) -> None:
         self._pinned = pinned
@@ -197,7 +222,8 @@ class Mortar(ContactDiscretization):
         if self.segmentation == "step":
             self._sg = None
             self._sg = self._segment(xs, self.slave.segments, xm, self.master.segments,
-                                     self.cells, margin=self.options.get("margin"), frozen=True)
+                                     self.cells, margin=self.options.get("margin"), frozen=True,
+                                     **self._mirror)
 
     def _pairs(self, xs: np.ndarray, xm: np.ndarray, widen: float = 0.0) -> np.ndarray:
         """The candidate element pairs of the search :meth:`evaluate` runs at these
@@ -330,7 +356,7 @@ class Mortar(ContactDiscretization):
             return extra
         sg = self._segment(xs, self.slave.segments, xm, self.master.segments, self.cells,
                            margin=self.options.get("margin"), frozen=False,
-                           reach=extra.get("reach", 0.0))
+                           reach=extra.get("reach", 0.0), **self._mirror)
         return {**extra, "segmentation": sg}
 
     def evaluate(self, xs: np.ndarray, xm: np.ndarray, lam: np.ndarray | None,

@@ -115,12 +115,14 @@ from typing import Any, NamedTuple
 import numpy as np
 
 from .cells import CellType
+from .measures import PLANE, Measure
+from .normals import mirror_of_axis
 from .contact_eval import ContactEval
 from .mortar_support import multiplier_support, tributary_weights
 from .scatter import Triplets
 from .jets import Jet, at_gauss, constant_like, value, where
 from .mortar import MASK_TOL, biorthogonal, gauss_rule
-from .multiplier_spaces import MultiplierSpace
+from .multiplier_spaces import DualSpace, MultiplierSpace, make_space
 from .segmentation import Segmentation, check_kernel_cells, line_cells
 from .mortar_quadratic_segmentation import (SlaveSlots, curve, element_normals,
                                             element_polynomial, nodal_normals,
@@ -138,6 +140,7 @@ N_GAUSS_ELEMENT = 5
 the tributary weights (exact to degree 9; the integrands of a straight element
 have degree 4)."""
 _CHUNK_ENTRIES = 200_000  # Hessian entries per block of segments
+_DUAL = DualSpace()        # the biorthogonal space's A_e = D_e M_e^-1 (dual_coefficients)
 
 
 def _check_rule(name: str, n: Any) -> int:
@@ -237,22 +240,9 @@ def _modified(T: np.ndarray | None, N: list, k: int) -> list:
     return out
 
 
-def _sym_inverse(M: dict, k: int) -> dict:
-    """Inverse of the symmetric ``k x k`` matrix ``M[(a, b)]`` (a <= b) by cofactors."""
-    if k == 2:
-        a, b, d = M[0, 0], M[0, 1], M[1, 1]
-        r = (a * d - b * b).inv() if isinstance(a, Jet) else 1.0 / (a * d - b * b)
-        return {(0, 0): d * r, (0, 1): -(b * r), (1, 1): a * r}
-    a, b, c, d, e, f = M[0, 0], M[0, 1], M[0, 2], M[1, 1], M[1, 2], M[2, 2]
-    C = {(0, 0): d * f - e * e, (0, 1): c * e - b * f, (0, 2): b * e - c * d,
-         (1, 1): a * f - c * c, (1, 2): b * c - a * e, (2, 2): a * d - b * b}
-    det = a * C[0, 0] + b * C[0, 1] + c * C[0, 2]
-    r = det.inv() if isinstance(det, Jet) else 1.0 / det
-    return {key: v * r for key, v in C.items()}
-
-
 def dual_coefficients(P: list, lo, hi, cell: CellType, T: np.ndarray | None = None,
-                      n_gauss: int = N_GAUSS_ELEMENT) -> dict:
+                      n_gauss: int = N_GAUSS_ELEMENT, measure: Measure = PLANE,
+                      space: DualSpace | None = None) -> dict:
     """Step 6: dual coefficients ``A~ = D~ M~^{-1}`` on the projectable part ``[lo, hi]``.
 
     ``D~ = diag(int N~_A dGamma)``, ``M~_AB = int N~_A N~_B dGamma`` over
@@ -262,6 +252,11 @@ def dual_coefficients(P: list, lo, hi, cell: CellType, T: np.ndarray | None = No
     (:func:`merge_matrix`; a zero row gets ``M~_AA = 1``, ``D~_AA = 0``), by an
     ``n_gauss``-point rule; arrays or jets.  ``Phi_A = sum_B A~_AB N~_B`` then
     satisfies ``int Phi_A N~_B dGamma = delta_AB int N~_A dGamma`` for that rule.
+    ``measure``: ``dGamma`` times its weight ``w(x_s(xi))``
+    (:mod:`~skfem_mortar.contact.measures`), so the basis is biorthogonal in ``w dGamma``.
+    ``A~`` from ``D~``, ``M~`` is the space's
+    (:meth:`~skfem_mortar.contact.multiplier_spaces.DualSpace.cell_coefficients`;
+    default the registered ``"dual"``).
 
     Returns
     -------
@@ -270,7 +265,10 @@ def dual_coefficients(P: list, lo, hi, cell: CellType, T: np.ndarray | None = No
     k = cell.n_nodes
     eta, w = gauss_rule(n_gauss)
     xi, half = _segment_points(lo, hi, eta)
-    dG = _jacobian(_expand(P), xi) * half * w
+    PE = _expand(P)
+    dG = _jacobian(PE, xi) * half * w
+    if not measure.unit:
+        dG = dG * measure.weight(curve(PE, xi))
     Nt = _modified(T, shape_values(cell, xi), k)
     wN = [N * dG for N in Nt]
     D = [x.sum(1) for x in wN]
@@ -280,8 +278,7 @@ def dual_coefficients(P: list, lo, hi, cell: CellType, T: np.ndarray | None = No
         for a in range(k):
             if dead[:, a].any():
                 M[a, a] = M[a, a] + dead[:, a] * 1.0
-    Mi = _sym_inverse(M, k)
-    return {(a, b): D[a] * Mi[min(a, b), max(a, b)] for a in range(k) for b in range(k)}
+    return (space if space is not None else _DUAL).cell_coefficients(D, M)
 
 
 # -------------------------------------------------------------- one block of segments
@@ -301,6 +298,7 @@ class _Problem(NamedTuple):
     rule: tuple
     n_gauss_element: int
     cells: tuple                   # the slave and master cell types
+    measure: Measure               # the weight of dGamma
 
     @property
     def n_slots(self) -> int:
@@ -311,20 +309,25 @@ class _Problem(NamedTuple):
 
 
 def _prepare(xs, seg_s, xm, seg_m, segmentation, pairs, margin, reach, crosspoints,
-             n_gauss, n_gauss_element, cells=None) -> _Problem:
+             n_gauss, n_gauss_element, cells=None, measure: Measure = PLANE) -> _Problem:
     xs, seg_s, xm, seg_m, cells = _as_arrays(xs, seg_s, xm, seg_m, cells)
     n_s = xs.shape[1]
+    mirror = mirror_of_axis(measure.axis)   # the axis of revolution: axial normals there
     sg = segmentation if segmentation is not None else segment(
         xs, seg_s, xm, seg_m, pairs=pairs, margin=margin, frozen=False, reach=reach,
-        cells=cells)
+        cells=cells, mirror=mirror)
     cp = np.isin(np.arange(n_s), [] if crosspoints is None else crosspoints)
-    support = multiplier_support(xs, seg_s, sg, cells[0], n_gauss)
-    trib = tributary_weights(xs, seg_s, cells[0], 2 * n_gauss_element - 1)
+    support = multiplier_support(xs, seg_s, sg, cells[0], n_gauss, measure)
+    # outside plane models the scale is int |N_A| w dGamma: int N_A w dGamma of a line3
+    # vertex on the axis vanishes (mortar_support.tributary_weights)
+    trib = tributary_weights(xs, seg_s, cells[0], 2 * n_gauss_element - 1, measure,
+                             absolute=not measure.unit)
     mask = (support > MASK_TOL * trib) & ~cp
     merged = ~mask[seg_s]
-    return _Problem(xs, seg_s, xm, seg_m, sg, slave_slots(xs, seg_s, cells[0]), mask, support,
+    return _Problem(xs, seg_s, xm, seg_m, sg, slave_slots(xs, seg_s, cells[0], mirror), mask,
+                    support,
                     merge_matrix(merged, cells[0]), merged.any(axis=1), gauss_rule(n_gauss),
-                    n_gauss_element, cells)
+                    n_gauss_element, cells, measure)
 
 
 class _Block(NamedTuple):
@@ -368,7 +371,7 @@ def _projectable_part(exi: np.ndarray, nodes: tuple, Pc: list, Qc: list, Vb: lis
             where(hi_node >= 0, ph, const(np.ones(n))))
 
 
-def _block(P: _Problem, sl: np.ndarray, nv: int, second: bool, biorth: bool,
+def _block(P: _Problem, sl: np.ndarray, nv: int, second: bool, biorth: "DualSpace | None",
            lam: np.ndarray | None, tangential: bool = False) -> _Block:
     """Steps 1 to 7 on the mortar segments ``sl`` in jets of ``nv`` local variables
     (0: values only); ``tangential``: the tangential offsets ``r_A`` of
@@ -389,7 +392,7 @@ def _block(P: _Problem, sl: np.ndarray, nv: int, second: bool, biorth: bool,
     like = V[0][0]
     const = lambda v: constant_like(np.asarray(v, dtype=float), like)  # noqa: E731
     # 1. the slave normal field
-    nrm = element_normals(V[:ns], cs, P.slots.wp[e], P.slots.wn[e])
+    nrm = element_normals(V[:ns], cs, P.slots.wp[e], P.slots.wn[e], P.slots.mirrored_of(e))
     Pc, Qc = element_polynomial(V[:k], cs), element_polynomial(nrm, cs)
     R = element_polynomial(V[ns:ns + km], cm)
     # 2, 3. end points of the mortar segments: the master vertices projected onto e
@@ -400,7 +403,7 @@ def _block(P: _Problem, sl: np.ndarray, nv: int, second: bool, biorth: bool,
     if biorth:
         part = _projectable_part(sg.elem_xi[e], (lo_node, hi_node), Pc, Qc,
                                  V[ns + km:ns + km + 2] if partial else None, const)
-        A = dual_coefficients(Pc, *part, cs, T, P.n_gauss_element)
+        A = dual_coefficients(Pc, *part, cs, T, P.n_gauss_element, P.measure, biorth)
     # 4. Gauss points on the mortar segments, 5. their projections onto the master
     eta_r, w = P.rule
     xi, half = _segment_points(lo, hi, eta_r)
@@ -408,6 +411,8 @@ def _block(P: _Problem, sl: np.ndarray, nv: int, second: bool, biorth: bool,
     X = curve(PE, xi)
     Nn = curve(QE, xi)
     dG = _jacobian(PE, xi) * half * w
+    if not P.measure.unit:
+        dG = dG * P.measure.weight(X)
     Rv = [None if r is None else (value(r[0]), value(r[1])) for r in RE]
     eta0, _ = project_on_master(Rv, (value(X[0]), value(X[1])), (value(Nn[0]), value(Nn[1])))
     eta0 = np.nan_to_num(eta0)
@@ -508,7 +513,8 @@ def evaluate(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarra
              space: "MultiplierSpace | str" = "standard", n_gauss: int = N_GAUSS, segmentation: Segmentation | None = None,
              pairs: tuple[np.ndarray, np.ndarray] | None = None, margin: float | None = None,
              crosspoints: np.ndarray | None = None, reach: float = 0.0,
-             n_gauss_element: int = N_GAUSS_ELEMENT, **options: Any) -> ContactEval:
+             n_gauss_element: int = N_GAUSS_ELEMENT, measure: Measure = PLANE,
+             **options: Any) -> ContactEval:
     """Mortar weighted gaps ``g``, ``G = dg/dx`` and ``H = sum_A lam_A d^2 g_A/dx^2``
     on curved 3-node (or 2-node) segments.
 
@@ -542,6 +548,12 @@ def evaluate(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarra
         merged into their elements' other nodes (:func:`merge_matrix`).
     n_gauss_element : int in [1, 10]
         Points of the element rule of the dual basis and the tributary weights.
+    measure : Measure
+        The weight ``w(x)`` of ``dGamma`` (:mod:`~skfem_mortar.contact.measures`,
+        default plane ``w = 1``): every integral (``g``, ``D``, ``M``, the supports,
+        the dual basis) is taken in ``w(x_s) dGamma``, with its derivatives.  A
+        measure with an axis (axisymmetric) makes the slave nodes on it take the
+        mirror normal, axial (:func:`~skfem_mortar.contact.normals.mirror_of_axis`).
     **options
         ``cells``: the (slave, master) cell types, ``line2`` or ``line3`` (default:
         the lines of the connectivities' columns,
@@ -557,7 +569,8 @@ def evaluate(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarra
         and ``n_segments``.
     """
     return _evaluate(xs, seg_s, xm, seg_m, lam, tangent, space, n_gauss, segmentation, pairs,
-                     margin, crosspoints, reach, n_gauss_element, options, False, "evaluate")
+                     margin, crosspoints, reach, n_gauss_element, options, False, "evaluate",
+                     measure)
 
 
 def tangential_evaluate(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarray,
@@ -566,7 +579,7 @@ def tangential_evaluate(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m
                         pairs: tuple[np.ndarray, np.ndarray] | None = None,
                         margin: float | None = None, crosspoints: np.ndarray | None = None,
                         reach: float = 0.0, n_gauss_element: int = N_GAUSS_ELEMENT,
-                        **options: Any) -> ContactEval:
+                        measure: Measure = PLANE, **options: Any) -> ContactEval:
     """The tangential offsets ``r_A = dot(tau_A, sum_C M_AC x_C - sum_B D_AB x_B)``,
     ``G = dr/dx`` and ``H = sum_A lam_A d^2 r_A/dx^2`` on curved segments, exact.
 
@@ -589,11 +602,18 @@ def tangential_evaluate(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m
     """
     return _evaluate(xs, seg_s, xm, seg_m, lam, tangent, space, n_gauss, segmentation, pairs,
                      margin, crosspoints, reach, n_gauss_element, options, True,
-                     "tangential_evaluate")
+                     "tangential_evaluate", measure)
+
+
+def _dual_space(space: "MultiplierSpace | str") -> DualSpace:
+    """The biorthogonal space object that gives ``A_e`` (:func:`dual_coefficients`)."""
+    s = space if isinstance(space, MultiplierSpace) else make_space(space)
+    return s if callable(getattr(s, "cell_coefficients", None)) else _DUAL
 
 
 def _evaluate(xs, seg_s, xm, seg_m, lam, tangent, space, n_gauss, segmentation, pairs, margin,
-              crosspoints, reach, n_gauss_element, options, tangential, name) -> ContactEval:
+              crosspoints, reach, n_gauss_element, options, tangential, name,
+              measure: Measure = PLANE) -> ContactEval:
     """:func:`evaluate` (``tangential`` False) or :func:`tangential_evaluate`."""
     options = dict(options)
     cells = options.pop("cells", None)
@@ -602,7 +622,7 @@ def _evaluate(xs, seg_s, xm, seg_m, lam, tangent, space, n_gauss, segmentation, 
     _check_rule("n_gauss", n_gauss)
     _check_rule("n_gauss_element", n_gauss_element)
     P = _prepare(xs, seg_s, xm, seg_m, segmentation, pairs, margin, reach, crosspoints,
-                 n_gauss, n_gauss_element, cells)
+                 n_gauss, n_gauss_element, cells, measure)
     n_s, n_m = P.xs.shape[1], P.xm.shape[1]
     k = P.slots.k
     ndof = 2 * n_s + 2 * n_m
@@ -610,7 +630,7 @@ def _evaluate(xs, seg_s, xm, seg_m, lam, tangent, space, n_gauss, segmentation, 
     lamv = None if lam is None else np.asarray(lam, dtype=float)
     g = np.zeros(n_s)
     Gt, Ht, Dt, Mt = Triplets(), Triplets(), Triplets(), Triplets()
-    bi = biorthogonal(space)
+    bi = _dual_space(space) if biorthogonal(space) else None
     for sl, nv in _blocks(P, tangent, bi, second):
         if sl.size == 0:
             continue
@@ -631,6 +651,6 @@ def _evaluate(xs, seg_s, xm, seg_m, lam, tangent, space, n_gauss, segmentation, 
     D, M = Dt.csr((n_s, n_s)), Mt.csr((n_s, n_m))
     info = {"D": D, "M": M, "segmentation": P.sg, "n_segments": P.sg.n}
     if tangential:
-        nrm = nodal_normals(P.xs, P.seg_s, P.cells[0])
+        nrm = nodal_normals(P.xs, P.seg_s, P.cells[0], mirror_of_axis(P.measure.axis))
         info["tangent"] = np.stack([nrm[1], -nrm[0]])
     return ContactEval(g=g, G=G, H=H, area=P.area, mask=P.mask, info=info)

@@ -76,7 +76,8 @@ from ..core.chain import segments_at_nodes
 from .jets import Jet, _outer, constant_like, inv, sqrt, value
 from . import mortar_segmentation
 from .cells import CellType
-from .mortar_segmentation import LEN_TOL, _side, clip_to_slave, master_coordinates
+from .mortar_segmentation import LEN_TOL, _side, clip_to_slave, master_coordinates, mirror_normal
+from .normals import mirror_nodes
 from .segmentation import Segmentation, line_cells, register_default
 from .search import box_pairs
 
@@ -225,6 +226,10 @@ class SlaveSlots(NamedTuple):
         1.0 where the previous (next) element takes part in the vertex normal, else 0.0.
     cell : CellType
         The slave cell type.
+    mirrored : tuple of (e, on)
+        Symmetry lines ``e`` with ``on`` (n_el, k): which of the element's own nodes
+        lie on each (:func:`~skfem_mortar.contact.normals.mirror_nodes`; they take
+        the mirror normal, :func:`element_normals`).
     """
 
     nodes: np.ndarray
@@ -232,6 +237,11 @@ class SlaveSlots(NamedTuple):
     wp: np.ndarray
     wn: np.ndarray
     cell: CellType
+    mirrored: tuple = ()
+
+    def mirrored_of(self, el: np.ndarray) -> tuple:
+        """:attr:`mirrored` of the elements ``el``."""
+        return tuple((e, on[el]) for e, on in self.mirrored)
 
     @property
     def k(self) -> int:
@@ -239,10 +249,11 @@ class SlaveSlots(NamedTuple):
         return self.cell.n_nodes
 
 
-def slave_slots(xs: np.ndarray, seg: np.ndarray, cell: CellType) -> SlaveSlots:
+def slave_slots(xs: np.ndarray, seg: np.ndarray, cell: CellType, mirror=()) -> SlaveSlots:
     """The local slave nodes of every slave element and their positions (values):
     its own nodes, then the previous element's start and interior nodes, then the
-    next element's end and interior nodes (:func:`interior`)."""
+    next element's end and interior nodes (:func:`interior`); ``mirror``: symmetry
+    lines ``(e, c)`` of the normals (:attr:`SlaveSlots.mirrored`)."""
     k = cell.n_nodes
     c0, c1 = cell.corners
     inner = interior(cell)
@@ -270,16 +281,19 @@ def slave_slots(xs: np.ndarray, seg: np.ndarray, cell: CellType) -> SlaveSlots:
         pos[:, ~has_p, k + j] = xs[:, s[~has_p]] + d * ex
     for j, d in enumerate(dnext):
         pos[:, ~has_n, 2 * k - 1 + j] = xs[:, t[~has_n]] + d * ex
-    return SlaveSlots(nodes, pos, has_p * 1.0, has_n * 1.0, cell)
+    mirrored = tuple((e, on[seg]) for e, on in mirror_nodes(xs, mirror))
+    return SlaveSlots(nodes, pos, has_p * 1.0, has_n * 1.0, cell, mirrored)
 
 
-def element_normals(slot_pos: list, cell: CellType, wp, wn) -> list:
+def element_normals(slot_pos: list, cell: CellType, wp, wn, mirrored=()) -> list:
     """Step 1: the nodal normals of an element's own nodes, in column order.
 
     ``slot_pos``: the ``3 k - 2`` slot positions of :class:`SlaveSlots` (pairs of
     arrays or jets).  Corners: ``normalize(wp nu_prev(end) + nu(start))`` and
     ``normalize(nu(end) + wn nu_next(start))``; an interior node: ``nu`` at its
-    reference coordinate (line3's mid node: ``nu(0)``).
+    reference coordinate (line3's mid node: ``nu(0)``).  A node on a symmetry line
+    of ``mirrored`` (:meth:`SlaveSlots.mirrored_of` of the elements) takes its mirror
+    normal (:func:`~skfem_mortar.contact.mortar_segmentation.mirror_normal`).
 
     Returns
     -------
@@ -303,6 +317,8 @@ def element_normals(slot_pos: list, cell: CellType, wp, wn) -> list:
     out[c1] = normalize(nu_b[0] + nu_n[0] * wn, nu_b[1] + nu_n[1] * wn)
     for a in inner:
         out[a] = _unit_normal(_tangent_at(own, cell, ref[a]))
+    for a in range(k) if mirrored else ():
+        out[a] = mirror_normal(out[a], [(e, on[:, a]) for e, on in mirrored])
     return out
 
 
@@ -310,20 +326,21 @@ def _slot_pairs(pos: np.ndarray) -> list:
     return [(pos[0, :, j], pos[1, :, j]) for j in range(pos.shape[2])]
 
 
-def nodal_normals(xs: np.ndarray, seg: np.ndarray, cell: CellType | None = None
-                  ) -> np.ndarray:
+def nodal_normals(xs: np.ndarray, seg: np.ndarray, cell: CellType | None = None,
+                  mirror=()) -> np.ndarray:
     """Step 1 (values): the nodal normal of every slave node, (2, n_s).
 
     Vertices: the normalized sum of the adjacent elements' unit normals at that
     vertex; mid nodes: their element's normal at ``xi = 0``.  ``cell``: the slave
     cell type (default: the line of the connectivity's columns,
-    :func:`~skfem_mortar.contact.segmentation.line_cells`).
+    :func:`~skfem_mortar.contact.segmentation.line_cells`); ``mirror`` symmetry lines
+    (:func:`slave_slots`).
     """
     xs = np.asarray(xs, dtype=float)
     seg = np.asarray(seg, dtype=np.int64)
     cell = line_cells(seg, seg, None if cell is None else (cell, cell))[0]
-    sl = slave_slots(xs, seg, cell)
-    nrm = element_normals(_slot_pairs(sl.pos), cell, sl.wp, sl.wn)
+    sl = slave_slots(xs, seg, cell, mirror)
+    nrm = element_normals(_slot_pairs(sl.pos), cell, sl.wp, sl.wn, sl.mirrored)
     out = np.zeros((2, xs.shape[1]))
     for a in range(sl.k):
         out[0, seg[:, a]] = value(nrm[a][0])
@@ -332,7 +349,8 @@ def nodal_normals(xs: np.ndarray, seg: np.ndarray, cell: CellType | None = None
 
 
 def nodal_normal_jets(xs: np.ndarray, seg: np.ndarray, second: bool = True,
-                      cell: CellType | None = None) -> tuple[tuple[Jet, Jet], np.ndarray]:
+                      cell: CellType | None = None, mirror=()
+                      ) -> tuple[tuple[Jet, Jet], np.ndarray]:
     """Step 1 in jets: the nodal normal of every slave node, with its exact first
     (and ``second``) derivatives.
 
@@ -352,7 +370,7 @@ def nodal_normal_jets(xs: np.ndarray, seg: np.ndarray, second: bool = True,
     seg = np.asarray(seg, dtype=np.int64)
     cell = line_cells(seg, seg, None if cell is None else (cell, cell))[0]
     n_s, k = xs.shape[1], cell.n_nodes
-    sl = slave_slots(xs, seg, cell)
+    sl = slave_slots(xs, seg, cell, mirror)
     elem = np.full(n_s, -1, dtype=np.int64)
     col = np.zeros(n_s, dtype=np.int64)
     for a in range(k):
@@ -363,7 +381,7 @@ def nodal_normal_jets(xs: np.ndarray, seg: np.ndarray, second: bool = True,
     ns = 3 * k - 2
     V = [(Jet.variable(sl.pos[0, el, j], 2 * j, 2 * ns, second),
           Jet.variable(sl.pos[1, el, j], 2 * j + 1, 2 * ns, second)) for j in range(ns)]
-    nrm = element_normals(V, cell, sl.wp[el], sl.wn[el])
+    nrm = element_normals(V, cell, sl.wp[el], sl.wn[el], sl.mirrored_of(el))
     out = []
     for i in (0, 1):
         acc = nrm[k - 1][i]
@@ -527,13 +545,28 @@ def _hull(e_s, xi, node_lo, node_hi, n_es):
     return elem_xi, elem_node
 
 
-def element_fields(xs: np.ndarray, seg_s: np.ndarray, cell: CellType) -> tuple[list, list]:
-    """Position and normal-field coefficients ``P``, ``Q`` of every slave element (values)."""
-    sl = slave_slots(xs, seg_s, cell)
+def element_fields(xs: np.ndarray, seg_s: np.ndarray, cell: CellType, mirror=()
+                   ) -> tuple[list, list]:
+    """Position and normal-field coefficients ``P``, ``Q`` of every slave element (values;
+    ``mirror``: symmetry lines of the normals, :func:`slave_slots`)."""
+    sl = slave_slots(xs, seg_s, cell, mirror)
     pos = _slot_pairs(sl.pos)
-    nrm = element_normals(pos, cell, sl.wp, sl.wn)
+    nrm = element_normals(pos, cell, sl.wp, sl.wn, sl.mirrored)
     return (element_polynomial(pos[:cell.n_nodes], cell),
             element_polynomial([(value(n[0]), value(n[1])) for n in nrm], cell))
+
+
+def _chord_side(p: np.ndarray, lost: np.ndarray, c: tuple, xa: tuple, xb: tuple) -> np.ndarray:
+    """The side of a master vertex ``c`` where the side rule had no slave end projected
+    onto the master curve (``lost``: the Newton projection onto the curve's quadratic
+    extension found no root) and its own projection lay outside the slave cell
+    (``p = +-inf``, possibly from a spurious root of the wrong sign): beyond the slave
+    end b (``+inf``) where the vertex lies past b along the slave chord
+    ``x_a -> x_b``, beyond a (``-inf``) where past a, else ``p`` kept."""
+    dx, dy = xb[0] - xa[0], xb[1] - xa[1]
+    t = 2.0 * ((c[0] - xa[0]) * dx + (c[1] - xa[1]) * dy) / (dx * dx + dy * dy) - 1.0
+    side = np.where(t > 1.0, np.inf, np.where(t < -1.0, -np.inf, p))
+    return np.where(lost & np.isinf(p), side, p)
 
 
 def _take(C: list, idx) -> list:
@@ -543,14 +576,15 @@ def _take(C: list, idx) -> list:
 def segment(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarray,
             pairs: tuple[np.ndarray, np.ndarray] | None = None, margin: float | None = None,
             frozen: bool = True, reach: float = 0.0,
-            cells: tuple[CellType, CellType] | None = None) -> Segmentation:
+            cells: tuple[CellType, CellType] | None = None, mirror=()) -> Segmentation:
     """Step 3: the mortar segments of curved (or straight) slave and master elements.
 
     Parameters as :func:`skfem_mortar.contact.mortar_segmentation.segment`;
     ``seg_s``, ``seg_m`` of 2 or 3 columns (start, end[, mid]).  The end points
     ``xi`` are the projections of the master vertices onto the curved slave
     elements along the slave normal field (``src`` 0 or 1: the master element's
-    start or end vertex), clipped to [-1, 1].
+    start or end vertex), clipped to [-1, 1].  ``mirror``: symmetry lines of the
+    slave normals (:func:`slave_slots`).
 
     Returns
     -------
@@ -572,7 +606,7 @@ def segment(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarray
     keep = good_s[i_s] & good_m[i_m]
     i_s, i_m = i_s[keep], i_m[keep]
 
-    Pe, Qe = element_fields(xs, seg_s, cs)
+    Pe, Qe = element_fields(xs, seg_s, cs, mirror)
     P, Q = _take(Pe, i_s), _take(Qe, i_s)
     R = element_polynomial([(xm[0, seg_m[i_m, a]], xm[1, seg_m[i_m, a]])
                             for a in range(cm.n_nodes)], cm)
@@ -594,6 +628,9 @@ def segment(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarray
         dab = eta_b - eta_a
         p1, ok1 = _side(p1, ok1, -1.0 - eta_a, -1.0 - eta_b, dab)
         p2, ok2 = _side(p2, ok2, 1.0 - eta_a, 1.0 - eta_b, dab)
+    lost = ~(np.isfinite(eta_a) & np.isfinite(eta_b))
+    if lost.any():
+        p1, p2 = _chord_side(p1, lost, c1, xa, xb), _chord_side(p2, lost, c2, xa, xb)
     keep, xi, src = clip_to_slave(p1, p2, facing & ok1 & ok2)
     e_s, e_m = i_s[keep], i_m[keep]
     xi_m = master_coordinates(src, eta_a[keep], eta_b[keep])
@@ -608,7 +645,7 @@ def segment_lines(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.n
                   cells: tuple[CellType, CellType],
                   pairs: tuple[np.ndarray, np.ndarray] | None = None,
                   margin: float | None = None, frozen: bool = True,
-                  reach: float = 0.0) -> Segmentation:
+                  reach: float = 0.0, mirror=()) -> Segmentation:
     """The 2D segmentation (:class:`~skfem_mortar.contact.segmentation.Segmenter`) of
     lines of any order: master vertices projected onto the slave lines along the
     slave normal field, clipped to the slave cell.
@@ -616,14 +653,15 @@ def segment_lines(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.n
     Two straight lines (``line2``) take
     :func:`~skfem_mortar.contact.mortar_segmentation.segment` (closed-form
     projections), any other pair :func:`segment` (Newton projections on the
-    cells' curves).
+    cells' curves).  ``mirror``: symmetry lines ``(e, c)`` of the slave normals
+    (:func:`~skfem_mortar.contact.normals.mirror_nodes`).
     """
     straight = cells[0].name == "line2" and cells[1].name == "line2"
     if straight:
         return mortar_segmentation.segment(xs, seg_s, xm, seg_m, pairs=pairs, margin=margin,
-                                           frozen=frozen, reach=reach)
+                                           frozen=frozen, reach=reach, mirror=mirror)
     return segment(xs, seg_s, xm, seg_m, pairs=pairs, margin=margin, frozen=frozen,
-                   reach=reach, cells=cells)
+                   reach=reach, cells=cells, mirror=mirror)
 
 
 register_default(1, segment_lines)

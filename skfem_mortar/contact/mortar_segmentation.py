@@ -65,11 +65,12 @@ from typing import NamedTuple
 
 import numpy as np
 
+from .normals import mirror_nodes
 from .segmentation import Segmentation
 from .surfaces import segment_lengths, segments_at_nodes
 from .jets import Jet, _outer, _val, at_gauss, constant_like, cross, inv, normalize, sqrt, where
 
-__all__ = ["Jet", "Segmentation", "segment", "nodal_normals", "SlaveElement",
+__all__ = ["Jet", "Segmentation", "segment", "nodal_normals", "mirror_normal", "SlaveElement",
            "slave_element", "project_point_on_slave", "project_on_slave",
            "MasterProjection", "project_on_master", "normal_length", "segment_end_points",
            "clip_to_slave",
@@ -87,7 +88,25 @@ def _unit_normal(x1, y1, x2, y2):
     return normalize(y2 - y1, x1 - x2)
 
 
-def nodal_normals(xs: np.ndarray, seg: np.ndarray, second: bool = True, nv: int = 6):
+def mirror_normal(n: tuple, mirrored) -> tuple:
+    """Step 1, mirror normals: ``normalize(n - (e·n) e)`` where ``on``, for each
+    ``(e, on)`` of ``mirrored`` (2D, jets or arrays of one length), elsewhere ``n``
+    unchanged (:mod:`~skfem_mortar.contact.normals`).  On the axis of an
+    axisymmetric model (``e = e_r``) the normal becomes axial, with zero derivatives."""
+    nx, ny = n
+    for e, on in mirrored:
+        if not np.any(on):
+            continue
+        d = nx * e[0] + ny * e[1]
+        px, py = nx - d * e[0], ny - d * e[1]
+        with np.errstate(divide="ignore", invalid="ignore"):
+            r = inv(sqrt(px * px + py * py))
+            nx, ny = where(on, px * r, nx), where(on, py * r, ny)
+    return nx, ny
+
+
+def nodal_normals(xs: np.ndarray, seg: np.ndarray, second: bool = True, nv: int = 6,
+                  mirror=()):
     """Step 1: averaged unit normals of all slave nodes, as jets in the node's 6 local variables.
 
     ``n_k = normalize(w_p nu(p, k) + w_n nu(k, n))`` with ``nu(i, j)`` the
@@ -95,7 +114,9 @@ def nodal_normals(xs: np.ndarray, seg: np.ndarray, second: bool = True, nv: int 
     previous and next node along the chain and ``w = 0`` where that neighbour is
     missing (chain ends) or its segment is degenerate (shorter than ``LEN_TOL``
     times the mean length); a dummy position is used there.  Local variables:
-    ``(x_p, y_p, x_k, y_k, x_n, y_n)``; with ``nv = 0`` values only.
+    ``(x_p, y_p, x_k, y_k, x_n, y_n)``; with ``nv = 0`` values only.  ``mirror``:
+    symmetry lines ``(e, c)`` (:func:`~skfem_mortar.contact.normals.mirror_nodes`), a
+    node on one takes its mirror normal (:func:`mirror_normal`).
 
     Returns
     -------
@@ -122,6 +143,8 @@ def nodal_normals(xs: np.ndarray, seg: np.ndarray, second: bool = True, nv: int 
     nnx, nny = _unit_normal(J[2], J[3], J[4], J[5])
     wp, wn = has_p * 1.0, has_n * 1.0
     nx, ny = normalize(npx * wp + nnx * wn, npy * wp + nny * wn)
+    if mirror:
+        nx, ny = mirror_normal((nx, ny), mirror_nodes(xs, mirror))
     return (nx, ny), pnode, nnode
 
 
@@ -347,7 +370,7 @@ def master_coordinates(src: np.ndarray, eta_a: np.ndarray, eta_b: np.ndarray) ->
 
 def segment(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarray,
             pairs: tuple[np.ndarray, np.ndarray] | None = None, margin: float | None = None,
-            frozen: bool = True, reach: float = 0.0) -> Segmentation:
+            frozen: bool = True, reach: float = 0.0, mirror=()) -> Segmentation:
     """Step 3: the mortar segments of the current coordinates (values, vectorized over pairs).
 
     Parameters
@@ -373,6 +396,8 @@ def segment(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarray
         Added to the local margin (>= 0): :class:`~skfem_mortar.contact.pair.ContactPair`
         passes twice the largest motion of a contact node since the load step
         began, so a node that penetrates deeply within one step is still paired.
+    mirror : sequence of (e, c)
+        Symmetry lines of the slave normals (:func:`nodal_normals`).
 
     Returns
     -------
@@ -398,7 +423,7 @@ def segment(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarray
     keep = good_s[i_s] & good_m[i_m]
     i_s, i_m = i_s[keep], i_m[keep]
 
-    (nxv, nyv), _, _ = nodal_normals(xs, seg_s, second=False, nv=0)
+    (nxv, nyv), _, _ = nodal_normals(xs, seg_s, second=False, nv=0, mirror=mirror)
     a, b = seg_s[i_s, 0], seg_s[i_s, 1]
     xa, xb = xs[:, a], xs[:, b]
     na = (nxv.v[a], nyv.v[a])

@@ -39,6 +39,8 @@ from typing import Any
 
 import numpy as np
 
+from .jets import inv
+
 from ..core.validate import flag
 
 __all__ = ["MultiplierSpace", "NodalSpace", "StandardSpace", "DualSpace", "register_space",
@@ -200,10 +202,38 @@ class DualSpace(StandardSpace):
         return np.linalg.solve(np.swapaxes(M_e, 1, 2), np.swapaxes(D_e, 1, 2)).swapaxes(1, 2)
 
     @staticmethod
+    def cell_coefficients(D: list, M: dict) -> dict:
+        """``A_e = D_e M_e^-1`` entry by entry, for the kernels' jets: ``D`` the ``k``
+        diagonal entries of ``D_e``, ``M`` the upper triangle ``M[(a, b)]``, ``a <= b``,
+        of the symmetric ``M_e`` (each an array or a jet of shape (n,)), inverted by
+        cofactors (``k`` = 2 or 3, the 2D line cells), so the derivatives of ``A_e``
+        follow.  Returns ``{(a, b): A_ab}``; the same as :meth:`coefficients` on arrays."""
+        k = len(D)
+        Mi = _sym_inverse(M, k)
+        return {(a, b): D[a] * Mi[min(a, b), max(a, b)] for a in range(k) for b in range(k)}
+
+    @staticmethod
     def transformation(n_nodes: int) -> np.ndarray:
         """The displacement basis transformation of a cell of ``n_nodes`` nodes
         before ``A_e`` is built: the identity (3D quadratic cells will need another)."""
         return np.eye(n_nodes)
+
+
+def _sym_inverse(M: dict, k: int) -> dict:
+    """Inverse of the symmetric ``k x k`` matrix ``M[(a, b)]`` (a <= b) by cofactors
+    (arrays or jets; ``k`` = 2 or 3, else ValueError naming ``k``)."""
+    if k == 2:
+        a, b, d = M[0, 0], M[0, 1], M[1, 1]
+        r = inv(a * d - b * b)
+        return {(0, 0): d * r, (0, 1): -(b * r), (1, 1): a * r}
+    if k != 3:
+        raise ValueError(f"k must be 2 or 3 (the cofactor inverse of the line cells), got {k}")
+    a, b, c, d, e, f = M[0, 0], M[0, 1], M[0, 2], M[1, 1], M[1, 2], M[2, 2]
+    C = {(0, 0): d * f - e * e, (0, 1): c * e - b * f, (0, 2): b * e - c * d,
+         (1, 1): a * f - c * c, (1, 2): b * c - a * e, (2, 2): a * d - b * b}
+    det = a * C[0, 0] + b * C[0, 1] + c * C[0, 2]
+    r = inv(det)
+    return {key: v * r for key, v in C.items()}
 
 
 _REGISTRY: dict[str, MultiplierSpace] = {}

@@ -22,6 +22,14 @@ linear (2D) or bilinear (3D: ``d2v_i / dx_{b c} dx_{b' c'} = eps_{i c c'} (G_{b 
 
     d2f_i / dv_j dv_k = (3 f_i f_j f_k - delta_ij f_k - delta_ik f_j - delta_jk f_i) / |v|^2 .
 
+Mirror normals: a symmetry line (2D) or plane (3D) ``e . x = c`` (``e`` a unit
+normal) stands for the mirror image of the surface beyond it; a node on it (within
+:data:`MIRROR_TOL` of the surface's size) averages its cells' normals with their
+mirror images, ``s_A + R s_A = 2 P s_A`` with ``R = I - 2 e e^T``, ``P = I - e e^T``:
+its normal is ``P s_A / |P s_A|``, the e-component removed (in an axisymmetric model
+the axis, ``e = e_r``, ``c = 0``: a node on the axis gets an axial normal).  ``P`` is
+constant, so ``dP s = P ds`` and ``d2P s = P d2s`` before the normalization.
+
 Each node's neighbourhood (the nodes of its cells, ``K`` at most, padded with -1) gives
 the local variables of its normal, so that a kernel that takes nodal normals as local
 variables chains them in at assembly (``H = J^T H_loc J + sum_k df/dn_k d2n_k/dx2``).
@@ -35,11 +43,66 @@ import numpy as np
 from .cell_map import area_vectors, cell_measures, check_connectivity, norms
 from .cells import CellType, cell_type
 
-__all__ = ["NodalNormals", "nodal_normals", "normalize_jet", "DEGENERATE"]
+__all__ = ["NodalNormals", "nodal_normals", "normalize_jet", "DEGENERATE", "MIRROR_TOL",
+           "mirror_nodes", "mirror_of_axis"]
 
 #: a cell at most this fraction of the mean length or area takes no part in the average
 #: (as the 2D kernels' ``LEN_TOL``)
 DEGENERATE = 1e-10
+#: a node within this fraction of the surface's size of a symmetry line or plane is on it
+MIRROR_TOL = 1e-10
+
+
+def mirror_nodes(x: np.ndarray, mirror) -> list[tuple[np.ndarray, np.ndarray]]:
+    """The symmetry lines or planes ``mirror`` with the nodes on each.
+
+    ``mirror`` holds pairs ``(e, c)``, the line or plane ``e·x = c``; returns
+    ``[(e / |e|, on)]``, ``on`` (n,) bool where ``|e·x - c| <= MIRROR_TOL * size``,
+    ``size`` the largest side of the nodes' bounding box (1 for one node).
+
+    Raises
+    ------
+    ValueError
+        When an ``e`` is not a nonzero vector of ``d = x.shape[0]`` finite components
+        or a ``c`` is not a finite number.
+    """
+    x = np.asarray(x, dtype=float)
+    d = x.shape[0]
+    size = float(np.ptp(x, axis=1).max()) if x.shape[1] > 1 else 0.0
+    size = size if size > 0 else 1.0
+    out = []
+    for item in mirror:
+        try:
+            e, c = item
+            e, c = np.asarray(e, dtype=float), float(c)
+        except (TypeError, ValueError):
+            raise ValueError(f"mirror must hold pairs (e, c) of a normal vector and an "
+                             f"offset, got {item!r}") from None
+        r = float(np.linalg.norm(e)) if e.shape == (d,) else 0.0
+        if not (r > 0 and np.isfinite(r) and np.isfinite(c)):
+            raise ValueError(f"mirror normal e must be a nonzero finite vector of {d} "
+                             f"components and c finite, got e={e!r}, c={c!r}")
+        e = e / r
+        out.append((e, np.abs(e @ x - c) <= MIRROR_TOL * size))
+    return out
+
+
+def mirror_of_axis(axis: int | None, d: int = 2) -> tuple:
+    """The symmetry line of an axisymmetric model's axis ``x[axis] = 0`` as a
+    ``mirror`` entry (``()`` for ``axis`` None: no mirror), e.g. from a measure's
+    :attr:`~skfem_mortar.contact.measures.Measure.axis`."""
+    if axis is None:
+        return ()
+    return ((np.eye(d)[axis], 0.0),)
+
+
+def _project(e: np.ndarray, on: np.ndarray, s: np.ndarray, ds, d2s) -> None:
+    """``P = I - e e^T`` applied in place to the columns ``on`` of ``s`` (d, n) and its
+    derivative arrays (d, n, ...)."""
+    for a in (s, ds, d2s):
+        if a is not None:
+            a[:, on] -= e.reshape((-1,) + (1,) * (a.ndim - 1)) * np.einsum(
+                "i,i...->...", e, a[:, on])[None]
 
 
 @dataclass
@@ -154,7 +217,7 @@ def _neighbourhoods(conn: np.ndarray, n_nodes: int) -> tuple[np.ndarray, np.ndar
 
 
 def nodal_normals(x: np.ndarray, conn: np.ndarray, cell: "str | CellType",
-                  order: int = 2) -> NodalNormals:
+                  order: int = 2, mirror=()) -> NodalNormals:
     """Averaged unit nodal normals (module docstring) with derivatives up to ``order``.
 
     Parameters
@@ -165,6 +228,9 @@ def nodal_normals(x: np.ndarray, conn: np.ndarray, cell: "str | CellType",
     cell : str or CellType
     order : {0, 1, 2}
         0: values only; 1: and first derivatives; 2: and second.
+    mirror : sequence of (e, c)
+        Symmetry lines or planes ``e . x = c``: a node on one gets the mirror normal
+        ``P s / |P s|`` (module docstring, :func:`mirror_nodes`).
 
     Returns
     -------
@@ -191,7 +257,10 @@ def nodal_normals(x: np.ndarray, conn: np.ndarray, cell: "str | CellType",
     A = conn.ravel()
     s = np.stack([np.bincount(A, weights=u[i] * w, minlength=n_nodes) for i in range(d)])
     nodes, slot = _neighbourhoods(conn, n_nodes)
+    mirrors = mirror_nodes(x, mirror)
     if order == 0:
+        for e, on in mirrors:
+            _project(e, on, s, None, None)
         return NodalNormals(normalize_jet(s)[0], nodes)
     K = nodes.shape[1]
     P = K * d
@@ -206,6 +275,8 @@ def nodal_normals(x: np.ndarray, conn: np.ndarray, cell: "str | CellType",
         d2s = np.stack([np.bincount(idx.ravel(), weights=(d2u[i] * w[:, None, None]).ravel(),
                                     minlength=n_nodes * P * P)
                         for i in range(d)]).reshape(d, n_nodes, P, P)
+    for e, on in mirrors:
+        _project(e, on, s, ds, d2s)
     n, dn, d2n = normalize_jet(s, ds, d2s)
     return NodalNormals(n, nodes, dn.reshape(d, n_nodes, K, d),
                         None if d2n is None else d2n.reshape(d, n_nodes, K, d, K, d))

@@ -36,8 +36,10 @@ G_xixi xi_q xi_q^T``: only the exact gradient of ``xi`` enters.  Both come from 
 ``xi``, exact to second order), cross-tested against the closed form on line2 cells
 declared curved (tests/test_nts_cells.py).  ``info["xi"]`` is ``(1 + xi) / 2``, the
 affine kernel's ``[0, 1]``, so the method's segment memory is the same for both.  A
-slave node of any cell weighs ``int N_A dGamma`` (:func:`~.curves.tributary_weights`;
-``line3``: ``L/6, L/6, 2L/3`` on a straight cell).
+slave node of any cell weighs ``int N_A w dGamma`` (:func:`~.curves.tributary_weights`;
+``line3``, ``w = 1``: ``L/6, L/6, 2L/3`` on a straight cell), ``w`` the weight of the
+model's measure (:meth:`NTS.set_measure`: ``2 pi r`` in an axisymmetric model, where
+the multiplier is a nodal force totalled over the revolution; the gap is not weighted).
 
 Projection and partner search: :mod:`.nts_projection`.
 
@@ -57,6 +59,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from .cells import CellType
+from .measures import PLANE, Measure
 from .curves import cell_lengths, check_line, curve, ends, is_affine, polyline, projection_jets, tributary_weights
 from .scatter import Triplets
 from .segmentation import line_cells, surface_cell
@@ -64,7 +67,7 @@ from .contact_eval import ContactEval
 from .discretization import (ContactDiscretization, OptionTable, check_entries, check_options,
                              covers, pattern_matrix, register_method, reserved_keys)
 from .nts_projection import LOCK_STICK, candidates, choose_segments, project
-from .surfaces import segment_lengths, segment_normals, segments_at_nodes
+from .surfaces import AXIS_TOL, segment_lengths, segment_normals, segments_at_nodes
 
 __all__ = ["NTS", "evaluate", "project", "candidates", "choose_segments", "RESERVE_MARGIN", "RESERVE_HALO", "SLIP_HALO", "LOCK_STICK", "COARSE_RATIO", "failure_hints",
            "nearest_nodes", "vertex_trap"]
@@ -102,7 +105,8 @@ def evaluate(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarra
              margin: float | None = None, end_tolerance: float = 1e-8,
              prefer: np.ndarray | None = None, stick: float = 0.05,
              lock: np.ndarray | None = None,
-             cells: "tuple[str | CellType, str | CellType] | None" = None) -> ContactEval:
+             cells: "tuple[str | CellType, str | CellType] | None" = None,
+             measure: Measure = PLANE, mirrored: np.ndarray | None = None) -> ContactEval:
     """NTS gaps ``g_N`` of the slave nodes, ``G = dg/dx`` and ``H = sum_k lam_k d^2 g_k/dx^2``.
 
     One gap over any line cell type of the table: on an affine master cell
@@ -125,12 +129,19 @@ def evaluate(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarra
     cells : (slave, master) cell types, optional
         Line cells of degree at most 2 (:func:`~.curves.check_line`); default:
         :func:`~skfem_mortar.contact.segmentation.line_cells`.
+    measure : Measure
+        The weight ``w`` of ``dGamma`` (:mod:`~.measures`) in the tributary weights
+        ``area = int N_A w dGamma`` (default :data:`~.measures.PLANE`, ``w = 1``; an
+        axisymmetric model's ``2 pi r``); the gap does not depend on it.
+    mirrored : bool ndarray (n_m,), optional
+        Master nodes on a symmetry line (:func:`project`: a chain end there is no
+        free end; :class:`NTS` passes those on the axis of its measure).
 
     Returns
     -------
     ContactEval
         Local dof order: slave node k -> 2k, 2k+1; master node j -> 2 n_s + 2j, 2 n_s + 2j + 1.
-        ``area`` is the tributary length of each slave node; ``info`` holds
+        ``area`` is the tributary weight of each slave node; ``info`` holds
         ``xi`` (in ``[0, 1]`` along the cell), ``segment`` and ``normal``.
     """
     xs, seg_s = _check(xs, seg_s, "slave")
@@ -141,9 +152,10 @@ def evaluate(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarra
         lam = np.asarray(lam, dtype=float).ravel()
         if lam.shape != (n_s,):
             raise ValueError(f"lam must have shape ({n_s},), got {lam.shape}")
-    pr = project(xs, xm, seg_m, margin, end_tolerance, prefer, stick, lock, cell=cm)
+    pr = project(xs, xm, seg_m, margin, end_tolerance, prefer, stick, lock, cell=cm,
+                 mirrored=mirrored)
     mask, g = pr["mask"], pr["g"]
-    area = tributary_weights(xs, seg_s, cs)
+    area = tributary_weights(xs, seg_s, cs, measure)
     info = {"xi": pr["xi"], "segment": pr["segment"], "normal": pr["n"]}
     if not tangent:
         return ContactEval(g=g, G=None, H=None, area=area, mask=mask, info=info)
@@ -343,6 +355,9 @@ class NTS(ContactDiscretization):
         self.options = dict(options)
         self._hint = failure_hints(slave, master, pair_name)
         self._pinned: np.ndarray | None = None
+        #: the weight of ``dGamma`` (:meth:`set_measure`)
+        self.measure: Measure = PLANE
+        self._mirrored: np.ndarray | None = None   # master nodes on the measure's axis
         self._prefer: np.ndarray | None = None
         self._prefer_converged: np.ndarray | None = None
         self._lock: np.ndarray | None = None
@@ -352,6 +367,19 @@ class NTS(ContactDiscretization):
         #: (held candidate keys, pattern) of :meth:`pattern`; reservations made
         self._reserved: tuple[np.ndarray, sp.csr_matrix] | None = None
         self.reservations = 0
+
+    def set_measure(self, measure: Measure) -> None:
+        """The weight of ``dGamma`` (:class:`~.discretization.MeasuredDiscretization`):
+        the tributary weights ``area`` (the nodal force over it is the pressure) are
+        ``int N_A w dGamma`` over the current slave surface; the gaps are not weighted.
+        A measure with an axis (``2 pi r``) makes the master nodes on it (within
+        :data:`~.surfaces.AXIS_TOL` of the master's size, in its reference
+        coordinates) mirrored: a chain end there is no free end (:func:`project`)."""
+        self.measure = measure
+        self._mirrored = None
+        if measure.axis is not None and self.master.n_nodes:
+            X = np.asarray(self.master.X, dtype=float)
+            self._mirrored = np.abs(X[measure.axis]) <= AXIS_TOL * float(np.ptp(X, axis=1).max())
 
     def set_pinned(self, pinned: np.ndarray | None) -> None:
         self._pinned = pinned
@@ -422,7 +450,8 @@ class NTS(ContactDiscretization):
             if self._lock is not None and self._lock.any():
                 extra["lock"] = self._lock
         ev = evaluate(xs, self.slave.segments, xm, self.master.segments, lam=lam,
-                      tangent=tangent, **extra, **self.options, cells=self.cells)
+                      tangent=tangent, **extra, **self.options, cells=self.cells,
+                      measure=self.measure, mirrored=self._mirrored)
         if self._pinned is not None and self._pinned.any():
             ev.mask = ev.mask & ~self._pinned
         return ev

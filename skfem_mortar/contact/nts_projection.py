@@ -107,7 +107,7 @@ def choose_segments(i_n: np.ndarray, i_e: np.ndarray, xi: np.ndarray, dist: np.n
 def project(xs: np.ndarray, xm: np.ndarray, seg_m: np.ndarray, margin: float | None = None,
             end_tolerance: float = 1e-8, prefer: np.ndarray | None = None,
             stick: float = 0.05, lock: np.ndarray | None = None,
-            cell: "str | CellType" = "line2") -> dict:
+            cell: "str | CellType" = "line2", mirrored: np.ndarray | None = None) -> dict:
     """Closest-point projection of every slave node on the master chain (cells of type ``cell``).
 
     An affine cell (:func:`~.curves.is_affine`, ``line2``) in closed form, any other
@@ -140,6 +140,13 @@ def project(xs: np.ndarray, xm: np.ndarray, seg_m: np.ndarray, margin: float | N
         :class:`NTS` for a node caught at a reflex vertex of the master (see docs/robustness.md).
     cell : str or CellType
         The master cell type (a line cell of the table, default ``line2``).
+    mirrored : bool ndarray (n_m,), optional
+        Master nodes on a symmetry line (an axisymmetric model's axis ``r = 0``,
+        :meth:`NTS.set_measure <skfem_mortar.contact.nts.NTS.set_measure>`): a chain
+        end there is no free end, the surface continues in its mirror image, so a
+        node beyond it keeps its segment (the extension line: a slave node on the
+        axis over a master pole whose last segment the deformation tilts).  None:
+        every chain end is free.
 
     Returns
     -------
@@ -151,7 +158,8 @@ def project(xs: np.ndarray, xm: np.ndarray, seg_m: np.ndarray, margin: float | N
     _check_projection(stick, end_tolerance)
     cell = cell_type(cell)
     if not is_affine(cell):
-        return _project_curve(xs, xm, seg_m, margin, end_tolerance, prefer, stick, lock, cell)
+        return _project_curve(xs, xm, seg_m, margin, end_tolerance, prefer, stick, lock, cell,
+                              mirrored)
     n_s, n_m = xs.shape[1], xm.shape[1]
     nrm, lm = segment_normals(xm, seg_m)
     if margin is None:
@@ -175,8 +183,7 @@ def project(xs: np.ndarray, xm: np.ndarray, seg_m: np.ndarray, margin: float | N
     xi_all[k] = xi
     mask = segment >= 0
     # has the node left the free end of an open master chain?
-    is_first = seg_of_end[seg_m[:, 0]] < 0
-    is_last = seg_of_start[seg_m[:, 1]] < 0
+    is_first, is_last = _free_ends(seg_m, seg_of_end, seg_of_start, mirrored)
     es = np.where(mask, segment, 0)
     off = (is_first[es] & (xi_all < -end_tolerance)) | (is_last[es] & (xi_all > 1 + end_tolerance))
     mask &= ~off
@@ -189,6 +196,18 @@ def project(xs: np.ndarray, xm: np.ndarray, seg_m: np.ndarray, margin: float | N
             "n": n, "e": ev, "l": l, "g": g}
 
 
+def _free_ends(chain: np.ndarray, seg_of_end: np.ndarray, seg_of_start: np.ndarray,
+               mirrored: np.ndarray | None) -> tuple[np.ndarray, np.ndarray]:
+    """Per master segment: whether it starts, and whether it ends, a free end of an open
+    chain (no neighbour there, and not a ``mirrored`` node, :func:`project`)."""
+    is_first = seg_of_end[chain[:, 0]] < 0
+    is_last = seg_of_start[chain[:, 1]] < 0
+    if mirrored is not None:
+        is_first &= ~mirrored[chain[:, 0]]
+        is_last &= ~mirrored[chain[:, 1]]
+    return is_first, is_last
+
+
 def _check_projection(stick: float, end_tolerance: float) -> None:
     if not (np.isfinite(stick) and stick >= 0):
         raise ValueError(f"stick must be a finite number >= 0, got {stick}")
@@ -198,7 +217,8 @@ def _check_projection(stick: float, end_tolerance: float) -> None:
 
 def _project_curve(xs: np.ndarray, xm: np.ndarray, seg_m: np.ndarray, margin: float | None,
                    end_tolerance: float, prefer: np.ndarray | None, stick: float,
-                   lock: np.ndarray | None, cell: CellType) -> dict:
+                   lock: np.ndarray | None, cell: CellType,
+                   mirrored: np.ndarray | None = None) -> dict:
     """:func:`project` onto curved line cells: Newton in the cell's coordinate
     (:func:`~.curves.project_values`) on every candidate, the choice of
     :func:`choose_segments` with ``xi`` mapped to ``[0, 1]``, the distance to the
@@ -227,8 +247,7 @@ def _project_curve(xs: np.ndarray, xm: np.ndarray, seg_m: np.ndarray, margin: fl
     xi_all = np.zeros(n_s)
     xi_all[k] = xi_c[best]
     mask = segment >= 0
-    is_first = seg_of_end[chain[:, 0]] < 0
-    is_last = seg_of_start[chain[:, 1]] < 0
+    is_first, is_last = _free_ends(chain, seg_of_end, seg_of_start, mirrored)
     es = np.where(mask, segment, 0)
     u_all = 0.5 * (1.0 + xi_all)
     # a node that kept its segment (the hysteresis ``prefer``) stays on it within

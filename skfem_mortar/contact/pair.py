@@ -57,14 +57,15 @@ from . import pair_output, pair_state
 from . import preflight as _preflight  # noqa: F401 (registers the checks Model.preflight runs)
 from .active_set import ActiveSet, chain_order, touching_nodes
 from .contact_eval import ContactEval
-from .discretization import PatternedDiscretization
+from .discretization import MeasuredDiscretization, PatternedDiscretization
 from .friction import FrictionLaw, FrictionRows, as_law
 from .kkt import K_GAP, K_LAM, violation
+from .measures import PLANE, Measure, measure_for
 from .methods import METHODS, make_method  # METHODS: the registry's names, the built-ins in it
 from .multiplier_spaces import MultiplierSpace, space_for
 from .reservation import Reservation
 from .segmentation import surface_cell
-from .surfaces import segment_lengths
+from .surfaces import check_geometry, segment_lengths
 from .tangential_rows import NEAR_BOUND, P_REF_FIT, tangential_rows
 from ..core.binding import rebind
 from ..core.item import Contribution, Item
@@ -107,7 +108,17 @@ def _check_surface(role: str, surface: Any) -> None:
 
 class ContactPair(Item):
     """Contact between a slave and a master surface with Lagrange multipliers,
-    frictionless or with Coulomb or Tresca friction.
+    frictionless or with Coulomb or Tresca friction, in plane and axisymmetric models.
+
+    In an axisymmetric model (``Model(..., geometry="axisymmetric")``, ``(r, z) =
+    (x, y)``) every integral over the slave weighs ``2 pi r dGamma`` (the measure
+    the pair tells its method at bind, :attr:`measure`): the multipliers' forces
+    and :meth:`total_force` are totals over the revolution, NTS's tributary weights
+    ``2 pi int N_A r dGamma`` (``2 pi h^2 / 6`` at an axis node of a flat ``line2``
+    cell); a rigid master is a plate normal to the axis, a cylinder about it or a
+    sphere centred on it (:func:`~.surfaces.check_geometry`); friction acts along
+    the meridian, and slave nodes on the axis cannot slip (their tangential rows
+    are open).
 
     Parameters
     ----------
@@ -173,11 +184,11 @@ class ContactPair(Item):
     """
 
     dof_kind = "lam"
-    geometries = ("plane",)
-    #: contact in the other geometries comes with axisymmetric and 3D contact
-    geometry_advice = {g: f"contact in {a} model is not offered yet (only in plane models); "
-                          f"it comes with {g} contact"
-                       for g, a in (("axisymmetric", "an axisymmetric"), ("3d", "a 3D"))}
+    geometries = ("plane", "axisymmetric")
+    #: contact in 3D models comes with 3D contact
+    geometry_advice = {"3d": "contact in a 3D model is not offered yet (only in plane and "
+                             "axisymmetric models); it comes with 3d contact"}
+    _geometry = "plane"
     loaded = False  # its residual does not depend on the load factor
     #: K_lamu = c G on active rows against K_ulam = -G^T (and H): not symmetric
     symmetric = False
@@ -212,6 +223,8 @@ class ContactPair(Item):
             options = {**options, "segmentation": segmentation}
         law = as_law(friction)
         self.discretization = make_method(method, slave, master, pair_name=name, **options)
+        if isinstance(self.discretization, MeasuredDiscretization):
+            self.discretization.set_measure(PLANE)  # until a model of another geometry binds it
         #: the multiplier space of the method (:func:`~.multiplier_spaces.space_for`)
         self.space: MultiplierSpace = space_for(self.discretization)
         #: the friction law as given (None: frictionless, one multiplier per slave node)
@@ -242,6 +255,41 @@ class ContactPair(Item):
         #: pattern missed an entry of G or H (:meth:`_widen`)
         self._reserved: tuple[Any, Reservation] | None = None
         self.pattern_misses = 0
+
+    # -- geometry ------------------------------------------------------------
+
+    @property
+    def geometry(self) -> str:
+        """The model's geometry (:attr:`~skfem_mortar.core.item.Item.geometry`),
+        written by the model at bind; setting another tells the method its
+        measure (:meth:`~.discretization.MeasuredDiscretization.set_measure`)."""
+        return self._geometry
+
+    @geometry.setter
+    def geometry(self, value: str) -> None:
+        if value == self._geometry:
+            return
+        measure = measure_for(value)
+        if self._started:
+            raise ValueError(f"contact pair {self.name!r} has taken load steps in a "
+                             f"{self._geometry!r} model; it cannot move to a {value!r} one: "
+                             f"build a new ContactPair for that model")
+        if not isinstance(self.discretization, MeasuredDiscretization):
+            raise ValueError(f"method {self.method!r} has no set_measure hook "
+                             f"(MeasuredDiscretization): it integrates over plane surfaces "
+                             f"only, and contact pair {self.name!r} is in a {value!r} model; "
+                             f"use one of the built-in methods (nts, mortar, mortar-dual) or "
+                             f"give the method set_measure")
+        for role, surface in (("slave", self.slave), ("master", self.master)):
+            check_geometry(surface, value, role)
+        self.discretization.set_measure(measure)
+        self._geometry = value
+
+    @property
+    def measure(self) -> Measure:
+        """The weight of ``dGamma`` in the pair's geometry (:func:`~.measures.measure_for`):
+        1 in a plane model, ``2 pi r`` in an axisymmetric one."""
+        return measure_for(self._geometry)
 
     # -- helpers -------------------------------------------------------------
 
@@ -617,7 +665,8 @@ class ContactPair(Item):
         return [ContactOutput(self)]
 
     def contact_data(self, z: np.ndarray) -> dict[str, np.ndarray]:
-        """Per slave node: ``x, y`` (current), ``gap`` (length) and ``pressure`` (traction).
+        """Per slave node: ``x, y`` (current; in an axisymmetric model also as ``r, z``),
+        ``gap`` (length) and ``pressure`` (traction).
 
         The rows follow the slave surface: chain order, an open chain from its
         end with the smaller reference ``x`` (then ``y``), a closed one from the
@@ -657,6 +706,9 @@ class ContactPair(Item):
 
     def total_force(self, z: np.ndarray) -> np.ndarray:
         """Resultant (2,) of the contact force on the slave surface (a total over
-        the model's thickness, as :meth:`forces`)."""
+        the model's thickness, as :meth:`forces`; in an axisymmetric model, whose
+        thickness factor is 1, a total over the revolution: ``[1]`` the axial
+        resultant, ``[0]`` the radial total ``sum_A f_r,A``, the work of the force
+        on a unit radial displacement, whose vector resultant is zero)."""
         rebind(self)  # this pair's model's layout, if another model was used since
         return self.forces(z)[0].sum(axis=1)

@@ -12,10 +12,11 @@ import numpy as np
 
 from ..core.binding import rebind
 from .active_set import chain_order
+from .curves import polyline
 from .search import distance_to_polyline
 from .segmentation import surface_cell
 
-__all__ = ["contact_data", "along_surface", "forces"]
+__all__ = ["contact_data", "along_surface", "forces", "weightless_read", "WEIGHTLESS"]
 
 
 def contact_data(pair: Any, z: np.ndarray) -> dict[str, np.ndarray]:
@@ -26,6 +27,8 @@ def contact_data(pair: Any, z: np.ndarray) -> dict[str, np.ndarray]:
     # written as 0: outputs never show a negative pressure that is not there
     p = np.where((p < 0) & (p >= -pair._tol_p), 0.0, p)
     p[p == 0] = 0.0  # no -0.0
+    p = weightless_read(p, ev.area, ev.mask, polyline(pair.slave.segments,
+                                                      surface_cell(pair.slave)))
     x = pair.slave.x(z)
     g = np.where(ev.mask, g, np.nan)
     dist = np.where(ev.mask, g, 0.0)
@@ -34,9 +37,49 @@ def contact_data(pair: Any, z: np.ndarray) -> dict[str, np.ndarray]:
         dist[far] = distance_to_polyline(x[:, far], pair.master.x(z), pair.master.segments)
     data = {"x": x[0], "y": x[1], "gap": g, "pressure": p, "has_master": ev.mask,
             "distance": dist}
+    if pair.geometry == "axisymmetric":   # the coordinates by their names there
+        data.update(r=x[0], z=x[1])
     data.update(pair.rows.columns(z))
     k = along_surface(pair.slave)
     return {**{name: v[k] for name, v in data.items()}, "node": k}
+
+
+#: a node facing a master whose tributary weight is at most this fraction of its
+#: heaviest neighbour's carries no force of its own (:func:`weightless_read`):
+#: a line3 vertex on the axis weighs 0 on a straight cell and about -1e-5 of its mid
+#: node on a sphere's pole cell (h = R / 100); the least ratio elsewhere is 1/4 (a
+#: line3 vertex against its mid node in plane) or 1/6 (a line2 axis node against
+#: its neighbour), so this acts on nothing else (but a line2 chain end next to a
+#: segment 1000 times longer than its own)
+WEIGHTLESS = 1e-3
+
+
+def weightless_read(p: np.ndarray, area: np.ndarray, mask: np.ndarray,
+                    chords: np.ndarray) -> np.ndarray:
+    """``p`` with the pressure of every weightless node facing a master read from its
+    heaviest neighbour along the surface (``chords``: the chords through every node,
+    :func:`~.curves.polyline`).
+
+    A ``line3`` vertex on the axis of an axisymmetric model weighs ``2 pi int N_A r
+    dGamma`` = 0 on a straight cell, nearly 0 (of either sign) on a curved one: an NTS
+    force there is about 0 and ``lam / a_A`` says nothing about the pressure; its
+    neighbour, the mid node of its cell (weight ``2 pi int N_mid r dGamma > 0``),
+    carries it.  Nodes with ``a_A <=`` :data:`WEIGHTLESS` times that neighbour's
+    weight take its pressure; no other changes.
+    """
+    ends = np.asarray(chords, dtype=np.int64)
+    node, mate = np.r_[ends[:, 0], ends[:, 1]], np.r_[ends[:, 1], ends[:, 0]]
+    w = np.abs(area)
+    order = np.lexsort((w[mate], node))          # each node's heaviest neighbour last
+    last = np.r_[node[order][1:] != node[order][:-1], True]
+    best = np.arange(area.size)
+    best[node[order][last]] = mate[order][last]
+    weightless = mask & (best != np.arange(area.size)) & (area <= WEIGHTLESS * w[best])
+    if not weightless.any():
+        return p
+    out = p.copy()
+    out[weightless] = p[best[weightless]]
+    return out
 
 
 def along_surface(s: Any) -> np.ndarray:

@@ -107,6 +107,9 @@ class Segmenter(Protocol):
     ``xs``, ``xm`` (d, n) node coordinates, ``seg_s``, ``seg_m`` the connectivity,
     ``cells`` the two :class:`~skfem_mortar.contact.cells.CellType`; ``pairs`` given
     candidates (else searched with ``margin`` or the local margin plus ``reach``).
+    In an axisymmetric model the mortar method also passes ``mirror``, the symmetry
+    lines of the slave normals (:func:`~skfem_mortar.contact.normals.mirror_of_axis`);
+    a segmentation used there takes that keyword.
     """
 
     def __call__(self, xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarray,

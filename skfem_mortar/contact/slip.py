@@ -100,6 +100,7 @@ from .segmentation import check_kernel_cells, line_cells
 from .jets import Jet
 from .mortar_quadratic_segmentation import nodal_normal_jets
 from .mortar_segmentation import nodal_normals
+from .normals import mirror_of_axis
 from .nts_projection import project
 from ..core.chain import segments_at_nodes
 
@@ -431,7 +432,8 @@ def mortar_slip(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.nda
         either side takes the curved kernel.
     **kernel_options
         ``dual``, ``n_gauss``, ``segmentation``, ``pairs``, ``margin``,
-        ``crosspoints``, ``reach`` of :func:`skfem_mortar.contact.mortar.evaluate`.
+        ``crosspoints``, ``reach``, ``measure`` of
+        :func:`skfem_mortar.contact.mortar.evaluate`.
 
     Returns
     -------
@@ -463,10 +465,13 @@ def mortar_slip(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.nda
     if not tangent:
         return SlipEval(u=u, G=None, H=None, tangent=tau, mask=ev.mask, info=info)
     ndof = 2 * n_s + 2 * n_m
+    # the kernel's nodal normals (mirrored on the axis of an axisymmetric measure)
+    measure = kernel_options.get("measure")
+    mirror = mirror_of_axis(None if measure is None else measure.axis)
     if curved:       # the nodal normals of the curved kernel's step 1, slot variables
-        (nx, ny), slots = nodal_normal_jets(xs, seg_s, second)
+        (nx, ny), slots = nodal_normal_jets(xs, seg_s, second, mirror=mirror)
     else:
-        (nx, ny), pnode, nnode = nodal_normals(xs, seg_s, second, 6)
+        (nx, ny), pnode, nnode = nodal_normals(xs, seg_s, second, 6, mirror)
         slots = np.column_stack([pnode, np.arange(n_s), nnode])
     tj = (ny, -nx)                                                 # tau_A as jets
     d6 = np.hstack([_node_dofs(n_s, slots[:, j], False) for j in range(slots.shape[1])])

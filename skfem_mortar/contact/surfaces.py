@@ -47,7 +47,7 @@ from .cells import CellType, cell_type
 
 __all__ = ["ContactSurface", "RigidPlane", "RigidCircle", "chain_segments",
            "segment_lengths", "segment_normals", "tributary_lengths", "segments_at_nodes",
-           "LINEAR_TRACE", "QUADRATIC_TRACE", "TRACE_3D"]
+           "LINEAR_TRACE", "QUADRATIC_TRACE", "TRACE_3D", "check_geometry", "AXIS_TOL"]
 
 #: the most segments a rigid surface is built with (:class:`RigidPlane`,
 #: :class:`RigidCircle`): as many as the finest cable has elements
@@ -452,3 +452,52 @@ class RigidCircle(ContactSurface):
         # segments (clockwise) for a body inside the circle: normal to the centre
         super().__init__(None, None, seg[:, ::-1] if inside else seg, X=X, name=name)
         self.center, self.radius, self.inside = center, float(radius), bool(inside)
+
+
+#: a rigid master of an axisymmetric model is on the axis constraint when its line's
+#: normal is within this of axial or radial (a unit vector's components), or its
+#: circle's centre within this times its radius of the axis: round-off of the
+#: coordinates the user computed (1e-16 relative) far below, any real tilt or
+#: offset (a degree is 1.7e-2) far above
+AXIS_TOL = 1e-9
+
+
+def check_geometry(surface: Any, geometry: str, role: str = "master") -> None:
+    """Refuse a rigid surface that has no form in the model's ``geometry``.
+
+    In an axisymmetric model ``(r, z) = (x, y)`` a rigid surface is revolved about
+    the axis ``r = 0``: a :class:`RigidPlane` only normal to the axis (a plate,
+    ``z = const``) or parallel to it at ``r > 0`` (a cylinder about the axis, ``r =
+    const``), a :class:`RigidCircle` only centred on the axis (a sphere), any other
+    rigid surface only in ``r >= 0`` (its profile of revolution).  Tolerance
+    :data:`AXIS_TOL`.  Deformable surfaces are checked by their bodies, plane models
+    take any surface.
+
+    Raises
+    ------
+    ValueError
+        Naming ``role``, the surface and the constraint it breaks.
+    """
+    if geometry != "axisymmetric" or not getattr(surface, "rigid", False):
+        return
+    what = f"{role} {surface.name!r}"
+    if isinstance(surface, RigidPlane):
+        nr, nz = surface.normal
+        if abs(nr) <= AXIS_TOL or (abs(nz) <= AXIS_TOL and surface.point[0] > 0):
+            return
+        raise ValueError(f"{what}: a rigid line in an axisymmetric model must be normal to "
+                         f"the axis (a plate z = const: normal (0, +-1)) or parallel to it at "
+                         f"r > 0 (a cylinder about the axis: normal (+-1, 0), point with r > 0), "
+                         f"got normal ({nr:.6g}, {nz:.6g}) through point "
+                         f"({surface.point[0]:.6g}, {surface.point[1]:.6g})")
+    if isinstance(surface, RigidCircle):
+        if abs(surface.center[0]) <= AXIS_TOL * surface.radius:
+            return
+        raise ValueError(f"{what}: a rigid circle in an axisymmetric model must have its "
+                         f"centre on the axis (r = 0: a sphere), got center "
+                         f"({surface.center[0]:.6g}, {surface.center[1]:.6g})")
+    r_min = float(np.min(surface.X[0]))
+    if r_min < 0:
+        raise ValueError(f"{what}: a rigid surface in an axisymmetric model lies in r >= 0 "
+                         f"(its profile revolved about the axis r = 0), and its smallest r is "
+                         f"{r_min:.6g}")

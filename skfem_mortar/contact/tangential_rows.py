@@ -35,6 +35,7 @@ from .normal_rows import assemble_normal
 from .pair_state import check_tangential_state, load_tangential_state, tangential_state
 from .reservation import FrictionReservation, with_triplets
 from .segmentation import surface_cell
+from .surfaces import AXIS_TOL
 from .curves import tributary_weights
 from .tributary import tributary_jacobian, tributary_pattern
 
@@ -162,7 +163,25 @@ class TangentialRows:
         self.reserved: tuple[Any, Any, FrictionReservation] | None = None
         self.converged: tuple | None = None  # (xs, xm, lam_t, data, history)
         self.slip_pattern_widenings = 0
-        self.area0 = tributary_weights(slave.X, slave.segments, surface_cell(slave))
+
+    @property
+    def area0(self) -> np.ndarray:
+        """The slave nodes' tributary weights in the reference configuration (the
+        pair's measure: lengths in plane, ``2 pi int N_A r dGamma`` in axisymmetry)."""
+        slave = self.pair.slave
+        return tributary_weights(slave.X, slave.segments, surface_cell(slave), self.pair.measure)
+
+    def symmetric_nodes(self) -> np.ndarray:
+        """Slave nodes on the axis of the pair's measure (within
+        :data:`~.surfaces.AXIS_TOL` of the slave's size, reference coordinates): they
+        cannot slip, symmetry holds them (a body of revolution holds ``u_r = 0``
+        there), so their tangential rows are open (``lam_t = 0``); a stick row would
+        constrain the held dof again and leave the system singular.  None in a
+        plane model."""
+        measure, X = self.pair.measure, self.pair.slave.X
+        if measure.axis is None:
+            return np.zeros(X.shape[1], dtype=bool)
+        return np.abs(X[measure.axis]) <= AXIS_TOL * float(np.ptp(X, axis=1).max())
 
     @property
     def changed(self) -> bool:
@@ -214,7 +233,7 @@ class TangentialRows:
             return
         lam = np.asarray(z)[pair._normal]
         weight = pair.space.bound_weight(tributary_weights(
-            pair.slave.x(z), pair.slave.segments, surface_cell(pair.slave)))
+            pair.slave.x(z), pair.slave.segments, surface_cell(pair.slave), pair.measure))
         conv = pair.state.converged
         xi, _, _ = self.law.slip_bound(np.where(conv, lam, 0.0), np.zeros_like(lam), pair.c,
                                        weight)
@@ -251,7 +270,7 @@ class TangentialRows:
                              self.history(z) if history is None else history,
                              lam_t if tangent else None, tangent, ev)
         weight = pair.space.bound_weight(ev.area)  # its derivative in assemble
-        on = active & sl.mask
+        on = active & sl.mask & ~self.symmetric_nodes()
         jac = pair.friction_jacobian
         fr = complementarity(self.law, lam, lam_t, ev.g, sl.u, c, c, on, weight, jacobian=jac)
         st = self.statuses.update(fr.status, track)
@@ -291,7 +310,7 @@ class TangentialRows:
         B = sp.diags(fr.d_u) @ sl.G + sp.diags(fr.d_g) @ ev.G
         if self.moving_bound:
             B = B + sp.diags(fr.d_bound * self.law.weight_derivative()) @ tributary_jacobian(
-                xs, pair.slave.segments, sl.G.shape[1], surface_cell(pair.slave))
+                xs, pair.slave.segments, sl.G.shape[1], surface_cell(pair.slave), pair.measure)
         B = B.tocsr()
         res = pair._friction_reservation(z, gd)
         if res is not None:  # the triplets over the reserved patterns (explicit zeros)

@@ -74,6 +74,7 @@ from ..core.item import Contribution, Item
 from ..core.validate import count
 from . import mortar
 from .curves import output_cells
+from .measures import PLANE, Measure, measure_for
 from .multiplier_spaces import MultiplierSpace, traction_space
 from .preflight_orientation import nodal_normals
 from .segmentation import surface_cell
@@ -89,20 +90,20 @@ class _Integrals(NamedTuple):
 
 
 def _integrals(s: ContactSurface, m: ContactSurface, space: MultiplierSpace, n_gauss: int,
-               crosspoints: np.ndarray | None) -> _Integrals:
+               crosspoints: np.ndarray | None, measure: Measure = PLANE) -> _Integrals:
     """``D``, ``M`` and the mask on the reference configuration: the linear kernel's
     :func:`~skfem_mortar.contact.mortar.integrals` for two 2-node surfaces, the curved
     kernel's (:func:`~skfem_mortar.contact.mortar_quadratic.evaluate`, values only) when
     either has 3-node segments (its Gauss rule: at least 3 points, exact for the
-    products of two quadratics on straight segments)."""
+    products of two quadratics on straight segments); in ``measure``'s ``w dGamma``."""
     if surface_cell(s).name == "line2" and surface_cell(m).name == "line2":
         ints = mortar.integrals(s.X, s.segments, m.X, m.segments, **space.kernel_options(),
-                                n_gauss=n_gauss, crosspoints=crosspoints)
+                                n_gauss=n_gauss, crosspoints=crosspoints, measure=measure)
         return _Integrals(ints.D, ints.M, ints.mask)
     from . import mortar_quadratic
     ev = mortar_quadratic.evaluate(s.X, s.segments, m.X, m.segments, tangent=False,
                                    **space.kernel_options(), n_gauss=max(n_gauss, 3),
-                                   crosspoints=crosspoints)
+                                   crosspoints=crosspoints, measure=measure)
     return _Integrals(ev.info["D"], ev.info["M"], ev.mask)
 
 
@@ -152,11 +153,11 @@ class TiePair(Item):
     """
 
     dof_kind = "lam"
-    geometries = ("plane",)
-    #: tying in the other geometries comes with axisymmetric and 3D contact
-    geometry_advice = {g: f"tying in {a} model is not offered yet (only in plane models); "
-                          f"it comes with {g} contact"
-                       for g, a in (("axisymmetric", "an axisymmetric"), ("3d", "a 3D"))}
+    #: plane and axisymmetric (``D``, ``M`` in ``2 pi r dGamma``: :meth:`set_measure`)
+    geometries = ("plane", "axisymmetric")
+    #: tying in 3D comes with 3D contact
+    geometry_advice = {"3d": "tying in a 3D model is not offered yet (only in plane and "
+                             "axisymmetric models); it comes with 3d contact"}
     loaded = False  # its residual does not depend on the load factor
     symmetric = True  # K_ulam = -B^T, K_lamu = -B
     has_history = False  # D and M depend only on the reference configuration
@@ -181,6 +182,9 @@ class TiePair(Item):
         self.n_gauss = count("n_gauss", n_gauss, 1, 10)
         self.n_dofs = 2 * slave.n_nodes
         self._merged = np.zeros(slave.n_nodes, dtype=bool)  # prescribed slave nodes
+        self._geometry = "plane"
+        #: the weight of ``dGamma`` (:meth:`set_measure`; the model's geometry's)
+        self.measure: Measure = PLANE
         self._integrate()
         if not self.tied.any():
             raise ValueError(
@@ -190,12 +194,35 @@ class TiePair(Item):
                 f"facing each other (outward normals opposite, as "
                 f"ContactSurface.from_solid(body, tag) builds them for two touching bodies)")
 
+    @property
+    def geometry(self) -> str:  # type: ignore[override]
+        """The model's geometry (set by the model at bind); setting it sets the
+        measure of that geometry (:meth:`set_measure`)."""
+        return self._geometry
+
+    @geometry.setter
+    def geometry(self, value: str) -> None:
+        self._geometry = value
+        self.set_measure(measure_for(value))
+
+    def set_measure(self, measure: Measure) -> None:
+        """The weight ``w(x)`` of ``dGamma`` (:mod:`~skfem_mortar.contact.measures`;
+        ``2 pi r`` in an axisymmetric model): ``D`` and ``M`` are integrated again in
+        ``w dGamma`` on the reference configuration when it changes, so the
+        multipliers are tractions per unit reference area of the revolution surface."""
+        if not isinstance(measure, Measure):
+            raise ValueError(f"measure must be a Measure of contact.measures, got {measure!r}")
+        if measure is not self.measure:
+            self.measure = measure
+            self._integrate()
+
     # -- the mortar matrices -------------------------------------------------------
     def _integrate(self) -> None:
         """``D``, ``M``, the tied mask and the constant triplets of ``B`` (reference)."""
         s, m = self.slave, self.master
         cp = np.flatnonzero(self._merged)
-        ints = _integrals(s, m, self.space, self.n_gauss, cp if cp.size else None)
+        ints = _integrals(s, m, self.space, self.n_gauss, cp if cp.size else None,
+                          self.measure)
         tied = np.asarray(ints.mask, dtype=bool)
         keep = sp.diags(tied.astype(float))
         D = (keep @ ints.D).tocoo()

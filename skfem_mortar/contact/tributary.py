@@ -1,4 +1,4 @@
-"""The tributary lengths of a slave chain and their exact derivative.
+"""The tributary weights of a slave chain and their exact derivative.
 
 A node's tributary length ``a_k = int N_k dGamma`` over its segments on the
 *current* positions (:func:`skfem_mortar.core.chain.tributary_lengths`) turns
@@ -12,22 +12,29 @@ bound ``bound * a_k(x)`` moves with the slave and its rows need ``da_k/dx``:
   ``a_k = sum_e sum_q w_q N_k(eta_q) J_eq``, ``J_eq = |x'(eta_q)|``,
   ``dJ_eq/dx_a = dN_a(eta_q) x'(eta_q) / J_eq`` (the cell's rule of
   :data:`~skfem_mortar.contact.curves.N_TRIBUTARY` points, the weights of
-  :func:`~skfem_mortar.contact.curves.tributary_weights`, so exact for the rule).
+  :func:`~skfem_mortar.contact.curves.tributary_weights`, so exact for the rule);
+* with the weight ``w`` of a measure (:mod:`~skfem_mortar.contact.measures`:
+  ``2 pi r`` in an axisymmetric model) ``a_k = int N_k w dGamma`` by the same
+  rule on every cell, and its derivative has the weight's term too
+  (:func:`tributary_jacobian`).
 """
 from __future__ import annotations
+
+from typing import Any
 
 import numpy as np
 import scipy.sparse as sp
 
 from .cells import CellType, cell_type
 from .curves import N_TRIBUTARY, ends, is_affine, shape_values
+from .jets import Jet
 
 __all__ = ["tributary_jacobian", "tributary_pattern"]
 
 
 def tributary_jacobian(x: np.ndarray, seg: np.ndarray, n_cols: int | None,
-                       cell: "str | CellType") -> sp.csr_matrix:
-    """``da_k/dx`` of the tributary lengths of nodes ``x`` (2, n) on segments ``seg``.
+                       cell: "str | CellType", measure: Any = None) -> sp.csr_matrix:
+    """``da_k/dx`` of the tributary weights of nodes ``x`` (2, n) on segments ``seg``.
 
     Parameters
     ----------
@@ -40,6 +47,13 @@ def tributary_jacobian(x: np.ndarray, seg: np.ndarray, n_cols: int | None,
         ``2 j, 2 j + 1`` (the contact kernels' local order, slave first).
     cell : str or CellType
         The line cell type of ``seg``.
+    measure : Measure, optional
+        The weight ``w`` of ``dGamma`` (:mod:`~skfem_mortar.contact.measures`;
+        None or unit: the tributary lengths above).  Otherwise, with ``x_q =
+        sum_a N_a(eta_q) x_a`` the rule's points (:func:`_weighted`)::
+
+            d a_b / d x_a = sum_q w_q N_b(eta_q) [dN_a(eta_q) u_q w(x_q)
+                                                  + J_q N_a(eta_q) dw/dx (x_q)].
 
     Returns
     -------
@@ -50,7 +64,9 @@ def tributary_jacobian(x: np.ndarray, seg: np.ndarray, n_cols: int | None,
     n = x.shape[1]
     n_cols = 2 * n if n_cols is None else int(n_cols)
     cell = cell_type(cell)
-    if not is_affine(cell):
+    if measure is not None and not measure.unit:
+        D = _weighted(x, seg, cell, measure)
+    elif not is_affine(cell):
         eta, w = cell.quadrature(2 * N_TRIBUTARY - 1)
         N, dN, _ = shape_values(cell, eta[0])                  # (n_nodes, q)
         t = np.einsum("dsk,kq->dsq", x[:, seg], dN)            # x'(eta_q), (2, n_seg, q)
@@ -68,6 +84,24 @@ def tributary_jacobian(x: np.ndarray, seg: np.ndarray, n_cols: int | None,
                             (len(seg), 2, 2, 2))
     rows, cols = _entries(seg)
     return sp.csr_matrix((D.ravel(), (rows, cols)), shape=(n, n_cols))
+
+
+def _weighted(x: np.ndarray, seg: np.ndarray, cell: CellType, measure: Any) -> np.ndarray:
+    """``d a_b / d x_a`` (n_seg, n_nodes, n_nodes, 2) of ``a_b = int N_b w dGamma`` by
+    the rule of :func:`~skfem_mortar.contact.curves.tributary_weights`; ``dw/dx``
+    from a first-order jet of the measure's weight at the rule's points."""
+    eta, w = cell.quadrature(2 * N_TRIBUTARY - 1)
+    N, dN, _ = shape_values(cell, eta[0])                      # (n_nodes, q)
+    t = np.einsum("dsk,kq->dsq", x[:, seg], dN)
+    xq = np.einsum("dsk,kq->dsq", x[:, seg], N)
+    J = np.hypot(t[0], t[1])
+    u = t / np.where(J > 0, J, 1.0)
+    W = measure.weight(xq)
+    Wj = measure.weight(tuple(Jet.variable(xq[c], c, 2, False) for c in (0, 1)))
+    dW = (np.broadcast_to(Wj.g, t.shape) if isinstance(Wj, Jet)
+          else np.zeros(t.shape))                              # (2, n_seg, q)
+    return (np.einsum("q,bq,aq,dsq->sbad", w, N, dN, u * W)
+            + np.einsum("q,bq,aq,dsq->sbad", w, N, N, J * dW))
 
 
 def tributary_pattern(seg: np.ndarray, n: int, n_cols: int | None = None) -> sp.csr_matrix:

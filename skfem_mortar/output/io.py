@@ -61,9 +61,11 @@ def write_json(path: str | os.PathLike, data: dict) -> None:
 
 
 def write_contact_csv(path: str | os.PathLike, data: dict[str, np.ndarray],
-                      coords: tuple[str, str] = ("x", "y")) -> None:
+                      coords: tuple[str, str] | None = None) -> None:
     """Write ``x,y,gap,pressure,has_master`` (one row per slave node) atomically;
-    ``coords`` names the first two columns (an axisymmetric model's: ``("r", "z")``).
+    ``coords`` names the first two columns (an axisymmetric model's: ``("r", "z")``;
+    default: ``("r", "z")`` when ``data`` has ``r`` -- an axisymmetric pair's
+    :meth:`~skfem_mortar.contact.pair.ContactPair.contact_data` -- else ``("x", "y")``).
 
     With friction (``data`` has ``tangential_traction``, ``slip`` and ``status``,
     :meth:`~skfem_mortar.contact.pair.ContactPair.contact_data` of a friction
@@ -76,6 +78,8 @@ def write_contact_csv(path: str | os.PathLike, data: dict[str, np.ndarray],
     0 that reads as touching. Without ``has_master`` the nodes with a finite
     gap count as facing a master. Any non-finite value written is an error.
     """
+    if coords is None:
+        coords = ("r", "z") if "r" in data else ("x", "y")
     gap = np.asarray(data["gap"], dtype=float)
     has = np.asarray(data.get("has_master", np.isfinite(gap)), dtype=bool)
     if "distance" in data:

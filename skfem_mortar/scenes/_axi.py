@@ -33,7 +33,7 @@ def fit_ellipse(r: np.ndarray, p: np.ndarray, window: float) -> tuple[float, flo
     compression with ``r < window``: ``p^2 = c0 + c1 r^2`` fitted linearly,
     ``p0 = sqrt(c0)``, ``a = sqrt(-c0 / c1)``.  ``(nan, nan)`` with fewer than two
     such nodes or a fit that does not fall with ``r``."""
-    use = (r < window) & (p > 0.0)
+    use = (r < window) & (p > 0.0)          # (False at NaN)
     if use.sum() < 2:
         return math.nan, math.nan
     A = np.column_stack([np.ones(use.sum()), r[use] ** 2])
@@ -66,11 +66,13 @@ def revolved_trapezoid(r: np.ndarray, p: np.ndarray) -> float:
 def reference_pressure(pair, z: np.ndarray) -> np.ndarray:
     """The nodal pressure per unit *reference* area, ``p_A a_A(x) / a_A(X)`` in the
     surface's node order: the pair's own tributary area at the current state over the
-    same at the reference state (``z = 0``), as linear theory reads a pressure."""
+    same at the reference state (``z = 0``), as linear theory reads a pressure; NaN
+    at a node without a reference area (no master segment facing it there)."""
     p, _, ev = pair.pressure_and_gap(z)
     ev0 = pair.evaluate(np.zeros_like(np.asarray(z, dtype=float)), tangent=False,
                         with_lam=False)
-    return p * ev.area / ev0.area
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return np.where(ev0.area > 0.0, p * ev.area / ev0.area, np.nan)
 
 
 def rigid_plate(level: float, r_min: float, r_max: float, h: float, up: bool = True,

@@ -8,7 +8,8 @@ is squeezed axially between two rigid plates.  By symmetry the half ``z >= 0``
 of the cross-section (a half disk centred at ``(R_m, 0)``, radius ``c = d / 2``)
 is modelled, ``u_z = 0`` on the mid-plane.  The relative motion is prescribed:
 the plate ``z = c`` (the slave surface is the half disk's arc, the master the
-plate, :func:`~skfem_mortar.scenes._axi.rigid_plate`) stays, and the mid-plane
+plate, :func:`~skfem_mortar.scenes._axi.rigid_plate`, reaching ``10 c + 0.1 R_m``
+to either side of ``R_m``) stays, and the mid-plane
 is moved up by ``squeeze d / 2``, rising linearly with the load factor (the
 same as moving the plate down by it; the squeeze is the cross-section's height
 reduction over ``d``, default 25 %).  ``mu > 0`` adds Coulomb friction.
@@ -16,10 +17,16 @@ reduction over ``d``, default 25 %).  ``mu > 0`` adds Coulomb friction.
 ``geometry``: ``axisymmetric`` (the ring of revolution, ``x[0] = r``) or
 ``plane`` (the same cross-section in plane strain, a straight cord, its
 horizontal rigid motion removed by ``u_x = 0`` at the centre ``(R_m, 0)``,
-where symmetry puts it).  The force per unit mean circumference
-``F / (2 pi R_m)`` (``F`` the total axial contact force over the revolution;
-plane: the force per unit length) tends to the plane-strain force as
-``R_m / d`` grows.
+where symmetry puts it).  ``hold_centre`` holds the centre at ``u_r = 0`` in
+axisymmetry too: the ring then keeps its hoop strain near 0 as plane strain
+does, and its force per circumference tends to the plane-strain one as
+``R_m / d`` grows (measured at ``R_m / d = 100``, 10 % squeeze: 1e-5 relative;
+the hold's reaction ``centre_reaction`` 0.25 % of the axial force).  A free ring
+(default) relieves the compressive hoop stress of plane strain (``nu (sigma_rr +
+sigma_zz)``) by expanding: ``u_r / R_m`` 2.7 % there, and its force per
+circumference is 17 % below the plane-strain one however slender the ring.
+The force per unit mean circumference is ``F / (2 pi R_m)``, ``F`` the total
+axial contact force over the revolution (plane: the force per unit length).
 
 Mesh: the half disk as two mirrored quarter disks of
 :func:`~skfem_mortar.scenes.hertz.graded_quarter_disk`, graded towards the
@@ -131,10 +138,12 @@ def build(params: dict, method: str | None = None) -> Setup:
     mid = Dirichlet(ring, ring.dofs_on("midplane", "y"), delta, name="midplane")
     items = [ring, mid]
     plane = params["geometry"] == "plane"
-    if plane:
-        centre = int(np.argmin(np.hypot(ring.X[0] - R_m, ring.X[1])))
-        items.append(Dirichlet(ring, ring.node_dofs[0, [centre]], 0.0, name="centre"))
-    plate = rigid_plate(c, R_m - 1.2 * c, R_m + 1.2 * c, math.sqrt(2.0) * h0, up=False)
+    centre = int(np.argmin(np.hypot(ring.X[0] - R_m, ring.X[1])))
+    held = Dirichlet(ring, ring.node_dofs[0, [centre]], 0.0, name="centre")
+    if plane or params["hold_centre"]:
+        items.append(held)
+    reach = 10.0 * c + 0.1 * R_m         # the free ring's radial expansion stays on the plate
+    plate = rigid_plate(c, max(R_m - reach, 0.0), R_m + reach, math.sqrt(2.0) * h0, up=False)
     mu = float(params["mu"])
     options = {} if method == "nts" else {"segmentation": "iteration"}
     pair = ContactPair(ContactSurface.from_solid(ring, "arc", name="oring_arc"), plate, method,
@@ -155,6 +164,8 @@ def build(params: dict, method: str | None = None) -> Setup:
                "half_width_hertz": ex["half_width"], "peak_pressure_hertz": ex["peak_pressure"],
                "lindley_force_per_circumference": lindley_force(s, E, d),
                "n_active": int(pair.active.sum()), "element_size": h0,
+               "centre_reaction": float(result.residual()[ring.offset + held.local_dofs[0]])
+               if held in items else 0.0,
                "force_squeeze": [[float(lf) * s, -float(pair.total_force(zk)[1]) / per]
                                  for lf, zk in zip(result.load_factors[1:], result.states[1:])]}
         if P > 0:
@@ -194,9 +205,10 @@ SCENE = Scene(
     params=(
         Param("d", 1.0, "cross-section diameter d", float, low=0.0, low_inclusive=False),
         Param("ratio", 5.0, "mean radius over the cross-section diameter R_m / d", float,
-              low=0.5, high=1e4, low_inclusive=False),
+              low=0.5, high=200.0, low_inclusive=False),
         Param("E", 1.0, "Young's modulus", float, low=0.0, low_inclusive=False),
-        Param("nu", 0.4995, "Poisson's ratio", float, low=0.0, high=0.5,
+        Param("nu", 0.4995, "Poisson's ratio (> 0: the mixed elements' pressure equation "
+              "divides by lambda)", float, low=0.0, high=0.5, low_inclusive=False,
               high_inclusive=False),
         Param("squeeze", 0.25, "final height reduction over d", float, low=0.0, high=0.4,
               low_inclusive=False),
@@ -204,6 +216,9 @@ SCENE = Scene(
               float, low=0.0, high=2.0),
         Param("geometry", "axisymmetric", "the ring of revolution, or its cross-section in "
               "plane strain", str, choices=("axisymmetric", "plane")),
+        Param("hold_centre", False, "axisymmetric: hold the centre (R_m, 0) at u_r = 0 too "
+              "(no radial expansion: the plane-strain limit as R_m / d grows); its reaction "
+              "is reported", bool),
         Param("element", "mini", "MINI u-p triangles or mean-dilatation quadrilaterals (sri)",
               str, choices=ELEMENTS),
         Param("refine", 0, "mesh level: element size (b_g / 30) 2^-refine near the contact",

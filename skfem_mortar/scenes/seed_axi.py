@@ -116,8 +116,8 @@ def tube_mesh(R_i: float, R_o: float, L: float, n_r: int, n_z: int):
 
 def _sizes(params: dict) -> tuple[int, int, int]:
     """Membrane elements, tube elements through the wall and along it."""
-    k = 2 ** int(params["refine"])
-    return 24 * k, 2 * k, 24 * k
+    k = 2.0 ** int(params["refine"])
+    return int(24 * k), max(1, int(2 * k)), int(16 * k)
 
 
 def hoop_integral(membrane: Membrane, z: np.ndarray) -> float:
@@ -296,7 +296,7 @@ SCENE = Scene(
         Param("E_tube", 1.0, "tube Young's modulus", float, low=0.0, low_inclusive=False),
         Param("nu_tube", 0.3, "tube Poisson's ratio", float, low=0.0, high=0.5,
               high_inclusive=False),
-        Param("refine", 0, "mesh level: 24 2^refine membrane elements, a 2 x 24 grid "
+        Param("refine", 0, "mesh level: 24 2^refine membrane elements, a 2 x 16 grid "
               "refined 2^refine for the tube", int, low=-2, high=6),
     ),
     build=build,
