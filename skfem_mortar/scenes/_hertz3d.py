@@ -9,9 +9,10 @@ The quarter ``X, Y >= 0`` of the hemisphere of ``hertz_axi`` (radius ``R``, cent
 or on the quarter of ``hertz_axi``'s elastic cylinder (radius and height
 ``W = 30 a``, its bottom clamped) (``base``).  The symmetry planes ``X = 0`` and
 ``Y = 0`` are rollers (``u_x = 0``, ``u_y = 0`` on them) on both bodies, declared as
-such so that the contact surfaces read them (:func:`~skfem_mortar.scenes._contact3d.
-symmetry_planes`).  ``model=half`` is the half ``Y >= 0``: the quarter's mesh and its
-mirror image across ``X = 0`` (an exactly symmetric mesh), the roller on ``Y = 0``
+such so that the contact surfaces read them
+(:func:`~skfem_mortar.scenes._contact3d.symmetry_planes`).  ``model=half`` is the
+half ``Y >= 0``: the quarter's mesh and its mirror image across ``X = 0`` (an
+exactly symmetric mesh), the roller on ``Y = 0``
 only and ``u_x = 0`` on the sphere's axis ``X = Y = 0`` (the ``x`` translation and
 the rotation about ``y``, which frictionless contact does not hold); it carries
 ``F / 2`` and equals the quarter on a symmetric mesh.

@@ -21,10 +21,10 @@ beam with part ``a``'s cell size (the reference: :func:`one_piece`).
 Readings (:func:`tied_metrics`): ``tip_deflection`` (the mean ``-u_z`` of the tip
 face's vertices) against the one-piece beam's (``_exact``, ``_error``: the two
 meshes' discretization difference, 0 to round-off on matching meshes) and
-against Timoshenko's beam (``_beam``: :func:`~skfem_mortar.scenes.cantilever3d.
-timoshenko_tip`, small strain); ``interface_force`` (the resultant of the tie's
-forces on the slave) against the load it carries (``across``: ``P`` on part ``b``,
-upwards; exact at any mesh).  The registration (the tie) waits for the 3D tie.
+against Timoshenko's beam (``_beam``:
+:func:`~skfem_mortar.scenes.cantilever3d.timoshenko_tip`, small strain);
+``interface_force`` (the resultant of the tie's forces on the slave) against the
+load it carries (``across``: ``P`` on part ``b``, upwards; exact at any mesh).  The registration (the tie) waits for the 3D tie.
 """
 from __future__ import annotations
 
