@@ -24,7 +24,8 @@ meshes' discretization difference, 0 to round-off on matching meshes) and
 against Timoshenko's beam (``_beam``:
 :func:`~skfem_mortar.scenes.cantilever3d.timoshenko_tip`, small strain);
 ``interface_force`` (the resultant of the tie's forces on the slave) against the
-load it carries (``across``: ``P`` on part ``b``, upwards; exact at any mesh).  The registration (the tie) waits for the 3D tie.
+load it carries (``across``: ``P`` on part ``b``, upwards; exact at any mesh).  The
+registration (the tie) waits for the 3D tie.
 """
 from __future__ import annotations
 
