@@ -1,0 +1,236 @@
+"""The parts of scene ``hertz3d``: Hertz contact of a sphere, a quarter (or a half) in 3D
+(private until the 3D contact pair registers the scene).
+
+The quarter ``X, Y >= 0`` of the hemisphere of ``hertz_axi`` (radius ``R``, centre
+``(0, 0, R)``, touching ``Z = 0`` at the origin), pressed by the total force ``F``
+(``load``, over the whole sphere) as a uniform dead traction on its flat top
+``Z = R``: the model's share of it (``F / 4`` on the quarter) over the top's area
+(a polygon, 1.2 % short of ``pi R^2 / 4`` on the coarsest mesh), on a rigid plane ``Z = 0``
+or on the quarter of ``hertz_axi``'s elastic cylinder (radius and height
+``W = 30 a``, its bottom clamped) (``base``).  The symmetry planes ``X = 0`` and
+``Y = 0`` are rollers (``u_x = 0``, ``u_y = 0`` on them) on both bodies, declared as
+such so that the contact surfaces read them
+(:func:`~skfem_mortar.scenes._contact3d.symmetry_planes`).  ``model=half`` is the
+half ``Y >= 0``: the quarter's mesh and its mirror image across ``X = 0`` (an
+exactly symmetric mesh), the roller on ``Y = 0``
+only and ``u_x = 0`` on the sphere's axis ``X = Y = 0`` (the ``x`` translation and
+the rotation about ``y``, which frictionless contact does not hold); it carries
+``F / 2`` and equals the quarter on a symmetric mesh.
+
+Meshes (:func:`~skfem_mortar.scenes._contact3d.graded_octant`,
+:func:`~skfem_mortar.scenes._contact3d.graded_quarter_cylinder`): tetrahedra
+refined by longest-edge bisection until their longest edge is at most
+``1.5 h0`` within ``1.2 a`` of the contact point (``h0 = (a / 30) 2^-refine``, as
+``hertz_axi``), growing by :data:`~skfem_mortar.scenes._contact3d.GRADING` per unit
+distance beyond, the new nodes of the sphere (the cylinder's side) moved onto it
+after every pass.  ``tet1`` is the default: bisection grades a tetrahedral mesh
+locally and conformingly; ``hex1`` splits each tetrahedron of the twice coarser
+graded mesh into four hexahedra (valid, but their faces on the sphere are split
+triangles, not the structured quadrilaterals a hexahedral mesher would make).
+
+Hertz (:func:`~skfem_mortar.scenes.hertz_axi.hertz_sphere`)::
+
+    a = (3 F R / (4 E*))^(1/3),   p0 = 3 F / (2 pi a^2) .
+
+Readings (:func:`hertz_metrics`, as ``hertz_axi``'s): ``peak_pressure`` (the largest
+nodal pressure), ``contact_radius`` (the least-squares fit of
+``p^2 = p0^2 (1 - r^2 / a^2)`` over the nodes in compression with
+``r = sqrt(x^2 + y^2) < 0.8 a``, :func:`~skfem_mortar.scenes._axi.fit_ellipse`;
+``peak_pressure_fit`` the fitted ``p0``), each with ``_exact`` and ``_error``, and
+``contact_force`` (the slave's resultant times the symmetry factor 4 or 2)
+against ``F``.  The fit runs over the whole sphere's nodes (a node on one symmetry
+plane stands for two, one off both for four), so a quarter and a half on mirrored
+meshes fit the same points.  The registration (the contact pair) waits for the 3D pair.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..bodies.solid import Solid
+from ..core.dirichlet import Dirichlet
+from ..loads.traction import Traction
+from . import Param, hertz_axi
+from ._axi import fit_ellipse
+from ._contact3d import (cylinder_planes, graded_octant, graded_quarter_cylinder, mirrored,
+                         nodes_on_plane, octant_planes, plane_grid, tagged)
+from ._scene3d import make_solid, memory_quantity
+from .hertz_axi import FIT_WINDOW, hertz_sphere
+
+__all__ = ["PARAMS", "HertzParts", "build_bodies", "exact_hertz3d", "hertz_metrics",
+           "multiplicity", "derived", "estimate_dofs", "FINE_ZONE", "SYMMETRY"]
+
+#: the zone of ``h0``-sized elements, in units of ``a`` (as ``hertz_axi``)
+FINE_ZONE = 1.2
+
+#: the rigid plane's extent from the axis, in units of ``a``
+RIGID_SIZE = 3.0
+
+#: the symmetry planes ``(axis, value)`` and the share of the sphere of each model
+SYMMETRY = {"quarter": ([(0, 0.0), (1, 0.0)], 4.0), "half": ([(1, 0.0)], 2.0)}
+
+
+@dataclass
+class HertzParts:
+    """The bodies and items of ``hertz3d`` without the contact pair.
+
+    Attributes
+    ----------
+    sphere : Solid
+    base : Solid or None
+        The elastic base (None on a rigid plane).
+    items : list
+        The bodies, the load, the rollers (and the base's clamp).
+    slave : tuple (Solid, str)
+        The sphere and its boundary ``sphere``.
+    master : tuple (Solid, str) or dict
+        The base and ``top``, or the rigid plane ``Z = 0`` (outward normal ``+z``) over
+        ``RIGID_SIZE a`` from the axis: ``{"X": (3, n), "faces": (n_faces, 4)}``
+        (:func:`~skfem_mortar.scenes._contact3d.plane_grid`, faces ``1.5 h0`` a side).
+    symmetry : list of (int, float)
+        The symmetry planes ``X[axis] = value`` the rollers declare.
+    share : float
+        The sphere over the model (4 quarter, 2 half).
+    h0 : float
+        The element size under the contact.
+    """
+
+    sphere: Solid
+    base: Solid | None
+    items: list
+    slave: tuple
+    master: tuple | dict
+    symmetry: list
+    share: float
+    h0: float
+
+
+def exact_hertz3d(params: dict) -> dict:
+    """:func:`~skfem_mortar.scenes.hertz_axi.hertz_sphere` of ``params``."""
+    rigid = params["base"] == "rigid"
+    return hertz_sphere(float(params["radius"]), float(params["load"]), float(params["E"]),
+                        float(params["nu"]), None if rigid else float(params["E_base"]),
+                        float(params["nu_base"]))
+
+
+def _model_mesh(mesh, planes, names, curved: str, model: str, tol: float):
+    """``mesh`` (a quarter) as the ``model``'s: the half mirrors it across ``X = 0``."""
+    if model == "quarter":
+        return mesh
+    half = mirrored(mesh, 0)
+    keep = [(pl, nm) for pl, nm in zip(planes, names) if nm != "x0"]
+    return tagged(half, [k[0] for k in keep], [k[1] for k in keep], curved, tol)
+
+
+def _rollers(body: Solid, model: str, name: str) -> list:
+    """``u_x = 0`` on ``x0`` and ``u_y = 0`` on ``y0`` (quarter), or ``u_y = 0`` on ``y0``
+    and ``u_x = 0`` on the axis ``X = Y = 0`` (half)."""
+    items = [Dirichlet(body, boundary="y0", component=1, name=f"{name}_symmetry_y0")]
+    if model == "quarter":
+        return [Dirichlet(body, boundary="x0", component=0, name=f"{name}_symmetry_x0")
+                ] + items
+    tol = 1e-9 * float(np.ptp(body.X))
+    axis = np.intersect1d(nodes_on_plane(body.mesh, 0, 0.0, tol),
+                          nodes_on_plane(body.mesh, 1, 0.0, tol))
+    return items + [Dirichlet(body, nodes=axis, component=0, name=f"{name}_axis_x")]
+
+
+def build_bodies(params: dict) -> HertzParts:
+    """The sphere, its load and rollers, the base (or the rigid plane's data) of
+    ``params`` (:data:`PARAMS`)."""
+    R, F, model = float(params["radius"]), float(params["load"]), params["model"]
+    ex = exact_hertz3d(params)
+    a = ex["contact_radius"]
+    h0 = a / 30.0 * 2.0 ** (-int(params["refine"]))
+    element = params["element"]
+    planes, names = octant_planes(R)
+    mesh = _model_mesh(graded_octant(R, h0, FINE_ZONE * a, element), planes, names,
+                       "sphere", model, 1e-9 * R)
+    sphere = make_solid(mesh, {**params, "law": "neo-hooke"}, "sphere")
+    symmetry, share = SYMMETRY[model]
+    # the flat top is a polygon short of the disc by the chords' segments: the
+    # traction is the model's share of F over the polygon's area (a unit traction's total)
+    top_area = float(Traction(sphere, "top", [0.0, 0.0, 1.0]).force.sum())
+    items = [sphere, Traction(sphere, "top", [0.0, 0.0, -F / (share * top_area)],
+                              name="load"), *_rollers(sphere, model, "sphere")]
+    if params["base"] == "rigid":
+        xs = (0.0 if model == "quarter" else -RIGID_SIZE * a, RIGID_SIZE * a)
+        X, faces = plane_grid(xs, (0.0, RIGID_SIZE * a), 0.0, 1.5 * h0)
+        plane = {"X": X, "faces": faces}
+        return HertzParts(sphere, None, items, (sphere, "sphere"), plane, symmetry, share, h0)
+    W = 30.0 * a
+    planes, names = cylinder_planes(W)
+    mesh = _model_mesh(graded_quarter_cylinder(W, h0, FINE_ZONE * a, element), planes, names,
+                       "side", model, 1e-9 * W)
+    base = make_solid(mesh, {**params, "law": "neo-hooke", "E": params["E_base"],
+                             "nu": params["nu_base"]}, "base")
+    items += [base, Dirichlet(base, boundary="bottom", name="base_bottom"),
+              *_rollers(base, model, "base")]
+    return HertzParts(sphere, base, items, (sphere, "sphere"), (base, "top"), symmetry,
+                      share, h0)
+
+
+def multiplicity(x: np.ndarray, symmetry: list) -> np.ndarray:
+    """How many nodes of the whole sphere each node ``x`` (3, n) of the model stands for:
+    2 per symmetry plane ``(axis, value)`` it is not on (within ``1e-9`` of the
+    largest ``|x|``), so the quarter's interior nodes count 4, those on one plane 2,
+    those on the axis 1."""
+    tol = 1e-9 * float(np.abs(x).max())
+    m = np.ones(x.shape[1], dtype=np.int64)
+    for axis, value in symmetry:
+        m *= np.where(np.abs(x[axis] - value) <= tol, 1, 2)
+    return m
+
+
+def hertz_metrics(exact: dict, x: np.ndarray, pressure: np.ndarray, force_z: float,
+                  symmetry: list, load: float) -> dict:
+    """The readings of the module docstring from the slave nodes' current positions
+    ``x`` (3, n), their nodal ``pressure`` and the slave's contact resultant
+    ``force_z`` (upwards, on the model's part of the sphere) of a model with the
+    ``symmetry`` planes: the fit runs over the whole sphere's nodes (each node
+    repeated by its :func:`multiplicity`), so the quarter and the half fit alike."""
+    m = multiplicity(x, symmetry)
+    r = np.repeat(np.hypot(x[0], x[1]), m)
+    p = np.repeat(np.asarray(pressure, dtype=float), m)
+    a = exact["contact_radius"]
+    fit_p0, fit_a = fit_ellipse(r, p, FIT_WINDOW * a)
+    force = 2.0 ** len(symmetry) * float(force_z)
+    out = {"peak_pressure_fit": fit_p0, "contact_force": force, "load": load,
+           "contact_force_error": abs(force - load) / load, "E_star": exact["E_star"]}
+    for key, val in (("peak_pressure", float(np.nanmax(p))), ("contact_radius", fit_a)):
+        out.update({key: val, f"{key}_exact": exact[key],
+                    f"{key}_error": abs(val - exact[key]) / exact[key]})
+    return out
+
+
+#: ``hertz_axi``'s parameters by name: the same names, ranges and defaults
+_AXI = {p.name: p for p in hertz_axi.SCENE.params}
+
+
+def estimate_dofs(params: dict) -> int:
+    """Displacement dofs (no mesh built): ``3 (1500 + 18000 6^(refine + 1))`` nodes a
+    body for tet1, five times the nodes for hex1 (fitted to the meshes at a / R =
+    0.025: within 18 % (tet1) and 28 % (hex1) of the counts at refine -3 to 0)."""
+    nodes = 1500.0 + 18000.0 * 6.0 ** (int(params["refine"]) + 1)
+    nodes *= 5.0 if params["element"] == "hex1" else 1.0
+    return int(3 * nodes * (1 if params["base"] == "rigid" else 2))
+
+
+def derived(params: dict) -> list:
+    """``hertz_axi``'s derived quantities (radius, load, Lame parameters, E*, a / R: the
+    same parameter names) and the run's estimated memory."""
+    return [*hertz_axi.derived(params), memory_quantity(estimate_dofs(params), "refine")]
+
+PARAMS = (
+    *(_AXI[k] for k in ("radius", "load", "E", "nu", "E_base", "nu_base", "base")),
+    Param("refine", -2, "mesh level: element size (a/30) 2^-refine under the contact (as "
+          "hertz_axi; -2: a/7.5, 2.6e4 tetrahedra in the quarter sphere)", int, low=-3,
+          high=0),
+    Param("element", "tet1", "bodies' element: tet1 (graded by bisection) or hex1 (each "
+          "tetrahedron of the twice coarser mesh split into four)", str,
+          choices=("tet1", "hex1")),
+    Param("model", "quarter", "the quarter (two symmetry planes) or the half (one)", str,
+          choices=("quarter", "half")),
+    *(_AXI[k] for k in ("segmentation", "kinematics")),
+)
