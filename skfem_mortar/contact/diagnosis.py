@@ -22,6 +22,8 @@ import scipy.sparse as sp
 
 from ..core.chain import polyline
 from . import nts
+from .nts_faces import face_sizes, project_faces
+from .search import nearest_vertex
 from .preflight_pairs import contact_pairs
 from .preflight_rigid import _columns, _describe, _times_modes, _touching_rows, free_combinations
 
@@ -99,9 +101,15 @@ def _matching(pair: Any) -> bool:
     cost); where they meet: a projection within one median slave segment length
     ``h``; coincident: its distance and its distance from the nearer end of the
     slave segment both within ``MATCH h``."""
-    seg_s = polyline(pair.slave.segments)
     xs, xm = np.asarray(pair.slave.X, float), np.asarray(pair.master.X, float)
     pm = xm[:, np.unique(pair.master.segments)]
+    if pair.slave.cell.dim == 2:                  # faces: coincident with a slave node
+        h = float(np.median(face_sizes(xs, pair.slave.segments)))
+        pr = project_faces(pm, xs, pair.slave.segments, pair.slave.cell, h)
+        meet = pr["mask"] & (np.abs(pr["g"]) <= h)
+        d, _ = nearest_vertex(xs, pm)
+        return bool(np.all((d <= MATCH * h) | ~meet))
+    seg_s = polyline(pair.slave.segments)
     h = float(np.median(np.hypot(*(xs[:, seg_s[:, 1]] - xs[:, seg_s[:, 0]]))))
     pr = nts.project(pm, xs, seg_s)
     meet = pr["mask"] & (np.abs(pr["g"]) <= h)

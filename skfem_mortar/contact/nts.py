@@ -58,7 +58,7 @@ from typing import Any
 import numpy as np
 import scipy.sparse as sp
 
-from .cells import CellType
+from .cells import CellType, cell_type
 from .measures import PLANE, Measure
 from .curves import cell_lengths, check_line, curve, ends, is_affine, polyline, projection_jets, tributary_weights
 from .scatter import Triplets
@@ -66,6 +66,7 @@ from .segmentation import line_cells, surface_cell
 from .contact_eval import ContactEval
 from .discretization import (ContactDiscretization, OptionTable, check_entries, check_options,
                              covers, pattern_matrix, register_method, reserved_keys)
+from .nts_faces import check_face, evaluate_faces, face_candidates, face_sizes
 from .nts_projection import LOCK_STICK, candidates, choose_segments, project
 from .surfaces import AXIS_TOL, segment_lengths, segment_normals, segments_at_nodes
 
@@ -144,6 +145,10 @@ def evaluate(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarra
         ``area`` is the tributary weight of each slave node; ``info`` holds
         ``xi`` (in ``[0, 1]`` along the cell), ``segment`` and ``normal``.
     """
+    if cells is not None and cell_type(cells[1]).dim == 2:   # faces of 3D bodies
+        return evaluate_faces(xs, seg_s, xm, seg_m, tuple(cell_type(c) for c in cells), lam,
+                              tangent, margin, end_tolerance, prefer, stick, lock, measure,
+                              mirrored)
     xs, seg_s = _check(xs, seg_s, "slave")
     xm, seg_m = _check(xm, seg_m, "master")
     cs, cm = (check_line(c, "nts") for c in line_cells(seg_s, seg_m, cells))
@@ -350,10 +355,12 @@ class NTS(ContactDiscretization):
         self.slave, self.master, self.pair_name = slave, master, pair_name
         #: the two surfaces' cell types (:func:`~.segmentation.surface_cell`)
         self.cells = (surface_cell(slave), surface_cell(master))
+        #: reference dimension of the surfaces' cells: 1 (curves), 2 (faces of 3D bodies)
+        self.dim = self.cells[0].dim
         for c in self.cells:
-            check_line(c, "nts")
+            check_line(c, "nts") if self.dim == 1 else check_face(c, f"{pair_name}: nts")
         self.options = dict(options)
-        self._hint = failure_hints(slave, master, pair_name)
+        self._hint = failure_hints(slave, master, pair_name) if self.dim == 1 else ""
         self._pinned: np.ndarray | None = None
         #: the weight of ``dGamma`` (:meth:`set_measure`)
         self.measure: Measure = PLANE
@@ -388,30 +395,39 @@ class NTS(ContactDiscretization):
         """The search margin of :func:`project` (default: the median master segment length)."""
         margin = self.options.get("margin")
         if margin is None:
-            lm = cell_lengths(xm, self.master.segments, self.cells[1])
+            lm = (cell_lengths(xm, self.master.segments, self.cells[1]) if self.dim == 1
+                  else face_sizes(xm, self.master.segments))
             margin = float(np.median(lm)) if lm.size else 0.0
         return margin
 
     def _reserve(self, xs: np.ndarray, xm: np.ndarray, need: np.ndarray) -> None:
         """Reserve the candidates :data:`RESERVE_MARGIN` search margins and
         :data:`RESERVE_HALO` chain neighbours wide (and ``need``)."""
-        held = np.union1d(candidates(xs, xm, self.master.segments,
-                                     RESERVE_MARGIN * self._margin(xm), RESERVE_HALO,
-                                     cell=self.cells[1]), need)
+        held = np.union1d(self._candidates(xs, xm, RESERVE_MARGIN * self._margin(xm),
+                                           RESERVE_HALO), need)
         self._reserved = (held, self._pattern_of(held))
         self.reservations += 1
+
+    def _candidates(self, xs: np.ndarray, xm: np.ndarray, margin: float,
+                    halo: int = 0) -> np.ndarray:
+        """The candidate keys of the projection (:func:`candidates`; on faces
+        :func:`~.nts_faces.face_candidates`, whose nearest-vertex faces are the halo)."""
+        if self.dim == 2:
+            return face_candidates(xs, xm, self.master.segments, self.cells[1], margin)
+        return candidates(xs, xm, self.master.segments, margin, halo, cell=self.cells[1])
 
     def _pattern_of(self, held: np.ndarray) -> sp.csr_matrix:
         """Row ``k``: the dofs of slave node ``k`` and of its held master segments."""
         seg_m = self.master.segments
         n_s, n_seg = self.slave.n_nodes, len(seg_m)
+        d = self.dim + 1                             # dofs per node
         k, e = held // n_seg, held % n_seg
         own = np.arange(n_s)
-        nm = 2 * self.cells[1].n_nodes               # master dofs of a segment: 4, or 6 (3-node)
-        rows = np.concatenate([np.repeat(k, nm), own, own])
-        mdofs = (2 * n_s + 2 * seg_m[e][:, :, None] + np.arange(2)).reshape(-1, nm)
-        cols = np.concatenate([mdofs.ravel(), 2 * own, 2 * own + 1])
-        return pattern_matrix(rows, cols, (n_s, 2 * n_s + 2 * self.master.n_nodes))
+        nm = d * self.cells[1].n_nodes               # master dofs of a segment: 4, 6 (3-node), 9, 12
+        rows = np.concatenate([np.repeat(k, nm)] + [own] * d)
+        mdofs = (d * n_s + d * seg_m[e][:, :, None] + np.arange(d)).reshape(-1, nm)
+        cols = np.concatenate([mdofs.ravel()] + [d * own + c for c in range(d)])
+        return pattern_matrix(rows, cols, (n_s, d * n_s + d * self.master.n_nodes))
 
     def pattern(self, xs: np.ndarray, xm: np.ndarray) -> sp.csr_matrix:
         """The reserved pattern (:class:`~skfem_mortar.contact.discretization.PatternedDiscretization`).
@@ -428,7 +444,7 @@ class NTS(ContactDiscretization):
         checkpoints (:meth:`state_dict`), so a resumed run reserves as the
         uninterrupted one.
         """
-        need = candidates(xs, xm, self.master.segments, self._margin(xm), cell=self.cells[1])
+        need = self._candidates(xs, xm, self._margin(xm))
         if self._reserved is None or not covers(self._reserved[0], need):
             self._reserve(xs, xm, need)
         return self._reserved[1]

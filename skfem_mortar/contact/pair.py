@@ -62,6 +62,7 @@ from .friction import FrictionLaw, FrictionRows, as_law
 from .kkt import K_GAP, K_LAM, violation
 from .measures import PLANE, Measure, measure_for
 from .methods import METHODS, make_method  # METHODS: the registry's names, the built-ins in it
+from .nts_faces import check_face
 from .multiplier_spaces import MultiplierSpace, space_for
 from .reservation import Reservation
 from .segmentation import surface_cell
@@ -99,11 +100,29 @@ def _check_surface(role: str, surface: Any) -> None:
         raise ValueError(f"{role} must be a contact surface (ContactSurface.from_solid(body, "
                          f"boundary), ContactSurface.from_cable(cable), RigidPlane, "
                          f"RigidCircle), got {what}{named}")
-    cell = getattr(surface, "cell", None)
-    if cell is not None and cell.dim != 1:
-        raise ValueError(f"{role} {surface.name!r} is a surface of {cell.name} cells (a 3D "
-                         f"body's): contact between 3D bodies is not offered yet, only "
-                         f"between curves in the plane (line cells)")
+
+
+def _check_3d(slave: Any, master: Any, method: str, friction: Any) -> None:
+    """Refuse what contact between faces (3D bodies) does not offer yet: another
+    method than NTS, quadratic faces, self-contact, friction, and a pair of a curve
+    and a face surface; each ValueError names the feature and the alternative."""
+    dims = {surface_cell(s).dim for s in (slave, master)}
+    if dims == {1}:
+        return
+    if dims != {2}:
+        raise ValueError(f"slave {slave.name!r} and master {master.name!r} must both be "
+                         f"curves (2D bodies) or both faces (3D bodies), got one of each")
+    if method != "nts":
+        raise ValueError(f"{method} in 3D is not offered yet; use method='nts'")
+    for role, s in (("slave", slave), ("master", master)):
+        check_face(surface_cell(s), f"{role} {s.name!r}")
+    if slave.body is not None and slave.body is master.body:
+        raise ValueError("self-contact in 3D (slave and master on the same body) is not "
+                         "offered yet; split the body into two bodies tied by a TiePair, "
+                         "or use a plane model")
+    if friction is not None:
+        raise ValueError("friction in 3D is not offered yet; use frictionless contact "
+                         "(friction=None), or a plane or axisymmetric model")
 
 
 class ContactPair(Item):
@@ -184,10 +203,7 @@ class ContactPair(Item):
     """
 
     dof_kind = "lam"
-    geometries = ("plane", "axisymmetric")
-    #: contact in 3D models comes with 3D contact
-    geometry_advice = {"3d": "contact in a 3D model is not offered yet (only in plane and "
-                             "axisymmetric models); it comes with 3d contact"}
+    geometries = ("plane", "axisymmetric", "3d")
     _geometry = "plane"
     loaded = False  # its residual does not depend on the load factor
     #: K_lamu = c G on active rows against K_ulam = -G^T (and H): not symmetric
@@ -203,6 +219,7 @@ class ContactPair(Item):
             raise ValueError(f"method must be one of {', '.join(METHODS)}, got {method!r}")
         _check_surface("slave", slave)
         _check_surface("master", master)
+        _check_3d(slave, master, method, friction)
         if slave.dofs() is None:
             raise ValueError("slave must be a deformable surface (a rigid surface is a master)")
         if slave is master or (slave.body is not None and slave.body is master.body
@@ -373,7 +390,8 @@ class ContactPair(Item):
         """Global index of every local dof of the pair (``-1`` for a rigid master)."""
         ds = self.slave.dofs().T.ravel()
         dm = self.master.dofs()
-        dm = np.full(2 * self.master.n_nodes, -1, dtype=np.int64) if dm is None else dm.T.ravel()
+        dm = (np.full(self.slave.X.shape[0] * self.master.n_nodes, -1, dtype=np.int64)
+              if dm is None else dm.T.ravel())
         return np.concatenate([ds, dm]).astype(np.int64)
 
     def evaluate(self, z: np.ndarray, tangent: bool = True, with_lam: bool = True) -> ContactEval:
@@ -394,7 +412,7 @@ class ContactPair(Item):
         """
         pinned = None
         if self.master.body is None:
-            ds = self.slave.dofs()  # (2, n)
+            ds = self.slave.dofs()  # (d, n)
             pinned = np.all(np.isin(ds, np.asarray(fixed)), axis=0)
         self.discretization.set_pinned(pinned)
 
