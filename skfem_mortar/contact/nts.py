@@ -66,7 +66,8 @@ from .segmentation import line_cells, surface_cell
 from .contact_eval import ContactEval
 from .discretization import (ContactDiscretization, OptionTable, check_entries, check_options,
                              covers, pattern_matrix, register_method, reserved_keys)
-from .nts_faces import check_face, evaluate_faces, face_candidates, face_sizes
+from .nts_faces import check_face, evaluate_faces, face_candidates, face_sizes, face_weights
+from .rigid3d import RigidSurface3D, exact_gaps
 from .nts_projection import LOCK_STICK, candidates, choose_segments, project
 from .surfaces import AXIS_TOL, segment_lengths, segment_normals, segments_at_nodes
 
@@ -465,9 +466,13 @@ class NTS(ContactDiscretization):
             extra["prefer"] = self._prefer
             if self._lock is not None and self._lock.any():
                 extra["lock"] = self._lock
-        ev = evaluate(xs, self.slave.segments, xm, self.master.segments, lam=lam,
-                      tangent=tangent, **extra, **self.options, cells=self.cells,
-                      measure=self.measure, mirrored=self._mirrored)
+        if self.dim == 2 and isinstance(self.master, RigidSurface3D):   # an exact surface
+            area = face_weights(xs, self.slave.segments, self.cells[0], self.measure)
+            ev = exact_gaps(self.master, xs, lam, tangent, area, xm.shape[1])
+        else:
+            ev = evaluate(xs, self.slave.segments, xm, self.master.segments, lam=lam,
+                          tangent=tangent, **extra, **self.options, cells=self.cells,
+                          measure=self.measure, mirrored=self._mirrored)
         if self._pinned is not None and self._pinned.any():
             ev.mask = ev.mask & ~self._pinned
         return ev

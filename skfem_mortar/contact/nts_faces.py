@@ -56,9 +56,11 @@ __all__ = ["FACE_CELLS", "overshoot", "face_candidates", "project_faces", "gap_j
 #: the surface cells NTS projects onto (linear faces; quadratic ones are refused)
 FACE_CELLS = ("tri3", "quad4")
 
-#: quadrature degree of the tributary weights ``int N_A dGamma`` (bilinear ``N_A``
-#: times the Jacobian of a warped quad4, bilinear too: degree 4 is exact)
-WEIGHT_DEGREE = 4
+#: quadrature degree of the tributary weights ``int N_A dGamma``: exact on flat faces
+#: (tri3, parallelogram quad4); the area element of a warped quad4 is the root of a
+#: polynomial, and degree 9 (5 x 5 points) leaves a relative error of 9e-16 at a warp of
+#: 0.1 cell and 2e-10 at 0.3 (degree 4: 7e-10 and 7e-7)
+WEIGHT_DEGREE = 9
 
 
 def check_face(cell: "str | CellType", what: str) -> CellType:
@@ -197,8 +199,8 @@ def _map(cell: CellType, P: np.ndarray, xi: np.ndarray) -> tuple[np.ndarray, np.
 def _jet_map(cell: CellType, JP: list, xi0: np.ndarray, dxi: list) -> tuple[list, list, list]:
     """``x``, ``T_j`` and ``dT_j/dxi_l`` (lists over components of jets) at ``xi0 + dxi``,
     exactly by Taylor: the shape functions of tri3 and quad4 are of degree at most one
-    in each coordinate, so ``N(xi0 + d) = N + dN . d + d . d2N . d / 2`` and
-    ``dN(xi0 + d) = dN + d2N . d`` hold exactly."""
+    in each coordinate, so ``x = x_0 + T_j d_j + dT_jl d_j d_l / 2`` and ``T_j = T_j0 +
+    dT_jl d_l`` hold exactly (``x_0``, ``T_j0``, ``dT_jl`` at ``xi0``)."""
     N, G, G2 = cell.shape(xi0), cell.dshape(xi0), cell.d2shape(xi0)
     k = cell.n_nodes
 
@@ -210,15 +212,14 @@ def _jet_map(cell: CellType, JP: list, xi0: np.ndarray, dxi: list) -> tuple[list
 
     x, T, dT = [], [[], []], [[[], []], [[], []]]
     for c in range(3):
-        Na = [N[a] + G[a, 0] * dxi[0] + G[a, 1] * dxi[1]
-              + 0.5 * (G2[a, 0, 0] * dxi[0] * dxi[0] + G2[a, 1, 1] * dxi[1] * dxi[1])
-              + G2[a, 0, 1] * dxi[0] * dxi[1] for a in range(k)]
-        x.append(comb(c, Na))
+        t0 = [comb(c, G[:, j]) for j in range(2)]
+        tt = [[comb(c, G2[:, j, l]) for l in range(2)] for j in range(2)]
+        td = [t0[j] + tt[j][0] * dxi[0] + tt[j][1] * dxi[1] for j in range(2)]
+        x.append(comb(c, N) + (t0[0] + td[0]) * dxi[0] * 0.5 + (t0[1] + td[1]) * dxi[1] * 0.5)
         for j in range(2):
-            Ga = [G[a, j] + G2[a, j, 0] * dxi[0] + G2[a, j, 1] * dxi[1] for a in range(k)]
-            T[j].append(comb(c, Ga))
+            T[j].append(td[j])
             for l in range(2):
-                dT[j][l].append(sum(JP[a][c] * G2[a, j, l] for a in range(k)))
+                dT[j][l].append(tt[j][l])
     return x, T, dT
 
 

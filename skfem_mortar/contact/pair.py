@@ -110,8 +110,12 @@ def _check_3d(slave: Any, master: Any, method: str, friction: Any) -> None:
     if dims == {1}:
         return
     if dims != {2}:
-        raise ValueError(f"slave {slave.name!r} and master {master.name!r} must both be "
-                         f"curves (2D bodies) or both faces (3D bodies), got one of each")
+        face, curve = (slave, master) if surface_cell(slave).dim == 2 else (master, slave)
+        raise ValueError(f"{face.name!r} is a surface of {surface_cell(face).name} faces (a "
+                         f"3D body's) and {curve.name!r} one of line cells (a 2D body's or a "
+                         f"rigid line): the slave and the master of a contact pair must both "
+                         f"be faces or both be curves; in 3D use RigidPlane3D, RigidSphere "
+                         f"or RigidCylinder for a rigid master")
     if method != "nts":
         raise ValueError(f"{method} in 3D is not offered yet; use method='nts'")
     for role, s in (("slave", slave), ("master", master)):
