@@ -251,3 +251,122 @@ def test_refusals_name_the_feature_and_the_alternative():
     quad = Solid(mesh.with_defaults(), LinearElastic(E=1.0, nu=0.3), "tet2", name="q")
     with pytest.raises(ValueError, match=r"a linear surface cell \(.tet1.*got element .tet2."):
         ContactPair(ContactSurface.from_solid(quad, "top"), m, method="nts")
+
+
+# --------------------------------------------------------------------- checkpoint, outputs
+@pytest.mark.filterwarnings("ignore::UserWarning")
+def test_a_3d_nts_run_resumed_from_a_checkpoint_ends_bit_for_bit(tmp_path):
+    """Finite strain, the sphere pushed in over four steps (the contact zone grows, the
+    face choices and reservations carry over): resumed after step 2 from the
+    checkpoint, the states and the contact series' last frame equal the whole run's."""
+    from skfem_mortar import NeoHooke
+    from skfem_mortar.output.checkpoint import read_checkpoint
+    from skfem_mortar.output.io import read_series
+    from skfem_mortar.solver.observers import CheckpointObserver, SeriesObserver
+    from skfem_mortar.solver.stepping import Controller, Restart, StepRecord
+
+    def model():
+        t = np.linspace(0.0, 1.0, 5)
+        mesh = skfem.MeshHex.init_tensor(t, t, np.linspace(0.0, 0.5, 3)).with_boundaries(
+            {"bottom": lambda x: x[2] < 1e-9, "top": lambda x: x[2] > 0.5 - 1e-9})
+        block = Solid(mesh, NeoHooke(E=1.0, nu=0.3), "hex1", name="block")
+        pair = ContactPair(ContactSurface.from_solid(block, "top"),
+                           RigidSphere((0.5, 0.5, 1.0), 0.5, refine=2), method="nts")
+        return Model([block, pair, Traction(block, "bottom", (0.0, 0.0, 0.05), name="push"),
+                      *_rollers(block)], geometry="3d")
+    meta = {"scene": "nts3d"}
+    m = model()
+    whole = solve(m, n_steps=4, observers=[CheckpointObserver(tmp_path / "checkpoint", meta),
+                                           SeriesObserver(tmp_path, m.outputs())])
+    assert whole.converged
+    ck = read_checkpoint(tmp_path / "checkpoint", meta)
+    r = 2
+    restart = Restart(ck.states[r].copy(), float(ck.load_factors[r]),
+                      [StepRecord.from_dict(h) for h in ck.history[:r]],
+                      Controller.from_dict(ck.controllers[r]),
+                      previous=ck.states[r - 1].copy(), items=ck.items[r])
+    resumed = solve(model(), n_steps=4, restart=restart)
+    for a, b in zip(resumed.states[1:], whole.states[r + 1:]):
+        np.testing.assert_array_equal(a, b)
+    frames = read_series(tmp_path / "contact.pvd")
+    assert len(frames) == 5 and list(frames[-1][1].cells_dict) == ["quad"]
+    data = m.item("contact").contact_data(whole.z)
+    assert list(data)[:6] == ["x", "y", "z", "gap", "pressure", "has_master"]
+    p = np.zeros(data["node"].size)
+    p[data["node"]] = data["pressure"]
+    np.testing.assert_array_equal(frames[-1][1].point_data["pressure"].ravel(), p)
+    assert p.max() > 0
+
+
+# --------------------------------------------------------------------- symmetry planes
+def _halves(half, symmetry=None):
+    """The stacked hex1 blocks of :func:`_stacked` (4 on 6 cells a side), or their half
+    ``x >= 1/2`` with the roller on ``X = 1/2`` as the symmetry plane."""
+    def block(n, z0, name):
+        t = np.linspace(0.0, 1.0, n + 1)
+        tx = t[t >= 0.5 - 1e-12] if half else t
+        mesh = skfem.MeshHex.init_tensor(tx, t, np.linspace(z0, z0 + 0.5, n // 2 + 1))
+        mesh = mesh.with_boundaries({"bottom": lambda x: np.abs(x[2] - z0) < 1e-9,
+                                     "top": lambda x: np.abs(x[2] - z0 - 0.5) < 1e-9})
+        return Solid(mesh, LinearElastic(E=1.0, nu=0.3), "hex1", name=name, kinematics="small")
+    lower, upper = block(6, 0.0, "lower"), block(4, 0.5, "upper")
+    pair = ContactPair(ContactSurface.from_solid(upper, "bottom"),
+                       ContactSurface.from_solid(lower, "top"), method="nts", symmetry=symmetry)
+    items = [upper, lower, pair, Traction(upper, "top", (0.0, 0.0, -0.01), name="load"),
+             Dirichlet(lower, lower.dofs_on("bottom", "z"), 0.0, name="support"),
+             *_rollers(lower), *_rollers(upper)]
+    return Model(items, geometry="3d"), pair
+
+
+@pytest.mark.filterwarnings("ignore::UserWarning")
+@pytest.mark.parametrize("symmetry", [None, [((1.0, 0.0, 0.0), 0.5)]], ids=["read", "declared"])
+def test_a_half_model_equals_the_whole_one(symmetry):
+    """The half model (symmetry plane X = 1/2, read from its rollers or declared) carries
+    half the contact force of the whole one to 1e-12 and the same nodal pressures to 1e-10
+    (both solved to rtol 1e-12; the meshes are mirror images about the plane)."""
+    whole, pw = _halves(False)
+    half, ph = _halves(True, symmetry)
+    rw = solve(whole, n_steps=1, newton=NewtonOptions(rtol=1e-12))
+    rh = solve(half, n_steps=1, newton=NewtonOptions(rtol=1e-12))
+    assert ph.discretization._mirrored.sum() == 7        # the lower top's nodes on X = 1/2
+    fw, fh = pw.forces(rw.z)[0].sum(axis=1)[2], ph.forces(rh.z)[0].sum(axis=1)[2]
+    assert fh == pytest.approx(0.5 * fw, rel=1e-12)
+    dw, dh = pw.contact_data(rw.z), ph.contact_data(rh.z)
+    key = lambda d: np.round(d["x"], 9) * 10 + np.round(d["y"], 9)
+    kw, kh = key(dw), key(dh)
+    pos = np.searchsorted(kw[np.argsort(kw)], kh)
+    np.testing.assert_allclose(dh["pressure"], dw["pressure"][np.argsort(kw)][pos], rtol=1e-10)
+
+
+def test_an_edge_on_a_symmetry_plane_is_no_free_border():
+    """A node 1e-6 of a cell beyond a master border edge is off the master; on a
+    symmetry plane through that edge it keeps the face (gap on its extension)."""
+    x = np.array([[0, 1, 1, 0], [0, 0, 1, 1], [0, 0, 0, 0.0]])
+    faces = np.array([[0, 1, 2, 3]])
+    p = np.array([[-1e-6], [0.5], [0.1]])
+    cell = cell_type("quad4")
+    assert not project_faces(p, x, faces, cell, 1.0)["mask"][0]
+    pr = project_faces(p, x, faces, cell, 1.0, mirrored=np.array([1, 0, 0, 1], bool))
+    assert pr["mask"][0] and pr["g"][0] == pytest.approx(0.1, rel=1e-14)
+
+
+def test_symmetry_must_be_planes():
+    a, b = _two_blocks()
+    s, m = ContactSurface.from_solid(b, "bottom"), ContactSurface.from_solid(a, "top")
+    for bad in ([(0, 0, 0), 1.0], [((1, 0), 0.0)], [((1, 0, 0), np.nan)], 3):
+        with pytest.raises(ValueError, match=r"symmetry must be a list of planes \(normal, "):
+            ContactPair(s, m, method="nts", symmetry=bad)
+
+
+def test_touching_nodes_on_faces():
+    """A slave node within tol of the master counts; so does the slave node nearest a
+    master vertex that touches the inside of a slave face (an upside-down pyramid on a
+    plate, its tip between slave nodes)."""
+    from skfem_mortar.contact.active_set import touching_nodes
+    xs, fs = _grid(2, "quad4", jitter=0.0)               # the plate z = 0, nodes 1 apart
+    xm = np.array([[0.9, 1.9, 1.9, 0.9, 1.4], [0.2, 0.2, 1.2, 1.2, 0.7],
+                   [1.0, 1.0, 1.0, 1.0, 1e-4]])
+    fm = np.array([[0, 1, 4], [1, 2, 4], [2, 3, 4], [3, 0, 4]])   # the tip 1e-4 above
+    t = touching_nodes(xs, fs[:, ::-1], xm, fm, 1e-3, ("quad4", "tri3"))
+    assert np.flatnonzero(t).tolist() == [4]              # (1, 1): nearest to (1.4, 0.7)
+    assert not touching_nodes(xs, fs[:, ::-1], xm, fm, 1e-5, ("quad4", "tri3")).any()

@@ -37,8 +37,9 @@ from typing import Callable
 import numpy as np
 import scipy.sparse as sp
 
-from .cells import CellType
+from .cells import CellType, cell_type
 from .curves import chain_nodes, polyline
+from .nts_faces import touching_faces
 from .search import node_segment_pairs
 
 __all__ = ["ActiveSet", "StatusSet", "chain_order", "extrapolated_release", "normal_nodal_force",
@@ -92,6 +93,9 @@ def touching_nodes(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.
     cell types (curved cells: their chords through every node). Bool ``(n_s,)``.
     """
     xs, xm = np.asarray(xs, dtype=float), np.asarray(xm, dtype=float)
+    if cell_type(cells[0]).dim == 2:                 # the faces of 3D bodies
+        return touching_faces(xs, np.asarray(seg_s), xm, np.asarray(seg_m),
+                              cell_type(cells[0]), cell_type(cells[1]), tol)
     # curved cells: their chords through every node (the touch tolerance is far
     # above the sag of a cell that can touch flat)
     seg_s = polyline(np.asarray(seg_s, dtype=np.int64).reshape(len(seg_s), -1), cells[0])

@@ -392,6 +392,12 @@ class NTS(ContactDiscretization):
     def set_pinned(self, pinned: np.ndarray | None) -> None:
         self._pinned = pinned
 
+    def set_symmetry(self, mirrored: np.ndarray | None) -> None:
+        """Master nodes on a symmetry plane of a 3D pair (:mod:`.symmetry`): a face edge
+        between two of them is no free border (:func:`~.nts_faces.project_faces`)."""
+        if self.dim == 2:
+            self._mirrored = mirrored
+
     def _margin(self, xm: np.ndarray) -> float:
         """The search margin of :func:`project` (default: the median master segment length)."""
         margin = self.options.get("margin")

@@ -51,7 +51,8 @@ from .scatter import Triplets
 from .search import nearest_vertex, node_segment_pairs
 
 __all__ = ["FACE_CELLS", "overshoot", "face_candidates", "project_faces", "gap_jets",
-           "face_weights", "evaluate_faces", "free_edges", "face_sizes"]
+           "face_weights", "evaluate_faces", "free_edges", "face_sizes", "face_edges",
+           "face_distances", "check_face", "touching_faces"]
 
 #: the surface cells NTS projects onto (linear faces; quadratic ones are refused)
 FACE_CELLS = ("tri3", "quad4")
@@ -129,6 +130,44 @@ def _nearest_on_face(p, xm, faces, cell, pr) -> tuple[np.ndarray, np.ndarray]:
     return np.where(inside, pr.distance, de.min(axis=0)), edge
 
 
+def face_edges(faces: np.ndarray, cell: "str | CellType") -> np.ndarray:
+    """The corner-to-corner edges of every face, (n_f * n_corners, 2) (repeated where
+    faces share an edge)."""
+    c = np.asarray(cell_type(cell).corners)
+    return np.stack([faces[:, c], faces[:, np.roll(c, -1)]], axis=2).reshape(-1, 2)
+
+
+def face_distances(p: np.ndarray, xm: np.ndarray, faces: np.ndarray,
+                   cell: "str | CellType") -> np.ndarray:
+    """Distance of the points ``p (3, n)`` from the faces' surface (the nearest point of
+    their chosen face, :func:`project_faces`)."""
+    faces = np.asarray(faces, dtype=np.int64)
+    h = float(np.median(face_sizes(xm, faces))) if len(faces) else 0.0
+    return project_faces(p, xm, faces, cell_type(cell), h)["dist"]
+
+
+def touching_faces(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarray,
+                   cs: CellType, cm: CellType, tol: float) -> np.ndarray:
+    """:func:`~.active_set.touching_nodes` on faces: the slave nodes within ``tol`` of
+    the master surface, and the slave node nearest the projection of each master
+    vertex within ``tol`` of the slave surface (the closest approach of two faceted
+    surfaces is at a vertex of one of them, or an edge-edge crossing that both nearby
+    vertices approach within the faces' size times their angle).  Bool ``(n_s,)``."""
+    out = np.zeros(xs.shape[1], dtype=bool)
+    if not (len(seg_s) and len(seg_m)):
+        return out
+    out |= project_faces(xs, xm, seg_m, cm, tol + float(np.median(face_sizes(xm, seg_m))))[
+        "dist"] <= tol
+    pm = xm[:, np.unique(seg_m)]
+    pr = project_faces(pm, xs, seg_s, cs, tol + float(np.median(face_sizes(xs, seg_s))))
+    on = np.flatnonzero(pr["dist"] <= tol)
+    if on.size:
+        corners = seg_s[pr["nearest"][on]][:, list(cs.corners)]       # (m, k)
+        d = np.sum((xs[:, corners] - pm[:, on, None]) ** 2, axis=0)
+        out[corners[np.arange(on.size), np.argmin(d, axis=1)]] = True
+    return out
+
+
 def free_edges(faces: np.ndarray, cell: CellType, mirrored: np.ndarray | None) -> np.ndarray:
     """Bool (n_f, n_edges): the edge of one face only (the master surface's border),
     not lying on a symmetry plane (both ends ``mirrored``)."""
@@ -154,7 +193,9 @@ def project_faces(xs: np.ndarray, xm: np.ndarray, faces: np.ndarray, cell: CellT
     dict with ``segment`` (n_s,) the chosen face (-1: none), ``xi`` (2, n_s) its
     unclipped coordinates, ``mask`` (n_s,), ``n`` (3, n_s) the face normal there,
     ``g`` (n_s,) the gap (0 out of ``mask``), ``overshoot`` (n_s,) and ``dist``
-    (n_s,) the distance to the face's nearest point (``inf`` out of ``mask``).
+    (n_s,) the distance to the chosen face's nearest point and ``nearest`` (n_s,) that
+    face (both also out of ``mask``: a node beyond a free edge; ``inf`` and -1
+    without a candidate).
     """
     from .nts_projection import choose_segments
     n_s, n_f = xs.shape[1], len(faces)
@@ -187,7 +228,7 @@ def project_faces(xs: np.ndarray, xm: np.ndarray, faces: np.ndarray, cell: CellT
     n = nv / np.maximum(np.sqrt(np.sum(nv * nv, axis=0)), 1e-300)
     g = np.where(mask, np.sum((xs - x) * n, axis=0), 0.0)
     return {"segment": np.where(mask, segment, -1), "xi": xi, "mask": mask, "n": n, "g": g,
-            "overshoot": o, "dist": np.where(mask, dn, np.inf)}
+            "overshoot": o, "dist": dn, "nearest": segment}
 
 
 def _map(cell: CellType, P: np.ndarray, xi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

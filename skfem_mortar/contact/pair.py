@@ -62,7 +62,8 @@ from .friction import FrictionLaw, FrictionRows, as_law
 from .kkt import K_GAP, K_LAM, violation
 from .measures import PLANE, Measure, measure_for
 from .methods import METHODS, make_method  # METHODS: the registry's names, the built-ins in it
-from .nts_faces import check_face
+from .nts_faces import check_face, face_sizes
+from .symmetry import check_planes, on_planes, planes_from_fixed
 from .multiplier_spaces import MultiplierSpace, space_for
 from .reservation import Reservation
 from .segmentation import surface_cell
@@ -131,7 +132,9 @@ def _check_3d(slave: Any, master: Any, method: str, friction: Any) -> None:
 
 class ContactPair(Item):
     """Contact between a slave and a master surface with Lagrange multipliers,
-    frictionless or with Coulomb or Tresca friction, in plane and axisymmetric models.
+    frictionless or with Coulomb or Tresca friction, in plane and axisymmetric models;
+    frictionless NTS between the faces of 3D bodies (tri3, quad4) or against a rigid
+    plane, sphere or cylinder (:mod:`.rigid3d`) in 3D models.
 
     In an axisymmetric model (``Model(..., geometry="axisymmetric")``, ``(r, z) =
     (x, y)``) every integral over the slave weighs ``2 pi r dGamma`` (the measure
@@ -190,7 +193,12 @@ class ContactPair(Item):
         within the load step (:mod:`skfem_mortar.contact.slip`) and the
         semi-smooth stick/slip rows of
         :func:`~skfem_mortar.contact.friction.complementarity` (docs/friction.md);
-        on 2-node and 3-node (quadratic) segments alike.
+        on 2-node and 3-node (quadratic) segments alike.  Not in 3D yet.
+    symmetry : list of (normal, offset), optional
+        3D only: the symmetry planes ``normal . x = offset`` of a quarter or half
+        model (:mod:`.symmetry`); a master face edge on one is no free border.  None
+        (default): read from the Dirichlet data (a coordinate plane bounding the
+        slave surface on which every slave node's normal dof is held).
     **options
         The discretization's options (e.g. ``margin``), checked when it is built.
 
@@ -218,12 +226,17 @@ class ContactPair(Item):
                  c: float | None = None, cycle_guard: bool = True,
                  touch_tolerance: float = 1e-2, segmentation: str = "iteration",
                  accelerate: bool = True, friction: FrictionLaw | None = None,
-                 **options: Any):
+                 symmetry: Any = None, **options: Any):
         if method not in METHODS:
             raise ValueError(f"method must be one of {', '.join(METHODS)}, got {method!r}")
         _check_surface("slave", slave)
         _check_surface("master", master)
         _check_3d(slave, master, method, friction)
+        #: declared symmetry planes ``(unit normal, offset)`` (3D; :mod:`.symmetry`)
+        self.symmetry = check_planes(symmetry)
+        if self.symmetry and surface_cell(slave).dim != 2:
+            raise ValueError("symmetry planes are for contact between 3D bodies (faces); "
+                             "a plane model's symmetry line is a Dirichlet condition")
         if slave.dofs() is None:
             raise ValueError("slave must be a deformable surface (a rigid surface is a master)")
         if slave is master or (slave.body is not None and slave.body is master.body
@@ -254,7 +267,9 @@ class ContactPair(Item):
         #: ``"projected"`` (default) or ``"exact"`` (the finite-difference tests)
         self.friction_jacobian = "projected"
         self.c = c
-        lengths = segment_lengths(slave.X, slave.segments)
+        faces = surface_cell(slave).dim == 2            # the faces of a 3D body
+        lengths = (face_sizes(slave.X, slave.segments) if faces
+                   else segment_lengths(slave.X, slave.segments))
         self._touch = float(touch_tolerance) * float(np.mean(lengths))
         self._h = float(np.median(lengths))  # the gap tolerance's length
         self._tol_p = 0.0  # pressure tolerance of the last converged check
@@ -268,8 +283,8 @@ class ContactPair(Item):
         if clash:
             raise ValueError(f"method {method!r} names its state {sorted(clash)}, which the "
                              f"pair's state uses; rename them")
-        self.state = ActiveSet(slave.n_nodes, chain_order(slave.segments, slave.closed,
-                                                        slave.n_nodes, surface_cell(slave)),
+        self.state = ActiveSet(slave.n_nodes, None if faces else chain_order(
+            slave.segments, slave.closed, slave.n_nodes, surface_cell(slave)),
                                name, cycle_guard=cycle_guard, accelerate=accelerate)
         self._started = False
         #: (the discretization's pattern, the triplets over it) and how often a
@@ -419,6 +434,10 @@ class ContactPair(Item):
             ds = self.slave.dofs()  # (d, n)
             pinned = np.all(np.isin(ds, np.asarray(fixed)), axis=0)
         self.discretization.set_pinned(pinned)
+        if surface_cell(self.slave).dim == 2 and hasattr(self.discretization, "set_symmetry"):
+            planes = self.symmetry or planes_from_fixed(self.slave.X, self.slave.dofs(), fixed)
+            X = np.asarray(self.master.X, dtype=float)
+            self.discretization.set_symmetry(on_planes(X, planes, float(np.ptp(X, axis=1).max())))
 
     def _bodies(self):
         out = [self.slave.body]
