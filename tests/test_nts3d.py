@@ -190,11 +190,13 @@ def _stacked(up="hex1", low="hex1", n_up=4, n_low=6, load=0.01, flip=False):
 @pytest.mark.parametrize("up,low", [("hex1", "hex1"), ("tet1", "hex1"), ("hex1", "tet1")])
 def test_stacked_blocks_solve_and_balance(up, low):
     """Newton converges; the two sides' contact forces cancel and their resultant is the
-    load to 1e-10 (it balances the traction at the Newton tolerance); the nodal
-    pressures of NTS on non-matching meshes are off the uniform 0.01 (reported, not
-    exact: within 60 %)."""
+    load to 1e-10 (it balances the traction at the Newton tolerance; measured 7e-16);
+    the nodal pressures of NTS on non-matching meshes are off the uniform 0.01 (not
+    exact: measured 31 %, 49 %, 29 % here, 19 % to 52 % over all pairings, both slave
+    choices, 4 on 6 and 6 on 4 cells: the bound 60 % only catches a broken kernel)."""
     model, pair = _stacked(up, low)
-    res = solve(model, n_steps=1, newton=NewtonOptions(rtol=1e-12))
+    with pytest.warns(UserWarning, match="19 % to 52 % off"):
+        res = solve(model, n_steps=1, newton=NewtonOptions(rtol=1e-12))
     assert res.converged
     fs, fm = pair.forces(res.z)
     assert np.abs(fs.sum(axis=1) + fm.sum(axis=1)).max() <= 1e-14
@@ -370,3 +372,23 @@ def test_touching_nodes_on_faces():
     t = touching_nodes(xs, fs[:, ::-1], xm, fm, 1e-3, ("quad4", "tri3"))
     assert np.flatnonzero(t).tolist() == [4]              # (1, 1): nearest to (1.4, 0.7)
     assert not touching_nodes(xs, fs[:, ::-1], xm, fm, 1e-5, ("quad4", "tri3")).any()
+
+
+@pytest.mark.filterwarnings("ignore::UserWarning")
+def test_the_picture_shows_the_slave_surface_by_pressure_beside_the_bodies(tmp_path):
+    from skfem_mortar.output.render3d import scene3d
+    model, pair = _stacked()
+    res = solve(model, n_steps=1)
+    bodies = [model.item("upper"), model.item("lower")]
+    plotter = scene3d(bodies, res.states[0], res.z, items=model.items, window_size=(400, 300))
+    try:
+        plotter.subplot(0, 1)
+        mesh = plotter.renderer.actors["contact:contact"].mapper.dataset
+        p = np.zeros(pair.slave.n_nodes)
+        data = pair.contact_data(res.z)
+        p[data["node"]] = data["pressure"]
+        np.testing.assert_array_equal(mesh.point_data["contact pressure"], p)
+    finally:
+        plotter.close()
+    res.plot(tmp_path / "stacked.png")
+    assert (tmp_path / "stacked.png").stat().st_size > 0

@@ -111,9 +111,11 @@ def touching_nodes(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.
     return out
 
 
-def normal_nodal_force(G: sp.spmatrix, lam: np.ndarray, n_slave: int) -> np.ndarray:
+def normal_nodal_force(G: sp.spmatrix, lam: np.ndarray, n_slave: int, d: int = 2
+                       ) -> np.ndarray:
     """The normal contact force on each slave node: ``G^T lam`` at the node
-    projected on the node's own gap gradient ``G[A, (x_A, y_A)]`` (for flat
+    projected on the node's own gap gradient ``G[A, x_A]`` (``d`` coordinates per
+    node: 2, or 3 in 3D) (for flat
     standard mortar ``D^T lam``), ``(n_slave,)``.
 
     Standard mortar multipliers alternate in sign at the edge of a too-wide
@@ -122,10 +124,10 @@ def normal_nodal_force(G: sp.spmatrix, lam: np.ndarray, n_slave: int) -> np.ndar
     ones to extrapolate.
     """
     G = G.tocsr()
-    f = (G.T @ lam)[:2 * n_slave].reshape(-1, 2)
+    f = (G.T @ lam)[:d * n_slave].reshape(-1, d)
     j = np.arange(n_slave)
-    gd = np.column_stack([np.asarray(G[j, 2 * j]).ravel(), np.asarray(G[j, 2 * j + 1]).ravel()])
-    nrm = np.hypot(gd[:, 0], gd[:, 1])
+    gd = np.column_stack([np.asarray(G[j, d * j + c]).ravel() for c in range(d)])
+    nrm = np.hypot(gd[:, 0], gd[:, 1]) if d == 2 else np.sqrt(np.sum(gd * gd, axis=1))
     return np.where(nrm > 0, np.sum(f * gd, axis=1) / np.where(nrm > 0, nrm, 1.0), 0.0)
 
 

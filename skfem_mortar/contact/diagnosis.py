@@ -91,6 +91,10 @@ def stiffness_ratio_text(model: Any, z: np.ndarray, load_factor: float) -> list[
 
 
 # --------------------------------------------------------------------------- NTS patch test
+#: the NTS patch errors measured in 3D (the warning's text; tests/test_nts3d.py)
+NTS_PATCH_ERRORS_3D = "19 % to 52 %"
+
+
 def _matching(pair: Any) -> bool:
     """Whether every master node where the surfaces meet coincides with a slave
     node (reference configuration): matching meshes, or a slave that refines
@@ -123,6 +127,13 @@ def nts_patch_text(pair: Any) -> str:
     ("" otherwise)."""
     if pair.method != "nts" or pair.master.body is None or _matching(pair):
         return ""
+    if pair.slave.cell.dim == 2:
+        return (f"{pair.name}: NTS on meshes that do not match where they meet (master nodes "
+                f"between slave nodes) fails the contact patch test: a uniform pressure comes "
+                f"out {NTS_PATCH_ERRORS_3D} off at the nodes on stacked blocks of 4 and 6 "
+                f"cells a side (tet1 and hex1 in all four pairings, either side the slave); "
+                f"the contact force is right; mortar in 3D is not offered yet: for exact "
+                f"pressures make the meshes match where they meet")
     return (f"{pair.name}: NTS on meshes that do not match where they meet (master nodes "
             f"between slave nodes) fails the contact patch test: a uniform pressure comes "
             f"out {NTS_PATCH_ERRORS} off at the nodes in the measured cases (6 % on the "
