@@ -61,9 +61,8 @@ import scipy.sparse as sp
 from .cells import CellType, cell_type
 from .measures import PLANE, Measure
 from .curves import cell_lengths, check_line, curve, ends, is_affine, polyline, projection_jets, tributary_weights
-from .scatter import Triplets
 from .segmentation import line_cells, surface_cell
-from .contact_eval import ContactEval
+from .contact_eval import ContactEval, node_gap_eval
 from .discretization import (ContactDiscretization, OptionTable, check_entries, check_options,
                              covers, pattern_matrix, register_method, reserved_keys)
 from .nts_faces import check_face, evaluate_faces, face_candidates, face_sizes, face_weights
@@ -167,19 +166,9 @@ def evaluate(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarra
         return ContactEval(g=g, G=None, H=None, area=area, mask=mask, info=info)
     k = np.flatnonzero(mask)
     m = seg_m[pr["segment"][k]]
-    dofs = np.column_stack([2 * k, 2 * k + 1] + [2 * n_s + 2 * m[:, a] + c
-                                                 for a in range(cm.n_nodes) for c in (0, 1)])
     kernel = _affine_gap if is_affine(cm) else _curve_gap
     g, dg, h = kernel(xs, xm, m, k, pr, cm, lam is not None)
-    ndof = 2 * n_s + 2 * n_m
-    Gt = Triplets()
-    Gt.rows(k, dofs, dg)
-    H = None
-    if h is not None:
-        Ht = Triplets()
-        Ht.block(dofs, h * lam[k])
-        H = Ht.csr((ndof, ndof))
-    return ContactEval(g=g, G=Gt.csr((n_s, ndof)), H=H, area=area, mask=mask, info=info)
+    return node_gap_eval(g, k, m, dg, h, lam, n_m, 2, area, mask, info)
 
 
 def _affine_gap(xs, xm, m, k, pr, cell, second):

@@ -44,10 +44,9 @@ import numpy as np
 import scipy.sparse as sp
 
 from .cells import CellType, cell_type
-from .contact_eval import ContactEval
+from .contact_eval import ContactEval, node_gap_eval
 from .jets import Jet
 from .projection import project as project_points
-from .scatter import Triplets
 from .search import nearest_vertex, node_segment_pairs
 
 __all__ = ["FACE_CELLS", "overshoot", "face_candidates", "project_faces", "gap_jets",
@@ -323,7 +322,7 @@ def evaluate_faces(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.
     :func:`~.nts.evaluate`.  Local dof order: slave node k -> 3k + c; master node j ->
     3 n_s + 3 j + c."""
     cs, cm = cells
-    n_s, n_m = xs.shape[1], xm.shape[1]
+    n_m = xm.shape[1]
     if margin is None:
         margin = float(np.median(face_sizes(xm, seg_m))) if len(seg_m) else 0.0
     pr = project_faces(xs, xm, seg_m, cm, margin, end_tolerance, prefer, stick, lock, mirrored)
@@ -334,18 +333,8 @@ def evaluate_faces(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.
         return ContactEval(g=g, G=None, H=None, area=area, mask=mask, info=info)
     k = np.flatnonzero(mask)
     m = seg_m[pr["segment"][k]]
-    dofs = np.column_stack([3 * k + c for c in range(3)]
-                           + [3 * n_s + 3 * m[:, a] + c for a in range(cm.n_nodes)
-                              for c in range(3)])
     gj = gap_jets(cm, xs[:, k], xm[:, m], pr["xi"][:, k], lam is not None)
     g = g.copy()
     g[k] = gj.v
-    ndof = 3 * n_s + 3 * n_m
-    Gt = Triplets()
-    Gt.rows(k, dofs, gj.g.T)
-    H = None
-    if lam is not None:
-        Ht = Triplets()
-        Ht.block(dofs, gj.hessian() * lam[k])
-        H = Ht.csr((ndof, ndof))
-    return ContactEval(g=g, G=Gt.csr((n_s, ndof)), H=H, area=area, mask=mask, info=info)
+    return node_gap_eval(g, k, m, gj.g.T, gj.hessian() if lam is not None else None, lam,
+                         n_m, 3, area, mask, info)

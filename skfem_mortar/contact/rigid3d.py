@@ -171,24 +171,13 @@ def exact_gaps(master: RigidSurface3D, xs: np.ndarray, lam: np.ndarray | None,
     """The NTS :class:`~.contact_eval.ContactEval` of the slave nodes ``xs (3, n_s)``
     against the exact surface of ``master`` (module docstring); ``n_m`` master nodes
     (their dofs, none varying, close the local dof layout)."""
-    import scipy.sparse as sp
-
-    from .contact_eval import ContactEval
+    from .contact_eval import ContactEval, node_gap_eval
     n_s = xs.shape[1]
     g, dg, d2g, ok = master.exact_gap(xs)
     g = np.where(ok, g, 0.0)
     info = {"xi": np.zeros((2, n_s)), "segment": np.where(ok, 0, -1), "normal": dg}
     if not tangent:
         return ContactEval(g=g, G=None, H=None, area=area, mask=ok, info=info)
-    ndof = 3 * n_s + 3 * n_m
     k = np.flatnonzero(ok)
-    rows = np.repeat(k, 3)
-    cols = (3 * k[:, None] + np.arange(3)).ravel()
-    G = sp.csr_matrix((dg[:, k].T.ravel(), (rows, cols)), shape=(n_s, ndof))
-    H = None
-    if lam is not None:
-        r = np.repeat(3 * k[:, None] + np.arange(3), 3, axis=1).ravel()
-        c = np.tile(3 * k[:, None] + np.arange(3), 3).ravel()
-        v = (d2g[:, :, k] * lam[k]).transpose(2, 0, 1).ravel()
-        H = sp.csr_matrix((v, (r, c)), shape=(ndof, ndof))
-    return ContactEval(g=g, G=G, H=H, area=area, mask=ok, info=info)
+    return node_gap_eval(g, k, np.zeros((k.size, 0), dtype=np.int64), dg[:, k].T,
+                         None if lam is None else d2g[:, :, k], lam, n_m, 3, area, ok, info)
