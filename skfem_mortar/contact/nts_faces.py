@@ -268,9 +268,11 @@ def _dot(a: list, b: list):
 
 
 def gap_jets(cell: CellType, xs: np.ndarray, P: np.ndarray, xi: np.ndarray, second: bool) -> Jet:
-    """The gap ``g = n(xi) . (x_s - x(xi))`` of the points ``xs (3, m)`` on the faces
-    with nodes ``P (3, m, k)`` as a jet of ``q = [x_s, x_1, ..., x_k]``: ``xi (2, m)``
-    (converged) refined by two Newton steps in jets (module docstring)."""
+    """The gaps of the points ``xs (3, m)`` on the faces with nodes ``P (3, m, k)`` as
+    a jet of ``q = [x_s, x_1, ..., x_k]``.
+
+    ``g = n(xi) . (x_s - x(xi))`` with ``xi (2, m)`` (converged) refined by two Newton
+    steps in jets (module docstring)."""
     k = cell.n_nodes
     vals = [xs[c] for c in range(3)] + [P[c, :, a] for a in range(k) for c in range(3)]
     nv = len(vals)

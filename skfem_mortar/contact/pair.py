@@ -739,7 +739,7 @@ class ContactPair(Item):
                 f"master {side(self.master)}, {int(np.sum(self.active))} active)")
 
     def forces(self, z: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """Contact forces ``(2, n)`` on the slave and on the master nodes: ``H G^T lam``
+        """Contact forces ``(d, n)`` on the slave and on the master nodes: ``H G^T lam``
         split into the two surfaces (the force the other body exerts; the residual
         term is its negative), totals over the model's thickness ``H``
         (:attr:`~skfem_mortar.core.item.Item.thickness`)."""

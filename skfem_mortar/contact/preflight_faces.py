@@ -27,8 +27,10 @@ def _corner_normals(x: np.ndarray, conn: np.ndarray) -> np.ndarray:
 
 def inward_faces(surface: Any, mesh: Any) -> tuple[np.ndarray, np.ndarray]:
     """Which of the faces of ``surface`` (on the solid with skfem ``mesh``) point into
-    the element they bound, ``n . (c_face - c_element) < 0``, and their areas; faces
-    that are no boundary facet of the mesh count as neither (area 0)."""
+    the element they bound, and their areas.
+
+    Inward: ``n . (c_face - c_element) < 0``; faces that are no boundary facet of the
+    mesh count as neither (area 0)."""
     corners = list(surface.cell.corners)
     ends = surface.nodes[surface.segments[:, corners]]                 # body vertices
     nv = mesh.p.shape[1]
@@ -62,10 +64,12 @@ def _nodal_normals(x: np.ndarray, conn: np.ndarray) -> np.ndarray:
 
 
 def facing_faces(pair: Any, z: np.ndarray, band: float = 1.0) -> tuple:
-    """``(near, projection, cos, weight)`` of :class:`~.preflight_orientation._Facing`
-    on faces: the slave nodes within ``band`` slave face sizes of the smallest
-    distance to the master (:func:`~.nts_faces.project_faces`), ``n_s . n_m`` of each
-    and its tributary area."""
+    """The facing test's data on faces: ``(near, projection, cos, weight)``.
+
+    The slave nodes within ``band`` slave face sizes of the smallest distance to the
+    master (:func:`~.nts_faces.project_faces`), ``n_s . n_m`` of each and its
+    tributary area (the fields of :func:`~.preflight_orientation.check_orientation`'s
+    facing data)."""
     xs, xm = pair.slave.x(z), pair.master.x(z)
     seg_s, seg_m = pair.slave.segments, pair.master.segments
     cm = pair.master.cell

@@ -1,5 +1,7 @@
-"""Symmetry planes of 3D contact pairs: declared (``ContactPair(..., symmetry=[(normal,
-offset), ...])``, the plane ``normal . x = offset``) or read from the Dirichlet data.
+"""Symmetry planes of 3D contact pairs, declared or read from the Dirichlet data.
+
+Declared: ``ContactPair(..., symmetry=[(normal, offset), ...])``, each the plane
+``normal . x = offset``.
 
 Quarter and half models end at their symmetry planes, and so do their contact
 surfaces: an edge of a master face on such a plane is no free border (the surface
