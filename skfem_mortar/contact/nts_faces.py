@@ -33,7 +33,8 @@ The 2D kernel's rules (:mod:`.nts_projection`) carried over the cell's dimension
   ``dg/dxi = 0``: with ``q = [x_s, x_1, ..., x_k]`` (``3 + 3 k`` unknowns)
   ``dg/dq = G_q`` and the Hessian needs only the exact first derivatives of ``xi``.
   Both come from jets (:func:`gap_jets`): ``xi`` as the converged value refined by
-  two Newton steps in jets (exact to second order), the gap composed from it.
+  one Newton step in first-order jets (its gradient exact), the gap composed from it
+  in second-order jets.
 
 Tributary weights ``a_A = int N_A w dGamma`` over the slave faces by the cell's
 quadrature (:func:`face_weights`).
@@ -271,23 +272,24 @@ def gap_jets(cell: CellType, xs: np.ndarray, P: np.ndarray, xi: np.ndarray, seco
     """The gaps of the points ``xs (3, m)`` on the faces with nodes ``P (3, m, k)`` as
     a jet of ``q = [x_s, x_1, ..., x_k]``.
 
-    ``g = n(xi) . (x_s - x(xi))`` with ``xi (2, m)`` (converged) refined by two Newton
-    steps in jets (module docstring)."""
+    ``g = n(xi) . (x_s - x(xi))`` with ``xi (2, m)`` (converged) refined by one Newton
+    step in first-order jets (module docstring)."""
     k = cell.n_nodes
     vals = [xs[c] for c in range(3)] + [P[c, :, a] for a in range(k) for c in range(3)]
     nv = len(vals)
     var = [Jet.variable(v, i, nv, second) for i, v in enumerate(vals)]
     js, JP = var[:3], [var[3 + 3 * a: 6 + 3 * a] for a in range(k)]
-    dxi = [Jet.constant(np.zeros_like(xi[0]), nv, second) for _ in range(2)]
-    for _ in range(2):
-        x, T, dT = _jet_map(cell, JP, xi, dxi)
-        r = [x[c] - js[c] for c in range(3)]
-        f = [_dot(T[j], r) for j in range(2)]
-        H = [[_dot(T[j], T[l]) + _dot(dT[j][l], r) for l in range(2)] for j in range(2)]
-        det = H[0][0] * H[1][1] - H[0][1] * H[1][0]
-        s0 = (H[1][1] * f[0] - H[0][1] * f[1]) / det
-        s1 = (H[0][0] * f[1] - H[1][0] * f[0]) / det
-        dxi = [dxi[0] - s0, dxi[1] - s1]
+    # one Newton step from the converged xi at first order: its gradient is exact, and
+    # the Hessian of g needs no more of xi (dg/dxi = 0 at the closest point)
+    JP1 = [[c.first() for c in p] for p in JP]
+    zero = Jet.constant(np.zeros_like(xi[0]), nv, False)
+    x, T, dT = _jet_map(cell, JP1, xi, [zero, zero])
+    r = [x[c] - js[c].first() for c in range(3)]
+    f = [_dot(T[j], r) for j in range(2)]
+    H = [[_dot(T[j], T[l]) + _dot(dT[j][l], r) for l in range(2)] for j in range(2)]
+    det = H[0][0] * H[1][1] - H[0][1] * H[1][0]
+    step = [(H[1][1] * f[0] - H[0][1] * f[1]) / det, (H[0][0] * f[1] - H[1][0] * f[0]) / det]
+    dxi = [Jet(-s.v, -s.g, Jet.constant(s.v, nv, True).h if second else None) for s in step]
     x, T, _ = _jet_map(cell, JP, xi, dxi)
     nx = T[0][1] * T[1][2] - T[0][2] * T[1][1]
     ny = T[0][2] * T[1][0] - T[0][0] * T[1][2]
