@@ -79,11 +79,13 @@ def test_a_pair_that_took_steps_cannot_move_to_another_geometry():
         Model([pair.slave.body, pair], geometry="axisymmetric")
 
 
-def test_contact_in_a_3d_model_is_still_refused():
+def test_a_3d_body_against_a_2d_rigid_line_is_refused():
+    """Faces of a 3D body and a rigid line of the plane make no pair (3D contact
+    takes faces on both sides; its rigid masters are its own)."""
     mesh = skfem.MeshTet.init_tensor(*(np.linspace(0.0, 1.0, 2),) * 3).with_defaults()
     body = Solid(mesh, NeoHooke(E=1.0, nu=0.3), element="tet1", name="b")
     slave = ContactSurface.from_solid(body, "bottom")
-    with pytest.raises(ValueError, match="3D bodies is not offered yet"):
+    with pytest.raises(ValueError, match="must both be faces or both be curves"):
         ContactPair(slave, RigidPlane((0.0, -0.1), (0.0, 1.0)), method="nts")
 
 

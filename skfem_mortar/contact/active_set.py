@@ -37,8 +37,9 @@ from typing import Callable
 import numpy as np
 import scipy.sparse as sp
 
-from .cells import CellType
+from .cells import CellType, cell_type
 from .curves import chain_nodes, polyline
+from .nts_faces import touching_faces
 from .search import node_segment_pairs
 
 __all__ = ["ActiveSet", "StatusSet", "chain_order", "extrapolated_release", "normal_nodal_force",
@@ -92,6 +93,9 @@ def touching_nodes(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.
     cell types (curved cells: their chords through every node). Bool ``(n_s,)``.
     """
     xs, xm = np.asarray(xs, dtype=float), np.asarray(xm, dtype=float)
+    if cell_type(cells[0]).dim == 2:                 # the faces of 3D bodies
+        return touching_faces(xs, np.asarray(seg_s), xm, np.asarray(seg_m),
+                              cell_type(cells[0]), cell_type(cells[1]), tol)
     # curved cells: their chords through every node (the touch tolerance is far
     # above the sag of a cell that can touch flat)
     seg_s = polyline(np.asarray(seg_s, dtype=np.int64).reshape(len(seg_s), -1), cells[0])
@@ -107,9 +111,11 @@ def touching_nodes(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.
     return out
 
 
-def normal_nodal_force(G: sp.spmatrix, lam: np.ndarray, n_slave: int) -> np.ndarray:
+def normal_nodal_force(G: sp.spmatrix, lam: np.ndarray, n_slave: int, d: int = 2
+                       ) -> np.ndarray:
     """The normal contact force on each slave node: ``G^T lam`` at the node
-    projected on the node's own gap gradient ``G[A, (x_A, y_A)]`` (for flat
+    projected on the node's own gap gradient ``G[A, x_A]`` (``d`` coordinates per
+    node: 2, or 3 in 3D) (for flat
     standard mortar ``D^T lam``), ``(n_slave,)``.
 
     Standard mortar multipliers alternate in sign at the edge of a too-wide
@@ -118,10 +124,10 @@ def normal_nodal_force(G: sp.spmatrix, lam: np.ndarray, n_slave: int) -> np.ndar
     ones to extrapolate.
     """
     G = G.tocsr()
-    f = (G.T @ lam)[:2 * n_slave].reshape(-1, 2)
+    f = (G.T @ lam)[:d * n_slave].reshape(-1, d)
     j = np.arange(n_slave)
-    gd = np.column_stack([np.asarray(G[j, 2 * j]).ravel(), np.asarray(G[j, 2 * j + 1]).ravel()])
-    nrm = np.hypot(gd[:, 0], gd[:, 1])
+    gd = np.column_stack([np.asarray(G[j, d * j + c]).ravel() for c in range(d)])
+    nrm = np.hypot(gd[:, 0], gd[:, 1]) if d == 2 else np.sqrt(np.sum(gd * gd, axis=1))
     return np.where(nrm > 0, np.sum(f * gd, axis=1) / np.where(nrm > 0, nrm, 1.0), 0.0)
 
 

@@ -8,7 +8,11 @@ the current coordinates of a slave and a master surface::
 and :class:`ContactEval` is what it returns (also what a
 :class:`~skfem_mortar.contact.discretization.ContactDiscretization` returns to the pair).  Local dof order of the surface
 pair: slave node k -> 2k (x), 2k + 1 (y); master node j -> 2 n_s + 2j,
-2 n_s + 2j + 1.
+2 n_s + 2j + 1; in 3D (``d = 3`` coordinates per node) slave node k -> 3k + c,
+master node j -> 3 n_s + 3j + c.
+
+:func:`node_gap_eval` assembles the :class:`ContactEval` of a node-to-segment kernel
+from per-node gradients and Hessians (NTS on line cells and on faces alike).
 """
 from __future__ import annotations
 
@@ -17,7 +21,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import scipy.sparse as sp
 
-__all__ = ["ContactEval"]
+__all__ = ["ContactEval", "node_gap_eval"]
 
 
 @dataclass
@@ -49,3 +53,27 @@ class ContactEval:
     mask: np.ndarray
     info: dict = field(default_factory=dict)
 
+
+
+def node_gap_eval(g: np.ndarray, k: np.ndarray, m: np.ndarray, dg: np.ndarray,
+                  h: np.ndarray | None, lam: np.ndarray | None, n_m: int, d: int,
+                  area: np.ndarray, mask: np.ndarray, info: dict) -> ContactEval:
+    """The :class:`ContactEval` of gaps that each depend on one slave node and one
+    master cell: ``g (n_s,)``; the nodes ``k (n,)`` with a master, the nodes ``m (n,
+    n_nodes)`` of their cells, ``dg (n, nv)`` and ``h (nv, nv, n)`` (or None) the gaps'
+    gradients and Hessians in the local order ``[x_k, x_{m_1}, ..., x_{m_n}]`` (``d``
+    coordinates each); ``H = sum_k lam_k d^2 g_k``.  ``G`` is ``(n_s, d (n_s + n_m))``."""
+    from .scatter import Triplets
+    n_s = g.size
+    dofs = np.column_stack([d * k + c for c in range(d)]
+                           + [d * n_s + d * m[:, a] + c for a in range(m.shape[1])
+                              for c in range(d)])
+    ndof = d * n_s + d * n_m
+    Gt = Triplets()
+    Gt.rows(k, dofs, dg)
+    H = None
+    if h is not None:
+        Ht = Triplets()
+        Ht.block(dofs, h * lam[k])
+        H = Ht.csr((ndof, ndof))
+    return ContactEval(g=g, G=Gt.csr((n_s, ndof)), H=H, area=area, mask=mask, info=info)

@@ -22,6 +22,8 @@ import scipy.sparse as sp
 
 from ..core.chain import polyline
 from . import nts
+from .nts_faces import face_sizes, project_faces
+from .search import nearest_vertex
 from .preflight_pairs import contact_pairs
 from .preflight_rigid import _columns, _describe, _times_modes, _touching_rows, free_combinations
 
@@ -89,6 +91,10 @@ def stiffness_ratio_text(model: Any, z: np.ndarray, load_factor: float) -> list[
 
 
 # --------------------------------------------------------------------------- NTS patch test
+#: the NTS patch errors measured in 3D (the warning's text; tests/test_nts3d.py)
+NTS_PATCH_ERRORS_3D = "19 % to 52 %"
+
+
 def _matching(pair: Any) -> bool:
     """Whether every master node where the surfaces meet coincides with a slave
     node (reference configuration): matching meshes, or a slave that refines
@@ -99,9 +105,15 @@ def _matching(pair: Any) -> bool:
     cost); where they meet: a projection within one median slave segment length
     ``h``; coincident: its distance and its distance from the nearer end of the
     slave segment both within ``MATCH h``."""
-    seg_s = polyline(pair.slave.segments)
     xs, xm = np.asarray(pair.slave.X, float), np.asarray(pair.master.X, float)
     pm = xm[:, np.unique(pair.master.segments)]
+    if pair.slave.cell.dim == 2:                  # faces: coincident with a slave node
+        h = float(np.median(face_sizes(xs, pair.slave.segments)))
+        pr = project_faces(pm, xs, pair.slave.segments, pair.slave.cell, h)
+        meet = pr["mask"] & (np.abs(pr["g"]) <= h)
+        d, _ = nearest_vertex(xs, pm)
+        return bool(np.all((d <= MATCH * h) | ~meet))
+    seg_s = polyline(pair.slave.segments)
     h = float(np.median(np.hypot(*(xs[:, seg_s[:, 1]] - xs[:, seg_s[:, 0]]))))
     pr = nts.project(pm, xs, seg_s)
     meet = pr["mask"] & (np.abs(pr["g"]) <= h)
@@ -115,6 +127,13 @@ def nts_patch_text(pair: Any) -> str:
     ("" otherwise)."""
     if pair.method != "nts" or pair.master.body is None or _matching(pair):
         return ""
+    if pair.slave.cell.dim == 2:
+        return (f"{pair.name}: NTS on meshes that do not match where they meet (master nodes "
+                f"between slave nodes) fails the contact patch test: a uniform pressure comes "
+                f"out {NTS_PATCH_ERRORS_3D} off at the nodes on stacked blocks of 4 and 6 "
+                f"cells a side (tet1 and hex1 in all four pairings, either side the slave); "
+                f"the contact force is right; mortar in 3D is not offered yet: for exact "
+                f"pressures make the meshes match where they meet")
     return (f"{pair.name}: NTS on meshes that do not match where they meet (master nodes "
             f"between slave nodes) fails the contact patch test: a uniform pressure comes "
             f"out {NTS_PATCH_ERRORS} off at the nodes in the measured cases (6 % on the "

@@ -58,14 +58,15 @@ from typing import Any
 import numpy as np
 import scipy.sparse as sp
 
-from .cells import CellType
+from .cells import CellType, cell_type
 from .measures import PLANE, Measure
 from .curves import cell_lengths, check_line, curve, ends, is_affine, polyline, projection_jets, tributary_weights
-from .scatter import Triplets
 from .segmentation import line_cells, surface_cell
-from .contact_eval import ContactEval
+from .contact_eval import ContactEval, node_gap_eval
 from .discretization import (ContactDiscretization, OptionTable, check_entries, check_options,
                              covers, pattern_matrix, register_method, reserved_keys)
+from .nts_faces import check_face, evaluate_faces, face_candidates, face_sizes, face_weights
+from .rigid3d import RigidSurface3D, exact_gaps
 from .nts_projection import LOCK_STICK, candidates, choose_segments, project
 from .surfaces import AXIS_TOL, segment_lengths, segment_normals, segments_at_nodes
 
@@ -144,6 +145,10 @@ def evaluate(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarra
         ``area`` is the tributary weight of each slave node; ``info`` holds
         ``xi`` (in ``[0, 1]`` along the cell), ``segment`` and ``normal``.
     """
+    if cells is not None and cell_type(cells[1]).dim == 2:   # faces of 3D bodies
+        return evaluate_faces(xs, seg_s, xm, seg_m, tuple(cell_type(c) for c in cells), lam,
+                              tangent, margin, end_tolerance, prefer, stick, lock, measure,
+                              mirrored)
     xs, seg_s = _check(xs, seg_s, "slave")
     xm, seg_m = _check(xm, seg_m, "master")
     cs, cm = (check_line(c, "nts") for c in line_cells(seg_s, seg_m, cells))
@@ -161,19 +166,9 @@ def evaluate(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarra
         return ContactEval(g=g, G=None, H=None, area=area, mask=mask, info=info)
     k = np.flatnonzero(mask)
     m = seg_m[pr["segment"][k]]
-    dofs = np.column_stack([2 * k, 2 * k + 1] + [2 * n_s + 2 * m[:, a] + c
-                                                 for a in range(cm.n_nodes) for c in (0, 1)])
     kernel = _affine_gap if is_affine(cm) else _curve_gap
     g, dg, h = kernel(xs, xm, m, k, pr, cm, lam is not None)
-    ndof = 2 * n_s + 2 * n_m
-    Gt = Triplets()
-    Gt.rows(k, dofs, dg)
-    H = None
-    if h is not None:
-        Ht = Triplets()
-        Ht.block(dofs, h * lam[k])
-        H = Ht.csr((ndof, ndof))
-    return ContactEval(g=g, G=Gt.csr((n_s, ndof)), H=H, area=area, mask=mask, info=info)
+    return node_gap_eval(g, k, m, dg, h, lam, n_m, 2, area, mask, info)
 
 
 def _affine_gap(xs, xm, m, k, pr, cell, second):
@@ -350,10 +345,12 @@ class NTS(ContactDiscretization):
         self.slave, self.master, self.pair_name = slave, master, pair_name
         #: the two surfaces' cell types (:func:`~.segmentation.surface_cell`)
         self.cells = (surface_cell(slave), surface_cell(master))
+        #: reference dimension of the surfaces' cells: 1 (curves), 2 (faces of 3D bodies)
+        self.dim = self.cells[0].dim
         for c in self.cells:
-            check_line(c, "nts")
+            check_line(c, "nts") if self.dim == 1 else check_face(c, f"{pair_name}: nts")
         self.options = dict(options)
-        self._hint = failure_hints(slave, master, pair_name)
+        self._hint = failure_hints(slave, master, pair_name) if self.dim == 1 else ""
         self._pinned: np.ndarray | None = None
         #: the weight of ``dGamma`` (:meth:`set_measure`)
         self.measure: Measure = PLANE
@@ -384,34 +381,49 @@ class NTS(ContactDiscretization):
     def set_pinned(self, pinned: np.ndarray | None) -> None:
         self._pinned = pinned
 
+    def set_symmetry(self, mirrored: np.ndarray | None) -> None:
+        """Master nodes on a symmetry plane of a 3D pair (:mod:`.symmetry`): a face edge
+        between two of them is no free border (:func:`~.nts_faces.project_faces`)."""
+        if self.dim == 2:
+            self._mirrored = mirrored
+
     def _margin(self, xm: np.ndarray) -> float:
         """The search margin of :func:`project` (default: the median master segment length)."""
         margin = self.options.get("margin")
         if margin is None:
-            lm = cell_lengths(xm, self.master.segments, self.cells[1])
+            lm = (cell_lengths(xm, self.master.segments, self.cells[1]) if self.dim == 1
+                  else face_sizes(xm, self.master.segments))
             margin = float(np.median(lm)) if lm.size else 0.0
         return margin
 
     def _reserve(self, xs: np.ndarray, xm: np.ndarray, need: np.ndarray) -> None:
         """Reserve the candidates :data:`RESERVE_MARGIN` search margins and
         :data:`RESERVE_HALO` chain neighbours wide (and ``need``)."""
-        held = np.union1d(candidates(xs, xm, self.master.segments,
-                                     RESERVE_MARGIN * self._margin(xm), RESERVE_HALO,
-                                     cell=self.cells[1]), need)
+        held = np.union1d(self._candidates(xs, xm, RESERVE_MARGIN * self._margin(xm),
+                                           RESERVE_HALO), need)
         self._reserved = (held, self._pattern_of(held))
         self.reservations += 1
+
+    def _candidates(self, xs: np.ndarray, xm: np.ndarray, margin: float,
+                    halo: int = 0) -> np.ndarray:
+        """The candidate keys of the projection (:func:`candidates`; on faces
+        :func:`~.nts_faces.face_candidates`, whose nearest-vertex faces are the halo)."""
+        if self.dim == 2:
+            return face_candidates(xs, xm, self.master.segments, self.cells[1], margin)
+        return candidates(xs, xm, self.master.segments, margin, halo, cell=self.cells[1])
 
     def _pattern_of(self, held: np.ndarray) -> sp.csr_matrix:
         """Row ``k``: the dofs of slave node ``k`` and of its held master segments."""
         seg_m = self.master.segments
         n_s, n_seg = self.slave.n_nodes, len(seg_m)
+        d = self.dim + 1                             # dofs per node
         k, e = held // n_seg, held % n_seg
         own = np.arange(n_s)
-        nm = 2 * self.cells[1].n_nodes               # master dofs of a segment: 4, or 6 (3-node)
-        rows = np.concatenate([np.repeat(k, nm), own, own])
-        mdofs = (2 * n_s + 2 * seg_m[e][:, :, None] + np.arange(2)).reshape(-1, nm)
-        cols = np.concatenate([mdofs.ravel(), 2 * own, 2 * own + 1])
-        return pattern_matrix(rows, cols, (n_s, 2 * n_s + 2 * self.master.n_nodes))
+        nm = d * self.cells[1].n_nodes               # master dofs of a segment: 4, 6 (3-node), 9, 12
+        rows = np.concatenate([np.repeat(k, nm)] + [own] * d)
+        mdofs = (d * n_s + d * seg_m[e][:, :, None] + np.arange(d)).reshape(-1, nm)
+        cols = np.concatenate([mdofs.ravel()] + [d * own + c for c in range(d)])
+        return pattern_matrix(rows, cols, (n_s, d * n_s + d * self.master.n_nodes))
 
     def pattern(self, xs: np.ndarray, xm: np.ndarray) -> sp.csr_matrix:
         """The reserved pattern (:class:`~skfem_mortar.contact.discretization.PatternedDiscretization`).
@@ -428,7 +440,7 @@ class NTS(ContactDiscretization):
         checkpoints (:meth:`state_dict`), so a resumed run reserves as the
         uninterrupted one.
         """
-        need = candidates(xs, xm, self.master.segments, self._margin(xm), cell=self.cells[1])
+        need = self._candidates(xs, xm, self._margin(xm))
         if self._reserved is None or not covers(self._reserved[0], need):
             self._reserve(xs, xm, need)
         return self._reserved[1]
@@ -449,9 +461,13 @@ class NTS(ContactDiscretization):
             extra["prefer"] = self._prefer
             if self._lock is not None and self._lock.any():
                 extra["lock"] = self._lock
-        ev = evaluate(xs, self.slave.segments, xm, self.master.segments, lam=lam,
-                      tangent=tangent, **extra, **self.options, cells=self.cells,
-                      measure=self.measure, mirrored=self._mirrored)
+        if self.dim == 2 and isinstance(self.master, RigidSurface3D):   # an exact surface
+            area = face_weights(xs, self.slave.segments, self.cells[0], self.measure)
+            ev = exact_gaps(self.master, xs, lam, tangent, area, xm.shape[1])
+        else:
+            ev = evaluate(xs, self.slave.segments, xm, self.master.segments, lam=lam,
+                          tangent=tangent, **extra, **self.options, cells=self.cells,
+                          measure=self.measure, mirrored=self._mirrored)
         if self._pinned is not None and self._pinned.any():
             ev.mask = ev.mask & ~self._pinned
         return ev

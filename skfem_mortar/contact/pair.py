@@ -62,6 +62,8 @@ from .friction import FrictionLaw, FrictionRows, as_law
 from .kkt import K_GAP, K_LAM, violation
 from .measures import PLANE, Measure, measure_for
 from .methods import METHODS, make_method  # METHODS: the registry's names, the built-ins in it
+from .nts_faces import check_face, face_sizes
+from .symmetry import check_planes, on_planes, planes_from_fixed
 from .multiplier_spaces import MultiplierSpace, space_for
 from .reservation import Reservation
 from .segmentation import surface_cell
@@ -99,16 +101,40 @@ def _check_surface(role: str, surface: Any) -> None:
         raise ValueError(f"{role} must be a contact surface (ContactSurface.from_solid(body, "
                          f"boundary), ContactSurface.from_cable(cable), RigidPlane, "
                          f"RigidCircle), got {what}{named}")
-    cell = getattr(surface, "cell", None)
-    if cell is not None and cell.dim != 1:
-        raise ValueError(f"{role} {surface.name!r} is a surface of {cell.name} cells (a 3D "
-                         f"body's): contact between 3D bodies is not offered yet, only "
-                         f"between curves in the plane (line cells)")
+
+
+def _check_3d(slave: Any, master: Any, method: str, friction: Any) -> None:
+    """Refuse what contact between faces (3D bodies) does not offer yet: another
+    method than NTS, quadratic faces, self-contact, friction, and a pair of a curve
+    and a face surface; each ValueError names the feature and the alternative."""
+    dims = {surface_cell(s).dim for s in (slave, master)}
+    if dims == {1}:
+        return
+    if dims != {2}:
+        face, curve = (slave, master) if surface_cell(slave).dim == 2 else (master, slave)
+        raise ValueError(f"{face.name!r} is a surface of {surface_cell(face).name} faces (a "
+                         f"3D body's) and {curve.name!r} one of line cells (a 2D body's or a "
+                         f"rigid line): the slave and the master of a contact pair must both "
+                         f"be faces or both be curves; in 3D use RigidPlane3D, RigidSphere "
+                         f"or RigidCylinder for a rigid master")
+    if method != "nts":
+        raise ValueError(f"{method} in 3D is not offered yet; use method='nts'")
+    for role, s in (("slave", slave), ("master", master)):
+        check_face(surface_cell(s), f"{role} {s.name!r}")
+    if slave.body is not None and slave.body is master.body:
+        raise ValueError("self-contact in 3D (slave and master on the same body) is not "
+                         "offered yet; split the body into two bodies tied by a TiePair, "
+                         "or use a plane model")
+    if friction is not None:
+        raise ValueError("friction in 3D is not offered yet; use frictionless contact "
+                         "(friction=None), or a plane or axisymmetric model")
 
 
 class ContactPair(Item):
     """Contact between a slave and a master surface with Lagrange multipliers,
-    frictionless or with Coulomb or Tresca friction, in plane and axisymmetric models.
+    frictionless or with Coulomb or Tresca friction, in plane and axisymmetric models;
+    frictionless NTS between the faces of 3D bodies (tri3, quad4) or against a rigid
+    plane, sphere or cylinder (:mod:`.rigid3d`) in 3D models.
 
     In an axisymmetric model (``Model(..., geometry="axisymmetric")``, ``(r, z) =
     (x, y)``) every integral over the slave weighs ``2 pi r dGamma`` (the measure
@@ -167,7 +193,12 @@ class ContactPair(Item):
         within the load step (:mod:`skfem_mortar.contact.slip`) and the
         semi-smooth stick/slip rows of
         :func:`~skfem_mortar.contact.friction.complementarity` (docs/friction.md);
-        on 2-node and 3-node (quadratic) segments alike.
+        on 2-node and 3-node (quadratic) segments alike.  Not in 3D yet.
+    symmetry : list of (normal, offset), optional
+        3D only: the symmetry planes ``normal . x = offset`` of a quarter or half
+        model (:mod:`.symmetry`); a master face edge on one is no free border.  None
+        (default): read from the Dirichlet data (a coordinate plane bounding the
+        slave surface on which every slave node's normal dof is held).
     **options
         The discretization's options (e.g. ``margin``), checked when it is built.
 
@@ -184,10 +215,7 @@ class ContactPair(Item):
     """
 
     dof_kind = "lam"
-    geometries = ("plane", "axisymmetric")
-    #: contact in 3D models comes with 3D contact
-    geometry_advice = {"3d": "contact in a 3D model is not offered yet (only in plane and "
-                             "axisymmetric models); it comes with 3d contact"}
+    geometries = ("plane", "axisymmetric", "3d")
     _geometry = "plane"
     loaded = False  # its residual does not depend on the load factor
     #: K_lamu = c G on active rows against K_ulam = -G^T (and H): not symmetric
@@ -198,11 +226,17 @@ class ContactPair(Item):
                  c: float | None = None, cycle_guard: bool = True,
                  touch_tolerance: float = 1e-2, segmentation: str = "iteration",
                  accelerate: bool = True, friction: FrictionLaw | None = None,
-                 **options: Any):
+                 symmetry: Any = None, **options: Any):
         if method not in METHODS:
             raise ValueError(f"method must be one of {', '.join(METHODS)}, got {method!r}")
         _check_surface("slave", slave)
         _check_surface("master", master)
+        _check_3d(slave, master, method, friction)
+        #: declared symmetry planes ``(unit normal, offset)`` (3D; :mod:`.symmetry`)
+        self.symmetry = check_planes(symmetry)
+        if self.symmetry and surface_cell(slave).dim != 2:
+            raise ValueError("symmetry planes are for contact between 3D bodies (faces); "
+                             "a plane model's symmetry line is a Dirichlet condition")
         if slave.dofs() is None:
             raise ValueError("slave must be a deformable surface (a rigid surface is a master)")
         if slave is master or (slave.body is not None and slave.body is master.body
@@ -233,7 +267,9 @@ class ContactPair(Item):
         #: ``"projected"`` (default) or ``"exact"`` (the finite-difference tests)
         self.friction_jacobian = "projected"
         self.c = c
-        lengths = segment_lengths(slave.X, slave.segments)
+        faces = surface_cell(slave).dim == 2            # the faces of a 3D body
+        lengths = (face_sizes(slave.X, slave.segments) if faces
+                   else segment_lengths(slave.X, slave.segments))
         self._touch = float(touch_tolerance) * float(np.mean(lengths))
         self._h = float(np.median(lengths))  # the gap tolerance's length
         self._tol_p = 0.0  # pressure tolerance of the last converged check
@@ -247,8 +283,8 @@ class ContactPair(Item):
         if clash:
             raise ValueError(f"method {method!r} names its state {sorted(clash)}, which the "
                              f"pair's state uses; rename them")
-        self.state = ActiveSet(slave.n_nodes, chain_order(slave.segments, slave.closed,
-                                                        slave.n_nodes, surface_cell(slave)),
+        self.state = ActiveSet(slave.n_nodes, None if faces else chain_order(
+            slave.segments, slave.closed, slave.n_nodes, surface_cell(slave)),
                                name, cycle_guard=cycle_guard, accelerate=accelerate)
         self._started = False
         #: (the discretization's pattern, the triplets over it) and how often a
@@ -373,7 +409,8 @@ class ContactPair(Item):
         """Global index of every local dof of the pair (``-1`` for a rigid master)."""
         ds = self.slave.dofs().T.ravel()
         dm = self.master.dofs()
-        dm = np.full(2 * self.master.n_nodes, -1, dtype=np.int64) if dm is None else dm.T.ravel()
+        dm = (np.full(self.slave.X.shape[0] * self.master.n_nodes, -1, dtype=np.int64)
+              if dm is None else dm.T.ravel())
         return np.concatenate([ds, dm]).astype(np.int64)
 
     def evaluate(self, z: np.ndarray, tangent: bool = True, with_lam: bool = True) -> ContactEval:
@@ -394,9 +431,13 @@ class ContactPair(Item):
         """
         pinned = None
         if self.master.body is None:
-            ds = self.slave.dofs()  # (2, n)
+            ds = self.slave.dofs()  # (d, n)
             pinned = np.all(np.isin(ds, np.asarray(fixed)), axis=0)
         self.discretization.set_pinned(pinned)
+        if surface_cell(self.slave).dim == 2 and hasattr(self.discretization, "set_symmetry"):
+            planes = self.symmetry or planes_from_fixed(self.slave.X, self.slave.dofs(), fixed)
+            X = np.asarray(self.master.X, dtype=float)
+            self.discretization.set_symmetry(on_planes(X, planes, float(np.ptp(X, axis=1).max())))
 
     def _bodies(self):
         out = [self.slave.body]
@@ -698,7 +739,7 @@ class ContactPair(Item):
                 f"master {side(self.master)}, {int(np.sum(self.active))} active)")
 
     def forces(self, z: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """Contact forces ``(2, n)`` on the slave and on the master nodes: ``H G^T lam``
+        """Contact forces ``(d, n)`` on the slave and on the master nodes: ``H G^T lam``
         split into the two surfaces (the force the other body exerts; the residual
         term is its negative), totals over the model's thickness ``H``
         (:attr:`~skfem_mortar.core.item.Item.thickness`)."""

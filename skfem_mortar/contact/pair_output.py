@@ -13,6 +13,7 @@ import numpy as np
 from ..core.binding import rebind
 from .active_set import chain_order
 from .curves import polyline
+from .nts_faces import face_distances, face_edges
 from .search import distance_to_polyline
 from .segmentation import surface_cell
 
@@ -27,16 +28,20 @@ def contact_data(pair: Any, z: np.ndarray) -> dict[str, np.ndarray]:
     # written as 0: outputs never show a negative pressure that is not there
     p = np.where((p < 0) & (p >= -pair._tol_p), 0.0, p)
     p[p == 0] = 0.0  # no -0.0
-    p = weightless_read(p, ev.area, ev.mask, polyline(pair.slave.segments,
-                                                      surface_cell(pair.slave)))
+    cell = surface_cell(pair.slave)
+    faces = cell.dim == 2                       # the faces of a 3D body
+    p = weightless_read(p, ev.area, ev.mask, face_edges(pair.slave.segments, cell) if faces
+                        else polyline(pair.slave.segments, cell))
     x = pair.slave.x(z)
     g = np.where(ev.mask, g, np.nan)
     dist = np.where(ev.mask, g, 0.0)
     if not ev.mask.all():
         far = ~ev.mask
-        dist[far] = distance_to_polyline(x[:, far], pair.master.x(z), pair.master.segments)
-    data = {"x": x[0], "y": x[1], "gap": g, "pressure": p, "has_master": ev.mask,
-            "distance": dist}
+        xm = pair.master.x(z)
+        dist[far] = (face_distances(x[:, far], xm, pair.master.segments, pair.master.cell)
+                     if faces else distance_to_polyline(x[:, far], xm, pair.master.segments))
+    data = {"x": x[0], "y": x[1], **({"z": x[2]} if faces else {}), "gap": g, "pressure": p,
+            "has_master": ev.mask, "distance": dist}
     if pair.geometry == "axisymmetric":   # the coordinates by their names there
         data.update(r=x[0], z=x[1])
     data.update(pair.rows.columns(z))
@@ -86,8 +91,9 @@ def along_surface(s: Any) -> np.ndarray:
     """Surface node indices in the order of :func:`contact_data`'s rows: chain
     order, an open chain from its end with the smaller reference ``x`` (then
     ``y``), a closed one from the start of its first segment."""
-    order = chain_order(s.segments, s.closed, s.n_nodes, surface_cell(s))
-    if order is None:  # not one chain through every node: the surface's order
+    cell = surface_cell(s)
+    order = None if cell.dim == 2 else chain_order(s.segments, s.closed, s.n_nodes, cell)
+    if order is None:  # faces, or not one chain through every node: the surface's order
         return np.arange(s.n_nodes)
     a, b = s.X[:, order[0]], s.X[:, order[-1]]
     if not s.closed and (a[0], a[1]) > (b[0], b[1]):

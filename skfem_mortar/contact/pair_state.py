@@ -49,9 +49,10 @@ def load_state_dict(pair: Any, state: dict[str, np.ndarray]) -> None:
         raise ValueError(f"{pair.name}: checkpoint state has entries {sorted(state)}, "
                          f"expected {sorted(need)}")
     ns, nm = pair.slave.n_nodes, pair.master.n_nodes
+    d = pair.slave.X.shape[0]               # coordinates per node: 2, or 3 in 3D
     check_entries(pair.name, state, {
         "active": [(ns,)], "c": [(0,), (1,)], "row_scale": [(0,), (1,)],
-        "x0_slave": [(0,), (2, ns)], "x0_master": [(0,), (2, nm)], "started": [()],
+        "x0_slave": [(0,), (d, ns)], "x0_master": [(0,), (d, nm)], "started": [()],
         "tol_p": [()]})
     for k in ("c", "row_scale"):
         if state[k].size and not state[k][0] > 0:

@@ -22,6 +22,7 @@ import numpy as np
 from ..core.chain import polyline
 from . import nts
 from .cell_map import reversal
+from .preflight_faces import facing_faces, inward_faces
 from .surfaces import RigidCircle, RigidPlane, segment_normals, tributary_lengths
 
 __all__ = ["check_surface", "check_orientation", "nodal_normals", "FACING"]
@@ -47,7 +48,11 @@ def check_surface(surface: Any) -> None:
     mesh = _solid_mesh(surface)
     if mesh is None:
         return
-    if surface.cell.dim != 1:   # surface cells: oriented by boundary_cells, no pair yet
+    if surface.cell.dim != 1:   # faces of a 3D body
+        inward, l = inward_faces(surface, mesh)
+        found = l > 0
+        if l[inward].sum() > 0.5 * l.sum():
+            raise ValueError(_inward_message(surface, int(inward.sum()), int(found.sum()), "faces"))
         return
     ends = surface.nodes[surface.segments[:, list(surface.cell.corners)]]  # body vertices
     nv = mesh.p.shape[1]
@@ -67,12 +72,18 @@ def check_surface(surface: Any) -> None:
     mid = 0.5 * (mesh.p[:, ends[found, 0]] + mesh.p[:, ends[found, 1]])
     inward = np.sum(nrm * (mid - centroid), axis=0) < 0
     if l[inward].sum() > 0.5 * l.sum():
-        raise ValueError(
-            f"contact surface {surface.name!r} of body {surface.body.name!r}: its normals "
-            f"point into the body ({int(inward.sum())} of {int(found.sum())} segments; the "
-            f"outward normal is the right-hand normal of each segment, so a boundary must "
-            f"run counter-clockwise): reverse its segments ({_reversed(surface)}) or build it "
-            f"with ContactSurface.from_solid(body, tag), which orients the facets outward")
+        raise ValueError(_inward_message(surface, int(inward.sum()), int(found.sum()),
+                                         "segments"))
+
+
+def _inward_message(surface: Any, n_in: int, n: int, what: str) -> str:
+    rule = ("the outward normal is the right-hand normal of each segment, so a boundary "
+            "must run counter-clockwise" if what == "segments" else "each face's corners "
+            "must run counter-clockwise seen from outside the body")
+    return (f"contact surface {surface.name!r} of body {surface.body.name!r}: its normals "
+            f"point into the body ({n_in} of {n} {what}; {rule}): reverse its segments "
+            f"({_reversed(surface)}) or build it with ContactSurface.from_solid(body, tag), "
+            f"which orients the facets outward")
 
 
 def _reversed(surface: Any) -> str:
@@ -102,6 +113,8 @@ class _Facing:
 
 
 def _facing(pair: Any, z: np.ndarray) -> _Facing:
+    if pair.slave.cell.dim == 2:
+        return _Facing(*facing_faces(pair, z))
     xs, xm = pair.slave.x(z), pair.master.x(z)
     seg_s, seg_m = polyline(pair.slave.segments), polyline(pair.master.segments)
     near, pr = nts.nearest_nodes(xs, seg_s, xm, seg_m, band=1.0)

@@ -36,6 +36,7 @@ from ..bodies.solid import Solid
 from ..core.chain import polyline
 from ..core.dirichlet import Dirichlet
 from . import nts
+from .nts_faces import face_sizes
 from .preflight_pairs import is_contact_pair
 from .surfaces import segment_normals
 
@@ -157,8 +158,11 @@ def _touching_rows(pair: Any, z: np.ndarray, load_factor: float, n: int,
     touch = ev.mask if facing else pair.initial_active(z, load_factor) & ev.mask
     xs, xm = pair.slave.x(z), pair.master.x(z)
     # on the chords of 3-node segments (polyline): a check's normal rows, not the gap
-    nv = nts.evaluate(xs, polyline(pair.slave.segments), xm, polyline(pair.master.segments),
-                      tangent=True)
+    faces = pair.slave.cell.dim == 2            # 3D bodies: the faces themselves
+    seg_s, seg_m = ((pair.slave.segments, pair.master.segments) if faces else
+                    (polyline(pair.slave.segments), polyline(pair.master.segments)))
+    nv = nts.evaluate(xs, seg_s, xm, seg_m, tangent=True,
+                      cells=(pair.slave.cell, pair.master.cell) if faces else None)
     on = touch & nv.mask
     G = nv.G[np.flatnonzero(on)]
     if getattr(pair, "multipliers_per_node", 1) > 1:   # tangential rows
@@ -172,7 +176,7 @@ def _touching_rows(pair: Any, z: np.ndarray, load_factor: float, n: int,
     C = sp.csr_matrix((G.data[keep], (G.row[keep], gd[G.col[keep]])), shape=(G.shape[0], n))
     norm = np.sqrt(np.asarray(C.multiply(C).sum(axis=1)).ravel())
     C = sp.diags(1.0 / np.where(norm > 0, norm, 1.0)) @ C
-    _, ls = segment_normals(xs, polyline(pair.slave.segments))
+    ls = face_sizes(xs, seg_s) if faces else segment_normals(xs, seg_s)[1]
     return _Touch(C.tocsr(), nv.info["normal"][:, on],
                   float(np.min(glen[ev.mask], initial=np.inf)), float(pair.touch_distance),
                   float(np.mean(ls)))

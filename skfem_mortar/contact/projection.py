@@ -147,15 +147,17 @@ def project(p: np.ndarray, x: np.ndarray, conn: np.ndarray, cell: "str | CellTyp
     else:
         xi = np.array(xi0, dtype=float).reshape(cell.dim, m)
     done = np.zeros(m, dtype=bool)
+    act = np.arange(m)                   # the pairs still iterating (only they are computed)
     for _ in range(max_iter):
-        r, N, G, T, g, H = _state(cell, P, p, xi)
+        r, N, G, T, g, H = _state(cell, P[:, act], p[:, act], xi[:, act])
         Hi, pd = _inverse(H)
         Hgn, _ = _inverse(np.einsum("djm,dlm->jlm", T, T))
         step = -np.einsum("jlm,lm->jm", np.where(pd, Hi, Hgn), g)
-        step[:, done] = 0.0
-        xi = xi + step
-        done |= np.max(np.abs(step), axis=0) <= tol
-        if done.all():
+        xi[:, act] = xi[:, act] + step
+        fin = np.max(np.abs(step), axis=0) <= tol
+        done[act[fin]] = True
+        act = act[~fin]
+        if not act.size:
             break
     r, N, G, T, g, H = _state(cell, P, p, xi)
     out = Projection(xi, r + p, norms(r), done, inside_reference(cell, xi, tol=1e-10))

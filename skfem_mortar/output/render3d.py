@@ -14,7 +14,10 @@ What :func:`render3d` draws (the matplotlib figure of :mod:`.plot` stays for 2D)
   length (they mark where and which way a load acts, not how much; actor
   ``"loads"``), both at the deformed positions;
 - optionally a cut: the deformed body clipped by a plane (``cut``), so that
-  the stress inside shows.
+  the stress inside shows;
+- beside it, when ``items`` hold contact pairs between 3D bodies' faces: their
+  slave surfaces at the final state coloured by the contact pressure, seen from
+  the master's side (actors ``"contact:<name>"``).
 
 pyvista is imported inside the functions (:func:`~.views.prepare_offscreen`
 chooses VTK's headless window where no display is there).  The returned
@@ -121,7 +124,9 @@ def scene3d(bodies: Sequence, z0: np.ndarray, z1: np.ndarray, *, items: Sequence
     prepare_offscreen()
     import pyvista as pv
 
-    plotter = pv.Plotter(off_screen=True, window_size=[int(v) for v in window_size])
+    pairs = _face_pairs(items)
+    plotter = pv.Plotter(off_screen=True, window_size=[int(v) for v in window_size],
+                         shape=(1, 2) if pairs else (1, 1))
     plotter.set_background("white")
     words = FIELD_WORDS["von_mises"]
     grids = []
@@ -168,7 +173,45 @@ def scene3d(bodies: Sequence, z0: np.ndarray, z1: np.ndarray, *, items: Sequence
     plotter.view_isometric()
     plotter.reset_camera()
     plotter.camera.zoom(0.85)
+    if pairs:
+        plotter.subplot(0, 1)
+        _pressure_view(plotter, pairs, z1)
+        plotter.subplot(0, 0)
     return plotter
+
+
+def _face_pairs(items: Sequence) -> list:
+    """The contact pairs among ``items`` whose slave is a 3D body's faces."""
+    return [it for it in items if hasattr(it, "contact_data")
+            and getattr(getattr(getattr(it, "slave", None), "cell", None), "dim", 0) == 2]
+
+
+def _pressure_view(plotter: Any, pairs: Sequence, z1: np.ndarray) -> None:
+    """The slave surfaces of ``pairs`` at ``z1`` coloured by the contact pressure (actors
+    ``"contact:<name>"``), seen from the side their master is on (against the mean
+    outward normal of the slave faces)."""
+    import pyvista as pv
+
+    normal = np.zeros(3)
+    for pair in pairs:
+        data = pair.contact_data(z1)
+        p = np.zeros(pair.slave.n_nodes)
+        p[data["node"]] = np.nan_to_num(data["pressure"])
+        faces = np.asarray(pair.slave.segments)
+        cells = np.hstack([np.full((len(faces), 1), faces.shape[1]), faces]).ravel()
+        mesh = pv.PolyData(np.asarray(pair.slave.x(z1), dtype=float).T, cells)
+        mesh.point_data["contact pressure"] = p
+        plotter.add_mesh(mesh, scalars="contact pressure", cmap="magma", show_edges=True,
+                         edge_color="#404040", name=f"contact:{pair.name}",
+                         scalar_bar_args=_BAR | {"title": "pressure\n(force/length²)"})
+        n, a = pair.slave.normals(z1)
+        normal += (n * a).sum(axis=1)
+    plotter.add_text("slave surface", font_size=12, color="black", name="contact_title")
+    if np.linalg.norm(normal) > 0:
+        normal /= np.linalg.norm(normal)
+        plotter.view_vector(normal, viewup=np.eye(3)[int(np.argmin(np.abs(normal)))])
+    plotter.reset_camera()
+    plotter.camera.zoom(0.85)
 
 
 def render3d(bodies: Sequence, z0: np.ndarray, z1: np.ndarray, path: str | os.PathLike, *,

@@ -1,0 +1,357 @@
+"""Node-to-segment contact on surface cells (``tri3``, ``quad4``: the faces of 3D bodies):
+the closest-point projection of slave nodes onto master faces, the choice among
+neighbouring faces, the normal gap and its exact first and second derivatives.
+
+The 2D kernel's rules (:mod:`.nts_projection`) carried over the cell's dimension:
+
+* **Candidates**: the master faces whose boxes, inflated by ``margin``, hold the node
+  (:func:`~.search.node_segment_pairs`, O(n log n)), and every face at the master
+  vertex nearest to it (a kd-tree query), so a node far from every box still finds
+  its partner.
+* **Projection** on each candidate: Newton in the face's two coordinates
+  (:func:`~.projection.project`; a warped ``quad4`` included), its map extended
+  beyond the reference cell.  The *overshoot* ``o`` of ``xi`` is its distance
+  outside the reference cell in units of the cell's size (tri3: ``max(-xi_1, -xi_2,
+  xi_1 + xi_2 - 1, 0)``; quad4: ``max(|xi_1| - 1, |xi_2| - 1, 0) / 2``).
+* **Choice** (:func:`~.nts_projection.choose_segments` on ``-o``): the face of the
+  previous iteration is kept while ``o <= stick`` (hysteresis); otherwise the
+  smallest distance from the node to the face's nearest point (the Newton point
+  when inside, else the nearest point of its boundary edges, which are straight on
+  tri3 and quad4) wins, ties to the smaller overshoot, then the lower face index.
+  So a node over the inside of a face takes it; a node outside every face near an
+  edge or vertex takes a face through the nearest point of the surface.
+* **Free edges**: a node whose chosen face's nearest point lies on a free edge of the
+  master (an edge of one face only, not on a symmetry plane: ``mirrored`` nodes at
+  both ends) with ``o > end_tolerance`` has left the master: out of ``mask``
+  (kept while ``o <= stick`` on the face it had at the last iteration).
+* **Gap** with the unclipped ``xi`` on the chosen face::
+
+      g = n(xi) . (x_s - x(xi)),   n = T_1 x T_2 / |T_1 x T_2|,   T_j = dx/dxi_j
+
+  (``n`` outward for counter-clockwise faces, :mod:`.boundary_cells`).  Since
+  ``T_j . (x_s - x) = 0`` and ``x_s - x || n`` at the closest point,
+  ``dg/dxi = 0``: with ``q = [x_s, x_1, ..., x_k]`` (``3 + 3 k`` unknowns)
+  ``dg/dq = G_q`` and the Hessian needs only the exact first derivatives of ``xi``.
+  Both come from jets (:func:`gap_jets`): ``xi`` as the converged value refined by
+  one Newton step in first-order jets (its gradient exact), the gap composed from it
+  in second-order jets.
+
+Tributary weights ``a_A = int N_A w dGamma`` over the slave faces by the cell's
+quadrature (:func:`face_weights`).
+"""
+from __future__ import annotations
+
+import numpy as np
+import scipy.sparse as sp
+
+from .cells import CellType, cell_type
+from .contact_eval import ContactEval, node_gap_eval
+from .jets import Jet
+from .projection import project as project_points
+from .search import nearest_vertex, node_segment_pairs
+
+__all__ = ["FACE_CELLS", "overshoot", "face_candidates", "project_faces", "gap_jets",
+           "face_weights", "evaluate_faces", "free_edges", "face_sizes", "face_edges",
+           "face_distances", "check_face", "touching_faces"]
+
+#: the surface cells NTS projects onto (linear faces; quadratic ones are refused)
+FACE_CELLS = ("tri3", "quad4")
+
+#: quadrature degree of the tributary weights ``int N_A dGamma``: exact on flat faces
+#: (tri3, parallelogram quad4); the area element of a warped quad4 is the root of a
+#: polynomial, and degree 9 (5 x 5 points) leaves a relative error of 9e-16 at a warp of
+#: 0.1 cell and 2e-10 at 0.3 (degree 4: 7e-10 and 7e-7)
+WEIGHT_DEGREE = 9
+
+
+#: slave nodes per block of the gap's jets, whose temporaries hold (nv, nv, block)
+#: arrays (nv = 15 on quad4).  Measured peak (tracemalloc) of a whole evaluate with H:
+#: 177 MiB at 1e4 slave faces, 580 MiB at 4e4 (unchunked: 370 MiB at 1e4); the rest
+#: grows with the candidate pairs of the projection
+CHUNK_NODES = 4096
+
+
+def check_face(cell: "str | CellType", what: str) -> CellType:
+    """``cell`` if NTS projects onto it (:data:`FACE_CELLS`), else ValueError naming
+    the feature and the alternative."""
+    cell = cell_type(cell)
+    if cell.name not in FACE_CELLS:
+        raise ValueError(f"{what}: contact on {cell.name} faces (quadratic 3D elements) is "
+                         f"not offered yet; use linear elements (tet1 or hex1: tri3 or "
+                         f"quad4 faces)")
+    return cell
+
+
+def overshoot(cell: CellType, xi: np.ndarray) -> np.ndarray:
+    """How far ``xi (2, m)`` lies outside the reference cell, in units of its size
+    (module docstring); 0 inside."""
+    if cell.name == "tri3":
+        o = np.maximum(np.maximum(-xi[0], -xi[1]), xi[0] + xi[1] - 1.0)
+    else:
+        o = 0.5 * (np.maximum(np.abs(xi[0]), np.abs(xi[1])) - 1.0)
+    return np.maximum(o, 0.0)
+
+
+def face_sizes(x: np.ndarray, faces: np.ndarray) -> np.ndarray:
+    """The longest corner-to-corner edge of each face (its size ``h``)."""
+    P = x[:, faces]                                          # (d, n_f, k)
+    e = P - np.roll(P, -1, axis=2)
+    return np.sqrt(np.max(np.sum(e * e, axis=0), axis=1))
+
+
+def _faces_at_nodes(faces: np.ndarray, n: int) -> sp.csr_matrix:
+    """Node -> face incidence (n, n_f)."""
+    k = faces.shape[1]
+    return sp.csr_matrix((np.ones(faces.size), (faces.ravel(), np.repeat(np.arange(len(faces)), k))),
+                         shape=(n, len(faces)))
+
+
+def face_candidates(xs: np.ndarray, xm: np.ndarray, faces: np.ndarray, cell: CellType,
+                    margin: float) -> np.ndarray:
+    """Candidate (slave node, master face) pairs as sorted keys ``node * n_f + face``:
+    the faces whose boxes, inflated by ``margin``, hold the node, and every face at
+    the master vertex nearest to it."""
+    n_f = len(faces)
+    i_n, i_e = node_segment_pairs(xs, xm, faces, margin, cell)
+    _, jn = nearest_vertex(xm, xs)
+    inc = _faces_at_nodes(faces, xm.shape[1])[jn].tocoo()
+    return np.unique(np.concatenate([i_n * n_f + i_e, inc.row * n_f + inc.col]))
+
+
+def _edge_distance(p: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Distance of points ``p`` from the segments ``a -> b`` (all (d, m))."""
+    t = b - a
+    s = np.clip(np.sum((p - a) * t, axis=0) / np.maximum(np.sum(t * t, axis=0), 1e-300), 0, 1)
+    r = p - a - s * t
+    return np.sqrt(np.sum(r * r, axis=0))
+
+
+def _nearest_on_face(p, xm, faces, cell, pr) -> tuple[np.ndarray, np.ndarray]:
+    """Distance from ``p (d, m)`` to the nearest point of each candidate face and the
+    local edge holding it (-1 inside)."""
+    edges = [(a, b) for a, b in zip(cell.corners, np.roll(cell.corners, -1))]
+    P = xm[:, faces]                                           # (d, m, k)
+    de = np.stack([_edge_distance(p, P[:, :, a], P[:, :, b]) for a, b in edges])
+    inside = overshoot(cell, pr.xi) <= 0.0
+    edge = np.where(inside, -1, np.argmin(de, axis=0))
+    return np.where(inside, pr.distance, de.min(axis=0)), edge
+
+
+def face_edges(faces: np.ndarray, cell: "str | CellType") -> np.ndarray:
+    """The corner-to-corner edges of every face, (n_f * n_corners, 2) (repeated where
+    faces share an edge)."""
+    c = np.asarray(cell_type(cell).corners)
+    return np.stack([faces[:, c], faces[:, np.roll(c, -1)]], axis=2).reshape(-1, 2)
+
+
+def face_distances(p: np.ndarray, xm: np.ndarray, faces: np.ndarray,
+                   cell: "str | CellType") -> np.ndarray:
+    """Distance of the points ``p (3, n)`` from the faces' surface (the nearest point of
+    their chosen face, :func:`project_faces`)."""
+    faces = np.asarray(faces, dtype=np.int64)
+    h = float(np.median(face_sizes(xm, faces))) if len(faces) else 0.0
+    return project_faces(p, xm, faces, cell_type(cell), h)["dist"]
+
+
+def touching_faces(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarray,
+                   cs: CellType, cm: CellType, tol: float) -> np.ndarray:
+    """:func:`~.active_set.touching_nodes` on faces: the slave nodes within ``tol`` of
+    the master surface, and the slave node nearest the projection of each master
+    vertex within ``tol`` of the slave surface (the closest approach of two faceted
+    surfaces is at a vertex of one of them, or an edge-edge crossing that both nearby
+    vertices approach within the faces' size times their angle).  Bool ``(n_s,)``."""
+    out = np.zeros(xs.shape[1], dtype=bool)
+    if not (len(seg_s) and len(seg_m)):
+        return out
+    out |= project_faces(xs, xm, seg_m, cm, tol + float(np.median(face_sizes(xm, seg_m))))[
+        "dist"] <= tol
+    pm = xm[:, np.unique(seg_m)]
+    pr = project_faces(pm, xs, seg_s, cs, tol + float(np.median(face_sizes(xs, seg_s))))
+    on = np.flatnonzero(pr["dist"] <= tol)
+    if on.size:
+        corners = seg_s[pr["nearest"][on]][:, list(cs.corners)]       # (m, k)
+        d = np.sum((xs[:, corners] - pm[:, on, None]) ** 2, axis=0)
+        out[corners[np.arange(on.size), np.argmin(d, axis=1)]] = True
+    return out
+
+
+def free_edges(faces: np.ndarray, cell: CellType, mirrored: np.ndarray | None) -> np.ndarray:
+    """Bool (n_f, n_edges): the edge of one face only (the master surface's border),
+    not lying on a symmetry plane (both ends ``mirrored``)."""
+    c = np.asarray(cell.corners)
+    a, b = faces[:, c], faces[:, np.roll(c, -1)]
+    key = np.minimum(a, b) * (faces.max() + 1) + np.maximum(a, b)
+    _, inv, count = np.unique(key.ravel(), return_inverse=True, return_counts=True)
+    free = (count[inv] == 1).reshape(a.shape)
+    if mirrored is not None:
+        free &= ~(mirrored[a] & mirrored[b])
+    return free
+
+
+def project_faces(xs: np.ndarray, xm: np.ndarray, faces: np.ndarray, cell: CellType,
+                  margin: float, end_tolerance: float = 1e-8,
+                  prefer: np.ndarray | None = None, stick: float = 0.05,
+                  lock: np.ndarray | None = None, mirrored: np.ndarray | None = None) -> dict:
+    """Closest-point projection of the slave nodes ``xs (3, n_s)`` on the master faces
+    (module docstring).
+
+    Returns
+    -------
+    dict with ``segment`` (n_s,) the chosen face (-1: none), ``xi`` (2, n_s) its
+    unclipped coordinates, ``mask`` (n_s,), ``n`` (3, n_s) the face normal there,
+    ``g`` (n_s,) the gap (0 out of ``mask``), ``overshoot`` (n_s,) and ``dist``
+    (n_s,) the distance to the chosen face's nearest point and ``nearest`` (n_s,) that
+    face (both also out of ``mask``: a node beyond a free edge; ``inf`` and -1
+    without a candidate).
+    """
+    from .nts_projection import choose_segments
+    n_s, n_f = xs.shape[1], len(faces)
+    key = face_candidates(xs, xm, faces, cell, margin)
+    i_n, i_e = key // n_f, key % n_f
+    pr = project_points(xs[:, i_n], xm, faces, cell, i_e)
+    dist, edge = _nearest_on_face(xs[:, i_n], xm, faces[i_e], cell, pr)
+    over = overshoot(cell, pr.xi)
+    best = choose_segments(i_n, i_e, -over, dist, n_s, prefer, stick, lock)
+    k, e = i_n[best], i_e[best]
+    segment = np.full(n_s, -1, dtype=np.int64)
+    segment[k] = e
+    xi = np.zeros((2, n_s))
+    xi[:, k] = pr.xi[:, best]
+    o = np.zeros(n_s)
+    o[k] = over[best]
+    ed = np.full(n_s, -1)
+    ed[k] = edge[best]
+    dn = np.full(n_s, np.inf)
+    dn[k] = dist[best]
+    mask = segment >= 0
+    fe = free_edges(faces, cell, mirrored)
+    es = np.where(mask, segment, 0)
+    on_free = (ed >= 0) & fe[es, np.maximum(ed, 0)]
+    kept = mask & (segment == prefer) if prefer is not None else np.zeros(n_s, dtype=bool)
+    tol = np.where(kept, max(stick, end_tolerance), end_tolerance)
+    mask &= ~(on_free & (o > tol))
+    x, T = _map(cell, xm[:, faces[es]], xi)
+    nv = np.cross(T[:, 0], T[:, 1], axis=0)
+    n = nv / np.maximum(np.sqrt(np.sum(nv * nv, axis=0)), 1e-300)
+    g = np.where(mask, np.sum((xs - x) * n, axis=0), 0.0)
+    return {"segment": np.where(mask, segment, -1), "xi": xi, "mask": mask, "n": n, "g": g,
+            "overshoot": o, "dist": dn, "nearest": segment}
+
+
+def _map(cell: CellType, P: np.ndarray, xi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """``x(xi) (d, m)`` and ``T (d, 2, m)`` of the cells with nodes ``P (d, m, k)``."""
+    N, G = cell.shape(xi), cell.dshape(xi)
+    return np.einsum("dmk,km->dm", P, N), np.einsum("dmk,kjm->djm", P, G)
+
+
+def _jet_map(cell: CellType, JP: list, xi0: np.ndarray, dxi: list) -> tuple[list, list, list]:
+    """``x``, ``T_j`` and ``dT_j/dxi_l`` (lists over components of jets) at ``xi0 + dxi``,
+    exactly by Taylor: the shape functions of tri3 and quad4 are of degree at most one
+    in each coordinate, so ``x = x_0 + T_j d_j + dT_jl d_j d_l / 2`` and ``T_j = T_j0 +
+    dT_jl d_l`` hold exactly (``x_0``, ``T_j0``, ``dT_jl`` at ``xi0``)."""
+    N, G, G2 = cell.shape(xi0), cell.dshape(xi0), cell.d2shape(xi0)
+    k = cell.n_nodes
+
+    def comb(c, coef):  # sum_a coef_a * P_a[c]
+        acc = JP[0][c] * coef[0]
+        for a in range(1, k):
+            acc = acc + JP[a][c] * coef[a]
+        return acc
+
+    x, T, dT = [], [[], []], [[[], []], [[], []]]
+    for c in range(3):
+        t0 = [comb(c, G[:, j]) for j in range(2)]
+        tt = [[comb(c, G2[:, j, l]) for l in range(2)] for j in range(2)]
+        td = [t0[j] + tt[j][0] * dxi[0] + tt[j][1] * dxi[1] for j in range(2)]
+        x.append(comb(c, N) + (t0[0] + td[0]) * dxi[0] * 0.5 + (t0[1] + td[1]) * dxi[1] * 0.5)
+        for j in range(2):
+            T[j].append(td[j])
+            for l in range(2):
+                dT[j][l].append(tt[j][l])
+    return x, T, dT
+
+
+def _dot(a: list, b: list):
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+
+
+def gap_jets(cell: CellType, xs: np.ndarray, P: np.ndarray, xi: np.ndarray, second: bool) -> Jet:
+    """The gaps of the points ``xs (3, m)`` on the faces with nodes ``P (3, m, k)`` as
+    a jet of ``q = [x_s, x_1, ..., x_k]``.
+
+    ``g = n(xi) . (x_s - x(xi))`` with ``xi (2, m)`` (converged) refined by one Newton
+    step in first-order jets (module docstring)."""
+    k = cell.n_nodes
+    vals = [xs[c] for c in range(3)] + [P[c, :, a] for a in range(k) for c in range(3)]
+    nv = len(vals)
+    var = [Jet.variable(v, i, nv, second) for i, v in enumerate(vals)]
+    js, JP = var[:3], [var[3 + 3 * a: 6 + 3 * a] for a in range(k)]
+    # one Newton step from the converged xi at first order: its gradient is exact, and
+    # the Hessian of g needs no more of xi (dg/dxi = 0 at the closest point)
+    JP1 = [[c.first() for c in p] for p in JP]
+    zero = Jet.constant(np.zeros_like(xi[0]), nv, False)
+    x, T, dT = _jet_map(cell, JP1, xi, [zero, zero])
+    r = [x[c] - js[c].first() for c in range(3)]
+    f = [_dot(T[j], r) for j in range(2)]
+    H = [[_dot(T[j], T[l]) + _dot(dT[j][l], r) for l in range(2)] for j in range(2)]
+    det = H[0][0] * H[1][1] - H[0][1] * H[1][0]
+    step = [(H[1][1] * f[0] - H[0][1] * f[1]) / det, (H[0][0] * f[1] - H[1][0] * f[0]) / det]
+    dxi = [Jet(-s.v, -s.g, Jet.constant(s.v, nv, True).h if second else None) for s in step]
+    x, T, _ = _jet_map(cell, JP, xi, dxi)
+    nx = T[0][1] * T[1][2] - T[0][2] * T[1][1]
+    ny = T[0][2] * T[1][0] - T[0][0] * T[1][2]
+    nz = T[0][0] * T[1][1] - T[0][1] * T[1][0]
+    inv = (nx * nx + ny * ny + nz * nz).sqrt().inv()
+    return ((js[0] - x[0]) * nx + (js[1] - x[1]) * ny + (js[2] - x[2]) * nz) * inv
+
+
+def face_weights(x: np.ndarray, faces: np.ndarray, cell: "str | CellType",
+                 measure=None) -> np.ndarray:
+    """Tributary weight of each node, ``a_A = int N_A w dGamma`` over its faces by the
+    cell's rule of degree :data:`WEIGHT_DEGREE` (``w`` the weight of ``measure``; None
+    or a unit measure: 1)."""
+    cell = cell_type(cell)
+    q, w = cell.quadrature(WEIGHT_DEGREE)
+    N, G = cell.shape(q), cell.dshape(q)                      # (k, nq), (k, 2, nq)
+    P = x[:, faces]                                           # (3, n_f, k)
+    T = np.einsum("dfk,kjq->djfq", P, G)
+    J = np.sqrt(np.sum(np.cross(T[:, 0], T[:, 1], axis=0) ** 2, axis=0))   # (n_f, nq)
+    wJ = J * w
+    if measure is not None and not measure.unit:
+        wJ = wJ * measure.weight(tuple(np.einsum("dfk,kq->dfq", P, N)))
+    return np.bincount(faces.ravel(), weights=(wJ @ N.T).ravel(), minlength=x.shape[1])
+
+
+def evaluate_faces(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarray,
+                   cells: tuple[CellType, CellType], lam: np.ndarray | None = None,
+                   tangent: bool = True, margin: float | None = None,
+                   end_tolerance: float = 1e-8, prefer: np.ndarray | None = None,
+                   stick: float = 0.05, lock: np.ndarray | None = None,
+                   measure=None, mirrored: np.ndarray | None = None) -> ContactEval:
+    """NTS gaps ``g`` of the slave nodes on master faces, ``G = dg/dx`` and
+    ``H = sum_k lam_k d^2 g_k/dx^2`` (module docstring); the 3D form of
+    :func:`~.nts.evaluate`.  Local dof order: slave node k -> 3k + c; master node j ->
+    3 n_s + 3 j + c."""
+    cs, cm = cells
+    n_m = xm.shape[1]
+    if margin is None:
+        margin = float(np.median(face_sizes(xm, seg_m))) if len(seg_m) else 0.0
+    pr = project_faces(xs, xm, seg_m, cm, margin, end_tolerance, prefer, stick, lock, mirrored)
+    mask, g = pr["mask"], pr["g"]
+    area = face_weights(xs, seg_s, cs, measure)
+    info = {"xi": pr["xi"], "segment": pr["segment"], "normal": pr["n"]}
+    if not tangent:
+        return ContactEval(g=g, G=None, H=None, area=area, mask=mask, info=info)
+    k = np.flatnonzero(mask)
+    m = seg_m[pr["segment"][k]]
+    second = lam is not None
+    g = g.copy()
+    dg = np.zeros((k.size, 3 + 3 * cm.n_nodes))
+    h = np.zeros((dg.shape[1], dg.shape[1], k.size)) if second else None
+    for lo in range(0, k.size, CHUNK_NODES):     # the jets' memory bounded per chunk
+        c = slice(lo, lo + CHUNK_NODES)
+        gj = gap_jets(cm, xs[:, k[c]], xm[:, m[c]], pr["xi"][:, k[c]], second)
+        g[k[c]], dg[c] = gj.v, gj.g.T
+        if second:
+            h[:, :, c] = gj.hessian()
+    return node_gap_eval(g, k, m, dg, h, lam, n_m, 3, area, mask, info)
