@@ -58,7 +58,7 @@ from . import preflight as _preflight  # noqa: F401 (registers the checks Model.
 from .active_set import ActiveSet, chain_order, touching_nodes
 from .contact_eval import ContactEval
 from .discretization import MeasuredDiscretization, PatternedDiscretization
-from .friction import FrictionLaw, FrictionRows, as_law
+from .friction import FRICTIONLESS, FrictionLaw, FrictionRows, as_law
 from .kkt import K_GAP, K_LAM, violation
 from .measures import PLANE, Measure, measure_for
 from .methods import METHODS, make_method  # METHODS: the registry's names, the built-ins in it
@@ -125,7 +125,7 @@ def _check_3d(slave: Any, master: Any, method: str, friction: Any) -> None:
         raise ValueError("self-contact in 3D (slave and master on the same body) is not "
                          "offered yet; split the body into two bodies tied by a TiePair, "
                          "or use a plane model")
-    if friction is not None:
+    if as_law(friction) is not FRICTIONLESS:
         raise ValueError("friction in 3D is not offered yet; use frictionless contact "
                          "(friction=None), or a plane or axisymmetric model")
 
