@@ -31,6 +31,8 @@ _EXPORTS = {
     "ContactPair": "contact.pair", "TiePair": "contact.tie",
     "Coulomb": "contact.friction", "Tresca": "contact.friction",
     "ContactSurface": "contact.surfaces", "RigidPlane": "contact.surfaces", "RigidCircle": "contact.surfaces",
+    "RigidPlane3D": "contact.rigid3d", "RigidSphere": "contact.rigid3d",
+    "RigidCylinder": "contact.rigid3d",
     "pressure_profile": "output.contact_output",
     "run_scene": "app.runner", "build_scene": "app.runner",
 }
