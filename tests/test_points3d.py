@@ -1,0 +1,244 @@
+"""The 3D integration points on jets (contact/points3d.py): exact first and second
+derivatives against finite differences on random and near-degenerate face pairs, two
+jet Newton steps are enough, the cells' weights against the overlap (shapely) and the
+faces' areas, chunks and memory, refusals.  A small integrator here stands in for the
+kernel: ``sum w J_s`` over a face's cells."""
+import tracemalloc
+
+import numpy as np
+import pytest
+
+from skfem_mortar.contact import points3d
+from skfem_mortar.contact.cells import cell_type, quad_quadrature
+from skfem_mortar.contact.points3d import CHUNK_BYTES, integration_points, point_chunks
+from skfem_mortar.contact.segmentation3d import segment_faces
+from test_segmentation3d import PAIRINGS, Polygon, _quad_square, _tri_square
+
+
+def _jacobian(cell, X, xi):
+    """``J_s = |T_1 x T_2|`` at ``xi (2, n, q)`` of faces of nodes ``X (n, k, 3)``."""
+    T = np.einsum("kanq,nkd->adnq", cell.dshape(xi), X)
+    return np.linalg.norm(np.cross(T[0], T[1], axis=0), axis=0)
+
+
+def _face_sums(xs, Ss, cell, ip):
+    """The test's integrator: ``sum w J_s`` over each slave face's cells."""
+    X = np.transpose(xs[:, Ss[ip.e_s]], (1, 2, 0))
+    xi = np.stack([ip.xi_s[0].v, ip.xi_s[1].v])
+    return np.bincount(ip.e_s, (ip.w.v * _jacobian(cell, X, xi)).sum(1), minlength=len(Ss))
+
+
+def _face(rng, kind, z, up, warp, shift=(0.0, 0.0), size=1.0):
+    P = np.array([[0, 0], [1, 0], [0.2, 1.0]] if kind == "tri3"
+                 else [[0, 0], [1, 0], [1.1, 0.9], [-0.1, 1.0]]) * size + shift
+    P = P + rng.uniform(-0.05, 0.05, P.shape)
+    X = np.c_[P, z + warp * rng.uniform(-1, 1, len(P))].T
+    conn = np.arange(len(P))[None]
+    return X, conn if up else conn[:, ::-1]
+
+
+def _pair(case, ks, km, rng):
+    """A slave and a master face for the named case (the master facing the slave)."""
+    xs, Ss = _face(rng, ks, 0.0, True, 0.05 if case == "warped" else 0.0)
+    if case in ("sliding", "warped"):
+        xm, Sm = _face(rng, km, 0.1, False, 0.05 if case == "warped" else 0.0,
+                       shift=rng.uniform(0.1, 0.4, 2))
+    elif case == "vertex on edge":          # a master vertex on the slave's edge 0-1
+        xm, Sm = _face(rng, km, 0.05, False, 0.0, shift=(0.3, 0.0))
+        xm[:, 0] = xs[:, 0] + 0.4 * (xs[:, 1] - xs[:, 0]) + [0, 0, 0.05]
+        xm[1, 1:] += 0.2
+    elif case == "edge on edge":            # a master edge along the slave's edge 0-1
+        xm, Sm = _face(rng, km, 0.05, True, 0.0, shift=(0.3, 0.0))
+        xm[:, 0] = xs[:, 0] + 0.3 * (xs[:, 1] - xs[:, 0]) + [0, 0, 0.05]
+        xm[:, 1] = xs[:, 0] + 1.3 * (xs[:, 1] - xs[:, 0]) + [0, 0, 0.05]
+        xm[1, 2:] = xm[1, 2:] + 0.5
+        Sm = Sm[:, ::-1]
+    else:                                   # nearly coplanar: the master 1e-9 above
+        xm, Sm = _face(rng, km, 1e-9, False, 0.0, shift=(0.3, 0.2))
+    R = np.linalg.qr(rng.normal(size=(3, 3)))[0]
+    return R @ xs, Ss, R @ xm, Sm
+
+
+CASES = ["sliding", "warped", "vertex on edge", "edge on edge", "nearly coplanar"]
+
+
+@pytest.mark.parametrize("cells", PAIRINGS)
+@pytest.mark.parametrize("case", CASES)
+def test_first_and_second_derivatives_against_finite_differences(cells, case):
+    """Directional central differences of xi_s, xi_m and w (values: the gradient;
+    gradients: the Hessian) with the segmentation's topology fixed, as the kernel
+    holds it within a Newton step.  Step 1e-6: truncation ~1e-12 times the third
+    derivatives, round-off ~1e-16 / 1e-6 = 1e-10 times the values, so 1e-7 relative
+    to the Hessian's size; a missing term is of the order of the derivative itself."""
+    rng = np.random.default_rng(sum(map(ord, case + "".join(cells))))
+    xs, Ss, xm, Sm = _pair(case, *cells, rng)
+    seg = segment_faces(xs, Ss, xm, Sm, cells, pairs=([0], [0]))
+    assert seg.n > 0
+
+    def jets(xs, xm):
+        ip = integration_points(xs, Ss, xm, Sm, cells, seg, pad=False)
+        return [ip.xi_s[0], ip.xi_s[1], ip.xi_m[0], ip.xi_m[1], ip.w]
+
+    ref = jets(xs, xm)
+    assert all(np.all(np.isfinite(j.v)) and np.all(np.isfinite(j.h)) for j in ref)
+    k_s, h = xs.shape[1], 1e-6
+    for _ in range(3):
+        d = rng.normal(size=(3, k_s + xm.shape[1]))
+        # the local variables: the faces' nodes in connectivity order, node-major
+        dv = np.r_[d[:, Ss[0]].T.ravel(), d[:, k_s + Sm[0]].T.ravel()]
+        plus, minus = jets(xs + h * d[:, :k_s], xm + h * d[:, k_s:]), \
+            jets(xs - h * d[:, :k_s], xm - h * d[:, k_s:])
+        for j, p, m in zip(ref, plus, minus):
+            g = np.einsum("i...,i->...", j.g, dv)
+            assert np.abs((p.v - m.v) / (2 * h) - g).max() <= 1e-7 * (1 + np.abs(g).max())
+            H = np.einsum("ij...,j->i...", j.hessian(), dv)
+            fd = (p.g - m.g) / (2 * h)
+            assert np.abs(fd - H).max() <= 1e-7 * (1 + np.abs(H).max())
+
+
+def test_two_jet_steps_are_exact_and_one_is_not(monkeypatch):
+    """The back-projection's two Newton steps in jet arithmetic give the exact first and
+    second derivatives: a third step changes them by round-off only; one step leaves
+    the Hessian wrong (its error is the O(eps^2) term the second step removes)."""
+    rng = np.random.default_rng(5)
+    cells = ("quad4", "quad4")
+    xs, Ss, xm, Sm = _pair("warped", *cells, rng)
+    seg = segment_faces(xs, Ss, xm, Sm, cells, pairs=([0], [0]))
+    out = {}
+    for steps in (1, 2, 3):
+        monkeypatch.setattr(points3d, "JET_STEPS", steps)
+        ip = integration_points(xs, Ss, xm, Sm, cells, seg, pad=False)
+        out[steps] = [ip.xi_m[0], ip.xi_s[0], ip.w]
+    for a, b in zip(out[2], out[3]):
+        assert np.abs(a.g - b.g).max() < 1e-13 and np.abs(a.h - b.h).max() < 1e-12
+    assert np.abs(out[1][0].hessian() - out[2][0].hessian()).max() > 1e-3
+    assert np.abs(out[1][0].g - out[2][0].g).max() < 1e-13
+
+
+@pytest.mark.parametrize("cells", PAIRINGS)
+def test_weights_on_flat_meshes_are_the_overlaps(cells):
+    """Flat non-matching meshes of the unit square (the master 0.01 above, facing): per
+    face pair, ``sum w J_s`` over its cells equals shapely's intersection area (J_s is
+    of degree <= 1 on planar faces, the rule of degree 5 is exact: round-off, 1e-14);
+    the slave faces' sums are their areas (every face covered)."""
+    rng = np.random.default_rng(3)
+    make = {"tri3": _tri_square, "quad4": _quad_square}
+    xs, Ss = make[cells[0]](5, rng)
+    xm, Sm = make[cells[1]](4, rng, z=0.01, up=False)
+    seg = segment_faces(xs, Ss, xm, Sm, cells)
+    ip = integration_points(xs, Ss, xm, Sm, cells, seg, second=False)
+    cs = cell_type(cells[0])
+    X = np.transpose(xs[:, Ss[ip.e_s]], (1, 2, 0))
+    wj = (ip.w.v * _jacobian(cs, X, np.stack([ip.xi_s[0].v, ip.xi_s[1].v]))).sum(1)
+    pairs = {}
+    for a, b, v in zip(ip.e_s, ip.e_m, wj):
+        pairs[a, b] = pairs.get((a, b), 0.0) + v
+    for (a, b), v in pairs.items():
+        ref = Polygon(xs[:2, Ss[a]].T).intersection(Polygon(xm[:2, Sm[b]].T)).area
+        assert abs(v - ref) < 1e-14
+    area = np.array([Polygon(xs[:2, f].T).area for f in Ss])
+    assert np.abs(_face_sums(xs, Ss, cs, ip) - area).max() < 1e-14
+    # the points' master coordinates map to the slave points' vertical projection
+    cm = cell_type(cells[1])
+    xm_pts = np.einsum("knq,dnk->dnq", cm.shape(np.stack([ip.xi_m[0].v, ip.xi_m[1].v])),
+                       xm[:, Sm[ip.e_m]])
+    xs_pts = np.einsum("knq,dnk->dnq", cs.shape(np.stack([ip.xi_s[0].v, ip.xi_s[1].v])),
+                       xs[:, Ss[ip.e_s]])
+    assert np.abs(xm_pts[:2] - xs_pts[:2]).max() < 1e-14
+
+
+@pytest.mark.parametrize("n_gauss, tol", [(2, 1e-3), (5, 1e-4), (8, 1e-6)])
+def test_warped_quad4_faces_integrate_their_own_area(n_gauss, tol):
+    """Warped quad4 slave faces (corners out of plane by up to 0.1 h) fully covered by a
+    larger non-matching tri3 master: ``sum w J_s`` over each face's cells equals the
+    face's area (a 400-point tensor rule) to the triangle rule's accuracy on the
+    rational integrand ``J_s / (T_1 x T_2).n_0`` of the plane cells: measured 1.5e-4,
+    1.8e-5, 2.9e-7 relative at degrees 2, 5, 8 (the worst face: jittered by 0.25 h and
+    warped by about 0.2 of its size; 1.6e-11 at degree 8 on a single face warped by
+    0.1), so the bounds fall with the degree and a wrong weight (an O(warp^2) error,
+    about 1e-2 here) fails every one."""
+    rng = np.random.default_rng(1)
+    xs, Ss = _quad_square(6, rng)
+    xs[2] = 0.1 / 6 * rng.uniform(-1, 1, xs.shape[1])
+    xm, Sm = _tri_square(7, rng, z=0.05, up=False)
+    xm[:2] = xm[:2] * 1.4 - 0.2
+    cells = ("quad4", "tri3")
+    seg = segment_faces(xs, Ss, xm, Sm, cells)
+    ip = integration_points(xs, Ss, xm, Sm, cells, seg, second=False, n_gauss=n_gauss)
+    cs = cell_type("quad4")
+    p, w = quad_quadrature(40)
+    Xf = np.transpose(xs[:, Ss], (1, 2, 0))
+    area = _jacobian(cs, Xf, np.broadcast_to(p[:, None, :], (2, len(Ss), p.shape[1]))) @ w
+    assert np.abs(_face_sums(xs, Ss, cs, ip) / area - 1.0).max() < tol
+
+
+@pytest.mark.parametrize("slave", ["tri3", "quad4"])
+def test_strips_of_partial_cover_give_no_nan(slave):
+    """A slave face covered by the master over a strip of relative width 1e-1 to 1e-7
+    along its edge 0-1: finite jets, positive weights, and ``sum w J_s`` the strip's
+    area to 1e-15 (planar faces: the rule is exact; the vertices carry round-off of
+    1e-16 times the face's size, so the area's error is that times the strip's length,
+    not relative to the strip: measured 5e-17 at a width of 1e-4)."""
+    xs = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0.0]] if slave == "tri3"
+                  else [[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0.0]]).T
+    Ss = np.arange(xs.shape[1])[None]
+    for eps in 10.0 ** -np.arange(1, 8):
+        xm = np.array([[-1, -1, 0.01], [-1, eps, 0.01], [2, eps, 0.01], [2, -1, 0.01]]).T
+        Sm = np.array([[0, 1, 2, 3]])
+        cells = (slave, "quad4")
+        seg = segment_faces(xs, Ss, xm, Sm, cells, pairs=([0], [0]))
+        ip = integration_points(xs, Ss, xm, Sm, cells, seg)
+        for j in (*ip.xi_s, *ip.xi_m, ip.w):
+            assert np.all(np.isfinite(j.v)) and np.all(np.isfinite(j.h))
+        assert np.all(ip.w.v > 0)
+        strip = eps * (1 - eps / 2) if slave == "tri3" else eps
+        got = _face_sums(xs, Ss, cell_type(slave), ip)[0]
+        assert abs(got - strip) < 1e-15
+
+
+def test_chunks_and_memory():
+    """Chunks of :func:`point_chunks` give the points of one call (to round-off: the
+    value Newton stops on a chunk's largest step); a chunk's peak of Python-side
+    allocations stays below 40 Hessians of CHUNK_BYTES (measured 31: 61 MB)."""
+    rng = np.random.default_rng(2)
+    cells = ("quad4", "quad4")
+    xs, Ss = _quad_square(4, rng)
+    xm, Sm = _quad_square(3, rng, z=0.05, up=False)
+    seg = segment_faces(xs, Ss, xm, Sm, cells)
+    whole = integration_points(xs, Ss, xm, Sm, cells, seg, pad=False)
+    chunks = list(point_chunks(seg, cells, budget=8 * 24 * 24 * 9 * 7))
+    assert len(chunks) == -(-seg.n // 7)
+    parts = [integration_points(xs, Ss, xm, Sm, cells, seg, rows=c, pad=False)
+             for c in chunks]
+    h = np.concatenate([p.w.h for p in parts], axis=2)
+    assert np.abs(h - whole.w.h).max() < 1e-14 * np.abs(whole.w.h).max()
+    assert np.abs(np.concatenate([p.xi_m[1].v for p in parts]) - whole.xi_m[1].v).max() < 1e-14
+    first = next(iter(point_chunks(seg, cells)))
+    tracemalloc.start()
+    integration_points(xs, Ss, xm, Sm, cells, seg, rows=first, pad=False)
+    peak = tracemalloc.get_traced_memory()[1]
+    tracemalloc.stop()
+    hessian = (first.stop - first.start) * 8 * 24 * 24 * 9
+    assert hessian <= CHUNK_BYTES and peak < 40 * hessian
+
+
+def test_padding_and_layout():
+    """``pad=True`` appends the nodal normals' zero block: ``n_loc = 3 (2 k_s + k_m)``."""
+    rng = np.random.default_rng(4)
+    xs, Ss, xm, Sm = _pair("sliding", "quad4", "tri3", rng)
+    seg = segment_faces(xs, Ss, xm, Sm, ("quad4", "tri3"), pairs=([0], [0]))
+    a = integration_points(xs, Ss, xm, Sm, ("quad4", "tri3"), seg, pad=False)
+    b = integration_points(xs, Ss, xm, Sm, ("quad4", "tri3"), seg)
+    assert a.w.g.shape[0] == 21 and b.w.g.shape[0] == 33
+    assert np.array_equal(b.w.g[:21], a.w.g) and not np.any(b.w.g[21:])
+    assert np.array_equal(b.xi_m[0].h[:21, :21], a.xi_m[0].h) and not np.any(b.xi_m[0].h[21:])
+
+
+def test_bad_input_is_refused():
+    rng = np.random.default_rng(4)
+    xs, Ss, xm, Sm = _pair("sliding", "tri3", "tri3", rng)
+    seg = segment_faces(xs, Ss, xm, Sm, ("tri3", "tri3"), pairs=([0], [0]))
+    with pytest.raises(ValueError, match="n_gauss must be an integer >= 1"):
+        integration_points(xs, Ss, xm, Sm, ("tri3", "tri3"), seg, n_gauss=0)
+    with pytest.raises(ValueError, match=r"cells\[1\] must be one of \['tri3', 'quad4'\]"):
+        integration_points(xs, Ss, xm, Sm, ("tri3", "line2"), seg)
