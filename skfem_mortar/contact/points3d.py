@@ -57,17 +57,18 @@ about 31 of them: 61 MB, tests/test_points3d.py).
 """
 from __future__ import annotations
 
-from typing import Iterator, NamedTuple
+from typing import Any, Iterator
 
 import numpy as np
 
 from .cells import CellType, cell_type, tri_quadrature
+from .integration_points import IntegrationCells, IntegrationPoints, LocalVariables
 from .jets import Jet, _outer, _zero, _zeros
 from .segmentation import EDGE_INTERSECTION, MASTER_VERTEX, SLAVE_VERTEX
-from .segmentation3d import FACES, FaceSegmentation, line_corners
+from .segmentation3d import FACES, FaceSegmentation, line_corners, segment_faces
 
-__all__ = ["IntegrationPoints", "integration_points", "point_chunks", "CHUNK_BYTES",
-           "JET_STEPS", "N_GAUSS"]
+__all__ = ["FacePoints", "integration_points", "face_points", "point_chunks",
+           "CHUNK_BYTES", "JET_STEPS", "N_GAUSS"]
 
 #: the default degree of the cells' triangle rule (issue 38: >= 5)
 N_GAUSS = 5
@@ -77,28 +78,6 @@ JET_STEPS = 2
 CHUNK_BYTES = 2_000_000
 _VALUE_STEPS = 30
 _VALUE_TOL = 1e-14
-
-
-class IntegrationPoints(NamedTuple):
-    """Gauss points of integration cells for the kernel (the contract of the one
-    mortar kernel; the same fields as its own).
-
-    Attributes
-    ----------
-    e_s, e_m : int ndarray (n,)
-        Slave and master face of each cell.
-    xi_s, xi_m : tuple of 2 Jet (n, n_gp)
-        The points' slave and master reference coordinates.
-    w : Jet (n, n_gp)
-        The rule's weight times twice the cell's area in the slave reference plane
-        (the kernel multiplies ``J_s(xi_s)`` and the measure's weight).
-    """
-
-    e_s: np.ndarray
-    e_m: np.ndarray
-    xi_s: tuple
-    xi_m: tuple
-    w: Jet
 
 
 def _interpolate(f: np.ndarray, df: np.ndarray, d2f: np.ndarray | None, xi: tuple,
@@ -186,11 +165,11 @@ def _dot(a: list, b: list) -> Jet:
     return Jet(v, g, h)
 
 
-def _node_jets(x: np.ndarray, conn: np.ndarray, offset: int, nv: int, second: bool) -> list:
-    """``X[k][d]``: coordinate ``d`` of node ``k`` of each row of ``conn``, the local
+def _node_jets(X: np.ndarray, offset: int, nv: int, second: bool) -> list:
+    """``X[k][d]``: coordinate ``d`` of node ``k`` (values ``X (n, k, 3)``), the local
     variable ``offset + 3 k + d``, with a trailing value axis ``(n, 1)``."""
-    return [[Jet.variable(x[d, conn[:, k]][:, None], offset + 3 * k + d, nv, second)
-             for d in range(3)] for k in range(conn.shape[1])]
+    return [[Jet.variable(X[:, k, d][:, None], offset + 3 * k + d, nv, second)
+             for d in range(3)] for k in range(X.shape[1])]
 
 
 def _pick(X: list, idx: np.ndarray) -> list:
@@ -289,13 +268,53 @@ def _project(cell: CellType, X: list, p: list, B: tuple, xi0: np.ndarray) -> lis
     return xj
 
 
+def _check(cells, n_gauss) -> tuple[CellType, CellType]:
+    cs, cm = cell_type(cells[0]), cell_type(cells[1])
+    for name, c in (("cells[0]", cs), ("cells[1]", cm)):
+        if c.name not in FACES:
+            raise ValueError(f"{name} must be one of {list(FACES)}, got {c.name!r}")
+    if isinstance(n_gauss, bool) or not isinstance(n_gauss, (int, np.integer)) or n_gauss < 1:
+        raise ValueError(f"n_gauss must be an integer >= 1, got {n_gauss!r}")
+    return cs, cm
+
+
+def face_points(cells: "tuple[str | CellType, str | CellType]", Xs: np.ndarray,
+                Xm: np.ndarray, seg: FaceSegmentation, rows: np.ndarray,
+                n_gauss: int = N_GAUSS, second: bool = True, pad: bool = True
+                ) -> IntegrationPoints:
+    """The :class:`~skfem_mortar.contact.integration_points.IntegrationPoints` of the
+    cells ``rows`` of ``seg`` from their faces' node values ``Xs (n, k_s, 3)``,
+    ``Xm (n, k_m, 3)`` (module docstring, steps 1 to 7): jets of ``3 (2 k_s + k_m)``
+    variables (``pad``), else of ``3 (k_s + k_m)``.  Parameters as in
+    :func:`integration_points`."""
+    cs, cm = _check(cells, n_gauss)
+    rows = np.asarray(rows, dtype=np.int64)
+    k_s = cs.n_nodes
+    nv = 3 * (k_s + cm.n_nodes)
+    Xs, Xm = _node_jets(Xs, 0, nv, second), _node_jets(Xm, 3 * k_s, nv, second)
+    v, B1, B2 = _plane(cs, Xs)
+    p = _vertex_points(cs, cm, Xs, Xm, v, seg, rows)
+    pts, wq = tri_quadrature(int(n_gauss))
+    L = np.stack([1.0 - pts[0] - pts[1], pts[0], pts[1]])                # (3, n_gp)
+    col = [[_column(p[d], k) for k in range(3)] for d in range(3)]
+    p_g = [sum(col[d][k].expand() * L[k] for k in range(3)) for d in range(3)]
+    area = _dot(_cross([col[d][1] - col[d][0] for d in range(3)],
+                       [col[d][2] - col[d][0] for d in range(3)]), [_column(c, 0) for c in v])
+    xi_g = _project(cs, Xs, p_g, (B1, B2), np.einsum("nka,kq->anq", seg.xi[rows], L))
+    T = _face_tangents(cs, xi_g, Xs)
+    w = area.expand() * wq / _dot(_cross(T[0], T[1]), v)
+    xi_m = _project(cm, Xm, p_g, (B1, B2), np.einsum("nka,kq->anq", seg.xi_m[rows], L))
+    out = IntegrationPoints(seg.e_s[rows], seg.e_m[rows], tuple(xi_g), tuple(xi_m), w)
+    return _padded(out, 3 * k_s) if pad else out
+
+
 def integration_points(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray,
                        seg_m: np.ndarray, cells: "tuple[str | CellType, str | CellType]",
                        seg: FaceSegmentation, rows: np.ndarray | slice | None = None,
                        n_gauss: int = N_GAUSS, second: bool = True, pad: bool = True
                        ) -> IntegrationPoints:
-    """The :class:`IntegrationPoints` of the cells ``rows`` of ``seg`` (all by default)
-    with exact first and second derivatives over their local variables (module
+    """The integration points of the cells ``rows`` of ``seg`` (all by default) with
+    exact first and second derivatives over their local variables (module
     docstring: the variables, the plane, the vertices, the rule, the back-projection,
     the weights, the master coordinates).
 
@@ -323,32 +342,52 @@ def integration_points(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray,
     ValueError
         When a cell is not tri3 or quad4, or ``n_gauss`` is not an integer >= 1.
     """
-    cs, cm = cell_type(cells[0]), cell_type(cells[1])
-    for name, c in (("cells[0]", cs), ("cells[1]", cm)):
-        if c.name not in FACES:
-            raise ValueError(f"{name} must be one of {list(FACES)}, got {c.name!r}")
-    if isinstance(n_gauss, bool) or not isinstance(n_gauss, (int, np.integer)) or n_gauss < 1:
-        raise ValueError(f"n_gauss must be an integer >= 1, got {n_gauss!r}")
+    _check(cells, n_gauss)
     rows = np.arange(seg.n)[slice(None) if rows is None else rows]
-    e_s, e_m = seg.e_s[rows], seg.e_m[rows]
-    k_s, k_m = cs.n_nodes, cm.n_nodes
-    nv = 3 * (k_s + k_m)
-    Xs = _node_jets(np.asarray(xs, dtype=float), np.asarray(seg_s)[e_s], 0, nv, second)
-    Xm = _node_jets(np.asarray(xm, dtype=float), np.asarray(seg_m)[e_m], 3 * k_s, nv, second)
-    v, B1, B2 = _plane(cs, Xs)
-    p = _vertex_points(cs, cm, Xs, Xm, v, seg, rows)
-    pts, wq = tri_quadrature(int(n_gauss))
-    L = np.stack([1.0 - pts[0] - pts[1], pts[0], pts[1]])                # (3, n_gp)
-    col = [[_column(p[d], k) for k in range(3)] for d in range(3)]
-    p_g = [sum(col[d][k].expand() * L[k] for k in range(3)) for d in range(3)]
-    area = _dot(_cross([col[d][1] - col[d][0] for d in range(3)],
-                       [col[d][2] - col[d][0] for d in range(3)]), [_column(c, 0) for c in v])
-    xi_g = _project(cs, Xs, p_g, (B1, B2), np.einsum("nka,kq->anq", seg.xi[rows], L))
-    T = _face_tangents(cs, xi_g, Xs)
-    w = area.expand() * wq / _dot(_cross(T[0], T[1]), v)
-    xi_m = _project(cm, Xm, p_g, (B1, B2), np.einsum("nka,kq->anq", seg.xi_m[rows], L))
-    out = IntegrationPoints(e_s, e_m, tuple(xi_g), tuple(xi_m), w)
-    return _padded(out, 3 * k_s) if pad else out
+    Xs = np.asarray(xs, dtype=float).T[np.asarray(seg_s)[seg.e_s[rows]]]
+    Xm = np.asarray(xm, dtype=float).T[np.asarray(seg_m)[seg.e_m[rows]]]
+    return face_points(cells, Xs, Xm, seg, rows, n_gauss, second, pad)
+
+
+class FacePoints:
+    """The 3D segmentation's side of the one kernel's contract
+    (:class:`~skfem_mortar.contact.integration_points.PointSegmentation`).
+
+    Parameters
+    ----------
+    cells : (CellType or str, CellType or str)
+        Slave and master faces, tri3 or quad4 each.
+    n_gauss : int
+        Degree of the triangle rule on each integration cell (default 5).
+    options : dict
+        Passed to :func:`~skfem_mortar.contact.segmentation3d.segment_faces`
+        (``pairs``, ``margin``, ``reach``, ``frozen``).
+
+    ``integration_cells`` keeps ``(seg, rows)`` as its ``data``: a kernel that takes a
+    chunk ``r`` of the rows passes ``IntegrationCells(e_s[r], e_m[r], (seg, rows[r]))``.
+    """
+
+    def __init__(self, cells: "tuple[str | CellType, str | CellType]",
+                 n_gauss: int = N_GAUSS, **options: Any):
+        self.cells = _check(cells, n_gauss)
+        self.n_gauss, self.options = int(n_gauss), options
+
+    def integration_cells(self, xs: np.ndarray, conn_s: np.ndarray, xm: np.ndarray,
+                          conn_m: np.ndarray, normals: np.ndarray | None = None
+                          ) -> IntegrationCells:
+        """The faces' integration cells (values; ``normals`` unused: the auxiliary
+        planes are the faces' own)."""
+        seg = segment_faces(xs, conn_s, xm, conn_m, self.cells, **self.options)
+        return IntegrationCells(seg.e_s, seg.e_m, (seg, np.arange(seg.n)))
+
+    def integration_points(self, cells: IntegrationCells, local: LocalVariables
+                           ) -> IntegrationPoints:
+        """The points of ``cells`` in jets of ``local``'s ``3 (2 k_s + k_m)`` variables."""
+        seg, rows = cells.data
+        Xs, Xm = (np.stack([np.stack([c.v for c in node], -1) for node in X], 1)
+                  for X in (local.x_s, local.x_m))
+        return face_points(self.cells, Xs, Xm, seg, rows, self.n_gauss,
+                           local.x_s[0][0].h is not None)
 
 
 def _column(j: Jet, k: int) -> Jet:
