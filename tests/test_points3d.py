@@ -242,3 +242,27 @@ def test_bad_input_is_refused():
         integration_points(xs, Ss, xm, Sm, ("tri3", "tri3"), seg, n_gauss=0)
     with pytest.raises(ValueError, match=r"cells\[1\] must be one of \['tri3', 'quad4'\]"):
         integration_points(xs, Ss, xm, Sm, ("tri3", "line2"), seg)
+
+
+def test_face_points_keep_the_contract():
+    """:class:`FacePoints` through the contract's calls: the kernel's local variables
+    (``LocalVariables.of``, normals included) give jets of ``3 (2 k_s + k_m)`` variables
+    that ``check_points`` accepts, equal to :func:`integration_points` (padded)."""
+    from skfem_mortar.contact.integration_points import LocalVariables, check_points
+    from skfem_mortar.contact.points3d import FacePoints
+    rng = np.random.default_rng(6)
+    cells = ("quad4", "tri3")
+    xs, Ss = _quad_square(3, rng)
+    xm, Sm = _tri_square(2, rng, z=0.02, up=False)
+    fp = FacePoints(cells)
+    ic = fp.integration_cells(xs, Ss, xm, Sm, None)
+    S = Ss[ic.e_s]
+    loc = LocalVariables.of(xs.T[S], xm.T[Sm[ic.e_m]], rng.normal(size=S.shape + (3,)))
+    pts = fp.integration_points(ic, loc)
+    check_points(pts, loc)
+    ref = integration_points(xs, Ss, xm, Sm, cells, ic.data[0])
+    assert pts.w.g.shape[0] == 3 * (2 * 4 + 3)
+    for a, b in zip((*pts.xi_s, *pts.xi_m, pts.w), (*ref.xi_s, *ref.xi_m, ref.w)):
+        assert np.array_equal(a.v, b.v) and np.array_equal(a.h, b.h)
+    with pytest.raises(ValueError, match="n_gauss must be an integer >= 1"):
+        FacePoints(cells, n_gauss=0)
