@@ -270,8 +270,50 @@ def clip_polygons(clip: np.ndarray, k_c: np.ndarray, subject: np.ndarray,
     origin, index = _labels(C, n, k_c, k_s)
     origin[_near_parallel(clip, k_c, subject, k_s, origin, index)] = -1
     u, count, origin, index = _compact(V, origin, index)
+    _snap(u, count, origin, index, (clip, k_c), (subject, k_s), tol)
     count = np.where(count >= 3, count, 0)
     return Clip(u, count, origin, index)
+
+
+def _line_distance(p: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Distance of points ``p`` from the lines through ``a`` and ``b`` (``(..., 2)``)."""
+    e = b - a
+    cross = e[..., 0] * (p - a)[..., 1] - e[..., 1] * (p - a)[..., 0]
+    return np.abs(cross) / np.maximum(np.hypot(e[..., 0], e[..., 1]), 1e-300)
+
+
+def _snap(u: np.ndarray, count: np.ndarray, origin: np.ndarray, index: np.ndarray,
+          clip: tuple, subject: tuple, tol: np.ndarray) -> None:
+    """An edge intersection within ``tol`` of a clip (else a subject) corner whose two
+    neighbours in the polygon lie on that corner's two edges becomes that corner, in
+    place (module docstring, Origins).  Where three lines meet (a master edge
+    through a slave vertex whose wedge the master covers) the two lines the clipping
+    met first need not be the polygon's edges there, and the vertex rebuilt from
+    them moves along a line that is not the polygon's edge: a wrong derivative of the
+    overlap exactly at the degenerate position, where the overlap is still C1."""
+    m, K = origin.shape
+    rows = np.arange(m)[:, None]
+    slot = np.arange(K)[None, :]
+    n = np.maximum(count, 1)[:, None]
+    prev = u[rows, (slot - 1) % n]
+    nxt = u[rows, (slot + 1) % n]
+    ei = (origin == EDGE_INTERSECTION) & (slot < count[:, None])
+    for (poly, cnt), kind, col in ((clip, SLAVE_VERTEX, 0), (subject, MASTER_VERTEX, 1)):
+        if not ei.any():
+            return
+        d = np.linalg.norm(u[:, :, None, :] - poly[:, None, :, :], axis=-1)     # (m, K, 4)
+        d = np.where(np.arange(poly.shape[1])[None, None, :] < cnt[:, None, None], d, np.inf)
+        k = d.argmin(axis=2)
+        c = cnt[:, None]
+        here, before, after = poly[rows, k], poly[rows, (k - 1) % c], poly[rows, (k + 1) % c]
+        near = (ei & (d.min(axis=2) <= tol[:, None])
+                & (_line_distance(prev, before, here) <= tol[:, None])
+                & (_line_distance(nxt, here, after) <= tol[:, None]))
+        origin[near] = kind
+        index[near] = -1
+        index[..., col][near] = k[near]
+        u[near] = here[near]
+        ei &= ~near
 
 
 def fan_cells(clip: Clip, area_ref: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
