@@ -268,12 +268,14 @@ def test_face_points_keep_the_contract():
         FacePoints(cells, n_gauss=0)
 
 
-@pytest.mark.parametrize("case", ["vertex crosses edge", "edge crosses vertex"])
+@pytest.mark.parametrize("case", ["vertex crosses edge", "edge crosses vertex", "both"])
 def test_integrals_are_continuous_through_degenerate_positions(case):
     """M_AC = sum w J_s N_A(xi_s) N_C(xi_m) as a master face slides through a vertex on
     an edge, or a master edge through a slave vertex whose wedge it covers (the cells'
     topology changes at t = 0 exactly; without the clipping's snap of that vertex to
-    the slave corner its derivative at t = 0 was 0.035 against 0.188 on both sides):
+    the slave corner its derivative at t = 0 was 0.035 against 0.188 on both sides),
+    and both at once with a master vertex on the slave's hypotenuse whose master edge
+    leaves the slave there (0.25 against 0 before the carriers' check):
     no NaN, and its derivative
     along the slide from the jets (chained through the master node that moves) is
     continuous: successive values differ by O(h) times the second derivative (1e-4 at
@@ -286,8 +288,9 @@ def test_integrals_are_continuous_through_degenerate_positions(case):
     def master(t):
         if case == "vertex crosses edge":      # master vertex 0 through y = 0 at x = 0.4
             return np.array([[0.4, t, 0.01], [0.9, 0.5, 0.01], [0.1, 0.5, 0.01]]).T, [10]
+        top = [0.3, t + 0.4, 0.01] if case == "edge crosses vertex" else [0.5, t + 0.5, 0.01]
         return (np.array([[0.5, t - 0.5, 0.01], [1.5, t + 0.5, 0.01],   # an edge through
-                          [0.3, t + 0.4, 0.01]]).T, [10, 13, 16])        # slave vertex 1
+                          top]).T, [10, 13, 16])                          # slave vertex 1
 
     def M(t):
         xm, moving = master(t)
