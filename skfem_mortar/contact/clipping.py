@@ -295,20 +295,19 @@ def _line_distance(p: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
     return np.abs(cross) / np.maximum(np.hypot(e[..., 0], e[..., 1]), 1e-300)
 
 
-def _neighbours(u: np.ndarray, count: np.ndarray, tol: np.ndarray, step: int) -> np.ndarray:
-    """Each vertex's nearest polygon neighbour (``step`` -1: before it, 1: after it)
-    farther than ``tol`` from it (a vertex kept twice, once per origin, is skipped)."""
-    m, K = u.shape[:2]
-    rows = np.arange(m)[:, None]
-    slot = np.arange(K)[None, :]
-    n = np.maximum(count, 1)[:, None]
-    out = u[rows, (slot + step) % n]
-    todo = np.linalg.norm(out - u, axis=-1) <= tol[:, None]
-    for s in range(2, K):
+def _neighbours(u: np.ndarray, count: np.ndarray, tol: np.ndarray, r: np.ndarray,
+                c: np.ndarray, step: int) -> np.ndarray:
+    """The nearest polygon neighbour ``(N, 2)`` of the vertices ``(r, c)`` (``step``
+    -1: before, 1: after) farther than ``tol`` from it (a vertex kept twice, once per
+    origin, is skipped)."""
+    n, p, t = count[r], u[r, c], tol[r]
+    out = u[r, (c + step) % n]
+    todo = np.linalg.norm(out - p, axis=-1) <= t
+    for s in range(2, u.shape[1]):
         if not todo.any():
             break
-        cand = u[rows, (slot + s * step) % n]
-        far = todo & (np.linalg.norm(cand - u, axis=-1) > tol[:, None])
+        cand = u[r, (c + s * step) % n]
+        far = todo & (np.linalg.norm(cand - p, axis=-1) > t)
         out[far] = cand[far]
         todo &= ~far
     return out
@@ -318,57 +317,54 @@ def _snap(u: np.ndarray, count: np.ndarray, origin: np.ndarray, index: np.ndarra
           clip: tuple, subject: tuple, tol: np.ndarray) -> None:
     """An edge intersection within ``tol`` of a clip (else a subject) corner whose two
     neighbours in the polygon lie on that corner's two edges becomes that corner, in
-    place (module docstring, Origins).  Where three lines meet (a master edge
-    through a slave vertex whose wedge the master covers) the two lines the clipping
-    met first need not be the polygon's edges there, and the vertex rebuilt from
-    them moves along a line that is not the polygon's edge: a wrong derivative of the
-    overlap exactly at the degenerate position, where the overlap is still C1."""
-    m, K = origin.shape
-    rows = np.arange(m)[:, None]
-    slot = np.arange(K)[None, :]
-    prev, nxt = _neighbours(u, count, tol, -1), _neighbours(u, count, tol, 1)
-    ei = (origin == EDGE_INTERSECTION) & (slot < count[:, None])
+    place (module docstring, Origins); then :func:`_carriers`."""
+    K = origin.shape[1]
+    r, c = np.nonzero((origin == EDGE_INTERSECTION) & (count[:, None] >= 3)
+                      & (np.arange(K)[None, :] < count[:, None]))
+    if r.size == 0:
+        return
+    p, t, e = u[r, c], tol[r], np.arange(r.size)
+    prev, nxt = _neighbours(u, count, tol, r, c, -1), _neighbours(u, count, tol, r, c, 1)
+    left = np.ones(r.size, dtype=bool)
     for (poly, cnt), kind, col in ((clip, SLAVE_VERTEX, 0), (subject, MASTER_VERTEX, 1)):
-        if not ei.any():
-            return
-        d = np.linalg.norm(u[:, :, None, :] - poly[:, None, :, :], axis=-1)     # (m, K, 4)
-        d = np.where(np.arange(poly.shape[1])[None, None, :] < cnt[:, None, None], d, np.inf)
-        k = d.argmin(axis=2)
-        c = cnt[:, None]
-        here, before, after = poly[rows, k], poly[rows, (k - 1) % c], poly[rows, (k + 1) % c]
-        near = (ei & (d.min(axis=2) <= tol[:, None])
-                & (_line_distance(prev, before, here) <= tol[:, None])
-                & (_line_distance(nxt, here, after) <= tol[:, None]))
-        origin[near] = kind
-        index[near] = -1
-        index[..., col][near] = k[near]
-        u[near] = here[near]
-        ei &= ~near
-    _carriers(u, prev, nxt, ei, index, (clip, subject), tol)
+        P, n = poly[r], cnt[r]
+        d = np.linalg.norm(p[:, None, :] - P, axis=-1)
+        d[np.arange(P.shape[1])[None, :] >= n[:, None]] = np.inf
+        k = d.argmin(axis=1)
+        here = P[e, k]
+        near = (left & (d[e, k] <= t)
+                & (_line_distance(prev, P[e, (k - 1) % n], here) <= t)
+                & (_line_distance(nxt, here, P[e, (k + 1) % n]) <= t))
+        origin[r[near], c[near]] = kind
+        index[r[near], c[near]] = -1
+        index[r[near], c[near], col] = k[near]
+        u[r[near], c[near]] = here[near]
+        left &= ~near
+    _carriers(index, (r[left], c[left]), p[left], prev[left], nxt[left],
+              [(poly[r[left]], cnt[r[left]]) for poly, cnt in (clip, subject)], t[left])
 
 
-def _carriers(u, prev, nxt, ei, index, polys, tol) -> None:
-    """An edge intersection ``(k, j)`` one of whose lines carries one polygon
+def _carriers(index, at, p, prev, nxt, polys, t) -> None:
+    """An edge intersection ``(k, j)`` at ``p`` one of whose lines carries one polygon
     neighbour while the other line misses the other neighbour takes, in place, the
     edge of the other polygon through the vertex and that neighbour (a master
     vertex on a slave edge whose master edge leaves the slave there: the clipping
     records the edge it left along, the polygon runs along the other)."""
-    rows = np.arange(u.shape[0])[:, None]
+    e = np.arange(p.shape[0])
     for side in (0, 1):
         (own, c_own), (other, c_oth) = polys[side], polys[1 - side]
-        i, j = np.maximum(index[..., side], 0), np.maximum(index[..., 1 - side], 0)
-        a, b = own[rows, i], own[rows, (i + 1) % c_own[:, None]]
-        t = tol[:, None]
+        i, j = np.maximum(index[at][:, side], 0), np.maximum(index[at][:, 1 - side], 0)
+        a, b = own[e, i], own[e, (i + 1) % c_own]
         on_prev, on_next = _line_distance(prev, a, b) <= t, _line_distance(nxt, a, b) <= t
-        o = np.where(on_prev[..., None], nxt, prev)
-        a, b = other[rows, j], other[rows, (j + 1) % c_oth[:, None]]
-        bad = ei & (on_prev ^ on_next) & (_line_distance(o, a, b) > t)
+        o = np.where(on_prev[:, None], nxt, prev)
+        bad = (on_prev ^ on_next) & (_line_distance(o, other[e, j], other[e, (j + 1) % c_oth]) > t)
         for jj in range(other.shape[1]):
-            a = np.broadcast_to(other[:, jj][:, None], u.shape)
-            b = np.broadcast_to(other[np.arange(u.shape[0]), (jj + 1) % c_oth][:, None], u.shape)
-            ok = (bad & (jj < c_oth)[:, None] & (_line_distance(u, a, b) <= t)
+            if not bad.any():
+                break
+            a, b = other[:, jj], other[e, (jj + 1) % c_oth]
+            ok = (bad & (jj < c_oth) & (_line_distance(p, a, b) <= t)
                   & (_line_distance(o, a, b) <= t))
-            index[..., 1 - side][ok] = jj
+            index[at[0][ok], at[1][ok], 1 - side] = jj
             bad &= ~ok
 
 
