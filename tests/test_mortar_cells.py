@@ -1,0 +1,139 @@
+"""The one mortar kernel (contact/mortar_cells.py) fed by the line segmentation's
+integration points (contact/line_points.py, the contract of
+contact/integration_points.py).
+
+* It reproduces the two 2D kernels: ``g``, ``G = dg/dx``, ``H = sum lam_A d2g_A/dx2``, ``D``
+  and ``M`` of ``mortar.evaluate``/``integrals`` (line2) and ``mortar_quadratic.evaluate``
+  (line3 on line3 and on line2), plane and axisymmetric, to 1e-13 of their largest entry
+  (the same integrals at the same Gauss points, summed in another order: round-off is
+  ~1e-16 of it; a wrong Gauss point, weight or normal shows at 1e-3 and more).
+* ``G`` and ``H`` with the nodal normals chained in at assembly agree with central
+  differences of the whole pipeline (segmentation, normals, kernel) to 1e-7 of their
+  scale (the truncation error of a step of 1e-6 is ~1e-10 here, round-off 1e-10).
+* The contract is checked: wrong shapes raise ValueError naming the field.
+"""
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from skfem_mortar.contact import mortar, mortar_quadratic
+from skfem_mortar.contact.cells import cell_type
+from skfem_mortar.contact.integration_points import (IntegrationPoints, LocalLayout,
+                                                     LocalVariables, check_points)
+from skfem_mortar.contact.line_points import LineSegmentation
+from skfem_mortar.contact.measures import AXISYMMETRIC, PLANE
+from skfem_mortar.contact.mortar_cells import assemble, cell_integrals
+from skfem_mortar.contact.normals import nodal_normals
+
+LINE2, LINE3 = cell_type("line2"), cell_type("line3")
+
+
+def run(xs, ss, xm, sm, cells, lam=None, n_gauss=2, measure=PLANE):
+    """Segmentation -> local variables -> points -> integrals -> assembly."""
+    seg = LineSegmentation(cells, n_gauss)
+    nn = nodal_normals(xs, ss, cells[0], order=2 if lam is not None else 1)
+    ic = seg.integration_cells(xs, ss, xm, sm, nn.n)
+    S, Mc = ss[ic.e_s], sm[ic.e_m]
+    loc = LocalVariables.of(xs.T[S], xm.T[Mc], nn.n.T[S], lam is not None)
+    pts = seg.integration_points(ic, loc)
+    ints = cell_integrals(pts, loc, cells, measure)
+    return assemble(pts, loc, ints, ss, sm, nn, xs.shape[1], xm.shape[1], lam)
+
+
+def _curve(x0, x1, n, f, k, rng, noise=0.005):
+    """``n`` cells of ``k`` nodes along ``y = f(x)`` (line3 order: start, end, mid)."""
+    t = np.linspace(x0, x1, (k - 1) * n + 1)
+    X = np.vstack([t, f(t) + noise * rng.random(t.size)])
+    if k == 2:
+        return X, np.array([[i, i + 1] for i in range(n)])
+    return X, np.array([[2 * i, 2 * i + 2, 2 * i + 1] for i in range(n)])
+
+
+def _pair(ks, km, seed=0, shift=0.0):
+    """A curved slave (inside the master's reach, so no node is masked) over a curved master."""
+    rng = np.random.default_rng(seed)
+    xs, ss = _curve(0.05 + shift, 0.95 + shift, 4 if ks == 2 else 3,
+                    lambda t: 0.02 + 0.1 * t ** 2, ks, rng)
+    xm, sm = _curve(1.3, -0.2, 5 if km == 2 else 4, lambda t: -0.05 * t ** 2, km, rng)
+    return xs, ss, xm, sm
+
+
+def _close(a, b, tol=1e-13):
+    a = a.toarray() if hasattr(a, "toarray") else np.asarray(a)
+    b = b.toarray() if hasattr(b, "toarray") else np.asarray(b)
+    assert np.abs(a - b).max() <= tol * max(np.abs(b).max(), 1e-300)
+
+
+@pytest.mark.parametrize("measure", [PLANE, AXISYMMETRIC])
+def test_reproduces_the_linear_kernel(measure):
+    xs, ss, xm, sm = _pair(2, 2, shift=0.3)
+    lam = np.random.default_rng(5).random(xs.shape[1])
+    A = run(xs, ss, xm, sm, (LINE2, LINE2), lam, measure=measure)
+    E = mortar.evaluate(xs, ss, xm, sm, lam=lam, measure=measure)
+    I = mortar.integrals(xs, ss, xm, sm, measure=measure)
+    assert E.mask.all()
+    for a, b in ((A.g, E.g), (A.G, E.G), (A.H, E.H), (A.D, I.D), (A.M, I.M)):
+        _close(a, b)
+
+
+@pytest.mark.parametrize("km", [2, 3])
+@pytest.mark.parametrize("n_gauss", [2, 4])
+@pytest.mark.parametrize("measure", [PLANE, AXISYMMETRIC])
+def test_reproduces_the_curved_kernel(km, n_gauss, measure):
+    xs, ss, xm, sm = _pair(3, km, seed=km + n_gauss, shift=0.3)
+    lam = np.random.default_rng(6).random(xs.shape[1])
+    A = run(xs, ss, xm, sm, (LINE3, cell_type(f"line{km}")), lam, n_gauss, measure)
+    E = mortar_quadratic.evaluate(xs, ss, xm, sm, lam=lam, n_gauss=n_gauss, measure=measure)
+    assert E.mask.all()
+    for a, b in ((A.g, E.g), (A.G, E.G), (A.H, E.H)):
+        _close(a, b)
+
+
+def _at(split, x, ss, sm):
+    xs, xm = split(x)
+    return xs, ss, xm, sm
+
+
+def _fd(ks, km, measure):
+    xs, ss, xm, sm = _pair(ks, km, seed=3, shift=0.3)
+    cells = (cell_type(f"line{ks}"), cell_type(f"line{km}"))
+    lam = np.random.default_rng(7).random(xs.shape[1])
+    ns, nm = xs.shape[1], xm.shape[1]
+
+    def split(x):
+        return x[:2 * ns].reshape(ns, 2).T, x[2 * ns:].reshape(nm, 2).T
+
+    x = np.concatenate([xs.T.ravel(), xm.T.ravel()])
+    A = run(xs, ss, xm, sm, cells, lam, measure=measure)
+    h = 1e-6
+    E = np.eye(x.size)
+    runs = [run(*_at(split, x + s * h * e, ss, sm), cells, measure=measure)
+            for e in E for s in (1, -1)]
+    G = np.array([(runs[2 * i].g - runs[2 * i + 1].g) / (2 * h) for i in range(x.size)]).T
+    q = [r.G.T @ lam for r in runs]
+    H = np.array([(q[2 * i] - q[2 * i + 1]) / (2 * h) for i in range(x.size)])
+    return A, G, H
+
+
+@pytest.mark.parametrize("ks, km", [(2, 2), (3, 3), (3, 2)])
+def test_chained_derivatives_against_finite_differences(ks, km):
+    A, G, H = _fd(ks, km, AXISYMMETRIC if ks == 3 else PLANE)
+    _close(A.G, G, 1e-7)
+    _close(A.H, H, 1e-7)
+
+
+def test_contract_checks_name_the_field():
+    loc = LocalVariables.of(np.zeros((2, 2, 2)), np.zeros((2, 2, 2)), np.ones((2, 2, 2)))
+    assert loc.layout == LocalLayout(2, 2, 2) and loc.layout.n_loc == 12
+    ok = loc.x_s[0][0].expand()
+    pts = IntegrationPoints(np.zeros(2, int), np.zeros(2, int), (ok,), (ok,), ok)
+    check_points(pts, loc)
+    with pytest.raises(ValueError, match="xi_m"):
+        check_points(pts._replace(xi_m=(ok, ok)), loc)
+    with pytest.raises(ValueError, match="points.w"):
+        check_points(pts._replace(w=loc.x_s[0][0]), loc)
+    with pytest.raises(ValueError, match="ns"):
+        LocalVariables.of(np.zeros((2, 2, 2)), np.zeros((2, 2, 2)), np.ones((2, 3, 2)))
+    with pytest.raises(ValueError, match="n_gauss"):
+        LineSegmentation((LINE2, LINE2), 0)
