@@ -8,7 +8,8 @@ are made in jets of the local variables:
 
 * the end points ``xi_a, xi_b``: a slave vertex keeps its parameter (a constant); an end
   made by master vertex ``c`` is its projection onto the slave cell along the normal
-  field, the root of ``f(xi) = (x_s(xi) - x_c) x n~(xi)``;
+  field, the root of ``f(xi) = (x_s(xi) - x_c) x n~(xi)`` (a frozen segmentation,
+  policy ``step``: every end point is held, a constant);
 * ``xi_s = (1 - eta)/2 xi_a + (1 + eta)/2 xi_b`` at the Gauss points ``eta_k``, with
   ``w = w_k (xi_b - xi_a)/2``;
 * ``xi_m``: the root of ``f(eta) = (x_m(eta) - x_s(xi_s)) x n~(xi_s)`` on the master cell.
@@ -116,7 +117,7 @@ class LineSegmentation:
         ends = []
         for e in range(2):
             xi = Jet.constant(sg.xi[:, e], like.g.shape[0], like.h is not None)
-            for c in (0, 1):
+            for c in (() if sg.frozen else (0, 1)):
                 on = sg.src[:, e] == c
                 if on.any():
                     root = _solve(self._slave_residual(local, cm.corners[c]), sg.xi[:, e], like)

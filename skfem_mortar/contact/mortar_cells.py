@@ -16,8 +16,8 @@ with ``x_s = sum_a N_a x_a``, ``x_m = sum_c N_c x_c``, the slave tangents
 ``n = n~ / |n~|`` (as the 2D kernels normalize it), and ``Phi_A = N_A`` (standard
 multipliers).  Nothing here depends on ``d``.
 
-Assembly (:func:`assemble`) chains the nodal normals' derivatives over the
-neighbouring nodes (:class:`~skfem_mortar.contact.normals.NodalNormals`) into the
+Assembly (:func:`~skfem_mortar.contact.mortar_kernel.assemble`) chains the nodal
+normals' derivatives over the neighbouring nodes (:class:`~skfem_mortar.contact.normals.NodalNormals`) into the
 local derivatives::
 
     G = G_loc J,    H = J^T H_loc J + sum_(a, i) (df/dn_ai) d2n_ai/dx2,
@@ -38,16 +38,13 @@ from __future__ import annotations
 from typing import NamedTuple
 
 import numpy as np
-import scipy.sparse as sp
 
 from .cells import CellType
 from .integration_points import IntegrationPoints, LocalVariables, check_points
 from .jets import Jet
 from .measures import PLANE, Measure
-from .normals import NodalNormals
-from .scatter import Triplets
 
-__all__ = ["compose", "shape_jets", "CellIntegrals", "cell_integrals", "assemble", "Assembled"]
+__all__ = ["compose", "shape_jets", "CellIntegrals", "cell_integrals"]
 
 
 def compose(f0: np.ndarray, f1: np.ndarray, f2: np.ndarray | None, xi: tuple) -> Jet:
@@ -113,17 +110,23 @@ def _jacobian(T: list):
 
 
 class CellIntegrals(NamedTuple):
-    """Per integration cell: ``g[A]`` jets (n,) of the local variables, ``D (n, k_s, k_s)``,
-    ``M (n, k_s, k_m)`` values, and ``support (n, k_s)`` = ``sum_B D_AB``."""
+    """Per integration cell, with ``Phi_A = N_A``: ``g[A]`` jets (n,) of the local
+    variables, ``D (n, k_s, k_s)``, ``M (n, k_s, k_m)`` values, ``support (n, k_s)`` =
+    ``sum_B D_AB``; with ``mass``: ``int N_A`` (``n_A``, list of jets) and
+    ``int N_A N_B`` (``n_AB``, dict of jets, ``A <= B``), what a dual space's
+    ``A_e = D_e M_e^-1`` is made of."""
 
     g: list
     D: np.ndarray
     M: np.ndarray
     support: np.ndarray
+    n_A: list | None = None
+    n_AB: dict | None = None
 
 
 def cell_integrals(points: IntegrationPoints, local: LocalVariables,
-                   cells: tuple[CellType, CellType], measure: Measure = PLANE) -> CellIntegrals:
+                   cells: tuple[CellType, CellType], measure: Measure = PLANE,
+                   mass: bool = False) -> CellIntegrals:
     """``D``, ``M`` and the weighted gap ``g_A`` of each integration cell (module docstring).
 
     Parameters
@@ -135,6 +138,8 @@ def cell_integrals(points: IntegrationPoints, local: LocalVariables,
         Slave and master cell types.
     measure : Measure
         ``w(x)`` of ``dGamma`` (unit: no product).
+    mass : bool
+        Also the jets of ``int N_A`` and ``int N_A N_B`` (for a dual space).
     """
     check_points(points, local)
     cs, cm = cells
@@ -153,93 +158,10 @@ def cell_integrals(points: IntegrationPoints, local: LocalVariables,
     Nv, Nmv, dGv = (np.stack([j.v for j in L]) for L in (N, Nm, [dG]))
     D = np.einsum("akq,bkq,kq->kab", Nv, Nv, dGv[0])
     M = np.einsum("akq,ckq,kq->kac", Nv, Nmv, dGv[0])
-    return CellIntegrals(g, D, M, D.sum(axis=2))
-
-
-class Assembled(NamedTuple):
-    """Assembled over the surfaces: ``g (n_s,)``, ``G (n_s, d (n_s + n_m))``, ``H`` or None,
-    ``D (n_s, n_s)``, ``M (n_s, n_m)``, ``support (n_s,)``."""
-
-    g: np.ndarray
-    G: sp.csr_matrix
-    H: sp.csr_matrix | None
-    D: sp.csr_matrix
-    M: sp.csr_matrix
-    support: np.ndarray
-
-
-def _extended(points, local, conn_s, conn_m, normals: NodalNormals, n_s: int):
-    """The extended variables' dofs ``(n, n_ext)`` (-1 on padding) and ``J (n, n_loc, n_ext)``."""
-    lay = local.layout
-    d, k_s, k_m = lay.d, lay.k_s, lay.k_m
-    n = points.e_s.shape[0]
-    S, Mn = conn_s[points.e_s], conn_m[points.e_m]                  # (n, k_s), (n, k_m)
-    K = normals.nodes.shape[1]
-    nb = normals.nodes[S]                                           # (n, k_s, K)
-    c = np.arange(d)
-    dofs = np.concatenate([(S[:, :, None] * d + c).reshape(n, -1),
-                           (d * n_s + Mn[:, :, None] * d + c).reshape(n, -1),
-                           np.where(nb[..., None] >= 0, nb[..., None] * d + c, -1).reshape(n, -1)],
-                          axis=1)
-    n_xy = (k_s + k_m) * d
-    J = np.zeros((n, lay.n_loc, n_xy + k_s * K * d))
-    J[:, np.arange(n_xy), np.arange(n_xy)] = 1.0
-    dn = normals.dn[:, S]                                           # (d, n, k_s, K, d)
-    for a in range(k_s):
-        for i in range(d):
-            J[:, lay.n_s(a, i), n_xy + a * K * d:n_xy + (a + 1) * K * d] = \
-                dn[i, :, a].reshape(n, K * d)
-    return dofs, J, S
-
-
-def _chain_hessian(f: Jet, J, S, normals: NodalNormals, lay, n_xy: int) -> np.ndarray:
-    """``J^T H_loc J + sum_(a, i) df/dn_ai d2n_ai/dx2``, shape ``(n_ext, n_ext, n)``."""
-    H = np.einsum("pqn,npr,nqs->rsn", f.hessian(), J, J)
-    K, d = normals.nodes.shape[1], lay.d
-    for a in range(lay.k_s):
-        sl = slice(n_xy + a * K * d, n_xy + (a + 1) * K * d)
-        for i in range(lay.d):
-            d2 = normals.d2n[i, S[:, a]].reshape(-1, K * d, K * d)
-            H[sl, sl] += np.einsum("n,nrs->rsn", f.g[lay.n_s(a, i)], d2)
-    return H
-
-
-def assemble(points: IntegrationPoints, local: LocalVariables, ints: CellIntegrals,
-             conn_s: np.ndarray, conn_m: np.ndarray, normals: NodalNormals,
-             n_s: int, n_m: int, lam: np.ndarray | None = None) -> Assembled:
-    """The weighted gaps with ``G = dg/dx`` and ``H = sum_A lam_A d2g_A/dx2`` over the
-    surfaces' coordinates, the nodal normals chained in (module docstring).
-
-    ``normals`` must carry ``dn`` (and ``d2n`` when ``lam`` is given).
-    """
-    lay = local.layout
-    d, k_s = lay.d, lay.k_s
-    dofs, J, S = _extended(points, local, conn_s, conn_m, normals, n_s)
-    used = dofs >= 0
-    safe = np.where(used, dofs, 0)
-    g = np.zeros(n_s)
-    trip = Triplets()
-    for a in range(k_s):
-        np.add.at(g, S[:, a], ints.g[a].v)
-        trip.rows(S[:, a], safe, np.einsum("pn,npr->nr", ints.g[a].g, J), used)
-    shape = (n_s, d * (n_s + n_m))
-    G = trip.csr(shape)
-    H = None
-    if lam is not None:
-        lam = np.asarray(lam, dtype=float)
-        f = ints.g[0] * lam[S[:, 0]]
-        for a in range(1, k_s):
-            f = f + ints.g[a] * lam[S[:, a]]
-        Hl = _chain_hessian(f, J, S, normals, lay, (k_s + lay.k_m) * d)
-        Hl = Hl * (used[:, :, None] & used[:, None, :]).transpose(1, 2, 0)
-        th = Triplets()
-        th.block(safe, Hl)
-        H = th.csr((shape[1], shape[1]))
-    Mn = conn_m[points.e_m]
-    k_m = lay.k_m
-    D = sp.coo_matrix((ints.D.ravel(), (np.repeat(S, k_s, axis=1).ravel(),
-                                        np.tile(S, (1, k_s)).ravel())), shape=(n_s, n_s)).tocsr()
-    M = sp.coo_matrix((ints.M.ravel(), (np.repeat(S, k_m, axis=1).ravel(),
-                                        np.tile(Mn, (1, k_s)).ravel())), shape=(n_s, n_m)).tocsr()
-    support = np.bincount(S.ravel(), weights=ints.support.ravel(), minlength=n_s)
-    return Assembled(g, G, H, D, M, support)
+    n_A = n_AB = None
+    if mass:
+        k = cs.n_nodes
+        wN = [N[a] * dG for a in range(k)]
+        n_A = [x.sum() for x in wN]
+        n_AB = {(a, b): (wN[a] * N[b]).sum() for a in range(k) for b in range(a, k)}
+    return CellIntegrals(g, D, M, D.sum(axis=2), n_A, n_AB)
