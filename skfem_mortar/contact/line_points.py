@@ -7,7 +7,8 @@ cells are those of the registered segmentation
 are made in jets of the local variables:
 
 * the end points ``xi_a, xi_b``: a slave vertex keeps its parameter (a constant); an end
-  made by master vertex ``c`` is its projection onto the slave cell along the normal
+  made by master node ``c`` (``src`` of the segmentation: the master cell's local node,
+  for line2 and line3 its vertex 0 or 1) is its projection onto the slave cell along the normal
   field, the root of ``f(xi) = (x_s(xi) - x_c) x n~(xi)`` (a frozen segmentation,
   policy ``step``: every end point is held, a constant);
 * ``xi_s = (1 - eta)/2 xi_a + (1 + eta)/2 xi_b`` at the Gauss points ``eta_k``, with
@@ -117,10 +118,10 @@ class LineSegmentation:
         ends = []
         for e in range(2):
             xi = Jet.constant(sg.xi[:, e], like.g.shape[0], like.h is not None)
-            for c in (() if sg.frozen else (0, 1)):
+            for c in (() if sg.frozen else range(cm.n_nodes)):
                 on = sg.src[:, e] == c
                 if on.any():
-                    root = _solve(self._slave_residual(local, cm.corners[c]), sg.xi[:, e], like)
+                    root = _solve(self._slave_residual(local, c), sg.xi[:, e], like)
                     xi = Jet.where(on, root, xi)
             ends.append(xi)
         return ends

@@ -19,7 +19,7 @@ from typing import Any
 import numpy as np
 import scipy.sparse as sp
 
-from . import mortar, mortar_quadratic
+from . import mortar, mortar_kernel, mortar_quadratic
 from .mortar import biorthogonal
 from .active_set import normal_nodal_force
 from .contact_eval import ContactEval
@@ -29,14 +29,15 @@ from . import nts  # noqa: F401 (registers "nts" first: the built-ins in BUILTIN
 from .discretization import (ContactDiscretization, Factory, OptionTable, check_options, covers,
                              pattern_matrix, register_method, reserved_keys)
 from .mortar_quadratic_segmentation import candidate_pairs
-from .segmentation import Segmentation, check_kernel_cells, segmentation_for, surface_cell
+from .segmentation import Segmentation, segmentation_for, surface_cell
 from .search import segment_pairs
 from .surfaces import segment_lengths, segments_at_nodes
 
 __all__ = ["Mortar", "RESERVE_LENGTHS", "KERNEL_CELLS"]
 
-#: the cell types the mortar kernels evaluate (:mod:`.mortar`: line2 on both
-#: sides; :mod:`.mortar_quadratic`: line2 or line3)
+#: the cell types of the fast kernels (:mod:`.mortar`: line2 on both sides;
+#: :mod:`.mortar_quadratic`: line2 or line3); any other line cell with a registered
+#: segmentation is evaluated by the one kernel (:mod:`.mortar_kernel`)
 KERNEL_CELLS = ("line2", "line3")
 
 #: the reserved pattern (:meth:`Mortar.pattern`) holds the element pairs of the
@@ -166,10 +167,15 @@ class Mortar(ContactDiscretization):
         self.multiplier_space = multiplier_space
         #: the two surfaces' cell types (:func:`~.segmentation.surface_cell`)
         self.cells = (surface_cell(slave), surface_cell(master))
-        check_kernel_cells(self.cells, KERNEL_CELLS, self.method)
+        for what, c in zip(("slave", "master"), self.cells):
+            if c.dim != 1:
+                raise ValueError(f"{what} cells must be line cells (dim 1) for {self.method}, "
+                                 f"got {c.name}")
         #: the curved kernel (a cell other than line2) or the linear one
         self.curved = any(c.name != "line2" for c in self.cells)
-        self._kernel = mortar_quadratic.evaluate if self.curved else mortar.evaluate
+        general = any(c.name not in KERNEL_CELLS for c in self.cells)
+        self._kernel = (mortar_kernel.evaluate if general else
+                        mortar_quadratic.evaluate if self.curved else mortar.evaluate)
         #: the segmentation of the cells (:func:`~.segmentation.segmentation_for`)
         self._segment = segmentation_for(self.cells)
         self.segmentation = segmentation
