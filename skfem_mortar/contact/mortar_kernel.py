@@ -32,6 +32,7 @@ from typing import NamedTuple
 import numpy as np
 import scipy.sparse as sp
 
+from .cells import cell_type
 from .contact_eval import ContactEval
 from .integration_points import IntegrationCells, LocalLayout, LocalVariables
 from .jets import Jet
@@ -233,7 +234,8 @@ def evaluate(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarra
     """
     xs, xm = np.asarray(xs, dtype=float), np.asarray(xm, dtype=float)
     seg_s, seg_m = np.asarray(seg_s, dtype=np.int64), np.asarray(seg_m, dtype=np.int64)
-    cells = line_cells(seg_s, seg_m, cells)
+    cells = line_cells(seg_s, seg_m, cells) if cells is None or xs.shape[0] == 2 else \
+        tuple(cell_type(c) for c in cells)
     mirror = mirror_of_axis(measure.axis)
     second = tangent and lam is not None
     nn = nodal_normals(xs, seg_s, cells[0], order=2 if second else 1, mirror=mirror)
@@ -255,7 +257,10 @@ def evaluate(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarra
     cp = np.isin(np.arange(n_s), [] if crosspoints is None else crosspoints)
     mask = (support > MASK_TOL * trib) & ~cp
     grp = groups(ic.e_s, loc.layout)
-    T = merge_matrix(~mask[seg_s], cells[0])[grp.e_s]
+    merged = ~mask[seg_s[grp.e_s]]
+    k = seg_s.shape[1]
+    T = (merge_matrix(merged, cells[0]) if merged.any()      # (line cells only, so far)
+         else np.broadcast_to(np.eye(k), (grp.e_s.size, k, k)))
     Gs = _combine(T, [group_sum(j, grp) for j in ints.g])
     C = T
     if dual:
