@@ -11,7 +11,9 @@ segmentation proper (clipping, H10's) plugs in the same way.
 * Flat slave a gap ``g0`` above a flat master: ``sum D = sum M = area``,
   ``sum_A g_A = g0 area`` (to 1e-14 of the area: round-off), rows of ``M`` summing to
   the rows of ``D`` (partition of unity on the master).
-* A warped slave over a tilted master, standard and dual (tri3: ``k = 3``): ``G`` and
+* Slave faces tri3 and quad4 (bilinear, warped: the dual's ``k = 4`` inverse by
+  Gauss-Jordan in jets).
+* A warped slave over a tilted master, standard and dual: ``G`` and
   ``H`` with the nodal normals chained in against central differences of the whole
   pipeline to 1e-7 of their scale (step 1e-6: truncation ~1e-10, round-off ~1e-10).
 """
@@ -35,12 +37,12 @@ def _det(a, b, c):
 
 
 class FaceOnBigFace:
-    """Every slave face against master face 0, integrated whole (module docstring)."""
+    """Every slave face (tri3 or quad4) against master face 0 (tri3), integrated whole
+    (module docstring)."""
 
-    cells = (TRI3, TRI3)
-
-    def __init__(self, degree: int = 4):
-        self.rule = TRI3.quadrature(degree)
+    def __init__(self, slave=TRI3, degree: int = 4):
+        self.cells = (slave, TRI3)
+        self.rule = slave.quadrature(degree)
 
     def integration_cells(self, xs, conn_s, xm, conn_m, normals):
         n = len(conn_s)
@@ -53,9 +55,10 @@ class FaceOnBigFace:
         n = cells.e_s.size
         xi = tuple(Jet.constant(np.broadcast_to(pts[r], (n, pts.shape[1])).copy(), nv, second)
                    for r in range(2))
-        N = TRI3.shape(pts)                                    # (3, nq)
-        p = [sum(local.x_s[a][i].expand() * N[a] for a in range(3)) for i in range(3)]
-        nt = [sum(local.n_s[a][i].expand() * N[a] for a in range(3)) for i in range(3)]
+        cs = self.cells[0]
+        N = cs.shape(pts)                                      # (k, nq)
+        p = [sum(local.x_s[a][i].expand() * N[a] for a in range(cs.n_nodes)) for i in range(3)]
+        nt = [sum(local.n_s[a][i].expand() * N[a] for a in range(cs.n_nodes)) for i in range(3)]
         x0 = [c.expand() for c in local.x_m[0]]
         e1 = [local.x_m[1][i].expand() - x0[i] for i in range(3)]
         e2 = [local.x_m[2][i].expand() - x0[i] for i in range(3)]
@@ -67,9 +70,10 @@ class FaceOnBigFace:
         return IntegrationPoints(cells.e_s, cells.e_m, xi, eta, weight)
 
 
-def _surfaces(warp: float, tilt: float, gap: float):
-    """A 2 x 2 square of 8 slave faces (outward normal -z: clockwise seen from above)
-    at height ``gap`` (+ a warp), over one master face (normal +z) tilted by ``tilt``."""
+def _surfaces(warp: float, tilt: float, gap: float, slave=TRI3):
+    """A 2 x 2 square of 8 slave tri3 faces or 4 quad4 faces (outward normal -z: clockwise
+    seen from above) at height ``gap`` (+ a warp), over one master face (normal +z)
+    tilted by ``tilt``."""
     g = np.linspace(0.0, 1.0, 3)
     X, Y = np.meshgrid(g, g, indexing="ij")
     rng = np.random.default_rng(2)
@@ -78,20 +82,25 @@ def _surfaces(warp: float, tilt: float, gap: float):
     for i in range(2):
         for j in range(2):
             a, b, c, d = 3 * i + j, 3 * (i + 1) + j, 3 * (i + 1) + j + 1, 3 * i + j + 1
-            conn += [[a, c, b], [a, d, c]]                      # clockwise from above
+            conn += ([[a, c, b], [a, d, c]] if slave is TRI3      # clockwise from above
+                     else [[a, d, c, b]])
     xm = np.array([[-1.0, 3.0, -1.0], [-1.0, -1.0, 3.0], [0.0, tilt, -tilt]])
     return xs, np.array(conn), xm, np.array([[0, 1, 2]])
 
 
-def _run(xs, ss, xm, sm, lam=None, space="standard"):
-    return mortar_kernel.evaluate(xs, ss, xm, sm, lam=lam, space=space, cells=(TRI3, TRI3),
-                                  points=FaceOnBigFace())
+def _run(xs, ss, xm, sm, lam=None, space="standard", slave=TRI3):
+    return mortar_kernel.evaluate(xs, ss, xm, sm, lam=lam, space=space, cells=(slave, TRI3),
+                                  points=FaceOnBigFace(slave))
 
 
-@pytest.mark.parametrize("space", ["standard", "dual"])
-def test_flat_faces_integrate_area_and_gap(space):
-    xs, ss, xm, sm = _surfaces(0.0, 0.0, 0.05)
-    ev = _run(xs, ss, xm, sm, space=space)
+QUAD4 = cell_type("quad4")
+CASES = [(c, s) for c in (TRI3, QUAD4) for s in ("standard", "dual")]
+
+
+@pytest.mark.parametrize("slave, space", CASES)
+def test_flat_faces_integrate_area_and_gap(slave, space):
+    xs, ss, xm, sm = _surfaces(0.0, 0.0, 0.05, slave)
+    ev = _run(xs, ss, xm, sm, space=space, slave=slave)
     D, M = ev.info["D"].toarray(), ev.info["M"].toarray()
     assert ev.mask.all()
     assert abs(D.sum() - 1.0) <= 1e-14 and abs(M.sum() - 1.0) <= 1e-14
@@ -101,9 +110,9 @@ def test_flat_faces_integrate_area_and_gap(space):
         assert np.abs(D - np.diag(np.diag(D))).max() <= 1e-15
 
 
-@pytest.mark.parametrize("space", ["standard", "dual"])
-def test_chained_derivatives_in_3d_against_finite_differences(space):
-    xs, ss, xm, sm = _surfaces(0.03, 0.1, 0.05)
+@pytest.mark.parametrize("slave, space", CASES)
+def test_chained_derivatives_in_3d_against_finite_differences(slave, space):
+    xs, ss, xm, sm = _surfaces(0.03, 0.1, 0.05, slave)
     lam = np.random.default_rng(3).random(xs.shape[1])
     ns, nm = xs.shape[1], xm.shape[1]
     x = np.concatenate([xs.T.ravel(), xm.T.ravel()])
@@ -111,9 +120,10 @@ def test_chained_derivatives_in_3d_against_finite_differences(space):
     def at(z):
         return z[:3 * ns].reshape(ns, 3).T, ss, z[3 * ns:].reshape(nm, 3).T, sm
 
-    A = _run(*at(x), lam, space)
+    A = _run(*at(x), lam, space, slave)
     h = 1e-6
-    runs = [_run(*at(x + s * h * e), space=space) for e in np.eye(x.size) for s in (1, -1)]
+    runs = [_run(*at(x + s * h * e), space=space, slave=slave) for e in np.eye(x.size)
+            for s in (1, -1)]
     G = np.array([(runs[2 * i].g - runs[2 * i + 1].g) / (2 * h) for i in range(x.size)]).T
     H = np.array([(runs[2 * i].G.T @ lam - runs[2 * i + 1].G.T @ lam) / (2 * h)
                   for i in range(x.size)])
