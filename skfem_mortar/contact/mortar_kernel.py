@@ -193,7 +193,7 @@ def _combine(C, jets: list) -> list:
     return out
 
 
-def _dual(ints, grp: Groups, T: np.ndarray, space) -> tuple[dict, np.ndarray]:
+def _biorthogonal(ints, grp: Groups, T: np.ndarray, space) -> tuple[dict, np.ndarray]:
     """``A~ = D~ M~^-1`` of ``N~ = T N`` over each slave cell's integration cells (jets)."""
     k = len(ints.n_A)
     nA = [group_sum(j, grp) for j in ints.n_A]
@@ -248,8 +248,8 @@ def evaluate(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarra
     S = seg_s[ic.e_s]
     loc = LocalVariables.of(xs.T[S], xm.T[seg_m[ic.e_m]], nn.n.T[S], second)
     pts = points.integration_points(ic, loc)
-    dual = biorthogonal(space)
-    ints = cell_integrals(pts, loc, cells, measure, mass=dual)
+    biorth = biorthogonal(space)
+    ints = cell_integrals(pts, loc, cells, measure, mass=biorth)
     n_s, n_m = xs.shape[1], xm.shape[1]
     support = np.bincount(S.ravel(), weights=ints.support.ravel(), minlength=n_s)
     trib = tributary_weights(xs, seg_s, cells[0], 2 * N_GAUSS_ELEMENT - 1, measure,
@@ -263,8 +263,8 @@ def evaluate(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarra
          else np.broadcast_to(np.eye(k), (grp.e_s.size, k, k)))
     Gs = _combine(T, [group_sum(j, grp) for j in ints.g])
     C = T
-    if dual:
-        A, C = _dual(ints, grp, T, make_space(space) if isinstance(space, str) else space)
+    if biorth:
+        A, C = _biorthogonal(ints, grp, T, make_space(space) if isinstance(space, str) else space)
         Gs = _combine(A, Gs)
     g, G, H = assemble(Gs, grp, seg_s, seg_m, ic.e_m, nn, n_s, n_m, lam, tangent)
     Ci = C[grp.cell]
