@@ -32,6 +32,7 @@ from typing import NamedTuple
 import numpy as np
 import scipy.sparse as sp
 
+from .cell_map import check_connectivity
 from .cells import cell_type
 from .contact_eval import ContactEval
 from .integration_points import IntegrationCells, LocalLayout, LocalVariables
@@ -234,8 +235,11 @@ def evaluate(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarra
     """
     xs, xm = np.asarray(xs, dtype=float), np.asarray(xm, dtype=float)
     seg_s, seg_m = np.asarray(seg_s, dtype=np.int64), np.asarray(seg_m, dtype=np.int64)
-    cells = line_cells(seg_s, seg_m, cells) if cells is None or xs.shape[0] == 2 else \
-        tuple(cell_type(c) for c in cells)
+    if cells is None:                       # the 2D array interface: lines by columns
+        cells = line_cells(seg_s, seg_m)
+    cells = tuple(cell_type(c) for c in cells)
+    seg_s = check_connectivity(seg_s, cells[0], xs.shape[1])
+    seg_m = check_connectivity(seg_m, cells[1], xm.shape[1])
     mirror = mirror_of_axis(measure.axis)
     second = tangent and lam is not None
     nn = nodal_normals(xs, seg_s, cells[0], order=2 if second else 1, mirror=mirror)
