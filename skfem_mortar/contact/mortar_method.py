@@ -249,7 +249,8 @@ class Mortar(ContactDiscretization):
             reach = (self.reach(xs, xm) if "margin" not in self.options and self._x0 is not None
                      else 0.0)
             i_s, i_m = segment_pairs(xs, seg_s, xm, seg_m, reach + widen,
-                                     segment_lengths(xs, seg_s), segment_lengths(xm, seg_m))
+                                     segment_lengths(xs, seg_s, self.cells[0]),
+                                     segment_lengths(xm, seg_m, self.cells[1]))
         return i_s * len(seg_m) + i_m
 
     def _searched(self, xs: np.ndarray, xm: np.ndarray) -> np.ndarray:
@@ -268,8 +269,9 @@ class Mortar(ContactDiscretization):
         """Reserve the pairs of the search widened by :data:`RESERVE_LENGTHS` element
         lengths and the current reach (and ``need``)."""
         seg_s, seg_m = self.slave.segments, self.master.segments
-        h = max(float(np.median(segment_lengths(xs, seg_s))),
-                float(np.median(segment_lengths(xm, seg_m))) if len(seg_m) else 0.0)
+        h = max(float(np.median(segment_lengths(xs, seg_s, self.cells[0]))),
+                float(np.median(segment_lengths(xm, seg_m, self.cells[1]))) if len(seg_m)
+                else 0.0)
         # the search reach grows with the motion over the step: reserve it twice
         reach = self.reach(xs, xm) if self._x0 is not None else 0.0
         held = np.union1d(self._pairs(xs, xm, RESERVE_LENGTHS * h + reach), need)
