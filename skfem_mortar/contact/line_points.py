@@ -63,7 +63,10 @@ def _solve(residual, x0: np.ndarray, like: Jet | None):
     with np.errstate(divide="ignore", invalid="ignore"):
         for _ in range(NEWTON_STEPS):
             f, df = residual(x)
-            x = np.where(df != 0.0, x - f / np.where(df != 0.0, df, 1.0), x)
+            step = np.where(df != 0.0, f / np.where(df != 0.0, df, 1.0), 0.0)
+            x = x - step
+            if not np.any(np.abs(step) > 1e-15 * (1.0 + np.abs(x))):   # converged (or NaN)
+                break
     if like is None:
         return x
     xj = Jet.constant(x, like.g.shape[0], like.h is not None)
@@ -130,12 +133,11 @@ class LineSegmentation:
         """``f(xi) = (x_s(xi) - x_c) x n~(xi)`` and ``f'`` for the master node ``corner``."""
         cs = self.cells[0]
         n = local.x_s[0][0].v.shape
+        values = (_values(local.x_s, n), _values(local.n_s, n), [j.v for j in local.x_m[corner]])
 
         def residual(x):
             jets = isinstance(x, Jet)
-            xs, ns = (local.x_s, local.n_s) if jets else (_values(local.x_s, n),
-                                                          _values(local.n_s, n))
-            xc = [j if jets else j.v for j in local.x_m[corner]]
+            xs, ns, xc = (local.x_s, local.n_s, local.x_m[corner]) if jets else values
             p, t = _point(cs, x, xs)
             nn, dn = _point(cs, x, ns)
             r = [p[0] - xc[0], p[1] - xc[1]]
@@ -158,10 +160,12 @@ class LineSegmentation:
         n, _ = _point(cs, xi_s, ns)
         guess = self._master_guess(sg, a, b)
 
+        values = ([c.v for c in p], [c.v for c in n], _values(local.x_m, guess.shape))
+
         def residual(x):
             jets = isinstance(x, Jet)
-            P, Nn = (p, n) if jets else ([c.v for c in p], [c.v for c in n])
-            q, t = _point(cm, x, xm if jets else _values(local.x_m, x.shape))
+            P, Nn, Xm = (p, n, xm) if jets else values
+            q, t = _point(cm, x, Xm)
             r = [q[0] - P[0], q[1] - P[1]]
             return _cross(r, Nn), _cross(t, Nn)
         eta_m = _solve(residual, guess, w)
