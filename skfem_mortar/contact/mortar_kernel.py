@@ -135,7 +135,8 @@ def _extended(grp: Groups, conn_s, conn_m, e_m, normals: NodalNormals, n_s: int)
 def _chain_hessian(f: Jet, J: np.ndarray, S: np.ndarray, normals: NodalNormals,
                    lay: LocalLayout) -> np.ndarray:
     """``J^T H_loc J + sum_(a, i) df/dn_ai d2n_ai/dx2``: ``(n_ext, n_ext, n_e)``."""
-    H = np.einsum("pqn,npr,nqs->rsn", f.hessian(), J, J)
+    Hl = np.ascontiguousarray(f.hessian().transpose(2, 0, 1))     # (n_e, nv, nv)
+    H = np.matmul(np.matmul(J.transpose(0, 2, 1), Hl), J).transpose(1, 2, 0)
     K, d, xs = normals.nodes.shape[1], lay.d, lay.k_s * lay.d
     for a in range(lay.k_s):
         sl = slice(xs + a * K * d, xs + (a + 1) * K * d)
