@@ -80,8 +80,13 @@ class Groups(NamedTuple):
                                xs + np.arange(xs)])
 
 
-def groups(e_s: np.ndarray, layout: LocalLayout) -> Groups:
-    """:class:`Groups` of the integration cells' slave cells ``e_s``."""
+def groups(e_s: np.ndarray, layout: LocalLayout, each: bool = False) -> Groups:
+    """:class:`Groups` of the integration cells' slave cells ``e_s``; ``each``: every
+    integration cell its own group (what functions constant on a slave cell need, the
+    standard space's ``Phi = T N``: smaller jets than a whole slave cell's)."""
+    if each:
+        return Groups(np.arange(e_s.size), np.zeros(e_s.size, dtype=np.int64),
+                      np.asarray(e_s), 1, layout)
     e, cell = np.unique(e_s, return_inverse=True)
     order = np.argsort(cell, kind="stable")
     first = np.searchsorted(cell[order], np.arange(e.size))
@@ -93,6 +98,9 @@ def groups(e_s: np.ndarray, layout: LocalLayout) -> Groups:
 def group_sum(j: Jet, grp: Groups) -> Jet:
     """``sum`` of a cell jet ``(n,)`` over each group, in the group variables: ``(n_e,)``."""
     n_e, nv = grp.e_s.size, grp.nv
+    if grp.m == 1 and np.array_equal(grp.cell, np.arange(j.v.size)):   # one cell per group
+        idx = np.argsort(grp.index(0))
+        return Jet(j.v, j.g[idx], None if j.h is None else j.h[np.ix_(idx, idx)])
     v = np.bincount(grp.cell, weights=j.v, minlength=n_e)
     g = np.zeros((nv, n_e))
     h = None if j.h is None else np.zeros((nv, nv, n_e))
@@ -261,7 +269,7 @@ def evaluate(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarra
                              absolute=not measure.unit)
     cp = np.isin(np.arange(n_s), [] if crosspoints is None else crosspoints)
     mask = (support > MASK_TOL * trib) & ~cp
-    grp = groups(ic.e_s, loc.layout)
+    grp = groups(ic.e_s, loc.layout, each=not biorth)
     merged = ~mask[seg_s[grp.e_s]]
     k = seg_s.shape[1]
     T = (merge_matrix(merged, cells[0]) if merged.any()      # (line cells only, so far)
