@@ -48,10 +48,14 @@ __all__ = ["compose", "shape_jets", "CellIntegrals", "cell_integrals"]
 
 
 def compose(f0: np.ndarray, f1: np.ndarray, f2: np.ndarray | None, xi: tuple) -> Jet:
-    """``f(xi)`` as a jet from its value ``f0 (S)``, gradient ``f1 (m, S)`` and Hessian
-    ``f2 (m, m, S)`` (None: zero) in the ``m`` coordinates, given the jets ``xi``::
+    """``f(xi)`` as a jet from its value, gradient and Hessian at ``xi``.
+
+    ``f0 (S)``, ``f1 (m, S)`` and ``f2 (m, m, S)`` (None: zero) in the ``m`` coordinates,
+    given the jets ``xi``, by the chain rule::
 
         g = sum_r f1_r g_r,   h = sum_(r, t) f2_rt g_r g_t^T + sum_r f1_r h_r.
+
+    Exact to second order.
     """
     g = sum(f1[r][None] * x.g for r, x in enumerate(xi))
     h = None
