@@ -112,7 +112,7 @@ def test_a_method_naming_an_unknown_space_is_refused():
         unregister_method("nts-nowhere")
 
 
-@pytest.mark.parametrize("k", [2, 3])
+@pytest.mark.parametrize("k", [2, 3, 4])
 def test_cell_coefficients_in_jets_are_the_arrays_and_differentiate(k):
     """DualSpace.cell_coefficients (the kernels' entry: upper triangles of M_e, jets)
     equals coefficients (np.linalg.solve) to round-off (1e-13 on well-conditioned
@@ -141,5 +141,5 @@ def test_cell_coefficients_in_jets_are_the_arrays_and_differentiate(k):
         Ap, Am = at(h), at(-h)
         for key in Aj:
             np.testing.assert_allclose(Aj[key].g[i], (Ap[key] - Am[key]) / (2 * h), atol=1e-8)
-    with pytest.raises(ValueError, match="k must be 2 or 3"):
-        DualSpace.cell_coefficients([1.0] * 4, {})
+    with pytest.raises(ValueError, match="k must be 2 or more"):
+        DualSpace.cell_coefficients([1.0], {})

@@ -41,9 +41,12 @@ The two calls
 For lines the cell is ``[xi_a, xi_b]`` (end points from the projections, as jets),
 its Gauss points ``xi_s = (1 - eta)/2 xi_a + (1 + eta)/2 xi_b`` with
 ``w = w_eta (xi_b - xi_a)/2``, and ``xi_m`` the projection along the normal field.  In
-3D the cells are triangles in the slave parameter plane (clip vertices
-back-projected), ``w`` the triangle rule's weight times the triangle's area in
-``(xi, eta)`` (over the reference triangle's 1/2 as the rule states), ``xi_m`` by
+3D the cells are triangles on the slave face's auxiliary plane (the clipped polygon
+triangulated there), each Gauss point back-projected to the slave ``(xi, eta)`` along
+the plane's normal, and ``w`` the Jacobian of that chain at the point: the rule's weight
+times the plane triangle's area vector over the face's ``T_1 x T_2`` at ``xi_s`` (normal
+components), so that ``w J_s`` is the plane area element (straight triangles in
+``(xi, eta)`` would be wrong on a quad4 that is no parallelogram); ``xi_m`` by
 projection.  An integration cell lies in one smooth piece of its slave and master
 cells (what makes piecewise cells such as ``line2x2`` integrate exactly).
 """

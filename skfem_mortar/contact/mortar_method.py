@@ -19,7 +19,7 @@ from typing import Any
 import numpy as np
 import scipy.sparse as sp
 
-from . import mortar, mortar_quadratic
+from . import mortar, mortar_kernel, mortar_quadratic
 from .mortar import biorthogonal
 from .active_set import normal_nodal_force
 from .contact_eval import ContactEval
@@ -29,14 +29,15 @@ from . import nts  # noqa: F401 (registers "nts" first: the built-ins in BUILTIN
 from .discretization import (ContactDiscretization, Factory, OptionTable, check_options, covers,
                              pattern_matrix, register_method, reserved_keys)
 from .mortar_quadratic_segmentation import candidate_pairs
-from .segmentation import Segmentation, check_kernel_cells, segmentation_for, surface_cell
+from .segmentation import Segmentation, segmentation_for, surface_cell
 from .search import segment_pairs
 from .surfaces import segment_lengths, segments_at_nodes
 
 __all__ = ["Mortar", "RESERVE_LENGTHS", "KERNEL_CELLS"]
 
-#: the cell types the mortar kernels evaluate (:mod:`.mortar`: line2 on both
-#: sides; :mod:`.mortar_quadratic`: line2 or line3)
+#: the cell types of the fast kernels (:mod:`.mortar`: line2 on both sides;
+#: :mod:`.mortar_quadratic`: line2 or line3); any other line cell with a registered
+#: segmentation is evaluated by the one kernel (:mod:`.mortar_kernel`)
 KERNEL_CELLS = ("line2", "line3")
 
 #: the reserved pattern (:meth:`Mortar.pattern`) holds the element pairs of the
@@ -166,10 +167,15 @@ class Mortar(ContactDiscretization):
         self.multiplier_space = multiplier_space
         #: the two surfaces' cell types (:func:`~.segmentation.surface_cell`)
         self.cells = (surface_cell(slave), surface_cell(master))
-        check_kernel_cells(self.cells, KERNEL_CELLS, self.method)
+        for what, c in zip(("slave", "master"), self.cells):
+            if c.dim != 1:
+                raise ValueError(f"{what} cells must be line cells (dim 1) for {self.method}, "
+                                 f"got {c.name}")
         #: the curved kernel (a cell other than line2) or the linear one
         self.curved = any(c.name != "line2" for c in self.cells)
-        self._kernel = mortar_quadratic.evaluate if self.curved else mortar.evaluate
+        general = any(c.name not in KERNEL_CELLS for c in self.cells)
+        self._kernel = (mortar_kernel.evaluate if general else
+                        mortar_quadratic.evaluate if self.curved else mortar.evaluate)
         #: the segmentation of the cells (:func:`~.segmentation.segmentation_for`)
         self._segment = segmentation_for(self.cells)
         self.segmentation = segmentation
@@ -243,7 +249,8 @@ class Mortar(ContactDiscretization):
             reach = (self.reach(xs, xm) if "margin" not in self.options and self._x0 is not None
                      else 0.0)
             i_s, i_m = segment_pairs(xs, seg_s, xm, seg_m, reach + widen,
-                                     segment_lengths(xs, seg_s), segment_lengths(xm, seg_m))
+                                     segment_lengths(xs, seg_s, self.cells[0]),
+                                     segment_lengths(xm, seg_m, self.cells[1]))
         return i_s * len(seg_m) + i_m
 
     def _searched(self, xs: np.ndarray, xm: np.ndarray) -> np.ndarray:
@@ -262,8 +269,9 @@ class Mortar(ContactDiscretization):
         """Reserve the pairs of the search widened by :data:`RESERVE_LENGTHS` element
         lengths and the current reach (and ``need``)."""
         seg_s, seg_m = self.slave.segments, self.master.segments
-        h = max(float(np.median(segment_lengths(xs, seg_s))),
-                float(np.median(segment_lengths(xm, seg_m))) if len(seg_m) else 0.0)
+        h = max(float(np.median(segment_lengths(xs, seg_s, self.cells[0]))),
+                float(np.median(segment_lengths(xm, seg_m, self.cells[1]))) if len(seg_m)
+                else 0.0)
         # the search reach grows with the motion over the step: reserve it twice
         reach = self.reach(xs, xm) if self._x0 is not None else 0.0
         held = np.union1d(self._pairs(xs, xm, RESERVE_LENGTHS * h + reach), need)

@@ -33,10 +33,15 @@ __all__ = ["cell_jacobian", "tributary_weights", "multiplier_support"]
 
 def cell_jacobian(cell: CellType, X: np.ndarray, xi: np.ndarray) -> np.ndarray:
     """``|dx/dxi| = |sum_B dN_B/dxi x_B|`` at ``xi`` (n, nq) of line cells with node
-    positions ``X`` (2, n, n_nodes), (n, nq)."""
-    dN = np.asarray(cell.dshape(xi[None]))[:, 0]              # (n_nodes, n, nq)
-    t = np.einsum("ink,knq->inq", X, dN)
-    return np.sqrt(t[0] * t[0] + t[1] * t[1])
+    positions ``X`` (2, n, n_nodes), (n, nq); on surface cells ``xi`` (2, n, nq) and
+    ``X`` (3, n, n_nodes): ``|T_1 x T_2|``, ``T_r = sum_B dN_B/dxi_r x_B``."""
+    if cell.dim == 1:
+        dN = np.asarray(cell.dshape(xi[None]))[:, 0]              # (n_nodes, n, nq)
+        t = np.einsum("ink,knq->inq", X, dN)
+        return np.sqrt(t[0] * t[0] + t[1] * t[1])
+    dN = np.asarray(cell.dshape(xi))                              # (n_nodes, 2, n, nq)
+    T = np.einsum("ink,krnq->irnq", X, dN)
+    return np.sqrt((np.cross(T[:, 0], T[:, 1], axis=0) ** 2).sum(0))
 
 
 def _weighted(dG: np.ndarray, cell: CellType, X: np.ndarray, N: np.ndarray,
@@ -73,8 +78,9 @@ def tributary_weights(xs: np.ndarray, seg: np.ndarray, cell: CellType, degree: i
     xs = np.asarray(xs, dtype=float)
     seg = np.asarray(seg, dtype=np.int64)
     pts, w = cell.quadrature(degree + (0 if measure.unit else 1))
-    xi = np.broadcast_to(pts[0], (seg.shape[0], pts.shape[1]))
-    N = np.asarray(cell.shape(xi[None]))
+    xi = np.broadcast_to(pts[:, None, :], (pts.shape[0], seg.shape[0], pts.shape[1]))
+    N = np.asarray(cell.shape(xi))
+    xi = xi[0] if cell.dim == 1 else xi
     dG = _weighted(cell_jacobian(cell, xs[:, seg], xi) * w, cell, xs[:, seg], N, measure)
     return _scatter(xs.shape[1], seg, np.abs(N) if absolute else N, dG)
 

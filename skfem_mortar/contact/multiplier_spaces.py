@@ -206,8 +206,8 @@ class DualSpace(StandardSpace):
         """``A_e = D_e M_e^-1`` entry by entry, for the kernels' jets: ``D`` the ``k``
         diagonal entries of ``D_e``, ``M`` the upper triangle ``M[(a, b)]``, ``a <= b``,
         of the symmetric ``M_e`` (each an array or a jet of shape (n,)), inverted by
-        cofactors (``k`` = 2 or 3, the 2D line cells), so the derivatives of ``A_e``
-        follow.  Returns ``{(a, b): A_ab}``; the same as :meth:`coefficients` on arrays."""
+        cofactors (``k`` = 2 or 3: line cells, tri3) or Gauss-Jordan elimination
+        (``k >= 4``: quad4), so the derivatives of ``A_e`` follow.  Returns ``{(a, b): A_ab}``; the same as :meth:`coefficients` on arrays."""
         k = len(D)
         Mi = _sym_inverse(M, k)
         return {(a, b): D[a] * Mi[min(a, b), max(a, b)] for a in range(k) for b in range(k)}
@@ -220,20 +220,41 @@ class DualSpace(StandardSpace):
 
 
 def _sym_inverse(M: dict, k: int) -> dict:
-    """Inverse of the symmetric ``k x k`` matrix ``M[(a, b)]`` (a <= b) by cofactors
-    (arrays or jets; ``k`` = 2 or 3, else ValueError naming ``k``)."""
+    """Inverse of the symmetric ``k x k`` matrix ``M[(a, b)]`` (a <= b), arrays or jets:
+    by cofactors for ``k`` = 2, 3 (the line cells), by Gauss-Jordan elimination without
+    pivoting for ``k >= 4`` (quad4: ``M_e`` is symmetric positive definite, so every
+    pivot is positive); ValueError naming ``k`` below 2."""
     if k == 2:
         a, b, d = M[0, 0], M[0, 1], M[1, 1]
         r = inv(a * d - b * b)
         return {(0, 0): d * r, (0, 1): -(b * r), (1, 1): a * r}
-    if k != 3:
-        raise ValueError(f"k must be 2 or 3 (the cofactor inverse of the line cells), got {k}")
+    if k < 2:
+        raise ValueError(f"k must be 2 or more (nodes of a cell), got {k}")
+    if k > 3:
+        return _gauss_jordan(M, k)
     a, b, c, d, e, f = M[0, 0], M[0, 1], M[0, 2], M[1, 1], M[1, 2], M[2, 2]
     C = {(0, 0): d * f - e * e, (0, 1): c * e - b * f, (0, 2): b * e - c * d,
          (1, 1): a * f - c * c, (1, 2): b * c - a * e, (2, 2): a * d - b * b}
     det = a * C[0, 0] + b * C[0, 1] + c * C[0, 2]
     r = inv(det)
     return {key: v * r for key, v in C.items()}
+
+
+def _gauss_jordan(M: dict, k: int) -> dict:
+    """``M^-1`` of a symmetric positive definite ``M[(a, b)]`` (a <= b) by Gauss-Jordan
+    elimination on ``[M | I]`` (entries arrays or jets), its upper triangle."""
+    A = [[M[min(i, j), max(i, j)] for j in range(k)] for i in range(k)]
+    E = [[1.0 if i == j else 0.0 for j in range(k)] for i in range(k)]
+    for c in range(k):
+        p = inv(A[c][c])
+        A[c] = [x * p for x in A[c]]
+        E[c] = [x * p for x in E[c]]
+        for r in range(k):
+            if r != c:
+                f = A[r][c]
+                A[r] = [x - f * y for x, y in zip(A[r], A[c])]
+                E[r] = [x - f * y for x, y in zip(E[r], E[c])]
+    return {(a, b): E[a][b] for a in range(k) for b in range(a, k)}
 
 
 _REGISTRY: dict[str, MultiplierSpace] = {}
