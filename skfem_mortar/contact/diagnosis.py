@@ -113,7 +113,7 @@ def _matching(pair: Any) -> bool:
         meet = pr["mask"] & (np.abs(pr["g"]) <= h)
         d, _ = nearest_vertex(xs, pm)
         return bool(np.all((d <= MATCH * h) | ~meet))
-    seg_s = polyline(pair.slave.segments)
+    seg_s = polyline(pair.slave.segments, pair.slave.cell)
     h = float(np.median(np.hypot(*(xs[:, seg_s[:, 1]] - xs[:, seg_s[:, 0]]))))
     pr = nts.project(pm, xs, seg_s)
     meet = pr["mask"] & (np.abs(pr["g"]) <= h)

@@ -269,7 +269,7 @@ class ContactPair(Item):
         self.c = c
         faces = surface_cell(slave).dim == 2            # the faces of a 3D body
         lengths = (face_sizes(slave.X, slave.segments) if faces
-                   else segment_lengths(slave.X, slave.segments))
+                   else segment_lengths(slave.X, slave.segments, slave.cell))
         self._touch = float(touch_tolerance) * float(np.mean(lengths))
         self._h = float(np.median(lengths))  # the gap tolerance's length
         self._tol_p = 0.0  # pressure tolerance of the last converged check

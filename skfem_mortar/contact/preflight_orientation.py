@@ -116,7 +116,8 @@ def _facing(pair: Any, z: np.ndarray) -> _Facing:
     if pair.slave.cell.dim == 2:
         return _Facing(*facing_faces(pair, z))
     xs, xm = pair.slave.x(z), pair.master.x(z)
-    seg_s, seg_m = polyline(pair.slave.segments), polyline(pair.master.segments)
+    seg_s = polyline(pair.slave.segments, pair.slave.cell)
+    seg_m = polyline(pair.master.segments, pair.master.cell)
     near, pr = nts.nearest_nodes(xs, seg_s, xm, seg_m, band=1.0)
     cos = np.sum(nodal_normals(xs, seg_s) * pr["n"], axis=0)
     return _Facing(near, pr, cos, tributary_lengths(xs, seg_s))

@@ -437,7 +437,7 @@ def node_segment_pairs(xn: np.ndarray, xm: np.ndarray, seg_m: np.ndarray, margin
 _DIST_BATCH = 256
 
 
-def distance_to_polyline(p: np.ndarray, x: np.ndarray, seg: np.ndarray) -> np.ndarray:
+def distance_to_polyline(p: np.ndarray, x: np.ndarray, seg: np.ndarray, cell=None) -> np.ndarray:
     """Euclidean distance of each point ``p (2, n)`` to the segments ``seg`` of the
     nodes ``x (2, m)``: ``min_e |p - (x_1 + t (x_2 - x_1))|``, ``t`` clipped to [0, 1]
     (3-node segments: to their chords through the mid node, :func:`~skfem_mortar.core.chain.polyline`).
@@ -451,7 +451,7 @@ def distance_to_polyline(p: np.ndarray, x: np.ndarray, seg: np.ndarray) -> np.nd
     out = np.empty(p.shape[1])
     if p.shape[1] == 0:
         return out
-    seg = polyline(np.asarray(seg, dtype=np.int64))  # 3-node segments: their two chords
+    seg = polyline(np.asarray(seg, dtype=np.int64), cell)  # curved/piecewise cells: their chords
     d_v, _ = nearest_vertex(x, p)
     order = np.argsort(d_v)
     lo, hi = segment_boxes(x, seg)
