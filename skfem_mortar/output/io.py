@@ -61,11 +61,13 @@ def write_json(path: str | os.PathLike, data: dict) -> None:
 
 
 def write_contact_csv(path: str | os.PathLike, data: dict[str, np.ndarray],
-                      coords: tuple[str, str] | None = None) -> None:
-    """Write ``x,y,gap,pressure,has_master`` (one row per slave node) atomically;
-    ``coords`` names the first two columns (an axisymmetric model's: ``("r", "z")``;
-    default: ``("r", "z")`` when ``data`` has ``r`` -- an axisymmetric pair's
-    :meth:`~skfem_mortar.contact.pair.ContactPair.contact_data` -- else ``("x", "y")``).
+                      coords: tuple[str, ...] | None = None) -> None:
+    """Write ``x,y[,z],gap,pressure,has_master`` (one row per slave node) atomically;
+    ``coords`` names the coordinate columns, which hold ``data["x"]``, ``data["y"]``
+    (and ``data["z"]``) in that order (default: ``("r", "z")`` when ``data`` has
+    ``r`` -- an axisymmetric pair's
+    :meth:`~skfem_mortar.contact.pair.ContactPair.contact_data` --, ``("x", "y",
+    "z")`` when it has ``z`` -- a 3D pair's --, else ``("x", "y")``).
 
     With friction (``data`` has ``tangential_traction``, ``slip`` and ``status``,
     :meth:`~skfem_mortar.contact.pair.ContactPair.contact_data` of a friction
@@ -79,18 +81,20 @@ def write_contact_csv(path: str | os.PathLike, data: dict[str, np.ndarray],
     gap count as facing a master. Any non-finite value written is an error.
     """
     if coords is None:
-        coords = ("r", "z") if "r" in data else ("x", "y")
+        coords = ("r", "z") if "r" in data else ("x", "y", "z") if "z" in data else ("x", "y")
     gap = np.asarray(data["gap"], dtype=float)
     has = np.asarray(data.get("has_master", np.isfinite(gap)), dtype=bool)
     if "distance" in data:
         gap = np.where(has, gap, np.asarray(data["distance"], dtype=float))
-    arr = np.column_stack([np.asarray(data["x"], dtype=float), np.asarray(data["y"], dtype=float),
-                           gap, np.asarray(data["pressure"], dtype=float), has.astype(float)])
+    xyz = [np.asarray(data[k], dtype=float) for k in ("x", "y", "z")[:len(coords)]]
+    arr = np.column_stack(xyz + [gap, np.asarray(data["pressure"], dtype=float),
+                                 has.astype(float)])
     if not np.all(np.isfinite(arr)):
         raise ValueError("non-finite contact data (a gap where a node faces no master needs "
                          "data['distance']): refusing to write contact.csv")
-    lines = [f"{coords[0]},{coords[1]},gap,pressure,has_master"]
-    lines += [",".join(f"{v:.12g}" for v in row[:4]) + f",{int(row[4])}" for row in arr]
+    n = len(coords) + 2                       # the coordinates, the gap and the pressure
+    lines = [",".join(coords) + ",gap,pressure,has_master"]
+    lines += [",".join(f"{v:.12g}" for v in row[:n]) + f",{int(row[n])}" for row in arr]
     if "tangential_traction" in data:  # a pair with friction: three more columns
         t = np.asarray(data["tangential_traction"], dtype=float)
         u = np.asarray(data["slip"], dtype=float)

@@ -260,7 +260,7 @@ class ContactCsv(Observer):
     #: the coordinate columns (an axisymmetric model's: r, z); None: read from the data
     #: (:func:`~skfem_mortar.output.io.write_contact_csv`: r, z when it has ``r``), so a
     #: writer called without :meth:`on_start` (the runner's ``finish``) names them too
-    coords: tuple[str, str] | None = None
+    coords: tuple[str, ...] | None = None
 
     def on_start(self, model, z, load_factor) -> None:
         if getattr(model, "geometry", "plane") == "axisymmetric":
