@@ -426,23 +426,30 @@ def build(params: dict, method: str | None = None) -> Setup:
 A_OVER_R = (1e-3, 0.2)
 
 
-def derived(params: dict) -> list:
-    """Radius, load, both bodies' Lame parameters, ``E*`` and the half-width ratio ``a / R``."""
+def contact_derived(params: dict, exact, body: str, size: str, what: str) -> list:
+    """Radius, load, both bodies' Lame parameters, ``E*`` and ``size / R`` of a Hertz scene.
+
+    ``exact(R, P, E, nu, E_base or None, nu_base)`` is the scene's closed form (a dict with
+    ``E_star`` and ``size``), ``body`` names the pressed body, ``what`` the ratio's words."""
     R, P = float(params["radius"]), float(params["load"])
     E, nu = float(params["E"]), float(params["nu"])
     Eb, nub = float(params["E_base"]), float(params["nu_base"])
     rigid = params["base"] == "rigid"
     out = [positive("radius", R, "radius"), positive("load", P, "load"),
-           *lame_quantities(E, nu, "E", "nu", "the cylinder"),
+           *lame_quantities(E, nu, "E", "nu", body),
            *lame_quantities(Eb, nub, "E_base", "nu_base", "the base")]
     if not all(d.ok() for d in out):
         return out
-    ex = hertz_exact(R, P, E, nu, None if rigid else Eb, nub)
+    ex = exact(R, P, E, nu, None if rigid else Eb, nub)
     moduli = ("E", "nu") if rigid else ("E", "nu", "E_base", "nu_base")
-    out += [positive("E*", ex["E_star"], *moduli),
-            ratio("the contact half-width over the radius a / R", ex["half_width"] / R,
-                  ("load", "radius") + moduli, *A_OVER_R)]
-    return out
+    return out + [positive("E*", ex["E_star"], *moduli),
+                  ratio(what, ex[size] / R, ("load", "radius") + moduli, *A_OVER_R)]
+
+
+def derived(params: dict) -> list:
+    """Radius, load, both bodies' Lame parameters, ``E*`` and the half-width ratio ``a / R``."""
+    return contact_derived(params, hertz_exact, "the cylinder", "half_width",
+                           "the contact half-width over the radius a / R")
 
 
 def one_step(params: dict, method: str | None) -> bool:

@@ -46,11 +46,11 @@ from ..contact.surfaces import ContactSurface
 from ..core.dirichlet import Dirichlet
 from ..core.model import Model
 from ..loads.traction import Traction
-from . import METHODS, Param, Scene, Setup, lame_quantities, positive, ratio
+from . import METHODS, Param, Scene, Setup
 from ._axi import (compression_span, fit_ellipse, profile, reference_pressure,
                    revolved_trapezoid, rigid_plate)
-from .hertz import (ELEMENTS, FINE_ZONE, _body_class, graded_block, graded_quarter_disk,
-                    one_step)
+from .hertz import (ELEMENTS, FINE_ZONE, _body_class, contact_derived, graded_block,
+                    graded_quarter_disk, one_step)
 
 __all__ = ["SCENE", "build", "hertz_sphere"]
 
@@ -133,26 +133,10 @@ def build(params: dict, method: str | None = None) -> Setup:
     return Setup(model=model, metrics=metrics)
 
 
-#: the range of the contact radius over the sphere's radius (as ``hertz``'s)
-A_OVER_R = (1e-3, 0.2)
-
-
 def derived(params: dict) -> list:
     """Radius, load, both bodies' Lame parameters, ``E*`` and ``a / R``."""
-    R, F = float(params["radius"]), float(params["load"])
-    E, nu = float(params["E"]), float(params["nu"])
-    Eb, nub = float(params["E_base"]), float(params["nu_base"])
-    rigid = params["base"] == "rigid"
-    out = [positive("radius", R, "radius"), positive("load", F, "load"),
-           *lame_quantities(E, nu, "E", "nu", "the sphere"),
-           *lame_quantities(Eb, nub, "E_base", "nu_base", "the base")]
-    if not all(d.ok() for d in out):
-        return out
-    ex = hertz_sphere(R, F, E, nu, None if rigid else Eb, nub)
-    moduli = ("E", "nu") if rigid else ("E", "nu", "E_base", "nu_base")
-    return out + [positive("E*", ex["E_star"], *moduli),
-                  ratio("the contact radius over the radius a / R",
-                        ex["contact_radius"] / R, ("load", "radius") + moduli, *A_OVER_R)]
+    return contact_derived(params, hertz_sphere, "the sphere", "contact_radius",
+                           "the contact radius over the radius a / R")
 
 
 SCENE = Scene(

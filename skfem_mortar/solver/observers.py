@@ -257,14 +257,7 @@ class ContactCsv(Observer):
         self.path = Path(path)
         self.contact = contact.contact_data if isinstance(contact, ContactTable) else contact
 
-    #: the coordinate columns (an axisymmetric model's: r, z); None: read from the data
-    #: (:func:`~skfem_mortar.output.io.write_contact_csv`: r, z when it has ``r``), so a
-    #: writer called without :meth:`on_start` (the runner's ``finish``) names them too
-    coords: tuple[str, ...] | None = None
-
     def on_start(self, model, z, load_factor) -> None:
-        if getattr(model, "geometry", "plane") == "axisymmetric":
-            self.coords = ("r", "z")
         if self.contact is None:
             tables = model.contact_tables()
             self.contact = tables[0].contact_data if tables else None
@@ -273,7 +266,8 @@ class ContactCsv(Observer):
         from ..output.io import write_contact_csv
 
         if self.contact is not None:
-            write_contact_csv(self.path, self.contact(z), self.coords)
+            # the coordinate columns follow the data: r,z / x,y,z / x,y
+            write_contact_csv(self.path, self.contact(z))
 
     def on_end(self, result) -> None:
         self.write(result.z)
