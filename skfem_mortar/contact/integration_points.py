@@ -148,8 +148,10 @@ class IntegrationCells(NamedTuple):
     e_s, e_m : int ndarray (n,)
         Slave and master parent cell of each integration cell.
     data : Any
-        What the segmentation needs to make the points of these rows (opaque to the
-        kernel; rows in the order of ``e_s``).
+        What the segmentation needs to make the points of these rows, as
+        ``(whole, rows)``: the segmentation's own object (opaque to the kernel) and the
+        row indices into it, in the order of ``e_s``, so that the kernel takes a chunk
+        ``r`` as ``IntegrationCells(e_s[r], e_m[r], (whole, rows[r]))``; None: nothing.
     """
 
     e_s: np.ndarray

@@ -28,6 +28,8 @@ as the general path (tested to 1e-13).
 """
 from __future__ import annotations
 
+from typing import NamedTuple
+
 import numpy as np
 
 from .cells import CellType, line_quadrature
@@ -90,6 +92,22 @@ def _solve(residual, x0: np.ndarray, like: Jet | None):
     return xj
 
 
+class _Rows(NamedTuple):
+    """The rows of a segmentation that a chunk of integration cells reads."""
+
+    xi: np.ndarray
+    src: np.ndarray
+    xi_m: np.ndarray | None
+    frozen: bool
+    n: int
+
+    @staticmethod
+    def of(sg, rows: np.ndarray) -> "_Rows":
+        """Rows ``rows`` of the segmentation ``sg``."""
+        return _Rows(sg.xi[rows], sg.src[rows], None if sg.xi_m is None else sg.xi_m[rows],
+                     sg.frozen, len(rows))
+
+
 def _values(nodes: list, shape) -> list:
     return [[np.broadcast_to(c.v.reshape(c.v.shape + (1,) * (len(shape) - 1)), shape)
              for c in node] for node in nodes]
@@ -130,9 +148,10 @@ class LineSegmentation:
                           conn_m: np.ndarray, normals: np.ndarray | None = None
                           ) -> IntegrationCells:
         """The registered segmentation's integration cells (``normals`` unused: the 2D
-        segmentations make their own)."""
+        segmentations make their own); ``data``: ``(segmentation, rows)``, a chunk of
+        rows ``r`` is ``IntegrationCells(e_s[r], e_m[r], (segmentation, rows[r]))``."""
         sg = segmentation_for(self.cells)(xs, conn_s, xm, conn_m, self.cells, **self.options)
-        return IntegrationCells(sg.e_s, sg.e_m, sg)
+        return IntegrationCells(sg.e_s, sg.e_m, (sg, np.arange(sg.n)))
 
     def _ends(self, sg, local: LocalVariables) -> list:
         """``xi_a, xi_b`` as jets (module docstring)."""
@@ -171,7 +190,7 @@ class LineSegmentation:
     def integration_points(self, cells: IntegrationCells, local: LocalVariables
                            ) -> IntegrationPoints:
         """Gauss points in jets of ``local`` (module docstring)."""
-        sg = cells.data
+        sg = _Rows.of(*cells.data)
         cs, cm = self.cells
         lo, hi = self._ends(sg, local)
         eta, wk = line_quadrature(2 * self.n_gauss - 1)

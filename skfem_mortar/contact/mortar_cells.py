@@ -130,7 +130,7 @@ class CellIntegrals(NamedTuple):
 
 def cell_integrals(points: IntegrationPoints, local: LocalVariables,
                    cells: tuple[CellType, CellType], measure: Measure = PLANE,
-                   mass: bool = False) -> CellIntegrals:
+                   mass: bool = False, integrand=None) -> CellIntegrals:
     """``D``, ``M`` and the weighted gap ``g_A`` of each integration cell (module docstring).
 
     Parameters
@@ -144,6 +144,10 @@ def cell_integrals(points: IntegrationPoints, local: LocalVariables,
         ``w(x)`` of ``dGamma`` (unit: no product).
     mass : bool
         Also the jets of ``int N_A`` and ``int N_A N_B`` (for a dual space).
+    integrand : callable, optional
+        ``integrand(points, local, cells, measure) -> list`` of ``k_s`` jets ``(n,)`` (one
+        per slave node of the cell, summed over the cell's points) that replaces the
+        weighted gap ``g_A`` (e.g. the mortar slip); None: the weighted gap.
     """
     check_points(points, local)
     cs, cm = cells
@@ -151,14 +155,19 @@ def cell_integrals(points: IntegrationPoints, local: LocalVariables,
     N, dN = shape_jets(cs, points.xi_s, derivatives=True)
     Nm = shape_jets(cm, points.xi_m)
     xs = _combine(N, local.x_s, d)
-    xm = _combine(Nm, local.x_m, d)
     T = [_combine([dN[a][r] for a in range(cs.n_nodes)], local.x_s, d) for r in range(cs.dim)]
     dG = points.w * _jacobian(T)
     if not measure.unit:
         dG = dG * measure.weight(xs)
-    nt = _combine(N, local.n_s, d)
-    gn = _dot(nt, [q - p for p, q in zip(xs, xm)]) * _dot(nt, nt).sqrt().inv()
-    g = [(N[a] * gn * dG).sum() for a in range(cs.n_nodes)]
+    if integrand is None:
+        nt, xm = _combine(N, local.n_s, d), _combine(Nm, local.x_m, d)
+        gn = _dot(nt, [q - p for p, q in zip(xs, xm)]) * _dot(nt, nt).sqrt().inv()
+        g = [(N[a] * gn * dG).sum() for a in range(cs.n_nodes)]
+    else:
+        g = list(integrand(points, local, cells, measure))
+        if len(g) != cs.n_nodes:
+            raise ValueError(f"integrand must return {cs.n_nodes} jets (one per slave node "
+                             f"of a {cs.name} cell), got {len(g)}")
     Nv, Nmv, dGv = (np.stack([j.v for j in L]) for L in (N, Nm, [dG]))
     D = np.einsum("akq,bkq,kq->kab", Nv, Nv, dGv[0])
     M = np.einsum("akq,ckq,kq->kac", Nv, Nmv, dGv[0])
