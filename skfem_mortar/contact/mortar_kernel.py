@@ -126,7 +126,9 @@ def group_sum(j: Jet, grp: Groups) -> Jet:
 
 def _extended(grp: Groups, conn_s, conn_m, e_m, normals: NodalNormals, n_s: int):
     """Dofs ``(n_e, n_ext)`` (-1 where unused) of the extended variables
-    ``[x_s, the normals' neighbourhoods, x_m of each slot]`` and ``J (n_e, nv, n_ext)``."""
+    ``[x_s, the normals' neighbourhoods, x_m of each slot]`` and the normals' block of
+    ``J``, ``Jn (n_e, k_s d, k_s K d)`` (block diagonal: ``dn_a/dx`` of each slave node;
+    ``J`` is the identity on ``x_s`` and ``x_m``)."""
     lay = grp.layout
     d, k_s, k_m = lay.d, lay.k_s, lay.k_m
     n_e, c = grp.e_s.size, np.arange(d)
@@ -139,29 +141,53 @@ def _extended(grp: Groups, conn_s, conn_m, e_m, normals: NodalNormals, n_s: int)
                            np.where(nb[..., None] >= 0, nb[..., None] * d + c, -1).reshape(n_e, -1),
                            np.where(Mn[..., None] >= 0, d * n_s + Mn[..., None] * d + c,
                                     -1).reshape(n_e, -1)], axis=1)
-    xs, nbh = k_s * d, k_s * K * d
-    J = np.zeros((n_e, grp.nv, dofs.shape[1]))
-    J[:, np.arange(xs), np.arange(xs)] = 1.0
-    xm = np.arange(grp.m * k_m * d)
-    J[:, 2 * xs + xm, xs + nbh + xm] = 1.0
-    dn = normals.dn[:, S]                                            # (d, n_e, k_s, K, d)
+    Jn = np.zeros((n_e, k_s, d, k_s, K * d))
+    dn = normals.dn[:, S].reshape(d, n_e, k_s, K * d)                # (d, n_e, k_s, K d)
     for a in range(k_s):
-        for i in range(d):
-            J[:, xs + a * d + i, xs + a * K * d:xs + (a + 1) * K * d] = dn[i, :, a].reshape(n_e, -1)
-    return dofs, J, S
+        Jn[:, a, :, a] = dn[:, :, a].transpose(1, 0, 2)
+    return dofs, Jn.reshape(n_e, k_s * d, k_s * K * d), S
 
 
-def _chain_hessian(f: Jet, J: np.ndarray, S: np.ndarray, normals: NodalNormals,
-                   lay: LocalLayout) -> np.ndarray:
-    """``J^T H_loc J + sum_(a, i) df/dn_ai d2n_ai/dx2``: ``(n_ext, n_ext, n_e)``."""
-    Hl = np.ascontiguousarray(f.hessian().transpose(2, 0, 1))     # (n_e, nv, nv)
-    H = np.matmul(np.matmul(J.transpose(0, 2, 1), Hl), J).transpose(1, 2, 0)
-    K, d, xs = normals.nodes.shape[1], lay.d, lay.k_s * lay.d
-    for a in range(lay.k_s):
-        sl = slice(xs + a * K * d, xs + (a + 1) * K * d)
-        for i in range(d):
-            d2 = normals.d2n[i, S[:, a]].reshape(-1, K * d, K * d)
-            H[sl, sl] += np.einsum("n,nrs->rsn", f.g[xs + a * d + i], d2)
+def _parts(nv: int, lay: LocalLayout, K: int) -> tuple:
+    """Group variables on ``x_s, x_m`` (``P``) and on ``n_s`` (``N``); where ``P`` and
+    the normals' neighbourhoods (``B``) sit among the extended ones."""
+    xs = lay.k_s * lay.d
+    nbh = K * xs
+    P = np.r_[0:xs, 2 * xs:nv]
+    return P, np.arange(xs, 2 * xs), np.r_[0:xs, xs + nbh:nv - xs + nbh], slice(xs, xs + nbh)
+
+
+def _chain_gradient(g: np.ndarray, Jn: np.ndarray, parts: tuple) -> np.ndarray:
+    """``G = G_loc J``, ``(n_e, n_ext)``, from ``g (nv, n_e)`` (``J``'s identity blocks
+    copied, the normals' block a batched product)."""
+    P, N, Pe, B = parts
+    out = np.empty((g.shape[1], Pe.size + Jn.shape[2]))
+    out[:, Pe] = g[P].T
+    out[:, B] = np.matmul(g[N].T[:, None, :], Jn)[:, 0]
+    return out
+
+
+def _chain_hessian(f: Jet, Jn: np.ndarray, S: np.ndarray, normals: NodalNormals,
+                   parts: tuple) -> np.ndarray:
+    """``J^T H_loc J + sum_(a, i) df/dn_ai d2n_ai/dx2``: ``(n_e, n_ext, n_ext)``, by
+    blocks: ``H_PP``, ``H_PN Jn``, ``Jn^T H_NN Jn`` (``J`` the identity on ``P``)."""
+    P, N, Pe, B = parts
+    Hl = f.hessian().transpose(2, 0, 1)                              # (n_e, nv, nv)
+    n_e, nb = Jn.shape[0], Jn.shape[2]
+    H = np.empty((n_e, Pe.size + nb, Pe.size + nb))
+    H[:, Pe[:, None], Pe] = Hl[:, P[:, None], P]
+    HPB = np.matmul(Hl[:, P[:, None], N], Jn)
+    H[:, Pe[:, None], np.arange(B.start, B.stop)] = HPB
+    H[:, B, Pe] = HPB.transpose(0, 2, 1)
+    HBB = np.matmul(Jn.transpose(0, 2, 1), np.matmul(Hl[:, N[:, None], N], Jn))
+    K = normals.nodes.shape[1]
+    d = normals.n.shape[0]
+    dfn = f.g[N].T.reshape(n_e, -1, d)                               # df/dn_ai
+    for a in range(S.shape[1]):
+        sl = slice(a * K * d, (a + 1) * K * d)
+        d2 = normals.d2n[:, S[:, a]].reshape(d, n_e, K * d, K * d)
+        HBB[:, sl, sl] += np.einsum("ni,inrs->nrs", dfn[:, a], d2)
+    H[:, B, B] = HBB
     return H
 
 
@@ -174,19 +200,22 @@ def _scatter(g: list, grp: Groups, conn_s, conn_m, e_m, normals: NodalNormals, n
         np.add.at(out, S[:, a], g[a].v)
     if not tangent:
         return
-    dofs, J, S = _extended(grp, conn_s, conn_m, e_m, normals, n_s)
+    dofs, Jn, S = _extended(grp, conn_s, conn_m, e_m, normals, n_s)
+    parts = _parts(grp.nv, lay, normals.nodes.shape[1])
     used = dofs >= 0
     safe = np.where(used, dofs, 0)
     for a in range(lay.k_s):
-        trip.rows(S[:, a], safe, np.einsum("pn,npr->nr", g[a].g, J), used)
+        trip.rows(S[:, a], safe, _chain_gradient(g[a].g, Jn, parts), used)
     if lam is not None and g[0].h is not None:
         lam = np.asarray(lam, dtype=float)
         f = g[0] * lam[S[:, 0]]
         for a in range(1, lay.k_s):
             f = f + g[a] * lam[S[:, a]]
-        Hl = _chain_hessian(f, J, S, normals, lay) * (used[:, :, None] & used[:, None, :]
-                                                      ).transpose(1, 2, 0)
-        th.block(safe, Hl)
+        H = _chain_hessian(f, Jn, S, normals, parts)
+        if not used.all():
+            H *= used[:, :, None]
+            H *= used[:, None, :]
+        th.block(safe, H.transpose(1, 2, 0))
 
 
 def assemble(g: list, grp: Groups, conn_s, conn_m, e_m, normals: NodalNormals, n_s: int,
