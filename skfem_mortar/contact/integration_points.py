@@ -172,6 +172,10 @@ class IntegrationPoints(NamedTuple):
     w : Jet
         ``(n, n_gp)``: Gauss weight times the cell's Jacobian in the slave parameter
         space (not ``J_s``, not the measure: the kernel multiplies those).
+    mass : (tuple of Jet, Jet) or None
+        ``(xi_s, w)`` of a second rule on the same cells for the slave-only integrals of
+        a dual space (``int N_A``, ``int N_A N_B``), where they need more points than the
+        gap (curved cells); None: these points.
     """
 
     e_s: np.ndarray
@@ -179,6 +183,7 @@ class IntegrationPoints(NamedTuple):
     xi_s: tuple
     xi_m: tuple
     w: Jet
+    mass: tuple | None = None
 
 
 class PointSegmentation(Protocol):

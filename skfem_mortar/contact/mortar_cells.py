@@ -160,7 +160,8 @@ def cell_integrals(points: IntegrationPoints, local: LocalVariables,
     measure : Measure
         ``w(x)`` of ``dGamma`` (unit: no product).
     mass : bool
-        Also the jets of ``int N_A`` and ``int N_A N_B`` (for a dual space).
+        Also the jets of ``int N_A`` and ``int N_A N_B`` (for a dual space), by the
+        points' second rule if they carry one (``points.mass``).
     integrand : callable, optional
         ``integrand(points, local, cells, measure) -> list`` of ``k_s`` jets ``(n,)`` (one
         per slave node of the cell, summed over the cell's points) that replaces the
@@ -186,6 +187,9 @@ def cell_integrals(points: IntegrationPoints, local: LocalVariables,
     n_A = n_AB = None
     if mass:
         k = cs.n_nodes
+        if points.mass is not None:
+            N, _, dG = slave_geometry(points._replace(xi_s=points.mass[0], w=points.mass[1]),
+                                      local, cs, measure)
         wN = [N[a] * dG for a in range(k)]
         n_A = [x.sum() for x in wN]
         n_AB = {(a, b): (wN[a] * N[b]).sum() for a in range(k) for b in range(a, k)}

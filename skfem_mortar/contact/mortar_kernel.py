@@ -339,7 +339,7 @@ def _mirror(measure: Measure, mirror, d: int) -> tuple:
 
 def evaluate(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarray,
              lam: np.ndarray | None = None, tangent: bool = True, space="standard",
-             n_gauss: int = 2, segmentation: Segmentation | None = None,
+             n_gauss: int | None = None, segmentation: Segmentation | None = None,
              pairs=None, margin: float | None = None, crosspoints=None, reach: float = 0.0,
              measure: Measure = PLANE, cells=None, points=None, integrand=None,
              mirror=None, chunk_entries: int | None = None) -> ContactEval:
@@ -347,7 +347,9 @@ def evaluate(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarra
     kernel (module docstring), the interface of ``mortar_quadratic.evaluate``.
 
     ``points``: the segmentation's side of the contract (default the line segmentation of
-    ``cells`` with ``n_gauss`` points, ``pairs``, ``margin``, ``reach``); ``segmentation``:
+    ``cells`` with ``n_gauss`` points, default one more than the cells' highest order,
+    ``pairs``, ``margin``, ``reach``; on curved cells a dual space's mass integrals take
+    ``max(n_gauss, N_GAUSS_ELEMENT)`` points per integration cell); ``segmentation``:
     integration cells to reuse (frozen: their end points held).  ``integrand``: what
     replaces the weighted gap's integrand (:func:`~.mortar_cells.cell_integrals`; groups,
     merge, dual combination, chained normals and scatter stay), so ``g, G, H`` are that
@@ -366,8 +368,12 @@ def evaluate(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarra
     mirror = _mirror(measure, mirror, xs.shape[0])
     second = tangent and lam is not None
     nn = nodal_normals(xs, seg_s, cells[0], order=2 if second else 1, mirror=mirror)
+    biorth = biorthogonal(space)
     if points is None:
-        points = LineSegmentation(cells, n_gauss, pairs=pairs, margin=margin, reach=reach,
+        order = max(c.order for c in cells)
+        n_gauss = 1 + order if n_gauss is None else n_gauss
+        points = LineSegmentation(cells, n_gauss, n_mass=max(n_gauss, N_GAUSS_ELEMENT)
+                                  if biorth and order > 1 else None, pairs=pairs, margin=margin, reach=reach,
                                   frozen=False, **({"mirror": mirror} if mirror else {}))
     ic = (IntegrationCells(segmentation.e_s, segmentation.e_m,
                            (segmentation, np.arange(segmentation.n)))
@@ -375,7 +381,6 @@ def evaluate(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarra
           points.integration_cells(xs, seg_s, xm, seg_m, nn.n))
     surf = _Surfaces(xs, seg_s, xm, seg_m, cells, nn, measure)
     n_s, n_m = xs.shape[1], xm.shape[1]
-    biorth = biorthogonal(space)
     parts = chunks(ic.e_s, LocalLayout.of(cells).n_loc, second, chunk_entries)
     first = None
     if parts[0] is None:
