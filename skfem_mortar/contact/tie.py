@@ -18,10 +18,10 @@ straight interface where the two sides coincide) is kept.
 
 Reference configuration
 -----------------------
-``D`` and ``M`` are the scalar mortar integrals of
-:func:`skfem_mortar.contact.mortar.integrals` (segmentation, Gauss rule, dual
-coefficients, masking of nodes without a master partner: steps 1 to 6 of the
-mortar kernel), computed **once, on the reference configuration** and frozen.
+``D`` and ``M`` are the scalar mortar integrals of the one mortar kernel,
+:func:`skfem_mortar.contact.mortar_kernel.evaluate` (segmentation, Gauss rule, dual
+coefficients, masking of nodes without a master partner), for line and face cells
+alike, computed **once, on the reference configuration** and frozen.
 The constraint is then linear in ``u``, its rows are constant and the tangent
 below is exact for any deformation (what most codes do for tying).  It holds
 at finite strain: a rigid motion ``u = (Q - I) X + c`` of the glued pair
@@ -55,7 +55,7 @@ Nodes that are not tied
 A slave node whose mortar support is (almost) empty (it faces no master
 element) and a slave node with a prescribed dof (Dirichlet data on the slave
 side of the interface, e.g. where the interface meets a clamped edge) are not
-tied: they are merged like crosspoints (:func:`~skfem_mortar.contact.mortar.evaluate`,
+tied: they are merged like crosspoints (:func:`~skfem_mortar.contact.mortar_kernel.evaluate`,
 ``crosspoints``: on their elements the neighbour's ``Phi`` is 1 and theirs 0,
 so the ``Phi`` still sum to one and the patch test still passes), their
 multiplier rows are ``lam_A = 0`` and :meth:`TiePair.tie_data` marks them
@@ -72,10 +72,13 @@ import scipy.sparse as sp
 
 from ..core.item import Contribution, Item
 from ..core.validate import count
-from . import mortar
+from . import mortar_kernel
 from .curves import output_cells
+from .line_points import LineSegmentation
 from .measures import PLANE, Measure, measure_for
 from .multiplier_spaces import MultiplierSpace, traction_space
+from .normals import mirror_of_axis
+from .points3d import FacePoints
 from .preflight_orientation import nodal_normals
 from .segmentation import surface_cell
 from .surfaces import ContactSurface
@@ -89,21 +92,34 @@ class _Integrals(NamedTuple):
     mask: np.ndarray
 
 
+def _line_points(cells: tuple, n_gauss: int, measure: Measure):
+    """Lines: the line segmentation with ``n_gauss`` points per integration cell (the
+    kernel's default, mirror normals on an axisymmetric measure's axis)."""
+    mirror = mirror_of_axis(measure.axis)
+    return LineSegmentation(cells, n_gauss, frozen=False, **({"mirror": mirror} if mirror else {}))
+
+
+def _face_points(cells: tuple, n_gauss: int, measure: Measure):
+    """Faces: the triangle rule of degree ``2 n_gauss`` on each integration cell (4 by
+    default: ``N_A N_B`` of flat tri3 faces has degree 2, of parallelogram quad4 faces 4)."""
+    return FacePoints(cells, 2 * n_gauss)
+
+
+#: the integration points of the one kernel by the slave cell's ``dim`` (the cell table)
+POINTS = {1: _line_points, 2: _face_points}
+
+
 def _integrals(s: ContactSurface, m: ContactSurface, space: MultiplierSpace, n_gauss: int,
                crosspoints: np.ndarray | None, measure: Measure = PLANE) -> _Integrals:
-    """``D``, ``M`` and the mask on the reference configuration: the linear kernel's
-    :func:`~skfem_mortar.contact.mortar.integrals` for two 2-node surfaces, the curved
-    kernel's (:func:`~skfem_mortar.contact.mortar_quadratic.evaluate`, values only) when
-    either has 3-node segments (its Gauss rule: at least 3 points, exact for the
-    products of two quadratics on straight segments); in ``measure``'s ``w dGamma``."""
-    if surface_cell(s).name == "line2" and surface_cell(m).name == "line2":
-        ints = mortar.integrals(s.X, s.segments, m.X, m.segments, **space.kernel_options(),
-                                n_gauss=n_gauss, crosspoints=crosspoints, measure=measure)
-        return _Integrals(ints.D, ints.M, ints.mask)
-    from . import mortar_quadratic
-    ev = mortar_quadratic.evaluate(s.X, s.segments, m.X, m.segments, tangent=False,
-                                   **space.kernel_options(), n_gauss=max(n_gauss, 3),
-                                   crosspoints=crosspoints, measure=measure)
+    """``D``, ``M`` and the mask on the reference configuration: the one mortar kernel's
+    :func:`~skfem_mortar.contact.mortar_kernel.evaluate` (values only) for any cells,
+    its points from :data:`POINTS`; in ``measure``'s ``w dGamma``."""
+    cells = (surface_cell(s), surface_cell(m))
+    order = max(c.order for c in cells)      # quadratic lines: at least 3 points
+    points = POINTS[cells[0].dim](cells, max(n_gauss, 2 * order - 1), measure)
+    ev = mortar_kernel.evaluate(s.X, s.segments, m.X, m.segments, tangent=False,
+                                **space.kernel_options(), crosspoints=crosspoints,
+                                measure=measure, cells=cells, points=points)
     return _Integrals(ev.info["D"], ev.info["M"], ev.mask)
 
 
