@@ -147,14 +147,21 @@ def build_bodies(params: dict) -> TiedParts:
 
 
 def tip_deflection(bodies: list, z: np.ndarray) -> float:
-    """The mean ``-u_z`` over the tip face's vertices of ``bodies`` (each vertex once)."""
-    u = []
+    """The mean ``-u_z`` over the tip face's vertices of ``bodies``, each position once
+    (a vertex that two parts share, on the tip's edge along the cut, counts once with
+    the mean of its two values, as the one-piece beam's vertex there)."""
+    u, X = [], []
     for body in bodies:
         facets = body.mesh.boundaries["tip"]
         if facets.size:
             nodes = np.unique(body.mesh.facets[:, facets])
             u.append(displacement(body, z)[body.node_dofs[2, nodes]])
-    return -float(np.mean(np.concatenate(u)))
+            X.append(body.X[:, nodes])
+    u, X = np.concatenate(u), np.concatenate(X, axis=1)
+    _, where = np.unique(np.round(X / np.ptp(X, axis=1).max(), 9), axis=1,
+                         return_inverse=True)
+    where = where.ravel()
+    return -float(np.mean(np.bincount(where, u) / np.bincount(where)))
 
 
 def cut_traction(body: Solid, z: np.ndarray, axis: int, value: float
