@@ -5,7 +5,6 @@ level and their oscillation does not grow), the tie forces balance, and the vari
 whose interface meets the clamped face solves."""
 from __future__ import annotations
 
-import numpy as np
 import pytest
 
 from skfem_mortar.app.runner import run_scene
