@@ -2,11 +2,12 @@
 
 Two bodies meshed apart are glued along an interface ``Gamma`` by asking the
 displacements of the two sides to agree in the weak mortar sense.  A slave
-node ``A`` carries a vector multiplier ``lam_A`` (two components) with the
+node ``A`` carries a vector multiplier ``lam_A`` (``d`` components, ``d`` = 2 or 3 the
+coordinates of the surfaces) with the
 multiplier shape function ``Phi_A`` (standard ``Phi_A = N_A`` or dual,
 biorthogonal to ``N_A``), and the constraint of node ``A`` is
 
-    c_A(u) = sum_B D_AB u_B - sum_C M_AC u_C = 0                 (both components)
+    c_A(u) = sum_B D_AB u_B - sum_C M_AC u_C = 0                 (every component)
 
     D_AB = int_Gamma Phi_A N_B dGamma,   M_AC = int_Gamma Phi_A N_C dGamma,
 
@@ -18,10 +19,10 @@ straight interface where the two sides coincide) is kept.
 
 Reference configuration
 -----------------------
-``D`` and ``M`` are the scalar mortar integrals of
-:func:`skfem_mortar.contact.mortar.integrals` (segmentation, Gauss rule, dual
-coefficients, masking of nodes without a master partner: steps 1 to 6 of the
-mortar kernel), computed **once, on the reference configuration** and frozen.
+``D`` and ``M`` are the scalar mortar integrals of the one mortar kernel,
+:func:`skfem_mortar.contact.mortar_kernel.evaluate` (segmentation, Gauss rule, dual
+coefficients, masking of nodes without a master partner), for line and face cells
+alike, computed **once, on the reference configuration** and frozen.
 The constraint is then linear in ``u``, its rows are constant and the tangent
 below is exact for any deformation (what most codes do for tying).  It holds
 at finite strain: a rigid motion ``u = (Q - I) X + c`` of the glued pair
@@ -42,7 +43,7 @@ With the tie potential ``-lam . c(u)`` (the sign of :class:`~skfem_mortar.contac
     R_lam  = -B u              (the constraint rows)
     K_ulam = -B^T,   K_lamu = -B,   K_uu += 0,   K_lamlam = 0
 
-with ``B = [D (x) I_2, -M (x) I_2]`` on the slave and master dofs: a symmetric
+with ``B = [D (x) I_d, -M (x) I_d]`` on the slave and master dofs: a symmetric
 saddle point (:attr:`TiePair.symmetric` is True).  The multiplier rows are
 ``c_A`` itself (units: length^2), so the tangent stays symmetric; they are
 linear, so one Newton iteration meets them to round-off.  Both sides'
@@ -55,7 +56,7 @@ Nodes that are not tied
 A slave node whose mortar support is (almost) empty (it faces no master
 element) and a slave node with a prescribed dof (Dirichlet data on the slave
 side of the interface, e.g. where the interface meets a clamped edge) are not
-tied: they are merged like crosspoints (:func:`~skfem_mortar.contact.mortar.evaluate`,
+tied: they are merged like crosspoints (:func:`~skfem_mortar.contact.mortar_kernel.evaluate`,
 ``crosspoints``: on their elements the neighbour's ``Phi`` is 1 and theirs 0,
 so the ``Phi`` still sum to one and the patch test still passes), their
 multiplier rows are ``lam_A = 0`` and :meth:`TiePair.tie_data` marks them
@@ -72,11 +73,12 @@ import scipy.sparse as sp
 
 from ..core.item import Contribution, Item
 from ..core.validate import count
-from . import mortar
-from .curves import output_cells
+from . import mortar_kernel
+from .line_points import LineSegmentation
 from .measures import PLANE, Measure, measure_for
 from .multiplier_spaces import MultiplierSpace, traction_space
-from .preflight_orientation import nodal_normals
+from .normals import mirror_of_axis, nodal_normals
+from .points3d import FacePoints
 from .segmentation import surface_cell
 from .surfaces import ContactSurface
 
@@ -89,21 +91,34 @@ class _Integrals(NamedTuple):
     mask: np.ndarray
 
 
+def _line_points(cells: tuple, n_gauss: int, measure: Measure):
+    """Lines: the line segmentation with ``n_gauss`` points per integration cell (the
+    kernel's default, mirror normals on an axisymmetric measure's axis)."""
+    mirror = mirror_of_axis(measure.axis)
+    return LineSegmentation(cells, n_gauss, frozen=False, **({"mirror": mirror} if mirror else {}))
+
+
+def _face_points(cells: tuple, n_gauss: int, measure: Measure):
+    """Faces: the triangle rule of degree ``2 n_gauss`` on each integration cell (4 by
+    default: ``N_A N_B`` of flat tri3 faces has degree 2, of parallelogram quad4 faces 4)."""
+    return FacePoints(cells, 2 * n_gauss)
+
+
+#: the integration points of the one kernel by the slave cell's ``dim`` (the cell table)
+POINTS = {1: _line_points, 2: _face_points}
+
+
 def _integrals(s: ContactSurface, m: ContactSurface, space: MultiplierSpace, n_gauss: int,
                crosspoints: np.ndarray | None, measure: Measure = PLANE) -> _Integrals:
-    """``D``, ``M`` and the mask on the reference configuration: the linear kernel's
-    :func:`~skfem_mortar.contact.mortar.integrals` for two 2-node surfaces, the curved
-    kernel's (:func:`~skfem_mortar.contact.mortar_quadratic.evaluate`, values only) when
-    either has 3-node segments (its Gauss rule: at least 3 points, exact for the
-    products of two quadratics on straight segments); in ``measure``'s ``w dGamma``."""
-    if surface_cell(s).name == "line2" and surface_cell(m).name == "line2":
-        ints = mortar.integrals(s.X, s.segments, m.X, m.segments, **space.kernel_options(),
-                                n_gauss=n_gauss, crosspoints=crosspoints, measure=measure)
-        return _Integrals(ints.D, ints.M, ints.mask)
-    from . import mortar_quadratic
-    ev = mortar_quadratic.evaluate(s.X, s.segments, m.X, m.segments, tangent=False,
-                                   **space.kernel_options(), n_gauss=max(n_gauss, 3),
-                                   crosspoints=crosspoints, measure=measure)
+    """``D``, ``M`` and the mask on the reference configuration: the one mortar kernel's
+    :func:`~skfem_mortar.contact.mortar_kernel.evaluate` (values only) for any cells,
+    its points from :data:`POINTS`; in ``measure``'s ``w dGamma``."""
+    cells = (surface_cell(s), surface_cell(m))
+    order = max(c.order for c in cells)      # quadratic lines: at least 3 points
+    points = POINTS[cells[0].dim](cells, max(n_gauss, 2 * order - 1), measure)
+    ev = mortar_kernel.evaluate(s.X, s.segments, m.X, m.segments, tangent=False,
+                                **space.kernel_options(), crosspoints=crosspoints,
+                                measure=measure, cells=cells, points=points)
     return _Integrals(ev.info["D"], ev.info["M"], ev.mask)
 
 
@@ -147,17 +162,15 @@ class TiePair(Item):
     ----------
     D, M : csr_matrix (n_s, n_s), (n_s, n_m)
         The reference mortar matrices (rows of the tied nodes only).
-    reference_gap : ndarray (2, n_s)
+    reference_gap : ndarray (d, n_s)
         ``g0_A / sum_B D_AB``: the reference offset of each tied node's
         constraint as a length (zero on a straight coincident interface).
     """
 
     dof_kind = "lam"
-    #: plane and axisymmetric (``D``, ``M`` in ``2 pi r dGamma``: :meth:`set_measure`)
-    geometries = ("plane", "axisymmetric")
-    #: tying in 3D comes with 3D contact
-    geometry_advice = {"3d": "tying in a 3D model is not offered yet (only in plane and "
-                             "axisymmetric models); it comes with 3d contact"}
+    #: plane, axisymmetric (``D``, ``M`` in ``2 pi r dGamma``: :meth:`set_measure`) and 3D
+    #: (faces); the bodies tell which
+    geometries = ("plane", "axisymmetric", "3d")
     loaded = False  # its residual does not depend on the load factor
     symmetric = True  # K_ulam = -B^T, K_lamu = -B
     has_history = False  # D and M depend only on the reference configuration
@@ -180,7 +193,9 @@ class TiePair(Item):
         #: the multipliers' space (``dual=True``: biorthogonal, else standard)
         self.space = traction_space(**basis)
         self.n_gauss = count("n_gauss", n_gauss, 1, 10)
-        self.n_dofs = 2 * slave.n_nodes
+        #: components per node: the surfaces' coordinates (2, or 3 for faces)
+        self.dim = int(slave.X.shape[0])
+        self.n_dofs = self.dim * slave.n_nodes
         self._merged = np.zeros(slave.n_nodes, dtype=bool)  # prescribed slave nodes
         self._geometry = "plane"
         #: the weight of ``dGamma`` (:meth:`set_measure`; the model's geometry's)
@@ -251,8 +266,8 @@ class TiePair(Item):
             if dofs is None:  # a rigid master: no unknowns
                 continue
             c = mat.tocoo()
-            for i in (0, 1):
-                rows.append(2 * c.row.astype(np.int64) + i)
+            for i in range(self.dim):
+                rows.append(self.dim * c.row.astype(np.int64) + i)
                 cols.append(dofs[i, c.col].astype(np.int64))
                 vals.append(sign * c.data)
         return np.concatenate(rows), np.concatenate(cols), np.concatenate(vals)
@@ -265,7 +280,7 @@ class TiePair(Item):
                None if self.master.body is None else self.master.body.offset)
         if self._triplets is None or self._triplets[0] != key:
             rows, cols, vals = self._b_triplets()
-            untied = np.repeat(~self.tied, 2)
+            untied = np.repeat(~self.tied, self.dim)
             diag = self.offset + np.flatnonzero(untied)
             k_rows = np.concatenate([cols, self.offset + rows, diag])
             k_cols = np.concatenate([self.offset + rows, cols, diag])
@@ -274,7 +289,7 @@ class TiePair(Item):
         return self._triplets[1:]
 
     def constraint(self, z: np.ndarray) -> np.ndarray:
-        """``c = D u_s - M u_m`` per slave node, shape (2, n_s) (zero at untied nodes)."""
+        """``c = D u_s - M u_m`` per slave node, shape (d, n_s) (zero at untied nodes)."""
         us = self.slave.x(z) - self.slave.X
         um = self.master.x(z) - self.master.X
         return (self.D @ us.T - self.M @ um.T).T
@@ -321,7 +336,7 @@ class TiePair(Item):
     def end_step(self, z: np.ndarray, load_factor: float) -> None:
         """The untied multipliers of a converged state are exact zeros."""
         lam = z[self.dofs]
-        lam[np.repeat(~self.tied, 2)] = 0.0
+        lam[np.repeat(~self.tied, self.dim)] = 0.0
 
     def outputs(self) -> list:
         """The slave surface with the interface traction (:class:`TieOutput`)."""
@@ -336,13 +351,13 @@ class TiePair(Item):
 
     # -- results -------------------------------------------------------------------
     def traction(self, z: np.ndarray) -> np.ndarray:
-        """The multipliers ``lam_A`` as (2, n_s): the traction the master exerts on the
-        slave, per unit reference length (0 at untied nodes)."""
-        return np.asarray(z)[self.dofs].reshape(-1, 2).T.copy()
+        """The multipliers ``lam_A`` as (d, n_s): the traction the master exerts on the
+        slave, per unit reference length (area in 3D; 0 at untied nodes)."""
+        return np.asarray(z)[self.dofs].reshape(-1, self.dim).T.copy()
 
     def forces(self, z: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """The tie forces ``(2, n_s)`` on the slave nodes, ``f_B = sum_A D_AB lam_A``,
-        and ``(2, n_m)`` on the master nodes, ``f_C = -sum_A M_AC lam_A`` (the force the
+        """The tie forces ``(d, n_s)`` on the slave nodes, ``f_B = sum_A D_AB lam_A``,
+        and ``(d, n_m)`` on the master nodes, ``f_C = -sum_A M_AC lam_A`` (the force the
         other side exerts; the residual term is its negative).
 
         Their resultants cancel exactly (``sum_B D_AB = sum_C M_AC`` for every tied
@@ -354,28 +369,25 @@ class TiePair(Item):
         return (self.D.T @ lam.T).T, -(self.M.T @ lam.T).T
 
     def tie_data(self, z: np.ndarray) -> dict[str, np.ndarray]:
-        """Per slave node: ``x, y`` (current), ``traction`` (2, n_s), its components
-        ``normal`` (``lam . n``, > 0 tension, on the current outward slave nodal
-        normal ``n``) and ``shear`` (``lam . t``, ``t = (-n_y, n_x)`` along the
-        slave surface), ``jump`` (the constraint ``c_A`` over the support
-        ``sum_B D_AB``: the weak displacement jump, a length) and ``tied``."""
+        """Per slave node: ``x, y`` (``x, y, z`` in 3D; current), ``traction`` (d, n_s),
+        its ``normal`` component ``lam . n`` (> 0 tension, on the current outward
+        slave nodal normal ``n``) and its ``shear``: ``lam . t`` with ``t = (-n_y, n_x)``
+        along a 2D surface, the tangential vector ``lam - (lam . n) n`` (3, n_s) on
+        faces; ``jump`` (the constraint ``c_A`` over the support ``sum_B D_AB``: the
+        weak displacement jump, a length) and ``tied``."""
         x = self.slave.x(z)
         lam = self.traction(z)
-        seg = self.slave.segments
-        if surface_cell(self.slave).name == "line3":  # vertices: averaged; mids: their segment's
-            from .mortar_quadratic_segmentation import nodal_normals as curved_normals
-            n = curved_normals(x, seg)
-        else:
-            n = nodal_normals(x, seg)
+        n = nodal_normals(x, self.slave.segments, surface_cell(self.slave), order=0).n
+        normal = np.sum(lam * n, axis=0)
+        shear = lam[1] * n[0] - lam[0] * n[1] if self.dim == 2 else lam - normal * n
         w = np.where(self._weight != 0, self._weight, 1.0)
-        return {"x": x[0].copy(), "y": x[1].copy(), "traction": lam,
-                "normal": np.sum(lam * n, axis=0),
-                "shear": lam[1] * n[0] - lam[0] * n[1],
+        return {**{c: x[i].copy() for i, c in enumerate("xyz"[:self.dim])},
+                "traction": lam, "normal": normal, "shear": shear,
                 "jump": self.constraint(z) / w, "tied": self.tied.copy()}
 
 
 class TieOutput:  # an Output (skfem_mortar.core.model) for the output layer
-    """The slave surface of a :class:`TiePair` as an output series: a polyline with
+    """The slave surface of a :class:`TiePair` as an output series (its lines or faces) with
     point data ``displacement``, ``traction`` (the multiplier vector), its
     ``normal`` and ``shear`` components and ``tied`` (1 or 0)."""
 
@@ -385,12 +397,11 @@ class TieOutput:  # an Output (skfem_mortar.core.model) for the output layer
 
     def output_mesh(self) -> tuple[np.ndarray, list[tuple[str, np.ndarray]]]:
         s = self.tie.slave
-        seg = np.asarray(s.segments)  # line3 (start, end, mid): VTK's quadratic edge
-        return s.X.T.copy(), output_cells(seg, surface_cell(s))
+        return s.X.T.copy(), s.output_cells()
 
     def output_data(self, z: np.ndarray) -> tuple[dict, dict]:
         s = self.tie.slave
         d = self.tie.tie_data(z)
         return ({"displacement": (s.x(z) - s.X).T.copy(), "traction": d["traction"].T.copy(),
-                 "normal": d["normal"], "shear": d["shear"],
+                 "normal": d["normal"], "shear": np.asarray(d["shear"]).T.copy(),
                  "tied": d["tied"].astype(float)}, {})

@@ -1,6 +1,5 @@
 """The parts of scene ``tied3d``: a 3D cantilever meshed as two non-matching parts, to be
-glued by a ``TiePair``, against the one-piece beam (private until the 3D tie registers
-the scene).
+glued by a ``TiePair``, against the one-piece beam.
 
 The beam ``[0, L] x [0, h] x [0, h]`` (``L = length``, ``h = 1``) of ``cantilever3d``
 is clamped at ``X = 0`` and carries the dead tip load ``P`` in ``-z`` (a uniform
@@ -14,9 +13,10 @@ cut along
   half has ``n_a`` cells per unit length, the upper ``n_b``; the interface meets the
   clamped face along ``X = 0, Z = h / 2``, where both parts' nodes are clamped.
 
-``element`` is ``tet1`` or ``hex1`` (both parts).  The slave is part ``b`` (the
-finer with the defaults), the master part ``a``.  ``parts=one`` is the one-piece
-beam with part ``a``'s cell size (the reference: :func:`one_piece`).
+``element`` is ``tet1`` or ``hex1`` (both parts); ``refine`` multiplies ``n_a`` and
+``n_b`` by ``2^(refine - 1)``.  The slave is part ``b`` (the finer with the defaults),
+the master part ``a``.  ``parts=one`` is the one-piece beam with part ``a``'s cell
+size (the reference: :func:`one_piece`).
 
 Readings (:func:`tied_metrics`): ``tip_deflection`` (the mean ``-u_z`` of the tip
 face's vertices) against the one-piece beam's (``_exact``, ``_error``: the two
@@ -24,16 +24,24 @@ meshes' discretization difference, 0 to round-off on matching meshes) and
 against Timoshenko's beam (``_beam``:
 :func:`~skfem_mortar.scenes.cantilever3d.timoshenko_tip`, small strain);
 ``interface_force`` (the resultant of the tie's forces on the slave) against the
-load it carries (``across``: ``P`` on part ``b``, upwards; exact at any mesh).  The
-registration (the tie) waits for the 3D tie.
+load it carries (``across``: ``P`` on part ``b``, upwards; exact at any mesh);
+``traction_error`` (``across``), the multiplier's L2 error against the one-piece
+beam's interface traction (:func:`cut_traction`, :func:`traction_error`); and
+``oscillation``, the multiplier's largest departure from the mean of its neighbours
+(:func:`oscillation`).
 """
 from __future__ import annotations
 
 from dataclasses import dataclass
 
 import numpy as np
+import scipy.sparse as sp
+from skfem import Basis
 
-from ..bodies.solid import Solid
+from ..bodies.solid import Solid, internal_force
+from ..contact.boundary_cells import boundary_cells
+from ..contact.cells import CellType
+from ..contact.mortar_support import tributary_weights
 from ..core.dirichlet import Dirichlet
 from ..loads.traction import Traction
 from . import Param, lame_quantities, ratio
@@ -42,7 +50,23 @@ from ._scene3d import displacement, law_params, make_solid, memory_quantity
 from .cantilever3d import timoshenko_tip
 
 __all__ = ["PARAMS", "TiedParts", "build_bodies", "one_piece", "tip_deflection",
-           "tied_metrics", "derived", "estimate_dofs"]
+           "tied_metrics", "derived", "estimate_dofs", "cells_per_length", "CUTS",
+           "cut_traction", "traction_error", "oscillation"]
+
+#: the cut of each ``interface``: (axis, coordinate over ``L`` or ``h``) of its plane
+CUTS = {"across": (0, "length"), "along": (2, None)}
+
+
+def cells_per_length(params: dict) -> tuple[int, int]:
+    """``n_a`` and ``n_b`` at the level ``refine`` (times ``2^(refine - 1)``)."""
+    level = 2 ** (int(params["refine"]) - 1)
+    return int(params["n_a"]) * level, int(params["n_b"]) * level
+
+
+def cut_plane(params: dict) -> tuple[int, float]:
+    """The axis and coordinate of the interface plane: ``X = L / 2`` or ``Z = h / 2``."""
+    axis, scale = CUTS[params["interface"]]
+    return axis, 0.5 * (float(params[scale]) if scale else 1.0)
 
 
 @dataclass
@@ -76,7 +100,7 @@ def _part(params: dict, box: tuple, n_per_length: float, name: str) -> Solid:
              for lo, hi in box]
     mesh = grid_mesh(params["element"], *lines)
     tol = 1e-9 * L
-    cut = {"across": (0, 0.5 * L), "along": (2, 0.5)}[params["interface"]]
+    cut = cut_plane(params)
     mesh = mesh.with_boundaries({
         "clamp": lambda x: np.abs(x[0]) < tol, "tip": lambda x: np.abs(x[0] - L) < tol,
         "interface": lambda x: np.abs(x[cut[0]] - cut[1]) < tol})
@@ -100,8 +124,8 @@ def _loaded(params: dict, bodies: list) -> tuple[list, float]:
 def one_piece(params: dict) -> TiedParts:
     """The one-piece beam in part ``a``'s cells (``n_a`` per unit length)."""
     L = float(params["length"])
-    beam = _part({**params, "interface": "across"}, ((0.0, L), (0.0, 1.0), (0.0, 1.0)),
-                 int(params["n_a"]), "beam")
+    beam = _part(params, ((0.0, L), (0.0, 1.0), (0.0, 1.0)), cells_per_length(params)[0],
+                 "beam")
     items, P = _loaded(params, [beam])
     return TiedParts([beam], items, None, None, P)
 
@@ -111,7 +135,7 @@ def build_bodies(params: dict) -> TiedParts:
     if params["parts"] == "one":
         return one_piece(params)
     L = float(params["length"])
-    na, nb = int(params["n_a"]), int(params["n_b"])
+    na, nb = cells_per_length(params)
     if params["interface"] == "across":
         boxes = (((0.0, 0.5 * L), (0.0, 1.0), (0.0, 1.0)), ((0.5 * L, L), (0.0, 1.0), (0.0, 1.0)))
     else:
@@ -123,14 +147,96 @@ def build_bodies(params: dict) -> TiedParts:
 
 
 def tip_deflection(bodies: list, z: np.ndarray) -> float:
-    """The mean ``-u_z`` over the tip face's vertices of ``bodies`` (each vertex once)."""
-    u = []
+    """The mean ``-u_z`` over the tip face's vertices of ``bodies``, each position once
+    (a vertex that two parts share, on the tip's edge along the cut, counts once with
+    the mean of its two values, as the one-piece beam's vertex there)."""
+    u, X = [], []
     for body in bodies:
         facets = body.mesh.boundaries["tip"]
         if facets.size:
             nodes = np.unique(body.mesh.facets[:, facets])
             u.append(displacement(body, z)[body.node_dofs[2, nodes]])
-    return -float(np.mean(np.concatenate(u)))
+            X.append(body.X[:, nodes])
+    u, X = np.concatenate(u), np.concatenate(X, axis=1)
+    _, where = np.unique(np.round(X / np.ptp(X, axis=1).max(), 9), axis=1,
+                         return_inverse=True)
+    where = where.ravel()
+    return -float(np.mean(np.bincount(where, u) / np.bincount(where)))
+
+
+def cut_traction(body: Solid, z: np.ndarray, axis: int, value: float
+                 ) -> tuple[np.ndarray, np.ndarray, np.ndarray, CellType]:
+    """The one-piece beam's interface traction on the plane ``X[axis] = value``: the
+    internal nodal forces ``int Grad v : P dV`` of the elements beyond the plane at its
+    nodes (the force the part before it exerts on the part beyond, as the tie's
+    multipliers on part ``b``), over the nodes' tributary areas ``int N_C dA`` on the
+    plane (a lumped traction).
+
+    Returns
+    -------
+    X : ndarray (3, n)
+        The plane's nodes.
+    t : ndarray (3, n)
+        The traction there.
+    conn, cell
+        The plane's faces (into the ``n`` nodes) and their cell type.
+    """
+    mesh = body.mesh
+    p = np.asarray(mesh.p, dtype=float)
+    beyond = np.flatnonzero(p[axis, mesh.t].mean(axis=0) > value)
+    basis = Basis(mesh, body.basis.elem, elements=beyond,
+                  quadrature=(body.basis.X, body.basis.W))
+    P = body.material.stress(body.deformation_gradient(z)[:, :, beyond])
+    r = internal_force.assemble(basis, P=P)
+    tol = 1e-9 * np.ptp(p, axis=1).max()
+    on = np.flatnonzero(np.all(np.abs(p[axis, mesh.facets] - value) < tol, axis=0))
+    conn, cell = boundary_cells(mesh, on)
+    w = tributary_weights(p, conn, cell, 2)
+    nodes, local = np.unique(conn, return_inverse=True)
+    return (p[:, nodes], r[body.node_dofs[:, nodes]] / w[nodes],
+            local.reshape(conn.shape), cell)
+
+
+def traction_error(X: np.ndarray, lam: np.ndarray, weight: np.ndarray, X_ref: np.ndarray,
+                   t_ref: np.ndarray, axis: int) -> float:
+    """The multiplier's L2 error against a reference traction, in the lumped norm of the
+    slave nodes: ``sqrt(sum_A w_A |lam_A - t(X_A)|^2 / sum_A w_A |t(X_A)|^2)``, ``w_A =
+    int N_A dA`` (``weight``; 0 leaves a node out), ``t`` the reference's nodal values
+    ``t_ref`` at ``X_ref`` (a grid on the plane normal to ``axis``) interpolated
+    bilinearly to the slave nodes ``X``."""
+    from scipy.interpolate import RegularGridInterpolator
+
+    plane = [i for i in range(3) if i != axis]
+    lines = [np.unique(np.round(X_ref[i], 12)) for i in plane]
+    idx = [np.searchsorted(line, np.round(X_ref[i], 12)) for line, i in zip(lines, plane)]
+    grid = np.zeros((lines[0].size, lines[1].size, 3))
+    grid[idx[0], idx[1]] = t_ref.T
+    t = RegularGridInterpolator(lines, grid)(X[plane].T).T
+    num = np.sum(weight * np.sum((lam - t) ** 2, axis=0))
+    return float(np.sqrt(num / np.sum(weight * np.sum(t ** 2, axis=0))))
+
+
+def oscillation(lam: np.ndarray, conn: np.ndarray, cell: CellType, tied: np.ndarray
+                ) -> float:
+    """``max_A |lam_A - mean_(B ~ A) lam_B| / max_A |lam_A|`` over the interior tied
+    nodes ``A`` whose neighbours ``B`` (sharing a cell edge) are all tied: ``O(h^2)`` for
+    a smooth traction on a uniform mesh (the neighbours come in opposite pairs), ``O(1)``
+    for a checkerboard (the oscillation of multipliers that lock on tetrahedral faces)."""
+    ends = np.array([[e[0], e[-1]] for e in cell.edges])
+    edges = np.sort(conn[:, ends].reshape(-1, 2), axis=1)
+    edges, count = np.unique(edges, axis=0, return_counts=True)
+    n = lam.shape[1]
+    border = np.zeros(n, dtype=bool)
+    border[edges[count == 1].ravel()] = True
+    adj = sp.coo_matrix((np.ones(2 * len(edges)), (edges.ravel(), edges[:, ::-1].ravel())),
+                        shape=(n, n)).tocsr()
+    deg = np.asarray(adj.sum(axis=1)).ravel()
+    all_tied = np.asarray(adj @ (~tied).astype(float)).ravel() == 0
+    inner = tied & ~border & all_tied & (deg > 0)
+    mean = (adj @ lam.T).T / np.where(deg > 0, deg, 1.0)
+    scale = np.linalg.norm(lam[:, tied], axis=0).max()
+    return float(np.linalg.norm((lam - mean)[:, inner], axis=0).max() / scale
+                 ) if inner.any() else 0.0
 
 
 def tied_metrics(params: dict, deflection: float, reference: float,
@@ -156,7 +262,7 @@ def estimate_dofs(params: dict) -> int:
     """Displacement dofs of the two parts and the one-piece reference (no mesh built)."""
     L = float(params["length"])
     total = 0
-    for n, volume in ((int(params["n_a"]), 1.5 * L), (int(params["n_b"]), 0.5 * L)):
+    for n, volume in zip(cells_per_length(params), (1.5 * L, 0.5 * L)):
         total += int(3 * (n * L + 1) * (n + 1) ** 2 * volume / L)
     return total
 
@@ -179,9 +285,14 @@ PARAMS = (
           low_inclusive=False),
     *law_params("small"),
     Param("element", "hex1", "element of both parts", str, choices=("tet1", "hex1")),
-    Param("n_a", 2, "cells per unit length of part a (the master; the one-piece beam's)",
-          int, low=1, high=256),
-    Param("n_b", 3, "cells per unit length of part b (the slave)", int, low=1, high=256),
+    Param("n_a", 2, "cells per unit length of part a at refine = 1 (the master; the "
+          "one-piece beam's)", int, low=1, high=256),
+    Param("n_b", 3, "cells per unit length of part b (the slave) at refine = 1", int,
+          low=1, high=256),
+    Param("refine", 1, "refinement level: n_a and n_b times 2^(refine - 1)", int, low=1,
+          high=8),
+    Param("multipliers", "standard", "the tie's multiplier space: standard (Phi_A = N_A) "
+          "or dual (biorthogonal)", str, choices=("standard", "dual")),
     Param("interface", "across", "the cut: across the beam at X = L/2, or along it at "
           "Z = h/2, meeting the clamped face", str, choices=("across", "along")),
     Param("parts", "two", "two parts glued by the tie, or the one-piece beam", str,
