@@ -74,10 +74,9 @@ import scipy.sparse as sp
 from ..core.item import Contribution, Item
 from ..core.validate import count
 from . import mortar_kernel
-from .line_points import LineSegmentation
 from .measures import PLANE, Measure, measure_for
 from .multiplier_spaces import MultiplierSpace, traction_space
-from .normals import mirror_of_axis, nodal_normals
+from .normals import nodal_normals
 from .points3d import FacePoints
 from .segmentation import surface_cell
 from .surfaces import ContactSurface
@@ -91,20 +90,20 @@ class _Integrals(NamedTuple):
     mask: np.ndarray
 
 
-def _line_points(cells: tuple, n_gauss: int, measure: Measure):
-    """Lines: the line segmentation with ``n_gauss`` points per integration cell (the
-    kernel's default, mirror normals on an axisymmetric measure's axis)."""
-    mirror = mirror_of_axis(measure.axis)
-    return LineSegmentation(cells, n_gauss, frozen=False, **({"mirror": mirror} if mirror else {}))
+def _line_points(cells: tuple, n_gauss: int) -> None:
+    """Lines: the kernel's own line segmentation (``points=None``: ``n_gauss`` points per
+    integration cell, the dual mass rule of curved cells, mirror normals on an
+    axisymmetric measure's axis)."""
+    return None
 
 
-def _face_points(cells: tuple, n_gauss: int, measure: Measure):
+def _face_points(cells: tuple, n_gauss: int) -> FacePoints:
     """Faces: the triangle rule of degree ``2 n_gauss`` on each integration cell (4 by
     default: ``N_A N_B`` of flat tri3 faces has degree 2, of parallelogram quad4 faces 4)."""
     return FacePoints(cells, 2 * n_gauss)
 
 
-#: the integration points of the one kernel by the slave cell's ``dim`` (the cell table)
+#: the one kernel's integration points by the slave cell's ``dim`` (the cell table)
 POINTS = {1: _line_points, 2: _face_points}
 
 
@@ -115,10 +114,11 @@ def _integrals(s: ContactSurface, m: ContactSurface, space: MultiplierSpace, n_g
     its points from :data:`POINTS`; in ``measure``'s ``w dGamma``."""
     cells = (surface_cell(s), surface_cell(m))
     order = max(c.order for c in cells)      # quadratic lines: at least 3 points
-    points = POINTS[cells[0].dim](cells, max(n_gauss, 2 * order - 1), measure)
+    n_gauss = max(n_gauss, 2 * order - 1)
     ev = mortar_kernel.evaluate(s.X, s.segments, m.X, m.segments, tangent=False,
-                                **space.kernel_options(), crosspoints=crosspoints,
-                                measure=measure, cells=cells, points=points)
+                                **space.kernel_options(), n_gauss=n_gauss,
+                                crosspoints=crosspoints, measure=measure, cells=cells,
+                                points=POINTS[cells[0].dim](cells, n_gauss))
     return _Integrals(ev.info["D"], ev.info["M"], ev.mask)
 
 
