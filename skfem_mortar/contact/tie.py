@@ -36,7 +36,8 @@ rotations are exact; on a curved non-matching interface the two polygons differ 
 Residual and tangent
 --------------------
 ``lam_A`` is the traction the master side exerts on the slave side, per unit
-reference length (and per unit reference thickness), ``t_h = sum_A Phi_A lam_A``.
+reference length (and per unit reference thickness; per unit reference area on the
+faces of a 3D model), ``t_h = sum_A Phi_A lam_A``.
 With the tie potential ``-lam . c(u)`` (the sign of :class:`~skfem_mortar.contact.pair.ContactPair`):
 
     R_u   += -B^T lam          (slave rows: -sum_A D_AB lam_A; master rows: +sum_A M_AC lam_A)
@@ -54,13 +55,17 @@ sum to zero, and their moments to ``sum_A g0_A x lam_A`` at a state where
 Nodes that are not tied
 -----------------------
 A slave node whose mortar support is (almost) empty (it faces no master
-element) and a slave node with a prescribed dof (Dirichlet data on the slave
-side of the interface, e.g. where the interface meets a clamped edge) are not
-tied: they are merged like crosspoints (:func:`~skfem_mortar.contact.mortar_kernel.evaluate`,
-``crosspoints``: on their elements the neighbour's ``Phi`` is 1 and theirs 0,
-so the ``Phi`` still sum to one and the patch test still passes), their
-multiplier rows are ``lam_A = 0`` and :meth:`TiePair.tie_data` marks them
-``tied = False``.  The prescribed slave dofs are read in :meth:`TiePair.set_fixed`
+element, or only a sliver of it) and a slave node with a prescribed dof
+(Dirichlet data on the slave side of the interface, e.g. where the interface
+meets a clamped edge or face) are not tied: they are *merged*, not dropped, like
+crosspoints (:func:`~skfem_mortar.contact.mortar_kernel.evaluate`, ``crosspoints``,
+the kernel's merge rule of the cell table: on each of their cells their ``Phi``
+goes to the nearest kept nodes along the cell's edges, in equal shares), so the
+``Phi`` still sum to one and the patch test still passes; their multiplier rows
+are ``lam_A = 0`` and :meth:`TiePair.tie_data` marks them ``tied = False``.
+Tying them too would fix their dofs twice (measured on a 3D interface meeting a
+clamped face: the free tangent's smallest singular value drops from 7e-9 of the
+largest to round-off, ``tests/test_tie3d.py``).  The prescribed slave dofs are read in :meth:`TiePair.set_fixed`
 (before each step): a slave with Dirichlet data on a tied dof over-constrains
 the interface (the row of ``c_A`` would fix master dofs or be empty).
 """
@@ -124,7 +129,9 @@ def _integrals(s: ContactSurface, m: ContactSurface, space: MultiplierSpace, n_g
 
 class TiePair(Item):
     """Glue a slave surface to a master surface: vector mortar constraints on the
-    displacement jump, two multipliers (the interface traction) per slave node.
+    displacement jump, ``d`` multipliers (the interface traction) per slave node: two on
+    the lines of a plane or axisymmetric model, three on the faces (tri3, quad4) of a
+    3D one.
 
     Parameters
     ----------
@@ -138,8 +145,10 @@ class TiePair(Item):
     name : str
         Item name (unique among the bodies and multiplier items).
     n_gauss : int
-        Gauss points per mortar segment (>= 1); the default 2 integrates
-        ``D`` and ``M`` exactly on straight segments.
+        Gauss points per mortar segment (>= 1; at least 3 on line3 cells); the
+        default 2 integrates ``D`` and ``M`` exactly on straight segments.  On faces
+        the triangle rule of degree ``2 n_gauss`` on each integration cell (default 4:
+        exact on flat tri3 and parallelogram quad4 faces).
     dual : bool, keyword only
         Dual (biorthogonal) multiplier shape functions: ``D`` is diagonal
         (exactly: off-diagonal entries below 1e-12 of the diagonal, the kernel's
