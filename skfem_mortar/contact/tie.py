@@ -36,7 +36,8 @@ rotations are exact; on a curved non-matching interface the two polygons differ 
 Residual and tangent
 --------------------
 ``lam_A`` is the traction the master side exerts on the slave side, per unit
-reference length (and per unit reference thickness), ``t_h = sum_A Phi_A lam_A``.
+reference length (and per unit reference thickness; per unit reference area on the
+faces of a 3D model), ``t_h = sum_A Phi_A lam_A``.
 With the tie potential ``-lam . c(u)`` (the sign of :class:`~skfem_mortar.contact.pair.ContactPair`):
 
     R_u   += -B^T lam          (slave rows: -sum_A D_AB lam_A; master rows: +sum_A M_AC lam_A)
@@ -54,13 +55,17 @@ sum to zero, and their moments to ``sum_A g0_A x lam_A`` at a state where
 Nodes that are not tied
 -----------------------
 A slave node whose mortar support is (almost) empty (it faces no master
-element) and a slave node with a prescribed dof (Dirichlet data on the slave
-side of the interface, e.g. where the interface meets a clamped edge) are not
-tied: they are merged like crosspoints (:func:`~skfem_mortar.contact.mortar_kernel.evaluate`,
-``crosspoints``: on their elements the neighbour's ``Phi`` is 1 and theirs 0,
-so the ``Phi`` still sum to one and the patch test still passes), their
-multiplier rows are ``lam_A = 0`` and :meth:`TiePair.tie_data` marks them
-``tied = False``.  The prescribed slave dofs are read in :meth:`TiePair.set_fixed`
+element, or only a sliver of it) and a slave node with a prescribed dof
+(Dirichlet data on the slave side of the interface, e.g. where the interface
+meets a clamped edge or face) are not tied: they are *merged*, not dropped, like
+crosspoints (:func:`~skfem_mortar.contact.mortar_kernel.evaluate`, ``crosspoints``,
+the kernel's merge rule of the cell table: on each of their cells their ``Phi``
+goes to the nearest kept nodes along the cell's edges, in equal shares), so the
+``Phi`` still sum to one and the patch test still passes; their multiplier rows
+are ``lam_A = 0`` and :meth:`TiePair.tie_data` marks them ``tied = False``.
+Tying them too would fix their dofs twice (measured on a 3D interface meeting a
+clamped face: the free tangent's smallest singular value drops from 7e-9 of the
+largest to round-off, ``tests/test_tie3d.py``).  The prescribed slave dofs are read in :meth:`TiePair.set_fixed`
 (before each step): a slave with Dirichlet data on a tied dof over-constrains
 the interface (the row of ``c_A`` would fix master dofs or be empty).
 """
@@ -74,10 +79,9 @@ import scipy.sparse as sp
 from ..core.item import Contribution, Item
 from ..core.validate import count
 from . import mortar_kernel
-from .line_points import LineSegmentation
 from .measures import PLANE, Measure, measure_for
 from .multiplier_spaces import MultiplierSpace, traction_space
-from .normals import mirror_of_axis, nodal_normals
+from .normals import nodal_normals
 from .points3d import FacePoints
 from .segmentation import surface_cell
 from .surfaces import ContactSurface
@@ -91,20 +95,20 @@ class _Integrals(NamedTuple):
     mask: np.ndarray
 
 
-def _line_points(cells: tuple, n_gauss: int, measure: Measure):
-    """Lines: the line segmentation with ``n_gauss`` points per integration cell (the
-    kernel's default, mirror normals on an axisymmetric measure's axis)."""
-    mirror = mirror_of_axis(measure.axis)
-    return LineSegmentation(cells, n_gauss, frozen=False, **({"mirror": mirror} if mirror else {}))
+def _line_points(cells: tuple, n_gauss: int) -> None:
+    """Lines: the kernel's own line segmentation (``points=None``: ``n_gauss`` points per
+    integration cell, the dual mass rule of curved cells, mirror normals on an
+    axisymmetric measure's axis)."""
+    return None
 
 
-def _face_points(cells: tuple, n_gauss: int, measure: Measure):
+def _face_points(cells: tuple, n_gauss: int) -> FacePoints:
     """Faces: the triangle rule of degree ``2 n_gauss`` on each integration cell (4 by
     default: ``N_A N_B`` of flat tri3 faces has degree 2, of parallelogram quad4 faces 4)."""
     return FacePoints(cells, 2 * n_gauss)
 
 
-#: the integration points of the one kernel by the slave cell's ``dim`` (the cell table)
+#: the one kernel's integration points by the slave cell's ``dim`` (the cell table)
 POINTS = {1: _line_points, 2: _face_points}
 
 
@@ -115,16 +119,19 @@ def _integrals(s: ContactSurface, m: ContactSurface, space: MultiplierSpace, n_g
     its points from :data:`POINTS`; in ``measure``'s ``w dGamma``."""
     cells = (surface_cell(s), surface_cell(m))
     order = max(c.order for c in cells)      # quadratic lines: at least 3 points
-    points = POINTS[cells[0].dim](cells, max(n_gauss, 2 * order - 1), measure)
+    n_gauss = max(n_gauss, 2 * order - 1)
     ev = mortar_kernel.evaluate(s.X, s.segments, m.X, m.segments, tangent=False,
-                                **space.kernel_options(), crosspoints=crosspoints,
-                                measure=measure, cells=cells, points=points)
+                                **space.kernel_options(), n_gauss=n_gauss,
+                                crosspoints=crosspoints, measure=measure, cells=cells,
+                                points=POINTS[cells[0].dim](cells, n_gauss))
     return _Integrals(ev.info["D"], ev.info["M"], ev.mask)
 
 
 class TiePair(Item):
     """Glue a slave surface to a master surface: vector mortar constraints on the
-    displacement jump, two multipliers (the interface traction) per slave node.
+    displacement jump, ``d`` multipliers (the interface traction) per slave node: two on
+    the lines of a plane or axisymmetric model, three on the faces (tri3, quad4) of a
+    3D one.
 
     Parameters
     ----------
@@ -138,8 +145,10 @@ class TiePair(Item):
     name : str
         Item name (unique among the bodies and multiplier items).
     n_gauss : int
-        Gauss points per mortar segment (>= 1); the default 2 integrates
-        ``D`` and ``M`` exactly on straight segments.
+        Gauss points per mortar segment (>= 1; at least 3 on line3 cells); the
+        default 2 integrates ``D`` and ``M`` exactly on straight segments.  On faces
+        the triangle rule of degree ``2 n_gauss`` on each integration cell (default 4:
+        exact on flat tri3 and parallelogram quad4 faces).
     dual : bool, keyword only
         Dual (biorthogonal) multiplier shape functions: ``D`` is diagonal
         (exactly: off-diagonal entries below 1e-12 of the diagonal, the kernel's

@@ -42,9 +42,10 @@ def _reference(params: dict, n_steps: int) -> tuple[float, tuple]:
 
 def tie_readings(tie: TiePair, z: np.ndarray, cut: tuple, axis: int, P: float) -> dict:
     """``traction_error``, ``oscillation``, ``force_balance`` and ``n_tied`` of ``tie``
-    at ``z`` against the one-piece beam's ``cut`` (:func:`~skfem_mortar.scenes._tied3d.
-    cut_traction`), and the oscillation of the one-piece traction itself
-    (``oscillation_exact``: what the elements' own stresses give)."""
+    at ``z`` against the one-piece beam's ``cut``
+    (:func:`~skfem_mortar.scenes._tied3d.cut_traction`), and the oscillation of the
+    one-piece traction itself (``oscillation_exact``: what the elements' own stresses
+    give)."""
     X_ref, t_ref, conn_ref, cell_ref = cut
     s = tie.slave
     cell = surface_cell(s)
