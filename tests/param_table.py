@@ -38,6 +38,7 @@ VALID = {
     "block3d": {"shear": {"0", "-1"}, "nu": {"0"}, "distort": {"0"}},
     "thick_sphere3d": {"nu": {"0"}},
     "cantilever3d": {"nu": {"0"}},
+    "tied3d": {"nu": {"0"}},
     "hertz_axi": {"nu": {"0"}, "nu_base": {"0"}, "refine": {"0", "-1"}},
     "oring": {"mu": {"0"}, "hold_centre": {"0"}, "refine": {"0", "-1"}},
     "seed_axi": {"tube": {"0"}, "nu_tube": {"0"}, "refine": {"0", "-1"}},

@@ -66,6 +66,12 @@ GRIDS: dict[str, dict[str, Any]] = {
     "tied": {"metrics": ["tip_deflection_error", "energy_error", "traction_max_error",
                          "traction_error"],
              "grid": {"refine": [1, 2, 3, 4]}, "quick": {"refine": [1, 2]}},
+    # tied3d: the two parts against the one-piece beam at the master's h (tet1 or hex1,
+    # standard or dual multipliers)
+    "tied3d": {"metrics": ["tip_deflection_error", "traction_error"],
+               "grid": {"refine": [1, 2, 3], "element": ["tet1", "hex1"],
+                        "multipliers": ["standard", "dual"]},
+               "quick": {"refine": [1, 2]}},
     # thick_sphere: the axisymmetric wall against Lame, linear and quadratic elements
     "thick_sphere": {"metrics": ["l2_error", "u_inner_error"],
                      "grid": {"element": ["tri1", "quad1", "tri2", "quad2"], "n": [2, 4, 8]},
