@@ -143,8 +143,9 @@ def _chain_order(slave: Any) -> np.ndarray | None:
 class ContactPair(Item):
     """Contact between a slave and a master surface with Lagrange multipliers,
     frictionless or with Coulomb or Tresca friction, in plane and axisymmetric models;
-    frictionless NTS between the faces of 3D bodies (tri3, quad4) or against a rigid
-    plane, sphere or cylinder (:mod:`.rigid3d`) in 3D models.
+    frictionless between the faces of 3D bodies (tri3, quad4) in 3D models: NTS,
+    mortar and mortar-dual (:mod:`.mortar_faces`), NTS also against a rigid plane,
+    sphere or cylinder (:mod:`.rigid3d`).
 
     In an axisymmetric model (``Model(..., geometry="axisymmetric")``, ``(r, z) =
     (x, y)``) every integral over the slave weighs ``2 pi r dGamma`` (the measure
@@ -187,7 +188,7 @@ class ContactPair(Item):
         ``segmentation``): rebuild the mortar segments at every Newton iteration
         (default, exact), or build them once per load step from the last
         converged state and freeze them during the step (cheaper, see
-        :func:`skfem_mortar.contact.mortar.evaluate`).
+        :func:`skfem_mortar.contact.mortar.evaluate`; lines only: refused between faces).
     accelerate : bool
         When the tensile tail of a too-wide contact zone is released, release
         as many nodes again beyond the tail as the sign change of the
@@ -206,7 +207,10 @@ class ContactPair(Item):
         on 2-node and 3-node (quadratic) segments alike.  Not in 3D yet.
     symmetry : list of (normal, offset), optional
         3D only: the symmetry planes ``normal . x = offset`` of a quarter or half
-        model (:mod:`.symmetry`); a master face edge on one is no free border.  None
+        model (:mod:`.symmetry`), told to a method with the hook
+        (:class:`~.discretization.SymmetricDiscretization`): NTS takes a master face
+        edge on one for no free border, mortar gives the slave nodes on one the mirror
+        normal.  None
         (default): read from the Dirichlet data (a coordinate plane bounding the
         slave surface on which every slave node's normal dof is held).
     **options
