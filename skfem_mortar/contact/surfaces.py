@@ -2,8 +2,8 @@
 
 In 2D a surface is an oriented chain of line cells; in 3D a set of surface cells
 (``tri3``, ``quad4``) running counter-clockwise seen from outside
-(:meth:`ContactSurface.from_solid` of a tetrahedral or hexahedral solid; contact on
-them is not offered yet).  The cell type is an attribute, :attr:`ContactSurface.cell`.
+(:meth:`ContactSurface.from_solid` of a tetrahedral or hexahedral solid: NTS and
+mortar contact, and tying, between them).  The cell type is an attribute, :attr:`ContactSurface.cell`.
 
 A :class:`ContactSurface` holds ``n`` surface nodes and ``segments`` (n_seg, 2)
 indices into them, ordered along one chain (open or closed) and oriented so
@@ -285,7 +285,7 @@ class ContactSurface:
         whose mid node is the facet's P2 node (``nodes`` -1 there: it is not a
         vertex), so that the surface is the facet trace of the body's
         displacement field.  Linear 3D elements (:data:`TRACE_3D`) give tri3 or quad4
-        cells (contact on 3D bodies is not offered yet: a pair refuses them).
+        cells, for contact (nts, mortar, mortar-dual) and tying between 3D bodies.
 
         Parameters
         ----------
