@@ -144,3 +144,15 @@ def test_node_values_in_the_node_major_layout_are_refused():
     nd = body.node_dofs[:, top]
     lookup = dict(zip(dofs - body.offset, vals))
     assert [lookup[k] for k in nd[0]] == list(ux) and [lookup[k] for k in nd[1]] == list(-ux)
+
+
+def test_a_boundary_tag_given_as_dofs_names_boundary_keyword():
+    """A newcomer's ``Dirichlet(block, "bottom")`` (the tag where dofs go) is refused with
+    the keyword that takes a tag, not a dtype complaint."""
+    import skfem
+    from skfem_mortar import Dirichlet, LinearElastic, Solid
+
+    mesh = skfem.MeshQuad.init_tensor([0.0, 1.0], [0.0, 1.0])
+    block = Solid(mesh, LinearElastic(E=1.0, nu=0.3), element="quad1", name="block")
+    with pytest.raises(ValueError, match=r"boundary='bottom'"):
+        Dirichlet(block, "bottom")

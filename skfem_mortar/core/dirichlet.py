@@ -181,6 +181,10 @@ def _given_dofs(body: Item, dofs: Any, nodes: Any, component: int | str | None,
     """The local dofs of a :class:`Dirichlet`: ``dofs`` checked (and refused
     when they look like node numbers), the dofs of ``nodes``, or those of a
     ``boundary`` (``body.dofs_on(boundary, component)``)."""
+    if isinstance(dofs, str):      # Dirichlet(body, "bottom"): a tag where dofs go
+        raise ValueError(f"Dirichlet on body {body.name!r}: dofs must be dof numbers, got the "
+                         f"string {dofs!r}; a boundary tag goes to boundary=: "
+                         f"Dirichlet({body.name}, boundary={dofs!r})")
     given = sum(a is not None for a in (dofs, nodes, boundary))
     if given != 1:
         raise ValueError(f"Dirichlet on body {body.name!r}: give either dofs (e.g. "
