@@ -51,13 +51,17 @@ def affine(cell: CellType) -> bool:
     return cell.dim == 1 and cell.order == 1 and len(cell.corners) == cell.n_nodes
 
 
-def _point(cell: CellType, xi, nodes: list):
-    """``x(xi)`` and ``dx/dxi`` on a line cell (``xi`` a jet or an array; ``nodes[a][i]``)."""
+def _point(cell: CellType, xi, nodes: list, tangent: bool = True):
+    """``x(xi)`` and ``dx/dxi`` on a line cell (``xi`` a jet or an array; ``nodes[a][i]``;
+    ``tangent`` False: ``x`` alone, for jets)."""
     if isinstance(xi, Jet):
-        N, dN = shape_jets(cell, (xi,), derivatives=True)
-        dN = [r[0] for r in dN]
+        N, dN = shape_jets(cell, (xi,), derivatives=True) if tangent else (
+            shape_jets(cell, (xi,)), None)
         x = [sum((N[a] * nodes[a][i] for a in range(1, len(N))), N[0] * nodes[0][i])
              for i in range(2)]
+        if not tangent:
+            return x
+        dN = [r[0] for r in dN]
         t = [sum((dN[a] * nodes[a][i] for a in range(1, len(N))), dN[0] * nodes[0][i])
              for i in range(2)]
         return x, t
@@ -113,8 +117,8 @@ def _values(nodes: list, shape) -> list:
              for c in node] for node in nodes]
 
 
-def _expand(nodes: list) -> list:
-    return [[c.expand() for c in node] for node in nodes]
+def _spread(nodes: list, shape: tuple) -> list:
+    return [[c.spread(shape) for c in node] for node in nodes]
 
 
 class LineSegmentation:
@@ -207,9 +211,10 @@ class LineSegmentation:
             e5, w5 = line_quadrature(2 * self.n_mass - 1)
             mass = ((lo.expand() * ((1.0 - e5[0]) * 0.5) + hi.expand() * ((1.0 + e5[0]) * 0.5),),
                     (hi.expand() - lo.expand()) * (w5 * 0.5))
-        xs, ns, xm = _expand(local.x_s), _expand(local.n_s), _expand(local.x_m)
-        p, _ = _point(cs, xi_s, xs)
-        n, _ = _point(cs, xi_s, ns)
+        shape = xi_s.v.shape
+        xs, ns, xm = (_spread(L, shape) for L in (local.x_s, local.n_s, local.x_m))
+        p = _point(cs, xi_s, xs, False)
+        n = _point(cs, xi_s, ns, False)
         if self.fast[1]:     # x_s + alpha n~ = x_m1 + s (x_m2 - x_m1), eta = 2 s - 1
             dm = [xm[1][i] - xm[0][i] for i in range(2)]
             r = [xm[0][i] - p[i] for i in range(2)]

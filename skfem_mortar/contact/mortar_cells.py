@@ -58,11 +58,14 @@ def compose(f0: np.ndarray, f1: np.ndarray, f2: np.ndarray | None, xi: tuple) ->
 
     Exact to second order.
     """
+    second = xi[0].h is not None
+    if not np.any(f1) and (f2 is None or not np.any(f2)):   # constant in xi (a line2's dN)
+        return Jet.constant(f0, xi[0].g.shape[0], second)
     g = sum(f1[r][None] * x.g for r, x in enumerate(xi))
     h = None
-    if xi[0].h is not None:
+    if second:
         h = sum(f1[r][None, None] * x.h for r, x in enumerate(xi))
-        if f2 is not None:
+        if f2 is not None and np.any(f2):
             for r, xr in enumerate(xi):
                 for t, xt in enumerate(xi):
                     h = h + xr.g[:, None] * (xt.g * f2[r, t][None])[None]
@@ -97,11 +100,13 @@ def dot(a: list, b: list):
 
 def combine(N: list, x: list, d: int) -> list:
     """``sum_a N_a x_a`` component by component (``x[a][i]`` jets of shape (n,))."""
+    shape = N[0].v.shape
+    xq = [[x[a][i].spread(shape) for i in range(d)] for a in range(len(N))]
     out = []
     for i in range(d):
-        acc = N[0] * x[0][i].expand()
+        acc = N[0] * xq[0][i]
         for a in range(1, len(N)):
-            acc = acc + N[a] * x[a][i].expand()
+            acc = acc + N[a] * xq[a][i]
         out.append(acc)
     return out
 
