@@ -129,9 +129,9 @@ class Jet:
 
     def __mul__(self, o):
         if isinstance(o, Jet):
-            if _zero(self.g) and (self.h is None or _zero(self.h)):   # a constant: no outer
+            if self.is_constant():            # a constant: a scaled copy, no outer product
                 return o * self.v
-            if _zero(o.g) and (o.h is None or _zero(o.h)):
+            if o.is_constant():
                 return self * o.v
             if self.v.shape != o.v.shape:       # materialize the broadcast operand once
                 full = _full(self.v.shape, o.v.shape)
@@ -198,6 +198,10 @@ class Jet:
         return Jet(self.v[:, None], self.g[..., None],
                    None if self.h is None else self.h[..., None])
 
+    def is_constant(self) -> bool:
+        """Whether the jet is known constant (zero gradient and Hessian views)."""
+        return _zero(self.g) and (self.h is None or _zero(self.h))
+
     def _fill(self, shape: tuple) -> "Jet":
         """The jet broadcast to values ``shape``, materialized (contiguous; products then
         run numpy's inner loops over whole arrays, not over a broadcast length-1 axis:
@@ -231,7 +235,10 @@ class Jet:
         c = np.asarray(cond)
         v = np.where(c, a.v, b.v)
         g = np.where(c, a.g, b.g)
-        h = None if a.h is None else np.where(c, a.h, b.h)
+        h = None
+        if a.h is not None:
+            h = (_zeros(a.h.shape[:2] + v.shape) if _zero(a.h) and _zero(b.h)
+                 else np.where(c, a.h, b.h))
         return Jet(v, g, h)
 
 

@@ -59,8 +59,8 @@ def compose(f0: np.ndarray, f1: np.ndarray, f2: np.ndarray | None, xi: tuple) ->
     Exact to second order.
     """
     second = xi[0].h is not None
-    if not np.any(f1) and (f2 is None or not np.any(f2)):   # constant in xi (a line2's dN)
-        return Jet.constant(f0, xi[0].g.shape[0], second)
+    if (not np.any(f1) and (f2 is None or not np.any(f2))) or all(x.is_constant() for x in xi):
+        return Jet.constant(f0, xi[0].g.shape[0], second)   # (a line2's dN; constant xi)
     g = sum(f1[r][None] * x.g for r, x in enumerate(xi))
     h = None
     if second:
