@@ -257,7 +257,7 @@ class LineSegmentation:
             dm = [xm[1][i] - xm[0][i] for i in range(2)]
             r = [xm[0][i] - p[i] for i in range(2)]
             eta_m = _cross(r, n) * _cross(n, dm).inv() * 2.0 - 1.0
-            return IntegrationPoints(cells.e_s, cells.e_m, (xi_s,), (eta_m,), w, mass)
+            return IntegrationPoints(cells.e_s, cells.e_m, (xi_s,), (eta_m,), w, mass, (p, n))
         guess = self._master_guess(sg, a, b)
         values = ([c.v for c in p], [c.v for c in n], _values(local.x_m, guess.shape))
 
@@ -271,7 +271,7 @@ class LineSegmentation:
             r = [q[0] - P[0], q[1] - P[1]]
             return _cross(r, Nn), _cross(t, Nn)
         eta_m = _solve(residual, guess, w)
-        return IntegrationPoints(cells.e_s, cells.e_m, (xi_s,), (eta_m,), w, mass)
+        return IntegrationPoints(cells.e_s, cells.e_m, (xi_s,), (eta_m,), w, mass, (p, n))
 
     @staticmethod
     def _master_guess(sg, a: np.ndarray, b: np.ndarray) -> np.ndarray:

@@ -126,7 +126,7 @@ def slave_geometry(points: IntegrationPoints, local: LocalVariables, cell: CellT
     kernel is weighted with (``sum_k dG_k N_A f_k`` is ``int N_A f dGamma``)."""
     d = local.layout.d
     N, dN = shape_jets(cell, points.xi_s, derivatives=True)
-    xs = combine(N, local.x_s, d)
+    xs = points.geometry[0] if points.geometry is not None else combine(N, local.x_s, d)
     T = [combine([dN[a][r] for a in range(cell.n_nodes)], local.x_s, d)
          for r in range(cell.dim)]
     dG = points.w * _jacobian(T)
@@ -178,7 +178,9 @@ def cell_integrals(points: IntegrationPoints, local: LocalVariables,
     N, xs, dG = slave_geometry(points, local, cs, measure)
     Nm = shape_jets(cm, points.xi_m)
     if integrand is None:
-        nt, xm = combine(N, local.n_s, d), combine(Nm, local.x_m, d)
+        nt = (points.geometry[1] if points.geometry is not None else
+              combine(N, local.n_s, d))
+        xm = combine(Nm, local.x_m, d)
         gn = dot(nt, [q - p for p, q in zip(xs, xm)]) * dot(nt, nt).sqrt().inv()
         g = [(N[a] * gn * dG).sum() for a in range(cs.n_nodes)]
     else:
@@ -193,8 +195,8 @@ def cell_integrals(points: IntegrationPoints, local: LocalVariables,
     if mass:
         k = cs.n_nodes
         if points.mass is not None:
-            N, _, dG = slave_geometry(points._replace(xi_s=points.mass[0], w=points.mass[1]),
-                                      local, cs, measure)
+            N, _, dG = slave_geometry(points._replace(xi_s=points.mass[0], w=points.mass[1],
+                                                      geometry=None), local, cs, measure)
         wN = [N[a] * dG for a in range(k)]
         n_A = [x.sum() for x in wN]
         n_AB = {(a, b): (wN[a] * N[b]).sum() for a in range(k) for b in range(a, k)}
