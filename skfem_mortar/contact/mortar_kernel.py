@@ -200,8 +200,10 @@ def _chain_hessian(f: Jet, Jn: np.ndarray, S: np.ndarray, normals: NodalNormals,
 
 
 def _scatter(g: list, grp: Groups, conn_s, conn_m, e_m, normals: NodalNormals, n_s: int,
-             lam, tangent: bool, out: np.ndarray, trip: Triplets, th: Triplets) -> None:
-    """:func:`assemble`'s work, added to ``out`` and appended to ``trip`` (G), ``th`` (H)."""
+             lam, tangent: bool, out: np.ndarray, trip: Triplets, th: Triplets,
+             q: Jet | None = None) -> None:
+    """:func:`assemble`'s work, added to ``out`` and appended to ``trip`` (G), ``th`` (H);
+    ``q``: ``sum_A lam_A g_A`` if made already (then ``g`` may be first order)."""
     lay = grp.layout
     S = conn_s[grp.e_s]
     for a in range(lay.k_s):
@@ -214,12 +216,13 @@ def _scatter(g: list, grp: Groups, conn_s, conn_m, e_m, normals: NodalNormals, n
     safe = np.where(used, dofs, 0)
     for a in range(lay.k_s):
         trip.rows(S[:, a], safe, _chain_gradient(g[a].g, Jn, parts), used)
-    if lam is not None and g[0].h is not None:
+    if q is None and lam is not None and g[0].h is not None:
         lam = np.asarray(lam, dtype=float)
-        f = g[0] * lam[S[:, 0]]
+        q = g[0] * lam[S[:, 0]]
         for a in range(1, lay.k_s):
-            f = f + g[a] * lam[S[:, a]]
-        H = _chain_hessian(f, Jn, S, normals, parts)
+            q = q + g[a] * lam[S[:, a]]
+    if q is not None:
+        H = _chain_hessian(q, Jn, S, normals, parts)
         if not used.all():
             H *= used[:, :, None]
             H *= used[:, None, :]
@@ -438,13 +441,22 @@ def _chunk(surf: _Surfaces, ic: IntegrationCells, S, loc, ints, mask, space, lam
     T = (merge_nodes(merged, surf.cells[0]) if merged.any()
          else np.broadcast_to(np.eye(k), (grp.e_s.size, k, k)))
     Gs = _combine(T, group_sums(ints.g, grp))
-    C = T
+    C, q = T, None
     if space is not None:
         A, C = _biorthogonal(ints, grp, T, space)
+        if lam is not None and Gs[0].h is not None:
+            # q = sum_A lam_A sum_B A_AB G_B = sum_B mu_B G_B, mu_B = sum_A lam_A A_AB: k
+            # second-order products instead of k^2; g_A themselves to first order
+            lamS = np.asarray(lam, dtype=float)[seg_s[grp.e_s]]
+            mu = [sum((A[a, b] * lamS[:, a] for a in range(1, k)), A[0, b] * lamS[:, 0])
+                  for b in range(k)]
+            q = sum((mu[b] * Gs[b] for b in range(1, k)), mu[0] * Gs[0])
+            A = {key: a.first() for key, a in A.items()}
+            Gs = [j.first() for j in Gs]
         Gs = _combine(A, Gs)
     out, trip, th, tD, tM = acc
     n_s = surf.xs.shape[1]
-    _scatter(Gs, grp, seg_s, surf.seg_m, ic.e_m, surf.nn, n_s, lam, tangent, out, trip, th)
+    _scatter(Gs, grp, seg_s, surf.seg_m, ic.e_m, surf.nn, n_s, lam, tangent, out, trip, th, q)
     Ci = C[grp.cell]
     tD.outer(S, S, np.einsum("nab,nbc->nac", Ci, ints.D))
     tM.outer(S, surf.seg_m[ic.e_m], np.einsum("nab,nbc->nac", Ci, ints.M))
