@@ -6,10 +6,10 @@ the kernel is :mod:`skfem_mortar.contact.mortar`, the segmentation
 :mod:`skfem_mortar.contact.mortar_segmentation`; this class holds what the kernel is
 told from one call to the next (the segmentation policy and a frozen
 segmentation, the search reach, the crosspoints, the reserved pattern).
-Where either surface has 3-node segments (order 2) every call goes to the
-curved kernel :mod:`skfem_mortar.contact.mortar_quadratic` and its
-segmentation :mod:`skfem_mortar.contact.mortar_quadratic_segmentation`
-instead; 2-node surfaces on both sides take the linear kernel as before.
+Where either surface has cells other than line2 (line3, a registered cell) every
+call goes to the one kernel :mod:`skfem_mortar.contact.mortar_kernel` (segmentation
+:mod:`skfem_mortar.contact.mortar_quadratic_segmentation` for line3) instead; 2-node
+surfaces on both sides take the linear kernel as before.
 """
 from __future__ import annotations
 
@@ -19,7 +19,7 @@ from typing import Any
 import numpy as np
 import scipy.sparse as sp
 
-from . import mortar, mortar_kernel, mortar_quadratic
+from . import mortar, mortar_kernel
 from .mortar import biorthogonal
 from .active_set import normal_nodal_force
 from .contact_eval import ContactEval
@@ -36,10 +36,10 @@ from .mortar_pattern import stencil_pattern
 
 __all__ = ["Mortar", "RESERVE_LENGTHS", "KERNEL_CELLS"]
 
-#: the cell types of the fast kernels (:mod:`.mortar`: line2 on both sides;
-#: :mod:`.mortar_quadratic`: line2 or line3); any other line cell with a registered
-#: segmentation is evaluated by the one kernel (:mod:`.mortar_kernel`)
-KERNEL_CELLS = ("line2", "line3")
+#: the cell types of the fast linear kernel (:mod:`.mortar`: line2 on both sides); any
+#: other pair of line cells with a registered segmentation (line3 included) is
+#: evaluated by the one kernel (:mod:`.mortar_kernel`)
+KERNEL_CELLS = ("line2",)
 
 #: the reserved pattern (:meth:`Mortar.pattern`) holds the element pairs of the
 #: search with its margin widened by this many element lengths (the larger of
@@ -138,7 +138,7 @@ class Mortar(ContactDiscretization):
 
     Curved surfaces: when the slave or the master has cells other than ``line2``
     (:attr:`cells`) the kernel is
-    :func:`skfem_mortar.contact.mortar_quadratic.evaluate` (both policies;
+    :func:`skfem_mortar.contact.mortar_kernel.evaluate` (both policies;
     ``n_gauss`` default 3 there), the reserved pattern holds the 3-node
     elements' couplings (:meth:`pattern`).
     """
@@ -174,8 +174,7 @@ class Mortar(ContactDiscretization):
         #: the curved line kernel (a line cell other than line2) or the linear one
         self.curved = not self.faces and any(c.name != "line2" for c in self.cells)
         general = any(c.name not in KERNEL_CELLS for c in self.cells)
-        self._kernel = (mortar_kernel.evaluate if general else
-                        mortar_quadratic.evaluate if self.curved else mortar.evaluate)
+        self._kernel = mortar_kernel.evaluate if general else mortar.evaluate
         #: the segmentation of the cells (:func:`~.segmentation.segmentation_for`)
         self._segment = segmentation_for(self.cells)
         self.segmentation = segmentation
