@@ -176,6 +176,10 @@ class IntegrationPoints(NamedTuple):
         ``(xi_s, w)`` of a second rule on the same cells for the slave-only integrals of
         a dual space (``int N_A``, ``int N_A N_B``), where they need more points than the
         gap (curved cells); None: these points.
+    geometry : (list of Jet, list of Jet) or None
+        ``(x_s, n~)`` at the points (``d`` jets each, ``sum_a N_a x_a`` and
+        ``sum_a N_a n_a``) if the segmentation made them on its way (the lines' does), so
+        the kernel does not make them again; None: the kernel makes them.
     """
 
     e_s: np.ndarray
@@ -184,6 +188,7 @@ class IntegrationPoints(NamedTuple):
     xi_m: tuple
     w: Jet
     mass: tuple | None = None
+    geometry: tuple | None = None
 
 
 class PointSegmentation(Protocol):

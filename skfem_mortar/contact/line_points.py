@@ -15,9 +15,10 @@ are made in jets of the local variables:
   ``w = w_k (xi_b - xi_a)/2``;
 * ``xi_m``: the root of ``f(eta) = (x_m(eta) - x_s(xi_s)) x n~(xi_s)`` on the master cell.
 
-Each root is found by Newton in values from the segmentation's value, then two Newton
-steps in jet arithmetic from it: the first gives the exact gradient, the second the
-exact Hessian (the error of a Newton step is quadratic in the previous one).
+Each root is found by Newton in values from the segmentation's value, then one Newton
+step in jet arithmetic from it, which gives the exact gradient, and the curvature term
+of the implicit function theorem in values, which completes the exact Hessian
+(:func:`_solve`).
 
 Fast path, on affine cells (:func:`affine`, by the cell's order and corners, not by
 columns): the slave end points by the closed form of the quadratic ``f`` (one jet step
@@ -51,20 +52,26 @@ def affine(cell: CellType) -> bool:
     return cell.dim == 1 and cell.order == 1 and len(cell.corners) == cell.n_nodes
 
 
-def _point(cell: CellType, xi, nodes: list):
-    """``x(xi)`` and ``dx/dxi`` on a line cell (``xi`` a jet or an array; ``nodes[a][i]``)."""
+def _point(cell: CellType, xi, nodes: list, tangent: int = True):
+    """``x(xi)`` and ``dx/dxi`` on a line cell (``xi`` a jet or an array; ``nodes[a][i]``;
+    ``tangent`` False: ``x`` alone, for jets; 2: and ``d2x/dxi2``, for values)."""
     if isinstance(xi, Jet):
-        N, dN = shape_jets(cell, (xi,), derivatives=True)
-        dN = [r[0] for r in dN]
+        N, dN = shape_jets(cell, (xi,), derivatives=True) if tangent else (
+            shape_jets(cell, (xi,)), None)
         x = [sum((N[a] * nodes[a][i] for a in range(1, len(N))), N[0] * nodes[0][i])
              for i in range(2)]
+        if not tangent:
+            return x
+        dN = [r[0] for r in dN]
         t = [sum((dN[a] * nodes[a][i] for a in range(1, len(N))), dN[0] * nodes[0][i])
              for i in range(2)]
         return x, t
     X = xi[None]
-    N, dN = cell.shape(X), cell.dshape(X)[:, 0]
+    N, dN, d2N = cell.shape(X), cell.dshape(X)[:, 0], cell.d2shape(X)[:, 0, 0]
     x = [sum(N[a] * nodes[a][i] for a in range(len(N))) for i in range(2)]
     t = [sum(dN[a] * nodes[a][i] for a in range(len(N))) for i in range(2)]
+    if tangent == 2:                           # values: and d2x/dxi2
+        return x, t, [sum(d2N[a] * nodes[a][i] for a in range(len(N))) for i in range(2)]
     return x, t
 
 
@@ -73,8 +80,15 @@ def _cross(a, b):
 
 
 def _solve(residual, x0: np.ndarray, like: Jet | None):
-    """Root of ``residual(x) -> (f, f')``: Newton in values from ``x0``, then (with a
-    jet ``like`` giving the variables) two Newton steps in jets from the value."""
+    """Root of ``residual(x) -> (f, f')`` (and, in values with ``second``, ``f''``):
+    Newton in values from ``x0``; then (with a jet ``like`` giving the variables) one
+    Newton step in jets from the root ``x0`` (a constant), ``x1 = x0 - f/f'``, which has
+    the exact gradient ``-f_p/f_x`` and of the exact Hessian all but the curvature term
+    (implicit function theorem)::
+
+        x_pp = -(f_pp + f_xp x_p^T + x_p f_xp^T + f_xx x_p x_p^T) / f_x,
+
+    added from ``f''`` in values: ``x_pp += -(f_xx/f_x) x_p x_p^T``."""
     x = np.array(x0, dtype=float)
     with np.errstate(divide="ignore", invalid="ignore"):
         for _ in range(NEWTON_STEPS):
@@ -86,9 +100,13 @@ def _solve(residual, x0: np.ndarray, like: Jet | None):
     if like is None:
         return x
     xj = Jet.constant(x, like.g.shape[0], like.h is not None)
-    for _ in range(2):
-        f, df = residual(xj)
-        xj = xj - f * df.inv()
+    f, df = residual(xj)
+    xj = xj - f * df.inv()
+    if xj.h is not None:
+        _, dfv, d2f = residual(x, second=True)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            corr = np.where(dfv != 0.0, -d2f / np.where(dfv != 0.0, dfv, 1.0), 0.0)
+        xj = Jet(xj.v, xj.g, xj.h + xj.g[:, None] * (xj.g * corr)[None])
     return xj
 
 
@@ -113,8 +131,25 @@ def _values(nodes: list, shape) -> list:
              for c in node] for node in nodes]
 
 
-def _expand(nodes: list) -> list:
-    return [[c.expand() for c in node] for node in nodes]
+def _pick(jets: list, src: np.ndarray, shape: tuple) -> Jet:
+    """``jets[src]`` entry by entry (jets of values ``(n,)``, ``src (n, m)``; -1: the first),
+    values ``shape`` ``(n, m)``."""
+    out = jets[0].spread(shape)
+    for c in range(1, len(jets)):
+        out = Jet.where(src == c, jets[c].spread(shape), out)
+    return out
+
+
+def _column(j: Jet, e: int) -> Jet:
+    """Column ``e`` of a jet of values ``(n, m)``: values ``(n,)``, contiguous."""
+    c = np.ascontiguousarray
+    h = None if j.h is None else Jet.constant(j.v[:, e], j.h.shape[0], True).h if \
+        j.h.strides[0] == 0 and not np.any(j.h) else c(j.h[..., e])
+    return Jet(c(j.v[:, e]), c(j.g[:, :, e]), h)
+
+
+def _spread(nodes: list, shape: tuple) -> list:
+    return [[c.spread(shape) for c in node] for node in nodes]
 
 
 class LineSegmentation:
@@ -158,36 +193,43 @@ class LineSegmentation:
         return IntegrationCells(sg.e_s, sg.e_m, (sg, np.arange(sg.n)))
 
     def _ends(self, sg, local: LocalVariables) -> list:
-        """``xi_a, xi_b`` as jets (module docstring)."""
-        cs, cm = self.cells
+        """``xi_a, xi_b`` as jets (module docstring): both ends of every cell in one
+        projection (values ``(n, 2)``), each onto the master node its ``src`` names."""
+        cm = self.cells[1]
         like = local.x_s[0][0]
-        ends = []
-        for e in range(2):
-            xi = Jet.constant(sg.xi[:, e], like.g.shape[0], like.h is not None)
-            for c in (() if sg.frozen else range(cm.n_nodes)):
-                on = sg.src[:, e] == c
-                if on.any() and self.fast[0]:
-                    root, _ = project_on_slave(slave_element(*local.x_s, *local.n_s),
-                                               local.x_m[c])
-                    xi = Jet.where(on, root, xi)
-                elif on.any():
-                    root = _solve(self._slave_residual(local, c), sg.xi[:, e], like)
-                    xi = Jet.where(on, root, xi)
-            ends.append(xi)
-        return ends
+        held = Jet.constant(sg.xi, like.g.shape[0], like.h is not None)
+        on = sg.src >= 0
+        if sg.frozen or not on.any():
+            return [_column(held, 0), _column(held, 1)]
+        shape = sg.xi.shape
+        xc = [_pick([local.x_m[c][i] for c in range(cm.n_nodes)], sg.src, shape)
+              for i in range(2)]
+        xs, ns = _spread(local.x_s, shape), _spread(local.n_s, shape)
+        if self.fast[0]:
+            root, _ = project_on_slave(slave_element(*xs, *ns), xc)
+        else:
+            root = _solve(self._slave_residual(xs, ns, xc), sg.xi, like)
+        xi = Jet.where(on, root, held)
+        return [_column(xi, 0), _column(xi, 1)]
 
-    def _slave_residual(self, local: LocalVariables, corner: int):
-        """``f(xi) = (x_s(xi) - x_c) x n~(xi)`` and ``f'`` for the master node ``corner``."""
+    def _slave_residual(self, xs: list, ns: list, xc: list):
+        """``f(xi) = (x_s(xi) - x_c) x n~(xi)`` and ``f'`` (jets of one shape, ``x_c`` the
+        master node of each end)."""
         cs = self.cells[0]
-        n = local.x_s[0][0].v.shape
-        values = (_values(local.x_s, n), _values(local.n_s, n), [j.v for j in local.x_m[corner]])
+        values = ([[c.v for c in node] for node in xs], [[c.v for c in node] for node in ns],
+                  [c.v for c in xc])
 
-        def residual(x):
-            jets = isinstance(x, Jet)
-            xs, ns, xc = (local.x_s, local.n_s, local.x_m[corner]) if jets else values
-            p, t = _point(cs, x, xs)
-            nn, dn = _point(cs, x, ns)
-            r = [p[0] - xc[0], p[1] - xc[1]]
+        def residual(x, second=False):
+            X, Nn, C = (xs, ns, xc) if isinstance(x, Jet) else values
+            if second:             # values: f'' = x'' x n + 2 x' x n' + r x n''
+                p, t, tt = _point(cs, x, X, 2)
+                nn, dn, dd = _point(cs, x, Nn, 2)
+                r = [p[0] - C[0], p[1] - C[1]]
+                return (_cross(r, nn), _cross(t, nn) + _cross(r, dn),
+                        _cross(tt, nn) + 2.0 * _cross(t, dn) + _cross(r, dd))
+            p, t = _point(cs, x, X)
+            nn, dn = _point(cs, x, Nn)
+            r = [p[0] - C[0], p[1] - C[1]]
             return _cross(r, nn), _cross(t, nn) + _cross(r, dn)
         return residual
 
@@ -207,25 +249,29 @@ class LineSegmentation:
             e5, w5 = line_quadrature(2 * self.n_mass - 1)
             mass = ((lo.expand() * ((1.0 - e5[0]) * 0.5) + hi.expand() * ((1.0 + e5[0]) * 0.5),),
                     (hi.expand() - lo.expand()) * (w5 * 0.5))
-        xs, ns, xm = _expand(local.x_s), _expand(local.n_s), _expand(local.x_m)
-        p, _ = _point(cs, xi_s, xs)
-        n, _ = _point(cs, xi_s, ns)
+        shape = xi_s.v.shape
+        xs, ns, xm = (_spread(L, shape) for L in (local.x_s, local.n_s, local.x_m))
+        p = _point(cs, xi_s, xs, False)
+        n = _point(cs, xi_s, ns, False)
         if self.fast[1]:     # x_s + alpha n~ = x_m1 + s (x_m2 - x_m1), eta = 2 s - 1
             dm = [xm[1][i] - xm[0][i] for i in range(2)]
             r = [xm[0][i] - p[i] for i in range(2)]
             eta_m = _cross(r, n) * _cross(n, dm).inv() * 2.0 - 1.0
-            return IntegrationPoints(cells.e_s, cells.e_m, (xi_s,), (eta_m,), w, mass)
+            return IntegrationPoints(cells.e_s, cells.e_m, (xi_s,), (eta_m,), w, mass, (p, n))
         guess = self._master_guess(sg, a, b)
         values = ([c.v for c in p], [c.v for c in n], _values(local.x_m, guess.shape))
 
-        def residual(x):
+        def residual(x, second=False):
             jets = isinstance(x, Jet)
             P, Nn, Xm = (p, n, xm) if jets else values
+            if second:             # values: f'' = x_m'' x n
+                q, t, tt = _point(cm, x, Xm, 2)
+                return _cross([q[0] - P[0], q[1] - P[1]], Nn), _cross(t, Nn), _cross(tt, Nn)
             q, t = _point(cm, x, Xm)
             r = [q[0] - P[0], q[1] - P[1]]
             return _cross(r, Nn), _cross(t, Nn)
         eta_m = _solve(residual, guess, w)
-        return IntegrationPoints(cells.e_s, cells.e_m, (xi_s,), (eta_m,), w, mass)
+        return IntegrationPoints(cells.e_s, cells.e_m, (xi_s,), (eta_m,), w, mass, (p, n))
 
     @staticmethod
     def _master_guess(sg, a: np.ndarray, b: np.ndarray) -> np.ndarray:

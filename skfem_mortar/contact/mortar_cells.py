@@ -58,11 +58,14 @@ def compose(f0: np.ndarray, f1: np.ndarray, f2: np.ndarray | None, xi: tuple) ->
 
     Exact to second order.
     """
+    second = xi[0].h is not None
+    if (not np.any(f1) and (f2 is None or not np.any(f2))) or all(x.is_constant() for x in xi):
+        return Jet.constant(f0, xi[0].g.shape[0], second)   # (a line2's dN; constant xi)
     g = sum(f1[r][None] * x.g for r, x in enumerate(xi))
     h = None
-    if xi[0].h is not None:
+    if second:
         h = sum(f1[r][None, None] * x.h for r, x in enumerate(xi))
-        if f2 is not None:
+        if f2 is not None and np.any(f2):
             for r, xr in enumerate(xi):
                 for t, xt in enumerate(xi):
                     h = h + xr.g[:, None] * (xt.g * f2[r, t][None])[None]
@@ -97,11 +100,13 @@ def dot(a: list, b: list):
 
 def combine(N: list, x: list, d: int) -> list:
     """``sum_a N_a x_a`` component by component (``x[a][i]`` jets of shape (n,))."""
+    shape = N[0].v.shape
+    xq = [[x[a][i].spread(shape) for i in range(d)] for a in range(len(N))]
     out = []
     for i in range(d):
-        acc = N[0] * x[0][i].expand()
+        acc = N[0] * xq[0][i]
         for a in range(1, len(N)):
-            acc = acc + N[a] * x[a][i].expand()
+            acc = acc + N[a] * xq[a][i]
         out.append(acc)
     return out
 
@@ -121,7 +126,7 @@ def slave_geometry(points: IntegrationPoints, local: LocalVariables, cell: CellT
     kernel is weighted with (``sum_k dG_k N_A f_k`` is ``int N_A f dGamma``)."""
     d = local.layout.d
     N, dN = shape_jets(cell, points.xi_s, derivatives=True)
-    xs = combine(N, local.x_s, d)
+    xs = points.geometry[0] if points.geometry is not None else combine(N, local.x_s, d)
     T = [combine([dN[a][r] for a in range(cell.n_nodes)], local.x_s, d)
          for r in range(cell.dim)]
     dG = points.w * _jacobian(T)
@@ -175,7 +180,9 @@ def cell_integrals(points: IntegrationPoints, local: LocalVariables,
     N, xs, dG = slave_geometry(points, local, cs, measure)
     Nm = shape_jets(cm, points.xi_m)
     if integrand is None:
-        nt, xm = combine(N, local.n_s, d), combine(Nm, local.x_m, d)
+        nt = (points.geometry[1] if points.geometry is not None else
+              combine(N, local.n_s, d))
+        xm = combine(Nm, local.x_m, d)
         gn = dot(nt, [q - p for p, q in zip(xs, xm)]) * dot(nt, nt).sqrt().inv()
         g = [(N[a] * gn * dG).sum() for a in range(cs.n_nodes)]
     else:
@@ -190,8 +197,8 @@ def cell_integrals(points: IntegrationPoints, local: LocalVariables,
     if mass:
         k = cs.n_nodes
         if points.mass is not None:
-            N, _, dG = slave_geometry(points._replace(xi_s=points.mass[0], w=points.mass[1]),
-                                      local, cs, measure)
+            N, _, dG = slave_geometry(points._replace(xi_s=points.mass[0], w=points.mass[1],
+                                                      geometry=None), local, cs, measure)
         wN = [N[a] * dG for a in range(k)]
         n_A = [x.sum() for x in wN]
         n_AB = {(a, b): (wN[a] * N[b]).sum() for a in range(k) for b in range(a, k)}

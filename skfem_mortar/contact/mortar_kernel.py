@@ -53,7 +53,7 @@ from .normals import NodalNormals, mirror_of_axis, nodal_normals
 from .scatter import Triplets
 from .segmentation import Segmentation, line_cells
 
-__all__ = ["Groups", "groups", "group_sum", "assemble", "evaluate", "chunks", "CHUNK_ENTRIES"]
+__all__ = ["Groups", "groups", "group_sum", "group_sums", "assemble", "evaluate", "chunks", "CHUNK_ENTRIES"]
 
 CHUNK_ENTRIES = 250_000
 """Derivative entries per chunk of integration cells (``nv^2`` each with Hessians):
@@ -108,20 +108,28 @@ def groups(e_s: np.ndarray, layout: LocalLayout, each: bool = False) -> Groups:
 
 def group_sum(j: Jet, grp: Groups) -> Jet:
     """``sum`` of a cell jet ``(n,)`` over each group, in the group variables: ``(n_e,)``."""
+    return group_sums([j], grp)[0]
+
+
+def group_sums(jets: list, grp: Groups) -> list:
+    """:func:`group_sum` of several cell jets of one kind at once (one scatter per slot)."""
     n_e, nv = grp.e_s.size, grp.nv
-    if grp.m == 1 and np.array_equal(grp.cell, np.arange(j.v.size)):   # one cell per group
+    second = jets[0].h is not None
+    if grp.m == 1 and np.array_equal(grp.cell, np.arange(jets[0].v.size)):   # one cell a group
         idx = np.argsort(grp.index(0))
-        return Jet(j.v, j.g[idx], None if j.h is None else j.h[np.ix_(idx, idx)])
-    v = np.bincount(grp.cell, weights=j.v, minlength=n_e)
-    g = np.zeros((nv, n_e))
-    h = None if j.h is None else np.zeros((nv, nv, n_e))
+        return [Jet(j.v, j.g[idx], j.h[np.ix_(idx, idx)] if second else None) for j in jets]
+    G = np.stack([j.g for j in jets])
+    H = np.stack([j.h for j in jets]) if second else None
+    g = np.zeros((len(jets), nv, n_e))
+    h = np.zeros((len(jets), nv, nv, n_e)) if second else None
     for s in range(grp.m):
         sel = np.flatnonzero(grp.slot == s)
         rows, idx = grp.cell[sel], grp.index(s)
-        g[np.ix_(idx, rows)] += j.g[:, sel]
-        if h is not None:
-            h[np.ix_(idx, idx, rows)] += j.h[:, :, sel]
-    return Jet(v, g, h)
+        g[:, idx[:, None], rows] += G[:, :, sel]
+        if second:
+            h[:, idx[:, None, None], idx[:, None], rows] += H[:, :, :, sel]
+    return [Jet(np.bincount(grp.cell, weights=j.v, minlength=n_e), g[i],
+                None if h is None else h[i]) for i, j in enumerate(jets)]
 
 
 def _extended(grp: Groups, conn_s, conn_m, e_m, normals: NodalNormals, n_s: int):
@@ -192,8 +200,10 @@ def _chain_hessian(f: Jet, Jn: np.ndarray, S: np.ndarray, normals: NodalNormals,
 
 
 def _scatter(g: list, grp: Groups, conn_s, conn_m, e_m, normals: NodalNormals, n_s: int,
-             lam, tangent: bool, out: np.ndarray, trip: Triplets, th: Triplets) -> None:
-    """:func:`assemble`'s work, added to ``out`` and appended to ``trip`` (G), ``th`` (H)."""
+             lam, tangent: bool, out: np.ndarray, trip: Triplets, th: Triplets,
+             q: Jet | None = None) -> None:
+    """:func:`assemble`'s work, added to ``out`` and appended to ``trip`` (G), ``th`` (H);
+    ``q``: ``sum_A lam_A g_A`` if made already (then ``g`` may be first order)."""
     lay = grp.layout
     S = conn_s[grp.e_s]
     for a in range(lay.k_s):
@@ -206,12 +216,13 @@ def _scatter(g: list, grp: Groups, conn_s, conn_m, e_m, normals: NodalNormals, n
     safe = np.where(used, dofs, 0)
     for a in range(lay.k_s):
         trip.rows(S[:, a], safe, _chain_gradient(g[a].g, Jn, parts), used)
-    if lam is not None and g[0].h is not None:
+    if q is None and lam is not None and g[0].h is not None:
         lam = np.asarray(lam, dtype=float)
-        f = g[0] * lam[S[:, 0]]
+        q = g[0] * lam[S[:, 0]]
         for a in range(1, lay.k_s):
-            f = f + g[a] * lam[S[:, a]]
-        H = _chain_hessian(f, Jn, S, normals, parts)
+            q = q + g[a] * lam[S[:, a]]
+    if q is not None:
+        H = _chain_hessian(q, Jn, S, normals, parts)
         if not used.all():
             H *= used[:, :, None]
             H *= used[:, None, :]
@@ -252,8 +263,8 @@ def _combine(C, jets: list) -> list:
 def _biorthogonal(ints, grp: Groups, T: np.ndarray, space) -> tuple[dict, np.ndarray]:
     """``A~ = D~ M~^-1`` of ``N~ = T N`` over each slave cell's integration cells (jets)."""
     k = len(ints.n_A)
-    nA = [group_sum(j, grp) for j in ints.n_A]
-    nAB = {key: group_sum(j, grp) for key, j in ints.n_AB.items()}
+    sums = group_sums(ints.n_A + list(ints.n_AB.values()), grp)
+    nA, nAB = sums[:k], dict(zip(ints.n_AB, sums[k:]))
     full = {(a, b): nAB[min(a, b), max(a, b)] for a in range(k) for b in range(k)}
     D = _combine(T, nA)
     M = {}
@@ -272,7 +283,7 @@ def _biorthogonal(ints, grp: Groups, T: np.ndarray, space) -> tuple[dict, np.nda
             M[a, a] = M[a, a] + dead[:, a] * 1.0
     A = space.cell_coefficients(D, M)
     Av = np.stack([np.stack([A[a, b].v for b in range(k)], -1) for a in range(k)], 1)
-    return A, np.einsum("nab,nbc->nac", Av, T)
+    return A, np.matmul(Av, T)
 
 
 def chunks(e_s: np.ndarray, nv: int, second: bool, entries: int | None = None) -> list:
@@ -431,19 +442,31 @@ def _chunk(surf: _Surfaces, ic: IntegrationCells, S, loc, ints, mask, space, lam
     T = (merge_nodes(merged, surf.cells[0]) if merged.any()
          else np.broadcast_to(np.eye(k), (grp.e_s.size, k, k)))
     rowwise = isinstance(ints.g[0], (list, tuple))
-    if rowwise:                       # f[A][B]: g_A = sum_B C_AB f[A][B]
-        sums = [[group_sum(j, grp) for j in row] for row in ints.g]
+    if rowwise:                       # f[A][B] (the slip's): g_A = sum_B C_AB f[A][B]
+        sums = [group_sums(row, grp) for row in ints.g]
         Gs = ([_combine(T, row) for row in sums] if space is not None
               else [_row(T, a, row) for a, row in enumerate(sums)])
     else:
-        Gs = _combine(T, [group_sum(j, grp) for j in ints.g])
-    C = T
-    if space is not None:
+        Gs = _combine(T, group_sums(ints.g, grp))
+    C, q = T, None
+    if space is not None and rowwise:
         A, C = _biorthogonal(ints, grp, T, space)
-        Gs = [_row(A, a, row) for a, row in enumerate(Gs)] if rowwise else _combine(A, Gs)
+        Gs = [_row(A, a, row) for a, row in enumerate(Gs)]
+    elif space is not None:
+        A, C = _biorthogonal(ints, grp, T, space)
+        if lam is not None and Gs[0].h is not None:
+            # q = sum_A lam_A sum_B A_AB G_B = sum_B mu_B G_B, mu_B = sum_A lam_A A_AB: k
+            # second-order products instead of k^2; g_A themselves to first order
+            lamS = np.asarray(lam, dtype=float)[seg_s[grp.e_s]]
+            mu = [sum((A[a, b] * lamS[:, a] for a in range(1, k)), A[0, b] * lamS[:, 0])
+                  for b in range(k)]
+            q = sum((mu[b] * Gs[b] for b in range(1, k)), mu[0] * Gs[0])
+            A = {key: a.first() for key, a in A.items()}
+            Gs = [j.first() for j in Gs]
+        Gs = _combine(A, Gs)
     out, trip, th, tD, tM = acc
     n_s = surf.xs.shape[1]
-    _scatter(Gs, grp, seg_s, surf.seg_m, ic.e_m, surf.nn, n_s, lam, tangent, out, trip, th)
+    _scatter(Gs, grp, seg_s, surf.seg_m, ic.e_m, surf.nn, n_s, lam, tangent, out, trip, th, q)
     Ci = C[grp.cell]
     tD.outer(S, S, np.einsum("nab,nbc->nac", Ci, ints.D))
     tM.outer(S, surf.seg_m[ic.e_m], np.einsum("nab,nbc->nac", Ci, ints.M))
