@@ -452,41 +452,51 @@ def mortar_slip(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.nda
     second = tangent and lam_t is not None
     ev = tangential_evaluate(xs, seg_s, xm, seg_m, lam=lam_t, tangent=tangent, cells=cells,
                              **kernel_options)
-    # w_A = sum_B Dp_AB x_B - sum_C Mp_AC x_C: rows d A + i, local dof columns
-    Id = sp.identity(d, format="csr")
-    W = sp.hstack([sp.kron(Dp, Id), -sp.kron(Mp, Id)], format="csr")
-    xloc = np.concatenate([xs.T.ravel(), xm.T.ravel()])
-    w = (W @ xloc).reshape(n_s, d).T                               # (d, n_s)
+    # w_A = sum_B Dp_AB x_B - sum_C Mp_AC x_C, from the history's entries (row A, node
+    # column in the local order: B or n_s + C, value Dp_AB or -Mp_AC)
+    Dc, Mc = Dp.tocoo(), Mp.tocoo()
+    hist = (np.concatenate([Dc.row, Mc.row]), np.concatenate([Dc.col, n_s + Mc.col]),
+            np.concatenate([Dc.data, -Mc.data]))
+    x = np.hstack([xs, xm])
+    w = np.zeros((d, n_s))
+    for i in range(d):
+        w[i] = np.bincount(hist[0], weights=hist[2] * x[i, hist[1]], minlength=n_s)
     tau = ev.info["tangent"]
     u = ev.g + np.sum(tau * w, axis=0)
     info = {"D": ev.info["D"], "M": ev.info["M"], "r": ev.g, "w": w}
     if not tangent:
         return SlipEval(u=u, G=None, H=None, tangent=tau, mask=ev.mask, info=info)
-    G, H = _history_terms(ev, W, w, lam_t, second, d * (n_s + n_m))
+    G, H = _history_terms(ev, hist, w, lam_t, second, d * (n_s + n_m))
     return SlipEval(u=u, G=G, H=H, tangent=tau, mask=ev.mask, info=info)
 
 
-def _history_terms(ev, W: sp.csr_matrix, w: np.ndarray, lam_t: np.ndarray | None,
-                   second: bool, ndof: int) -> tuple[sp.csr_matrix, sp.csr_matrix | None]:
+def _history_terms(ev, hist: tuple, w: np.ndarray, lam_t: np.ndarray | None, second: bool,
+                   ndof: int) -> tuple[sp.csr_matrix, sp.csr_matrix | None]:
     """``G = dr/dx + tau . W + w . T`` and ``H = H_r + T^T Lam W + W^T Lam T + sum_A lam_A
     w_A . d2tau_A/dx2`` (module doc), ``T = dtau/dx`` from the kernel's chained nodal
-    normals (:func:`~skfem_mortar.contact.mortar_slip_cells.tangent_jets`)."""
+    normals (:func:`~skfem_mortar.contact.mortar_slip_cells.tangent_jets`), ``W`` from the
+    history's entries ``hist`` (rows, node columns, values)."""
     nn = ev.info["normals"]
     tau, dtau, d2tau = tangent_jets(nn, second)
     d, n_s = w.shape
     K = nn.nodes.shape[1]
     nodes = np.where(nn.nodes >= 0, nn.nodes, nn.nodes[:, :1])    # padding: zero values
     dofs = (d * nodes[:, :, None] + np.arange(d)).reshape(n_s, K * d)
-    Tt = Triplets()                                                # rows d A + i
-    Tt.rows(np.arange(d * n_s), np.repeat(dofs, d, axis=0),
-            dtau.transpose(1, 0, 2, 3).reshape(d * n_s, K * d))
-    T = Tt.csr((d * n_s, ndof))
-    S = sp.kron(sp.identity(n_s, format="csr"), np.ones((1, d)), format="csr")
-    G = (ev.G + S @ (sp.diags(tau.T.ravel()) @ W + sp.diags(w.T.ravel()) @ T)).tocsr()
+    rows, cols, vals = hist
+    cols = d * cols[:, None] + np.arange(d)                        # (nnz, d) dofs of W
+    Gt = Triplets()
+    Gt.rows(rows, cols, tau[:, rows].T * vals[:, None])            # tau_A . W_A
+    Gt.rows(np.arange(n_s), dofs, np.einsum("in,inkc->nkc", w, dtau).reshape(n_s, K * d))
+    G = (ev.G + Gt.csr((n_s, ndof))).tocsr()                       # + w_A . T_A
     if not second:
         return G, None
-    cross = T.T @ sp.diags(np.repeat(lam_t, d)) @ W
+    # W^T Lam T: [d B + i, dofs_A] += lam_A Dp_AB dtau_i(A) (and -Mp_AC likewise)
+    Tl = (dtau * lam_t[:, None, None]).reshape(d, n_s, K * d)[:, rows]   # (d, nnz, K d)
+    Xt = Triplets()
+    Xt.rows(cols.ravel(), np.repeat(dofs[rows], d, axis=0),
+            (Tl * vals[:, None]).transpose(1, 0, 2).reshape(-1, K * d))
+    X = Xt.csr((ndof, ndof))
     h = np.einsum("in,inkcle->kclen", w * lam_t, d2tau).reshape(K * d, K * d, n_s)
     Ht = Triplets()
     Ht.block(dofs, h)
-    return G, (ev.H + cross + cross.T + Ht.csr((ndof, ndof))).tocsr()
+    return G, (ev.H + X + X.T + Ht.csr((ndof, ndof))).tocsr()
