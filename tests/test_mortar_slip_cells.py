@@ -165,3 +165,11 @@ def test_tangent_basis_refuses_a_3d_normal():
     assert tangent_basis([np.array([0.6]), np.array([0.8])]) == [[0.8, -0.6]]
     with pytest.raises(ValueError, match="n must have 2 components"):
         tangent_basis([np.zeros(1)] * 3)
+
+
+def test_mortar_slip_refuses_face_cells():
+    """Tangential quantities of 3D contact are not built: face cells are refused by name."""
+    tri = np.array([[0, 1, 2]])
+    with pytest.raises(ValueError, match="line cells .* got slave tri3"):
+        mortar_slip(np.zeros((3, 3)), tri, np.zeros((3, 3)), tri, np.zeros((3, 3)),
+                    np.zeros((3, 3)), cells=("tri3", "tri3"))
