@@ -56,11 +56,11 @@ nodal normal turned by -90 degrees):
 
     u_t,A = - tau_A . [ sum_B (D_AB - D_AB^prev) x_B - sum_C (M_AC - M_AC^prev) x_C ],
 
-``D^prev``, ``M^prev`` the mortar integrals of the last converged step
-(history) and ``x`` the current positions (any line cells on either side: the
-one mortar kernel's ``D``, ``M`` and nodal normals,
-:func:`skfem_mortar.contact.mortar_slip_cells.tangential_evaluate`).  Rigid motions of the whole pair
-leave ``D`` and ``M`` unchanged, so the slip vanishes exactly; a translation
+``D^prev``, ``M^prev`` the mortar integrals of the last converged step (history) and
+``x`` the current positions (any line cells on either side: the one mortar kernel's
+``D``, ``M`` and nodal normals,
+:func:`~skfem_mortar.contact.mortar_slip_cells.tangential_evaluate`).  Rigid motions of
+the whole pair leave ``D`` and ``M`` unchanged, so the slip vanishes exactly; a translation
 alone also cancels by ``sum_B D_AB = sum_C M_AC`` (both integrate ``Phi_A``
 over the same mortar segments).  The sign: for a slave sliding by ``d`` along
 ``tau_A`` over a fixed flat master, ``u_t,A = d int Phi_A = d D_AA`` (dual) or
@@ -393,11 +393,10 @@ def mortar_history(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.
                    ) -> dict[str, sp.csr_matrix]:
     """The history of :func:`mortar_slip` at a converged state: ``D_prev``, ``M_prev``.
 
-    The mortar integrals of the one kernel
-    (:func:`skfem_mortar.contact.mortar_kernel.evaluate`, values only;
-    ``kernel_options`` as there: ``space``, ``n_gauss``, ``crosspoints``, ...),
-    which the pair also has as ``info["D"]``, ``info["M"]`` of its last
-    evaluation at the converged state.
+    The mortar integrals of the one kernel (:func:`skfem_mortar.contact.mortar_kernel.evaluate`,
+    values only; ``kernel_options`` as there: ``space``, ``n_gauss``, ``crosspoints``,
+    ...), which the pair also has as ``info["D"]``, ``info["M"]`` of its last evaluation
+    at the converged state.
     """
     seg_s, seg_m = _segments(seg_s), _segments(seg_m)
     ev = tangential_evaluate(xs, seg_s, xm, seg_m, tangent=False,
@@ -429,9 +428,8 @@ def mortar_slip(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.nda
         Default: the lines of the connectivities' columns
         (:func:`~skfem_mortar.contact.segmentation.line_cells`).
     **kernel_options
-        ``space``, ``n_gauss``, ``segmentation``, ``pairs``, ``margin``,
-        ``crosspoints``, ``reach``, ``measure`` of
-        :func:`skfem_mortar.contact.mortar_kernel.evaluate`.
+        ``space``, ``n_gauss``, ``segmentation``, ``pairs``, ``margin``, ``crosspoints``,
+        ``reach``, ``measure`` of :func:`skfem_mortar.contact.mortar_kernel.evaluate`.
 
     Returns
     -------
@@ -472,10 +470,9 @@ def mortar_slip(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.nda
 
 def _history_terms(ev, hist: tuple, w: np.ndarray, lam_t: np.ndarray | None, second: bool,
                    ndof: int) -> tuple[sp.csr_matrix, sp.csr_matrix | None]:
-    """``G = dr/dx + tau . W + w . T`` and ``H = H_r + T^T Lam W + W^T Lam T + sum_A lam_A
-    w_A . d2tau_A/dx2`` (module doc), ``T = dtau/dx`` from the kernel's chained nodal
-    normals (:func:`~skfem_mortar.contact.mortar_slip_cells.tangent_jets`), ``W`` from the
-    history's entries ``hist`` (rows, node columns, values)."""
+    """``G = dr/dx + tau . W + w . T``, ``H = H_r + T^T Lam W + W^T Lam T + sum_A lam_A w_A .
+    d2tau_A/dx2`` (module doc); ``T = dtau/dx`` from the kernel's chained normals
+    (:func:`~.mortar_slip_cells.tangent_jets`), ``W`` from ``hist`` (rows, node columns, values)."""
     nn = ev.info["normals"]
     tau, dtau, d2tau = tangent_jets(nn, second)
     d, n_s = w.shape
