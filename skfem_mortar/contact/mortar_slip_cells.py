@@ -78,10 +78,12 @@ def tangent_basis(n: Sequence) -> list[list]:
 
 def slip_integrand(points: IntegrationPoints, local: LocalVariables,
                    cells: tuple[CellType, CellType], measure: Measure = PLANE) -> list:
-    """``f[A][B] = sum_k dG_k N_B(xi_s,k) tau(n_A) . (x_m - x_s)`` (module docstring).
+    """The slip's integrand ``f[A][B]``, row ``A``'s tangent against ``N_B`` (module docstring).
 
     The integrand hook of :func:`~skfem_mortar.contact.mortar_kernel.evaluate`: jets
-    ``(n,)`` of the local variables of ``n`` integration cells, ``k_s`` rows of ``k_s``.
+    ``(n,)`` of the local variables of ``n`` integration cells, ``k_s`` rows of ``k_s``::
+
+        f[A][B] = sum_k dG_k N_B(xi_s,k) tau(n_A) . (x_m(xi_m,k) - x_s(xi_s,k))
     """
     cs, cm = cells
     N, xs, dG = slave_geometry(points, local, cs, measure)
@@ -133,8 +135,10 @@ def tangent_jets(normals: NodalNormals, second: bool = True
 def tangential_evaluate(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarray,
                         lam: np.ndarray | None = None, tangent: bool = True,
                         cells: tuple | None = None, **kernel_options: Any) -> ContactEval:
-    """The tangential offsets ``r_A = tau_A . (sum_C M_AC x_C - sum_B D_AB x_B)``,
-    ``G = dr/dx`` and ``H = sum_A lam_A d2r_A/dx2``, exact, by the one mortar kernel.
+    """The tangential offsets ``r_A``, ``G = dr/dx`` and ``H = sum_A lam_A d2r_A/dx2``, exact,
+    by the one mortar kernel::
+
+        r_A = tau_A . (sum_C M_AC x_C - sum_B D_AB x_B).
 
     :func:`~skfem_mortar.contact.mortar_kernel.evaluate` with :func:`slip_integrand`: the
     same integration cells, multiplier functions, mask, ``D`` and ``M`` as the weighted
