@@ -17,6 +17,7 @@ import pytest
 from skfem_mortar.contact import mortar, mortar_quadratic as mq
 from skfem_mortar.contact.cells import cell_type
 from skfem_mortar.contact.measures import AXISYMMETRIC, PLANE
+from skfem_mortar.contact.mortar_slip_cells import tangential_evaluate
 from skfem_mortar.contact.mortar_method import Mortar
 from skfem_mortar.contact.mortar_quadratic_segmentation import element_polynomial, shape_values
 from skfem_mortar.contact.slip import mortar_history, mortar_slip
@@ -82,7 +83,7 @@ def test_tangential_offsets_exact_with_the_axisymmetric_measure(k):
     """The tangential offsets (the slip's configuration-dependent part) in ``r dGamma``:
     G and H against central differences, dual multipliers, partly covered."""
     xs, ss, xm, sm = axisymmetric_pair(k, 0.17)
-    kernel = mortar.tangential_evaluate if k == 2 else mq.tangential_evaluate
+    kernel = tangential_evaluate
     n_s = xs.shape[1]
 
     def ev(q, tangent=False, lam=None):

@@ -16,7 +16,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from skfem_mortar.contact import mortar_quadratic as mq, nts
+from skfem_mortar.contact import mortar_kernel, mortar_quadratic as mq, nts
+from skfem_mortar.contact.mortar_slip_cells import tangential_evaluate
 from skfem_mortar.contact.slip import mortar_history, mortar_slip, nts_slip
 from test_mortar_quadratic import configuration
 from test_nts_quadratic import _master, _slave
@@ -203,11 +204,11 @@ def test_curved_tangential_offset_is_the_mortar_integrals_identity(ks, km):
     assembled integrals, and ``tau_A`` is the kernel's nodal normal turned."""
     xs, ss, xm, sm = configuration(ks, km, 0.37)
     for dual in (False, True):
-        t = mq.tangential_evaluate(xs, ss, xm, sm, space=("dual" if dual else "standard"), tangent=False)
+        t = tangential_evaluate(xs, ss, xm, sm, space=("dual" if dual else "standard"), tangent=False)
         v = t.info["M"] @ xm.T - t.info["D"] @ xs.T
         np.testing.assert_allclose(t.g, np.sum(t.info["tangent"].T * v, axis=1), atol=1e-15)
         assert np.abs(t.g).max() > 1e-7                # curved: not round-off (1e-17)
-        g = mq.evaluate(xs, ss, xm, sm, space=("dual" if dual else "standard"), tangent=False)
+        g = mortar_kernel.evaluate(xs, ss, xm, sm, space=("dual" if dual else "standard"), tangent=False)
         for key in ("D", "M"):                          # the same integrals as the gaps'
             assert abs(t.info[key] - g.info[key]).max() == 0.0
 

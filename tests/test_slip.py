@@ -14,6 +14,7 @@ import numpy as np
 import pytest
 
 from skfem_mortar.contact import mortar
+from skfem_mortar.contact.mortar_slip_cells import tangential_evaluate
 from skfem_mortar.contact.nts import project
 from skfem_mortar.contact.slip import mortar_history, mortar_slip, nts_slip
 
@@ -91,7 +92,7 @@ def test_tangential_offset_is_the_mortar_integrals_identity():
     ``tau_A . (M x_m - D x_s)`` from the assembled integrals (round-off)."""
     xs, seg_s, xm, seg_m = curved()
     for dual in (False, True):
-        t = mortar.tangential_evaluate(xs, seg_s, xm, seg_m, space=("dual" if dual else "standard"), tangent=False)
+        t = tangential_evaluate(xs, seg_s, xm, seg_m, space=("dual" if dual else "standard"), tangent=False)
         v = t.info["M"] @ xm.T - t.info["D"] @ xs.T                       # (n_s, 2)
         np.testing.assert_allclose(t.g, np.sum(t.info["tangent"].T * v, axis=1), atol=1e-15)
         assert np.abs(t.g).max() > 1e-5                    # curved: not trivially zero
@@ -99,7 +100,7 @@ def test_tangential_offset_is_the_mortar_integrals_identity():
 
 def test_mortar_tangent_is_the_turned_nodal_normal():
     xs, seg_s, xm, seg_m = curved()
-    t = mortar.tangential_evaluate(xs, seg_s, xm, seg_m, tangent=False)
+    t = tangential_evaluate(xs, seg_s, xm, seg_m, tangent=False)
     (nx, ny), _, _ = mortar.nodal_normals(xs, seg_s, second=False, nv=0)
     np.testing.assert_allclose(t.info["tangent"], np.stack([ny.v, -nx.v]), atol=1e-15)
     np.testing.assert_allclose(np.hypot(*t.info["tangent"]), 1.0, atol=1e-15)

@@ -170,7 +170,9 @@ def cell_integrals(points: IntegrationPoints, local: LocalVariables,
     integrand : callable, optional
         ``integrand(points, local, cells, measure) -> list`` of ``k_s`` jets ``(n,)`` (one
         per slave node of the cell, summed over the cell's points) that replaces the
-        weighted gap ``g_A`` (e.g. the mortar slip); None: the weighted gap.
+        weighted gap ``g_A``, or ``k_s`` lists of ``k_s`` jets ``f[A][B]`` (row ``A``'s
+        integrand against ``N_B``, combined as ``g_A = sum_B C_AB f[A][B]``: the mortar
+        slip's ``tau_A . (x_m - x_s)``); None: the weighted gap.
     """
     check_points(points, local)
     cs, cm = cells
@@ -186,8 +188,8 @@ def cell_integrals(points: IntegrationPoints, local: LocalVariables,
     else:
         g = list(integrand(points, local, cells, measure))
         if len(g) != cs.n_nodes:
-            raise ValueError(f"integrand must return {cs.n_nodes} jets (one per slave node "
-                             f"of a {cs.name} cell), got {len(g)}")
+            raise ValueError(f"integrand must return {cs.n_nodes} jets or rows of jets (one "
+                             f"per slave node of a {cs.name} cell), got {len(g)}")
     Nv, Nmv, dGv = (np.stack([j.v for j in L]) for L in (N, Nm, [dG]))
     D = np.einsum("akq,bkq,kq->kab", Nv, Nv, dGv[0])
     M = np.einsum("akq,ckq,kq->kac", Nv, Nmv, dGv[0])

@@ -243,20 +243,21 @@ def assemble(g: list, grp: Groups, conn_s, conn_m, e_m, normals: NodalNormals, n
     return out, trip.csr((n_s, n)), H
 
 
+def _row(C, a: int, jets: list):
+    """``sum_b C[:, a, b] jets[b]`` (``C`` values ``(n, k, k)`` or a dict of jets)."""
+    acc = None
+    for b in range(len(jets)):
+        c = C[a, b] if isinstance(C, dict) else C[:, a, b]
+        if not isinstance(c, Jet) and not np.any(c):
+            continue
+        t = jets[b] * c
+        acc = t if acc is None else acc + t
+    return acc if acc is not None else jets[0] * 0.0
+
+
 def _combine(C, jets: list) -> list:
     """``sum_b C[:, a, b] jets[b]`` for each ``a`` (``C`` values ``(n, k, k)`` or a dict of jets)."""
-    k = len(jets)
-    out = []
-    for a in range(k):
-        acc = None
-        for b in range(k):
-            c = C[a, b] if isinstance(C, dict) else C[:, a, b]
-            if not isinstance(c, Jet) and not np.any(c):
-                continue
-            t = jets[b] * c
-            acc = t if acc is None else acc + t
-        out.append(acc if acc is not None else jets[0] * 0.0)
-    return out
+    return [_row(C, a, jets) for a in range(len(jets))]
 
 
 def _biorthogonal(ints, grp: Groups, T: np.ndarray, space) -> tuple[dict, np.ndarray]:
@@ -414,7 +415,7 @@ def evaluate(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarra
     out, trip, th, tD, tM = acc
     n = xs.shape[0] * (n_s + n_m)
     info = {"D": tD.csr((n_s, n_s)), "M": tM.csr((n_s, n_m)), "segmentation": ic.data[0] if isinstance(ic.data, tuple) else ic.data,
-            "n_segments": ic.e_s.size}
+            "n_segments": ic.e_s.size, "normals": nn}
     return ContactEval(g=out, G=trip.csr((n_s, n)) if tangent else None,
                        H=th.csr((n, n)) if second else None, area=support, mask=mask,
                        info=info)
@@ -440,9 +441,18 @@ def _chunk(surf: _Surfaces, ic: IntegrationCells, S, loc, ints, mask, space, lam
     k = seg_s.shape[1]
     T = (merge_nodes(merged, surf.cells[0]) if merged.any()
          else np.broadcast_to(np.eye(k), (grp.e_s.size, k, k)))
-    Gs = _combine(T, group_sums(ints.g, grp))
+    rowwise = isinstance(ints.g[0], (list, tuple))
+    if rowwise:                       # f[A][B] (the slip's): g_A = sum_B C_AB f[A][B]
+        sums = [group_sums(row, grp) for row in ints.g]
+        Gs = ([_combine(T, row) for row in sums] if space is not None
+              else [_row(T, a, row) for a, row in enumerate(sums)])
+    else:
+        Gs = _combine(T, group_sums(ints.g, grp))
     C, q = T, None
-    if space is not None:
+    if space is not None and rowwise:
+        A, C = _biorthogonal(ints, grp, T, space)
+        Gs = [_row(A, a, row) for a, row in enumerate(Gs)]
+    elif space is not None:
         A, C = _biorthogonal(ints, grp, T, space)
         if lam is not None and Gs[0].h is not None:
             # q = sum_A lam_A sum_B A_AB G_B = sum_B mu_B G_B, mu_B = sum_A lam_A A_AB: k

@@ -56,11 +56,11 @@ nodal normal turned by -90 degrees):
 
     u_t,A = - tau_A . [ sum_B (D_AB - D_AB^prev) x_B - sum_C (M_AC - M_AC^prev) x_C ],
 
-``D^prev``, ``M^prev`` the mortar integrals of the last converged step
-(history) and ``x`` the current positions (3-node segments on either side:
-the curved kernel's ``D``, ``M`` and nodal normals,
-:func:`skfem_mortar.contact.mortar_quadratic.tangential_evaluate`).  Rigid motions of the whole pair
-leave ``D`` and ``M`` unchanged, so the slip vanishes exactly; a translation
+``D^prev``, ``M^prev`` the mortar integrals of the last converged step (history) and
+``x`` the current positions (any line cells on either side: the one mortar kernel's
+``D``, ``M`` and nodal normals,
+:func:`~skfem_mortar.contact.mortar_slip_cells.tangential_evaluate`).  Rigid motions of
+the whole pair leave ``D`` and ``M`` unchanged, so the slip vanishes exactly; a translation
 alone also cancels by ``sum_B D_AB = sum_C M_AC`` (both integrate ``Phi_A``
 over the same mortar segments).  The sign: for a slave sliding by ``d`` along
 ``tau_A`` over a fixed flat master, ``u_t,A = d int Phi_A = d D_AA`` (dual) or
@@ -73,10 +73,14 @@ It is written as
     u_t,A = r_A(x) + tau_A(x) . w_A(x),   r_A = tau_A . (sum_C M_AC x_C - sum_B D_AB x_B),
                                           w_A = sum_B D_AB^prev x_B - sum_C M_AC^prev x_C,
 
-``r_A`` and its derivatives from :func:`skfem_mortar.contact.mortar.tangential_evaluate`
-(the mortar kernel's jets: nodal normals, segment end points, dual
-coefficients, projections), ``w_A`` linear in ``x`` and ``tau_A`` a jet of
-the node and its two neighbours, so
+``r_A`` and its derivatives from
+:func:`skfem_mortar.contact.mortar_slip_cells.tangential_evaluate` (the one
+mortar kernel with the slip's integrand ``Phi_A tau_A . (x_m - x_s)`` on its
+integration cells: end points, projections, multiplier functions and the
+nodal normals chained in at assembly), ``w_A`` linear in ``x`` and ``tau_A``
+a function of the nodal normal ``n_A`` (its derivatives over the node's
+neighbourhood from the same chained normals,
+:func:`~skfem_mortar.contact.mortar_slip_cells.tangent_jets`), so
 
     G = dr/dx + tau . W + w . T,
     H = H_r + T^T Lam W + W^T Lam T + sum_A lam_A w_A . d^2 tau_A/dx^2
@@ -91,16 +95,13 @@ from typing import Any
 import numpy as np
 import scipy.sparse as sp
 
-from . import mortar, mortar_quadratic
 from .cells import CellType
 from .curves import (arc_length, cell_nodes, check_line, curve, ends, is_affine,
                      project_values, projection_jets)
 from .scatter import Triplets
-from .segmentation import check_kernel_cells, line_cells
+from .segmentation import line_cells
 from .jets import Jet
-from .mortar_quadratic_segmentation import nodal_normal_jets
-from .mortar_segmentation import nodal_normals
-from .normals import mirror_of_axis
+from .mortar_slip_cells import tangent_jets, tangential_evaluate
 from .nts_projection import project
 from ..core.chain import segments_at_nodes
 
@@ -377,11 +378,14 @@ def _segments(seg: Any) -> np.ndarray:
     return seg.reshape(-1, 2) if seg.ndim == 1 else seg  # a flat list of (start, end) pairs
 
 
-def _cells(seg_s: np.ndarray, seg_m: np.ndarray, cells) -> tuple[tuple, bool]:
-    """The cells of a mortar call and whether they take the curved kernel."""
+def _cells(seg_s: np.ndarray, seg_m: np.ndarray, cells) -> tuple:
+    """The cells of a mortar call: line cells (the one kernel's 2D segmentations)."""
     cells = line_cells(seg_s, seg_m, cells)
-    check_kernel_cells(cells, ("line2", "line3"), "mortar_slip")
-    return cells, any(c.name != "line2" for c in cells)
+    for what, c in zip(("slave", "master"), cells):
+        if c.dim != 1:
+            raise ValueError(f"cells must be line cells (dim 1) for the mortar slip, got "
+                             f"{what} {c.name}")
+    return cells
 
 
 def mortar_history(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarray,
@@ -389,17 +393,14 @@ def mortar_history(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.
                    ) -> dict[str, sp.csr_matrix]:
     """The history of :func:`mortar_slip` at a converged state: ``D_prev``, ``M_prev``.
 
-    The mortar integrals of :func:`skfem_mortar.contact.mortar.evaluate`
-    (3-node segments on either side:
-    :func:`skfem_mortar.contact.mortar_quadratic.evaluate`; values only;
-    ``kernel_options`` as there: ``space``, ``n_gauss``, ``crosspoints``, ...),
-    which the pair also has as ``info["D"]``, ``info["M"]`` of its last
-    evaluation at the converged state.
+    The mortar integrals of the one kernel (:func:`skfem_mortar.contact.mortar_kernel.evaluate`,
+    values only; ``kernel_options`` as there: ``space``, ``n_gauss``, ``crosspoints``,
+    ...), which the pair also has as ``info["D"]``, ``info["M"]`` of its last evaluation
+    at the converged state.
     """
     seg_s, seg_m = _segments(seg_s), _segments(seg_m)
-    cells, curved = _cells(seg_s, seg_m, cells)
-    kernel = mortar_quadratic.evaluate if curved else mortar.evaluate
-    ev = kernel(xs, seg_s, xm, seg_m, tangent=False, cells=cells, **kernel_options)
+    ev = tangential_evaluate(xs, seg_s, xm, seg_m, tangent=False,
+                             cells=_cells(seg_s, seg_m, cells), **kernel_options)
     return {"D_prev": ev.info["D"], "M_prev": ev.info["M"]}
 
 
@@ -411,29 +412,24 @@ def mortar_slip(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.nda
 
     Parameters
     ----------
-    xs, xm : ndarray (2, n_s), (2, n_m)
+    xs, xm : ndarray (d, n_s), (d, n_m)
         Current slave and master node coordinates.
-    seg_s, seg_m : int ndarray (n, 2) or (n, 3)
-        Slave and master segments; 3-node segments (start, end, mid) on either
-        side take the curved kernel
-        (:func:`skfem_mortar.contact.mortar_quadratic.tangential_evaluate`, its
-        ``D``, ``M`` and nodal normals).
+    seg_s, seg_m : int ndarray (n, k)
+        Slave and master cells (any line cell of the table).
     D_prev, M_prev : sparse or dense (n_s, n_s), (n_s, n_m)
         The mortar integrals ``int Phi_A N_B``, ``int Phi_A N_C`` at the last
         converged step (:func:`mortar_history`), with the same multiplier
-        functions (``dual``) as now.
+        functions (``space``) as now.
     lam_t : ndarray (n_s,), optional
         Tangential multipliers, for ``H``.
     tangent : bool
         Build ``G`` (and ``H`` with ``lam_t``).
     cells : (slave, master) cell types, optional
-        ``line2`` or ``line3`` (default: the lines of the connectivities' columns,
-        :func:`~skfem_mortar.contact.segmentation.line_cells`); a ``line3`` on
-        either side takes the curved kernel.
+        Default: the lines of the connectivities' columns
+        (:func:`~skfem_mortar.contact.segmentation.line_cells`).
     **kernel_options
-        ``dual``, ``n_gauss``, ``segmentation``, ``pairs``, ``margin``,
-        ``crosspoints``, ``reach``, ``measure`` of
-        :func:`skfem_mortar.contact.mortar.evaluate`.
+        ``space``, ``n_gauss``, ``segmentation``, ``pairs``, ``margin``, ``crosspoints``,
+        ``reach``, ``measure`` of :func:`skfem_mortar.contact.mortar_kernel.evaluate`.
 
     Returns
     -------
@@ -443,8 +439,8 @@ def mortar_slip(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.nda
     """
     xs, xm = np.asarray(xs, float), np.asarray(xm, float)
     seg_s, seg_m = _segments(seg_s), _segments(seg_m)
-    cells, curved = _cells(seg_s, seg_m, cells)
-    n_s, n_m = xs.shape[1], xm.shape[1]
+    cells = _cells(seg_s, seg_m, cells)
+    d, n_s, n_m = xs.shape[0], xs.shape[1], xm.shape[1]
     Dp = _as_csr(D_prev, (n_s, n_s), "D_prev")
     Mp = _as_csr(M_prev, (n_s, n_m), "M_prev")
     if lam_t is not None:
@@ -452,44 +448,52 @@ def mortar_slip(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.nda
         if lam_t.shape != (n_s,):
             raise ValueError(f"lam_t must have shape ({n_s},), got {lam_t.shape}")
     second = tangent and lam_t is not None
-    kernel = mortar_quadratic.tangential_evaluate if curved else mortar.tangential_evaluate
-    ev = kernel(xs, seg_s, xm, seg_m, lam=lam_t, tangent=tangent, cells=cells, **kernel_options)
-    # w_A = sum_B Dp_AB x_B - sum_C Mp_AC x_C: rows 2A + i, local dof columns
-    I2 = sp.identity(2, format="csr")
-    W = sp.hstack([sp.kron(Dp, I2), -sp.kron(Mp, I2)], format="csr")
-    xloc = np.concatenate([xs.T.ravel(), xm.T.ravel()])
-    w = (W @ xloc).reshape(n_s, 2).T                               # (2, n_s)
+    ev = tangential_evaluate(xs, seg_s, xm, seg_m, lam=lam_t, tangent=tangent, cells=cells,
+                             **kernel_options)
+    # w_A = sum_B Dp_AB x_B - sum_C Mp_AC x_C, from the history's entries (row A, node
+    # column in the local order: B or n_s + C, value Dp_AB or -Mp_AC)
+    Dc, Mc = Dp.tocoo(), Mp.tocoo()
+    hist = (np.concatenate([Dc.row, Mc.row]), np.concatenate([Dc.col, n_s + Mc.col]),
+            np.concatenate([Dc.data, -Mc.data]))
+    x = np.hstack([xs, xm])
+    w = np.zeros((d, n_s))
+    for i in range(d):
+        w[i] = np.bincount(hist[0], weights=hist[2] * x[i, hist[1]], minlength=n_s)
     tau = ev.info["tangent"]
     u = ev.g + np.sum(tau * w, axis=0)
     info = {"D": ev.info["D"], "M": ev.info["M"], "r": ev.g, "w": w}
     if not tangent:
         return SlipEval(u=u, G=None, H=None, tangent=tau, mask=ev.mask, info=info)
-    ndof = 2 * n_s + 2 * n_m
-    # the kernel's nodal normals (mirrored on the axis of an axisymmetric measure)
-    measure = kernel_options.get("measure")
-    mirror = mirror_of_axis(None if measure is None else measure.axis)
-    if curved:       # the nodal normals of the curved kernel's step 1, slot variables
-        (nx, ny), slots = nodal_normal_jets(xs, seg_s, second, mirror=mirror)
-    else:
-        (nx, ny), pnode, nnode = nodal_normals(xs, seg_s, second, 6, mirror)
-        slots = np.column_stack([pnode, np.arange(n_s), nnode])
-    tj = (ny, -nx)                                                 # tau_A as jets
-    d6 = np.hstack([_node_dofs(n_s, slots[:, j], False) for j in range(slots.shape[1])])
-    nv = d6.shape[1]
-    # T: rows 2A + i, d tau_A,i / dx
-    Tt = Triplets()
-    Tt.rows(np.arange(2 * n_s), np.repeat(d6, 2, axis=0),
-            np.stack([tj[0].g.T, tj[1].g.T], 1).reshape(2 * n_s, nv))
-    T = Tt.csr((2 * n_s, ndof))
-    S = sp.kron(sp.identity(n_s, format="csr"), np.ones((1, 2)), format="csr")
-    G = (ev.G + S @ (sp.diags(tau.T.ravel()) @ W + sp.diags(w.T.ravel()) @ T)).tocsr()
-    H = None
-    if second:
-        L = sp.diags(np.repeat(lam_t, 2))
-        cross = T.T @ L @ W
-        h6 = (tj[0].hessian() * (lam_t * w[0]) + tj[1].hessian() * (lam_t * w[1]))  # (nv, nv, n)
-        Ht = Triplets()
-        Ht.block(d6, h6)
-        Ht = Ht.csr((ndof, ndof))
-        H = (ev.H + cross + cross.T + Ht).tocsr()
+    G, H = _history_terms(ev, hist, w, lam_t, second, d * (n_s + n_m))
     return SlipEval(u=u, G=G, H=H, tangent=tau, mask=ev.mask, info=info)
+
+
+def _history_terms(ev, hist: tuple, w: np.ndarray, lam_t: np.ndarray | None, second: bool,
+                   ndof: int) -> tuple[sp.csr_matrix, sp.csr_matrix | None]:
+    """``G = dr/dx + tau . W + w . T``, ``H = H_r + T^T Lam W + W^T Lam T + sum_A lam_A w_A .
+    d2tau_A/dx2`` (module doc); ``T = dtau/dx`` from the kernel's chained normals
+    (:func:`~.mortar_slip_cells.tangent_jets`), ``W`` from ``hist`` (rows, node columns, values)."""
+    nn = ev.info["normals"]
+    tau, dtau, d2tau = tangent_jets(nn, second)
+    d, n_s = w.shape
+    K = nn.nodes.shape[1]
+    nodes = np.where(nn.nodes >= 0, nn.nodes, nn.nodes[:, :1])    # padding: zero values
+    dofs = (d * nodes[:, :, None] + np.arange(d)).reshape(n_s, K * d)
+    rows, cols, vals = hist
+    cols = d * cols[:, None] + np.arange(d)                        # (nnz, d) dofs of W
+    Gt = Triplets()
+    Gt.rows(rows, cols, tau[:, rows].T * vals[:, None])            # tau_A . W_A
+    Gt.rows(np.arange(n_s), dofs, np.einsum("in,inkc->nkc", w, dtau).reshape(n_s, K * d))
+    G = (ev.G + Gt.csr((n_s, ndof))).tocsr()                       # + w_A . T_A
+    if not second:
+        return G, None
+    # W^T Lam T: [d B + i, dofs_A] += lam_A Dp_AB dtau_i(A) (and -Mp_AC likewise)
+    Tl = (dtau * lam_t[:, None, None]).reshape(d, n_s, K * d)[:, rows]   # (d, nnz, K d)
+    Xt = Triplets()
+    Xt.rows(cols.ravel(), np.repeat(dofs[rows], d, axis=0),
+            (Tl * vals[:, None]).transpose(1, 0, 2).reshape(-1, K * d))
+    X = Xt.csr((ndof, ndof))
+    h = np.einsum("in,inkcle->kclen", w * lam_t, d2tau).reshape(K * d, K * d, n_s)
+    Ht = Triplets()
+    Ht.block(dofs, h)
+    return G, (ev.H + X + X.T + Ht.csr((ndof, ndof))).tocsr()
