@@ -346,8 +346,8 @@ def _surfaces(xs, ss, xm, sm):
     """Bare surfaces: connectivity, node count and cell type (as a surface carries it)."""
     def cell(seg):
         return {2: "line2", 3: "line3"}[np.shape(seg)[1]]
-    return (types.SimpleNamespace(segments=ss, n_nodes=xs.shape[1], cell=cell(ss)),
-            types.SimpleNamespace(segments=sm, n_nodes=xm.shape[1], cell=cell(sm)))
+    return (types.SimpleNamespace(segments=ss, n_nodes=xs.shape[1], cell=cell(ss), X=xs),
+            types.SimpleNamespace(segments=sm, n_nodes=xm.shape[1], cell=cell(sm), X=xm))
 
 
 @pytest.mark.parametrize("ks,km", [(3, 3), (3, 2), (2, 3), (2, 2)])
