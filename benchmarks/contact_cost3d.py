@@ -13,13 +13,12 @@ and ``H`` (multipliers all 1), the search included:
 
 * ``nts``: :func:`~skfem_mortar.contact.nts_faces.evaluate_faces`;
 * ``mortar``/``mortar-dual``: :func:`~skfem_mortar.contact.mortar_kernel.evaluate`
-  with :class:`~skfem_mortar.contact.points3d.FacePoints` (the segmentation, the
-  integration points on jets, D, M, the weighted gaps, one scatter).
+  with :class:`~skfem_mortar.contact.points3d.FacePoints` on the candidate pairs of
+  the method's own search (:func:`method_pairs`), as ``Mortar`` calls it (the
+  segmentation, the integration points on jets, D, M, the weighted gaps, one scatter).
 
-The face pairs are the candidate slave/master face pairs of the mortar search
-(:func:`~skfem_mortar.contact.segmentation3d.segment_faces`, its default margin), the
-same count for every method: about 40 (quad4) and 70 (tri3) per slave face at the
-search's default margin (one face size).  The last
+The face pairs counted are those candidate pairs, the same count for every method
+(NTS searches node/face pairs of its own).  The last
 lines fit ``t = c n^k`` by least squares in log-log over the sizes of each
 method and cell (``k`` = 1: linear growth).  ``--memory`` adds the peak of Python-side
 allocations (tracemalloc) of one more evaluation.  ``--max-seconds`` skips a
@@ -41,8 +40,18 @@ from segmentation3d import problem  # noqa: E402  (benchmarks/, run as a script)
 METHODS = ("nts", "mortar", "mortar-dual")
 
 
+def method_pairs(xs, Ss, xm, Sm, cells) -> tuple[np.ndarray, np.ndarray]:
+    """The candidate face pairs of :class:`~skfem_mortar.contact.mortar_method.Mortar`'s
+    search at its first evaluation (no margin given: each face's box grown by its own
+    size, :func:`~skfem_mortar.contact.search.cell_sizes`)."""
+    from skfem_mortar.contact.search import cell_sizes, segment_pairs
+    return segment_pairs(xs, Ss, xm, Sm, 0.0, cell_sizes(xs, Ss, cells[0]),
+                         cell_sizes(xm, Sm, cells[1]), *cells)
+
+
 def evaluator(method: str, xs, Ss, xm, Sm, cells):
-    """A call evaluating ``g, G, H`` of ``method`` on the surfaces."""
+    """A call evaluating ``g, G, H`` of ``method`` on the surfaces (mortar: on the
+    pairs of :func:`method_pairs`, searched in the call, as the method does)."""
     lam = np.ones(xs.shape[1])
     if method == "nts":
         from skfem_mortar.contact.cells import cell_type
@@ -55,7 +64,8 @@ def evaluator(method: str, xs, Ss, xm, Sm, cells):
     from skfem_mortar.contact.points3d import FacePoints
     space = "dual" if method == "mortar-dual" else "standard"
     return lambda: evaluate(xs, Ss, xm, Sm, lam=lam, tangent=True, space=space, cells=cells,
-                            points=FacePoints(cells))
+                            points=FacePoints(cells, pairs=method_pairs(xs, Ss, xm, Sm, cells),
+                                              frozen=False))
 
 
 def grid_for(faces: int, tri: bool) -> int:
@@ -65,9 +75,8 @@ def grid_for(faces: int, tri: bool) -> int:
 
 def measure(method: str, n: int, tri: bool, repeat: int, memory: bool) -> dict:
     """One row: sizes, median time, per face and per pair, (peak memory)."""
-    from skfem_mortar.contact.segmentation3d import segment_faces
     xs, Ss, xm, Sm, cells = problem(n, tri)
-    pairs = segment_faces(xs, Ss, xm, Sm, cells).candidates[0].size
+    pairs = method_pairs(xs, Ss, xm, Sm, cells)[0].size
     call = evaluator(method, xs, Ss, xm, Sm, cells)
     ts, walls = [], []
     for _ in range(repeat):
@@ -112,7 +121,7 @@ def main(argv=None) -> int:
     if a.repeat < 1:
         raise ValueError(f"--repeat must be >= 1, got {a.repeat}")
     print("| method | faces | slave faces | face pairs | CPU [s] | wall [s] | per slave face "
-          "[us] | per face pair [us] | peak [MiB] |\n|---|---|---|---|---|---|---|---|---|", flush=True)
+          "[us] | per face pair [us] | peak [MiB] |\n" + "|---" * 9 + "|", flush=True)
     fits = []
     for method in a.methods:
         for cell in a.cells:

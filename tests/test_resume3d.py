@@ -9,10 +9,11 @@ Two scenes, built here as :class:`~skfem_mortar.scenes.Scene` objects that
 whole path (checkpoint, restart, frames, ``contact.csv``, summary) runs unchanged.
 
 * ``blocks``: patch3d's two blocks (``scenes/_patch3d.py``) with their contact pair,
-  as the scene registers it: hex1 on hex1 with the upper block slave, tet1 upper on
-  hex1 lower with the lower block slave (its uncovered nodes without master);
-* ``sphere``: a hex1 block (4 x 4 x 2) pushed up into a rigid sphere, the contact
-  zone growing over the steps (``test_nts3d``'s resume model).
+  as the scene registers it: tet1 upper on hex1 lower with the lower block slave (its
+  uncovered nodes without master) with NTS and mortar-dual, hex1 on hex1 with the
+  upper block slave with mortar;
+* ``sphere``: a hex1 block (4 x 4 x 2) pushed up into a rigid sphere with NTS, the
+  contact zone growing over the steps (``test_nts3d``'s resume model).
 
 What a resume must restore here is the state, the step history and the controller:
 with NTS, the pair's own checkpointed state (the converged active set) is rebuilt
@@ -102,10 +103,12 @@ SCENES = {"blocks3d_resume_test": Scene(
               build=_sphere, methods=METHODS, default_steps=3)}
 
 BLOCKS, SPHERE = SCENES
-CASES = [(BLOCKS, "nts", {"element": "hex1", "n_lower": 4, "n_upper": 2, "slave": "upper"}),
-         (BLOCKS, "nts", {"element": "tet1/hex1", "n_lower": 4, "n_upper": 2,
+CASES = [(BLOCKS, "nts", {"element": "tet1/hex1", "n_lower": 4, "n_upper": 2,
                           "slave": "lower"}),
-         (SPHERE, "nts", {})]
+         (SPHERE, "nts", {}),
+         (BLOCKS, "mortar", {"element": "hex1", "n_lower": 4, "n_upper": 2, "slave": "upper"}),
+         (BLOCKS, "mortar-dual", {"element": "tet1/hex1", "n_lower": 4, "n_upper": 2,
+                                  "slave": "lower"})]
 IDS = [f"{n.split('3d')[0]}-{m}" + (f"-{p['element']}-{p['slave']}" if p else "")
        for n, m, p in CASES]
 
@@ -145,7 +148,7 @@ def test_the_resumed_3d_run_is_bit_for_bit(tmp_path):
     and cell arrays, ``contact.csv`` and the metrics equal the uninterrupted run's
     exactly (RTOL 0), so the 1e-10 above is not what lets the resume pass."""
     from resume_tools import Killed, renames
-    case = CASES[2]
+    case = CASES[1]
     with renames() as log:
         ref = _run(case, tmp_path / "ref")
     kill = checkpoint_moments(log)[1]         # inside the first step's checkpoint
