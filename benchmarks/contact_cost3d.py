@@ -20,7 +20,13 @@ and ``H`` (multipliers all 1), the search included:
 The face pairs counted are those candidate pairs, the same count for every method
 (NTS searches node/face pairs of its own).  The last
 lines fit ``t = c n^k`` by least squares in log-log over the sizes of each
-method and cell (``k`` = 1: linear growth).  ``--memory`` adds the peak of Python-side
+method and cell (``k`` = 1: linear growth).
+
+Measured 2026-12-06 (CPU, one thread; per slave face / per face pair): NTS quad4
+272 / 7, 165 / 4, 275 / 7 us at 1e3, 1e4, 1e5 faces (k = 0.98; peak 39, 174, 1609 MiB),
+tri3 56 / 1, 68 / 1 us at 1e3, 1e4 (k = 1.02); mortar quad4 58, 71, 71 ms / 2.8, 2.6,
+2.2 ms at 64, 144, 400 faces (k = 0.90), tri3 26, 27, 32 ms / 0.60, 0.55, 0.45 ms at 72,
+128, 392 (k = 0.87); mortar-dual as mortar to 3 %.  ``--memory`` adds the peak of Python-side
 allocations (tracemalloc) of one more evaluation.  ``--max-seconds`` skips a
 method's larger sizes once one evaluation took longer.
 """
