@@ -115,6 +115,23 @@ def stored_errors(deck: decks3d.Deck) -> dict:
     return out
 
 
+def fresh_runs(cases: list, repeat: int, out: str, command, env: dict) -> dict:
+    """``repeat`` interleaved rounds of a fresh process per case (one thread, ``env``
+    added): ``command(case, json_path)`` writes its JSON; per case the list of
+    ``(whole-process seconds, the JSON)``.  ``case`` names the files (``str(case)``)."""
+    env = {**os.environ, **ONE_THREAD, **env}
+    runs: dict = {c: [] for c in cases}
+    for i in range(repeat):
+        for c in cases:
+            stem = os.path.join(out, f"{'.'.join(map(str, c)) if isinstance(c, tuple) else c}.{i}")
+            t, rc = timed(command(c, stem + ".json"), env, out, stem + ".log")
+            if rc != 0:
+                raise RuntimeError(f"the run failed on {c} (log {stem}.log)")
+            with open(stem + ".json") as f:
+                runs[c].append((t, json.load(f)))
+    return runs
+
+
 def _range(row: dict, key: str) -> str:
     lo, hi = row.get(f"{key}_ratio_min"), row.get(f"{key}_ratio_max")
     return "-" if lo is None else f"{lo:.4f} to {hi:.4f}"
@@ -154,16 +171,8 @@ def main(argv=None) -> int:
     runs: dict[str, list] = {n: [] for n in decks}
     if not a.stored_only:
         compile_bytecode(a.kratos_python)
-        env = {**os.environ, **ONE_THREAD}
-        for i in range(a.repeat):
-            for n in decks:
-                js = os.path.join(a.out, f"{n}.{i}.json")
-                t, rc = timed([a.kratos_python, os.path.join(HERE, "run_kratos3d.py"), n, js],
-                              env, a.out, os.path.join(a.out, f"{n}.{i}.log"))
-                if rc != 0:
-                    raise RuntimeError(f"Kratos failed on {n} (log {n}.{i}.log)")
-                with open(js) as f:
-                    runs[n].append((t, json.load(f)))
+        runs = fresh_runs(list(decks), a.repeat, a.out, lambda n, js: [
+            a.kratos_python, os.path.join(HERE, "run_kratos3d.py"), n, js], {})
     rows = []
     for n, deck in decks.items():
         ps = decks3d.parts(deck)

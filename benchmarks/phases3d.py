@@ -1,0 +1,152 @@
+"""Time per Newton iteration by phase on a 3D contact model (issue 38, "Measure and
+report"): bulk assembly, contact search, contact evaluation, linear solve, the rest.
+
+    python benchmarks/phases3d.py [--dofs 1e5 3e5] [--methods nts mortar mortar-dual]
+        [--steps 2] [--json phases3d.json]
+
+The model: two stacked hex1 blocks (``blocks3d.py``: patch3d's bodies, finite strain,
+the upper block's bottom the slave on the lower block's covered top, non-matching
+grids ``n_upper = 0.8 n_lower``) of about ``--dofs`` displacement dofs, pressed in
+``--steps`` load steps, solved by the package's Newton with the direct solver on
+PARDISO (``pypardiso``; ``SKFEM_MORTAR_SOLVER=pardiso``).  One fresh process per
+size and method, so that the peak resident memory (``ru_maxrss``) is the run's own.
+
+One thread (MKL, OpenMP, BLAS) and, by default (``--clock cpu``), every timer of the
+package reading the process's CPU time (``time.perf_counter`` replaced by
+``time.process_time`` in the run's process): on shared cores the wall clock of a run
+grows with the other processes' load (measured: 101 s per iteration at 1e5 dofs at a
+load average of 14 on 2 cores), its CPU time does not; ``--clock wall`` times the wall.
+
+Phases (the model's item timers and the named timers of ``core.timing``, as the
+runner's summary reports them), summed over the run and divided by its Newton
+iterations (each iteration assembles once; every step assembles once more for its
+last residual check, so the assembly phases per iteration include that share):
+
+* bulk assembly: the bodies' and loads' triplets and the global sum into CSR;
+* contact search: the candidate boxes (``search`` timer);
+* contact evaluation: the pair's assembly without its search (gaps, G, H, the
+  active set, the multiplier rows);
+* linear solve: the free block's factorization and solve (``Result.solve_time``);
+* the rest: the solve's wall clock minus the above (the free block's extraction,
+  convergence tests, line search, the step controller, state copies).
+
+Prints a Markdown table; ``--json`` writes the rows.
+
+Measured 2026-12-06 on the 2 shared cores (load average 11 to 14; CPU clock), seconds
+per Newton iteration (2 steps, 3 + 3 iterations in every run)::
+
+    method       dofs     bulk   search  contact  solve   rest    total   peak RSS
+    nts          9,456    0.118  0.006    0.025   0.192   0.040   0.38    0.4 GB
+    mortar       9,456    0.124  0.009    4.17    0.298   0.078   4.68    1.0 GB
+    mortar-dual  9,456    0.121  0.009    4.38    0.397   0.070   4.98    1.0 GB
+    nts          106,518  1.95   0.019    0.12    17.6    0.38    20      3.9 GB
+
+Mortar at 1e5 (RSS past 7 GB: the kernel keeps its chunks' triplets) and both methods
+at 3e5 (NTS past 12 GB) were stopped on the loaded machine, unfinished.
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import subprocess
+import sys
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+
+_RUN = r"""
+import json, resource, sys, time
+sys.path.insert(0, sys.argv[2])
+spec = json.loads(sys.argv[1])
+if spec["clock"] == "cpu":       # every timer of the package reads the process's CPU time
+    time.perf_counter = time.process_time
+from blocks3d import blocks_model, blocks_params
+from skfem_mortar.core.timing import TIMERS, reset
+from skfem_mortar.solver.newton import NewtonOptions
+from skfem_mortar.solver.stepping import solve
+t0 = time.perf_counter()
+params = blocks_params(n_lower=spec["n_lower"], n_upper=spec["n_upper"])
+model, pair, parts = blocks_model(params, spec["method"])
+model.timers.clear(); reset()
+t_build = time.perf_counter() - t0
+t0 = time.perf_counter()
+res = solve(model, spec["steps"], newton=NewtonOptions(linear="direct"))
+wall = time.perf_counter() - t0
+its = [s.newton_iterations for s in res.steps]
+tm = dict(model.timers)
+search = TIMERS.get("search", 0.0)
+phases = {"bulk": tm.get("bulk", 0.0) + tm.get("loads", 0.0),
+          "search": search, "contact": tm.get("contact", 0.0) - search,
+          "solve": res.solve_time}
+phases["rest"] = wall - sum(phases.values())
+n = sum(its)
+print(json.dumps({"method": spec["method"], "n_lower": spec["n_lower"],
+                  "n_upper": spec["n_upper"], "n_dofs": int(model.n_u),
+                  "n_multipliers": int(model.n_lam), "converged": bool(res.converged),
+                  "iterations": its, "build_s": t_build, "wall_s": wall,
+                  "per_iteration_s": {k: v / n for k, v in phases.items()},
+                  "timers": tm, "slave_faces": int(len(pair.slave.segments)),
+                  "peak_rss_gb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 2**20}))
+"""
+
+PHASES = ("bulk", "search", "contact", "solve", "rest")
+
+#: one thread for MKL (PARDISO), OpenMP and BLAS: the CPU clock is then the time of
+#: the one core a run gets
+ONE_THREAD = {k: "1" for k in ("MKL_NUM_THREADS", "OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS")}
+
+
+def run(n_lower: int, n_upper: int, method: str, steps: int, clock: str = "cpu") -> dict:
+    """One fresh process: the model of ``n_lower``/``n_upper`` cells solved by ``method``
+    (``clock``: ``cpu`` or ``wall``, module docstring)."""
+    spec = json.dumps({"n_lower": n_lower, "n_upper": n_upper, "method": method,
+                       "steps": steps, "clock": clock})
+    env = {**os.environ, "SKFEM_MORTAR_SOLVER": "pardiso", **ONE_THREAD}
+    out = subprocess.run([sys.executable, "-c", _RUN, spec, HERE], env=env, check=True,
+                         capture_output=True, text=True).stdout
+    return json.loads(out.strip().splitlines()[-1])
+
+
+def table(rows: list[dict]) -> str:
+    """The Markdown table of ``rows``: seconds per Newton iteration by phase."""
+    head = ("| method | dofs | multipliers | slave faces | iterations per step | "
+            + " | ".join(PHASES) + " | total per it. [s] | peak RSS [GB] |\n|"
+            + "---|" * (len(PHASES) + 7) + "\n")
+    lines = []
+    for r in rows:
+        p = r["per_iteration_s"]
+        tot = sum(p.values())
+        cells = " | ".join(f"{p[k]:.3g} ({100 * p[k] / tot:.0f} %)" for k in PHASES)
+        lines.append(f"| {r['method']} | {r['n_dofs']:,} | {r['n_multipliers']:,} | "
+                     f"{r['slave_faces']:,} | {'+'.join(map(str, r['iterations']))} | "
+                     f"{cells} | {tot:.3g} | {r['peak_rss_gb']:.1f} |")
+    return head + "\n".join(lines) + "\n"
+
+
+def main(argv=None) -> int:
+    sys.path.insert(0, HERE)
+    from blocks3d import sizes_for
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--dofs", type=float, nargs="+", default=[1e5, 3e5])
+    ap.add_argument("--methods", nargs="+", default=["nts", "mortar", "mortar-dual"])
+    ap.add_argument("--steps", type=int, default=2)
+    ap.add_argument("--clock", choices=("cpu", "wall"), default="cpu")
+    ap.add_argument("--json")
+    a = ap.parse_args(argv)
+    if a.steps < 1:
+        raise ValueError(f"--steps must be >= 1, got {a.steps}")
+    rows = []
+    for dofs in a.dofs:
+        n_lower, n_upper = sizes_for(dofs)
+        for method in a.methods:
+            rows.append(run(n_lower, n_upper, method, a.steps, a.clock))
+            print(table(rows[-1:]), flush=True)
+            if a.json:
+                with open(a.json, "w") as f:
+                    json.dump(rows, f, indent=1)
+    print(table(rows))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
