@@ -240,10 +240,7 @@ def _two_blocks(element="hex1"):
 def test_refusals_name_the_feature_and_the_alternative():
     a, b = _two_blocks()
     s, m = ContactSurface.from_solid(b, "bottom"), ContactSurface.from_solid(a, "top")
-    for method in ("mortar", "mortar-dual"):
-        with pytest.raises(ValueError, match=f"{method} in 3D is not offered yet; use "
-                                             f"method='nts'"):
-            ContactPair(s, m, method=method)
+    # (mortar between faces is offered: tests/test_mortar3d_pair.py names its refusals)
     from skfem_mortar import Coulomb
     with pytest.raises(ValueError, match="friction in 3D is not offered yet; use frictionless"):
         ContactPair(s, m, method="nts", friction=Coulomb(0.3))

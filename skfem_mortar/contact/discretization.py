@@ -205,6 +205,24 @@ class MeasuredDiscretization(Protocol):
 
 
 @runtime_checkable
+class SymmetricDiscretization(Protocol):
+    """The optional hook of a :class:`ContactDiscretization` for symmetry planes.
+
+    A quarter or half model's symmetry planes ``normal . x = offset``
+    (:mod:`~skfem_mortar.contact.symmetry`: declared on the pair, or read from the
+    Dirichlet data), told by the pair once the prescribed dofs are known
+    (``set_fixed``), before the first evaluation: a method with the hook treats the
+    surfaces as mirrored there (NTS: a master edge on a plane is no free border;
+    mortar: slave nodes on a plane take the mirror normal ``P s / |P s|``).  A method
+    without it is told nothing.
+    """
+
+    def set_symmetry(self, planes: list) -> None:
+        """The symmetry planes, a list of ``(unit normal, offset)`` (empty: none)."""
+        ...
+
+
+@runtime_checkable
 class FrictionDiscretization(Protocol):
     """The hooks of a :class:`ContactDiscretization` that friction needs.
 

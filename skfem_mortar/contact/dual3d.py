@@ -11,7 +11,8 @@ surfaces need beyond lines:
 * :func:`sym_inverse` — the inverse of a symmetric ``k x k`` matrix by cofactors for
   ``k`` up to 4 (quad4), on arrays or jets, so the derivatives of ``A_e`` follow (the
   2 x 2 minors of the first two and the last two rows: 12 products, then 3 per entry);
-* :func:`merge_faces` — ``T`` for faces with masked nodes (the rule below);
+* :func:`merge_faces` — ``T`` for faces with masked nodes (the rule below, which is
+  :func:`~skfem_mortar.contact.mortar_support.merge_nodes`, one rule for every cell);
 * :func:`face_tributary_weights` — ``w_A = int N_A w(x) dGamma`` over the whole slave
   surface, the scale a node's mortar support is masked against.
 
@@ -46,12 +47,11 @@ below ``eps`` = 5.8e-4 and 1e-3: the largest unmasked coefficient is then about 
 """
 from __future__ import annotations
 
-from functools import lru_cache
-
 import numpy as np
 
 from .cells import CellType, cell_type
 from .jets import inv
+from .mortar_support import edge_distances, merge_nodes
 
 __all__ = ["sym_inverse", "merge_faces", "face_tributary_weights", "edge_distances"]
 
@@ -105,22 +105,6 @@ def sym_inverse(M: dict, k: int) -> dict:
     return {key: v * r for key, v in C.items()}
 
 
-@lru_cache(maxsize=None)
-def edge_distances(cell: CellType) -> np.ndarray:
-    """Number of edges between each two nodes of a face ``(k, k)`` (through its
-    ``cell.edges``; tri3: 1 between any two, quad4: 1 to the neighbours, 2 across)."""
-    k = cell.n_nodes
-    dist = np.full((k, k), k, dtype=np.int64)
-    np.fill_diagonal(dist, 0)
-    for edge in cell.edges:
-        for a, b in zip(edge[:-1], edge[1:]):
-            dist[a, b] = dist[b, a] = 1
-    for via in range(k):                       # Floyd-Warshall on at most 4 nodes
-        dist = np.minimum(dist, dist[:, via:via + 1] + dist[via:via + 1, :])
-    dist.setflags(write=False)
-    return dist
-
-
 def merge_faces(merged: np.ndarray, cell: "str | CellType") -> np.ndarray:
     """The masking rule's ``T`` (module docstring): ``N~_A = sum_B T_AB N_B`` per face.
 
@@ -138,18 +122,7 @@ def merge_faces(merged: np.ndarray, cell: "str | CellType") -> np.ndarray:
     if merged.ndim != 2 or merged.shape[1] != cell.n_nodes or cell.dim != 2:
         raise ValueError(f"merged must have the columns of the face cell {cell.name} "
                          f"({cell.n_nodes} nodes), got shape {merged.shape}")
-    n, k = merged.shape
-    keep = ~merged
-    T = np.zeros((n, k, k))
-    T[:, np.arange(k), np.arange(k)] = keep
-    dist = edge_distances(cell)
-    for b in range(k):
-        d = np.where(keep, dist[b], k + 1)                        # (n, k)
-        nearest = keep & (d == d.min(axis=1, keepdims=True))
-        count = nearest.sum(axis=1, keepdims=True)
-        share = np.where(nearest, 1.0 / np.maximum(count, 1), 0.0)
-        T[:, :, b] += np.where(merged[:, b:b + 1], share, 0.0)
-    return T
+    return merge_nodes(merged, cell)
 
 
 def face_tributary_weights(xs: np.ndarray, seg: np.ndarray, cell: "str | CellType",

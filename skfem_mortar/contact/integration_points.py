@@ -148,8 +148,10 @@ class IntegrationCells(NamedTuple):
     e_s, e_m : int ndarray (n,)
         Slave and master parent cell of each integration cell.
     data : Any
-        What the segmentation needs to make the points of these rows (opaque to the
-        kernel; rows in the order of ``e_s``).
+        What the segmentation needs to make the points of these rows, as
+        ``(whole, rows)``: the segmentation's own object (opaque to the kernel) and the
+        row indices into it, in the order of ``e_s``, so that the kernel takes a chunk
+        ``r`` as ``IntegrationCells(e_s[r], e_m[r], (whole, rows[r]))``; None: nothing.
     """
 
     e_s: np.ndarray
@@ -170,6 +172,10 @@ class IntegrationPoints(NamedTuple):
     w : Jet
         ``(n, n_gp)``: Gauss weight times the cell's Jacobian in the slave parameter
         space (not ``J_s``, not the measure: the kernel multiplies those).
+    mass : (tuple of Jet, Jet) or None
+        ``(xi_s, w)`` of a second rule on the same cells for the slave-only integrals of
+        a dual space (``int N_A``, ``int N_A N_B``), where they need more points than the
+        gap (curved cells); None: these points.
     """
 
     e_s: np.ndarray
@@ -177,6 +183,7 @@ class IntegrationPoints(NamedTuple):
     xi_s: tuple
     xi_m: tuple
     w: Jet
+    mass: tuple | None = None
 
 
 class PointSegmentation(Protocol):

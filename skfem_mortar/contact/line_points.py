@@ -28,6 +28,8 @@ as the general path (tested to 1e-13).
 """
 from __future__ import annotations
 
+from typing import NamedTuple
+
 import numpy as np
 
 from .cells import CellType, line_quadrature
@@ -90,6 +92,22 @@ def _solve(residual, x0: np.ndarray, like: Jet | None):
     return xj
 
 
+class _Rows(NamedTuple):
+    """The rows of a segmentation that a chunk of integration cells reads."""
+
+    xi: np.ndarray
+    src: np.ndarray
+    xi_m: np.ndarray | None
+    frozen: bool
+    n: int
+
+    @staticmethod
+    def of(sg, rows: np.ndarray) -> "_Rows":
+        """Rows ``rows`` of the segmentation ``sg``."""
+        return _Rows(sg.xi[rows], sg.src[rows], None if sg.xi_m is None else sg.xi_m[rows],
+                     sg.frozen, len(rows))
+
+
 def _values(nodes: list, shape) -> list:
     return [[np.broadcast_to(c.v.reshape(c.v.shape + (1,) * (len(shape) - 1)), shape)
              for c in node] for node in nodes]
@@ -111,18 +129,22 @@ class LineSegmentation:
     fast : bool
         Use the closed forms on affine cells (module docstring); False: Newton everywhere
         (the general path, what the fast one is tested against).
+    n_mass : int, optional
+        Gauss points per integration cell of a second rule for the slave-only mass
+        integrals of a dual space (``IntegrationPoints.mass``); None: none.
     options : dict
         Passed to the registered segmentation (``pairs``, ``margin``, ``mirror``, ...).
     """
 
     def __init__(self, cells: tuple[CellType, CellType], n_gauss: int = 2, fast: bool = True,
-                 **options):
+                 n_mass: int | None = None, **options):
         if cells[0].dim != 1 or cells[1].dim != 1:
             raise ValueError(f"cells must be line cells (dim 1), got {cells[0].name}, "
                              f"{cells[1].name}")
         if isinstance(n_gauss, bool) or not isinstance(n_gauss, (int, np.integer)) or n_gauss < 1:
             raise ValueError(f"n_gauss must be an integer >= 1, got {n_gauss!r}")
         self.cells, self.n_gauss, self.options = cells, int(n_gauss), options
+        self.n_mass = n_mass
         #: the closed forms of affine cells (:func:`affine`) on each side
         self.fast = tuple(bool(fast) and affine(c) for c in cells)
 
@@ -130,9 +152,10 @@ class LineSegmentation:
                           conn_m: np.ndarray, normals: np.ndarray | None = None
                           ) -> IntegrationCells:
         """The registered segmentation's integration cells (``normals`` unused: the 2D
-        segmentations make their own)."""
+        segmentations make their own); ``data``: ``(segmentation, rows)``, a chunk of
+        rows ``r`` is ``IntegrationCells(e_s[r], e_m[r], (segmentation, rows[r]))``."""
         sg = segmentation_for(self.cells)(xs, conn_s, xm, conn_m, self.cells, **self.options)
-        return IntegrationCells(sg.e_s, sg.e_m, sg)
+        return IntegrationCells(sg.e_s, sg.e_m, (sg, np.arange(sg.n)))
 
     def _ends(self, sg, local: LocalVariables) -> list:
         """``xi_a, xi_b`` as jets (module docstring)."""
@@ -171,7 +194,7 @@ class LineSegmentation:
     def integration_points(self, cells: IntegrationCells, local: LocalVariables
                            ) -> IntegrationPoints:
         """Gauss points in jets of ``local`` (module docstring)."""
-        sg = cells.data
+        sg = _Rows.of(*cells.data)
         cs, cm = self.cells
         lo, hi = self._ends(sg, local)
         eta, wk = line_quadrature(2 * self.n_gauss - 1)
@@ -179,6 +202,11 @@ class LineSegmentation:
         a, b = (1.0 - eta) * 0.5, (1.0 + eta) * 0.5
         xi_s = lo.expand() * a + hi.expand() * b
         w = (hi.expand() - lo.expand()) * (wk * 0.5)
+        mass = None
+        if self.n_mass is not None:
+            e5, w5 = line_quadrature(2 * self.n_mass - 1)
+            mass = ((lo.expand() * ((1.0 - e5[0]) * 0.5) + hi.expand() * ((1.0 + e5[0]) * 0.5),),
+                    (hi.expand() - lo.expand()) * (w5 * 0.5))
         xs, ns, xm = _expand(local.x_s), _expand(local.n_s), _expand(local.x_m)
         p, _ = _point(cs, xi_s, xs)
         n, _ = _point(cs, xi_s, ns)
@@ -186,7 +214,7 @@ class LineSegmentation:
             dm = [xm[1][i] - xm[0][i] for i in range(2)]
             r = [xm[0][i] - p[i] for i in range(2)]
             eta_m = _cross(r, n) * _cross(n, dm).inv() * 2.0 - 1.0
-            return IntegrationPoints(cells.e_s, cells.e_m, (xi_s,), (eta_m,), w)
+            return IntegrationPoints(cells.e_s, cells.e_m, (xi_s,), (eta_m,), w, mass)
         guess = self._master_guess(sg, a, b)
         values = ([c.v for c in p], [c.v for c in n], _values(local.x_m, guess.shape))
 
@@ -197,7 +225,7 @@ class LineSegmentation:
             r = [q[0] - P[0], q[1] - P[1]]
             return _cross(r, Nn), _cross(t, Nn)
         eta_m = _solve(residual, guess, w)
-        return IntegrationPoints(cells.e_s, cells.e_m, (xi_s,), (eta_m,), w)
+        return IntegrationPoints(cells.e_s, cells.e_m, (xi_s,), (eta_m,), w, mass)
 
     @staticmethod
     def _master_guess(sg, a: np.ndarray, b: np.ndarray) -> np.ndarray:

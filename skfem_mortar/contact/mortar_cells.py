@@ -44,7 +44,8 @@ from .integration_points import IntegrationPoints, LocalVariables, check_points
 from .jets import Jet
 from .measures import PLANE, Measure
 
-__all__ = ["compose", "shape_jets", "CellIntegrals", "cell_integrals"]
+__all__ = ["compose", "shape_jets", "combine", "dot", "slave_geometry", "CellIntegrals",
+           "cell_integrals"]
 
 
 def compose(f0: np.ndarray, f1: np.ndarray, f2: np.ndarray | None, xi: tuple) -> Jet:
@@ -86,7 +87,7 @@ def shape_jets(cell: CellType, xi: tuple, derivatives: bool = False):
     return N, dN
 
 
-def _dot(a: list, b: list):
+def dot(a: list, b: list):
     """``sum_i a_i b_i`` (jets)."""
     acc = a[0] * b[0]
     for p, q in zip(a[1:], b[1:]):
@@ -94,7 +95,7 @@ def _dot(a: list, b: list):
     return acc
 
 
-def _combine(N: list, x: list, d: int) -> list:
+def combine(N: list, x: list, d: int) -> list:
     """``sum_a N_a x_a`` component by component (``x[a][i]`` jets of shape (n,))."""
     out = []
     for i in range(d):
@@ -108,9 +109,25 @@ def _combine(N: list, x: list, d: int) -> list:
 def _jacobian(T: list):
     """``sqrt(det(T^T T))`` of the tangents ``T[r]`` (lists of d components)."""
     if len(T) == 1:
-        return _dot(T[0], T[0]).sqrt()
-    a, b, c = _dot(T[0], T[0]), _dot(T[0], T[1]), _dot(T[1], T[1])
+        return dot(T[0], T[0]).sqrt()
+    a, b, c = dot(T[0], T[0]), dot(T[0], T[1]), dot(T[1], T[1])
     return (a * c - b * b).sqrt()
+
+
+def slave_geometry(points: IntegrationPoints, local: LocalVariables, cell: CellType,
+                   measure: Measure = PLANE) -> tuple[list, list, Jet]:
+    """At the points: the slave shape functions ``N`` (list of jets), ``x_s`` (``d`` jets)
+    and ``dG = w J_s(xi_s) measure(x_s)`` (module docstring), what every integrand of the
+    kernel is weighted with (``sum_k dG_k N_A f_k`` is ``int N_A f dGamma``)."""
+    d = local.layout.d
+    N, dN = shape_jets(cell, points.xi_s, derivatives=True)
+    xs = combine(N, local.x_s, d)
+    T = [combine([dN[a][r] for a in range(cell.n_nodes)], local.x_s, d)
+         for r in range(cell.dim)]
+    dG = points.w * _jacobian(T)
+    if not measure.unit:
+        dG = dG * measure.weight(xs)
+    return N, xs, dG
 
 
 class CellIntegrals(NamedTuple):
@@ -130,7 +147,7 @@ class CellIntegrals(NamedTuple):
 
 def cell_integrals(points: IntegrationPoints, local: LocalVariables,
                    cells: tuple[CellType, CellType], measure: Measure = PLANE,
-                   mass: bool = False) -> CellIntegrals:
+                   mass: bool = False, integrand=None) -> CellIntegrals:
     """``D``, ``M`` and the weighted gap ``g_A`` of each integration cell (module docstring).
 
     Parameters
@@ -143,28 +160,36 @@ def cell_integrals(points: IntegrationPoints, local: LocalVariables,
     measure : Measure
         ``w(x)`` of ``dGamma`` (unit: no product).
     mass : bool
-        Also the jets of ``int N_A`` and ``int N_A N_B`` (for a dual space).
+        Also the jets of ``int N_A`` and ``int N_A N_B`` (for a dual space), by the
+        points' second rule if they carry one (``points.mass``).
+    integrand : callable, optional
+        ``integrand(points, local, cells, measure) -> list`` of ``k_s`` jets ``(n,)`` (one
+        per slave node of the cell, summed over the cell's points) that replaces the
+        weighted gap ``g_A`` (e.g. the mortar slip); None: the weighted gap.
     """
     check_points(points, local)
     cs, cm = cells
     d = local.layout.d
-    N, dN = shape_jets(cs, points.xi_s, derivatives=True)
+    N, xs, dG = slave_geometry(points, local, cs, measure)
     Nm = shape_jets(cm, points.xi_m)
-    xs = _combine(N, local.x_s, d)
-    xm = _combine(Nm, local.x_m, d)
-    T = [_combine([dN[a][r] for a in range(cs.n_nodes)], local.x_s, d) for r in range(cs.dim)]
-    dG = points.w * _jacobian(T)
-    if not measure.unit:
-        dG = dG * measure.weight(xs)
-    nt = _combine(N, local.n_s, d)
-    gn = _dot(nt, [q - p for p, q in zip(xs, xm)]) * _dot(nt, nt).sqrt().inv()
-    g = [(N[a] * gn * dG).sum() for a in range(cs.n_nodes)]
+    if integrand is None:
+        nt, xm = combine(N, local.n_s, d), combine(Nm, local.x_m, d)
+        gn = dot(nt, [q - p for p, q in zip(xs, xm)]) * dot(nt, nt).sqrt().inv()
+        g = [(N[a] * gn * dG).sum() for a in range(cs.n_nodes)]
+    else:
+        g = list(integrand(points, local, cells, measure))
+        if len(g) != cs.n_nodes:
+            raise ValueError(f"integrand must return {cs.n_nodes} jets (one per slave node "
+                             f"of a {cs.name} cell), got {len(g)}")
     Nv, Nmv, dGv = (np.stack([j.v for j in L]) for L in (N, Nm, [dG]))
     D = np.einsum("akq,bkq,kq->kab", Nv, Nv, dGv[0])
     M = np.einsum("akq,ckq,kq->kac", Nv, Nmv, dGv[0])
     n_A = n_AB = None
     if mass:
         k = cs.n_nodes
+        if points.mass is not None:
+            N, _, dG = slave_geometry(points._replace(xi_s=points.mass[0], w=points.mass[1]),
+                                      local, cs, measure)
         wN = [N[a] * dG for a in range(k)]
         n_A = [x.sum() for x in wN]
         n_AB = {(a, b): (wN[a] * N[b]).sum() for a in range(k) for b in range(a, k)}

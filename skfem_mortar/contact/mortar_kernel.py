@@ -23,14 +23,19 @@ chained in, one scatter.
 
 A slave node is masked when its support ``int N_A w dGamma`` is below ``MASK_TOL`` of its
 tributary weight (and crosspoints are): its function is merged into its neighbours'
-(:func:`~skfem_mortar.contact.mortar_quadratic.merge_matrix`).
+by the one rule read from the cell's edges
+(:func:`~skfem_mortar.contact.mortar_support.merge_nodes`).
+
+The integration cells go through steps 2 to 5 in chunks of whole slave cells
+(:func:`chunks`, at most :data:`CHUNK_ENTRIES` derivative entries each), appending to
+one set of triplets; with more than one chunk the supports (for the mask) come first,
+from a first-order pass.
 """
 from __future__ import annotations
 
 from typing import NamedTuple
 
 import numpy as np
-import scipy.sparse as sp
 
 from .cell_map import check_connectivity
 from .cells import cell_type
@@ -41,14 +46,20 @@ from .line_points import LineSegmentation
 from .measures import PLANE, Measure
 from .mortar import MASK_TOL, biorthogonal
 from .mortar_cells import cell_integrals
-from .mortar_quadratic import N_GAUSS_ELEMENT, merge_matrix
-from .mortar_support import tributary_weights
+from .mortar_quadratic import N_GAUSS_ELEMENT
+from .mortar_support import merge_nodes, tributary_weights
 from .multiplier_spaces import make_space
 from .normals import NodalNormals, mirror_of_axis, nodal_normals
 from .scatter import Triplets
 from .segmentation import Segmentation, line_cells
 
-__all__ = ["Groups", "groups", "group_sum", "assemble", "evaluate"]
+__all__ = ["Groups", "groups", "group_sum", "assemble", "evaluate", "chunks", "CHUNK_ENTRIES"]
+
+CHUNK_ENTRIES = 250_000
+"""Derivative entries per chunk of integration cells (``nv^2`` each with Hessians):
+one Hessian jet at ``n_gp`` points of a chunk takes at most ``8 n_gp CHUNK_ENTRIES``
+bytes (2 MB a point: 18 MB for a 9-point quad4/quad4 chunk of 192 cells, ``nv = 36``;
+a 2D line2 chunk holds 1,736 cells, so the usual 2D call is one chunk)."""
 
 
 class Groups(NamedTuple):
@@ -115,7 +126,9 @@ def group_sum(j: Jet, grp: Groups) -> Jet:
 
 def _extended(grp: Groups, conn_s, conn_m, e_m, normals: NodalNormals, n_s: int):
     """Dofs ``(n_e, n_ext)`` (-1 where unused) of the extended variables
-    ``[x_s, the normals' neighbourhoods, x_m of each slot]`` and ``J (n_e, nv, n_ext)``."""
+    ``[x_s, the normals' neighbourhoods, x_m of each slot]`` and the normals' block of
+    ``J``, ``Jn (n_e, k_s d, k_s K d)`` (block diagonal: ``dn_a/dx`` of each slave node;
+    ``J`` is the identity on ``x_s`` and ``x_m``)."""
     lay = grp.layout
     d, k_s, k_m = lay.d, lay.k_s, lay.k_m
     n_e, c = grp.e_s.size, np.arange(d)
@@ -128,30 +141,81 @@ def _extended(grp: Groups, conn_s, conn_m, e_m, normals: NodalNormals, n_s: int)
                            np.where(nb[..., None] >= 0, nb[..., None] * d + c, -1).reshape(n_e, -1),
                            np.where(Mn[..., None] >= 0, d * n_s + Mn[..., None] * d + c,
                                     -1).reshape(n_e, -1)], axis=1)
-    xs, nbh = k_s * d, k_s * K * d
-    J = np.zeros((n_e, grp.nv, dofs.shape[1]))
-    J[:, np.arange(xs), np.arange(xs)] = 1.0
-    xm = np.arange(grp.m * k_m * d)
-    J[:, 2 * xs + xm, xs + nbh + xm] = 1.0
-    dn = normals.dn[:, S]                                            # (d, n_e, k_s, K, d)
+    Jn = np.zeros((n_e, k_s, d, k_s, K * d))
+    dn = normals.dn[:, S].reshape(d, n_e, k_s, K * d)                # (d, n_e, k_s, K d)
     for a in range(k_s):
-        for i in range(d):
-            J[:, xs + a * d + i, xs + a * K * d:xs + (a + 1) * K * d] = dn[i, :, a].reshape(n_e, -1)
-    return dofs, J, S
+        Jn[:, a, :, a] = dn[:, :, a].transpose(1, 0, 2)
+    return dofs, Jn.reshape(n_e, k_s * d, k_s * K * d), S
 
 
-def _chain_hessian(f: Jet, J: np.ndarray, S: np.ndarray, normals: NodalNormals,
-                   lay: LocalLayout) -> np.ndarray:
-    """``J^T H_loc J + sum_(a, i) df/dn_ai d2n_ai/dx2``: ``(n_ext, n_ext, n_e)``."""
-    Hl = np.ascontiguousarray(f.hessian().transpose(2, 0, 1))     # (n_e, nv, nv)
-    H = np.matmul(np.matmul(J.transpose(0, 2, 1), Hl), J).transpose(1, 2, 0)
-    K, d, xs = normals.nodes.shape[1], lay.d, lay.k_s * lay.d
-    for a in range(lay.k_s):
-        sl = slice(xs + a * K * d, xs + (a + 1) * K * d)
-        for i in range(d):
-            d2 = normals.d2n[i, S[:, a]].reshape(-1, K * d, K * d)
-            H[sl, sl] += np.einsum("n,nrs->rsn", f.g[xs + a * d + i], d2)
+def _parts(nv: int, lay: LocalLayout, K: int) -> tuple:
+    """Group variables on ``x_s, x_m`` (``P``) and on ``n_s`` (``N``); where ``P`` and
+    the normals' neighbourhoods (``B``) sit among the extended ones."""
+    xs = lay.k_s * lay.d
+    nbh = K * xs
+    P = np.r_[0:xs, 2 * xs:nv]
+    return P, np.arange(xs, 2 * xs), np.r_[0:xs, xs + nbh:nv - xs + nbh], slice(xs, xs + nbh)
+
+
+def _chain_gradient(g: np.ndarray, Jn: np.ndarray, parts: tuple) -> np.ndarray:
+    """``G = G_loc J``, ``(n_e, n_ext)``, from ``g (nv, n_e)`` (``J``'s identity blocks
+    copied, the normals' block a batched product)."""
+    P, N, Pe, B = parts
+    out = np.empty((g.shape[1], Pe.size + Jn.shape[2]))
+    out[:, Pe] = g[P].T
+    out[:, B] = np.matmul(g[N].T[:, None, :], Jn)[:, 0]
+    return out
+
+
+def _chain_hessian(f: Jet, Jn: np.ndarray, S: np.ndarray, normals: NodalNormals,
+                   parts: tuple) -> np.ndarray:
+    """``J^T H_loc J + sum_(a, i) df/dn_ai d2n_ai/dx2``: ``(n_e, n_ext, n_ext)``, by
+    blocks: ``H_PP``, ``H_PN Jn``, ``Jn^T H_NN Jn`` (``J`` the identity on ``P``)."""
+    P, N, Pe, B = parts
+    Hl = f.hessian().transpose(2, 0, 1)                              # (n_e, nv, nv)
+    n_e, nb = Jn.shape[0], Jn.shape[2]
+    H = np.empty((n_e, Pe.size + nb, Pe.size + nb))
+    H[:, Pe[:, None], Pe] = Hl[:, P[:, None], P]
+    HPB = np.matmul(Hl[:, P[:, None], N], Jn)
+    H[:, Pe[:, None], np.arange(B.start, B.stop)] = HPB
+    H[:, B, Pe] = HPB.transpose(0, 2, 1)
+    HBB = np.matmul(Jn.transpose(0, 2, 1), np.matmul(Hl[:, N[:, None], N], Jn))
+    K = normals.nodes.shape[1]
+    d = normals.n.shape[0]
+    dfn = f.g[N].T.reshape(n_e, -1, d)                               # df/dn_ai
+    for a in range(S.shape[1]):
+        sl = slice(a * K * d, (a + 1) * K * d)
+        d2 = normals.d2n[:, S[:, a]].reshape(d, n_e, K * d, K * d)
+        HBB[:, sl, sl] += np.einsum("ni,inrs->nrs", dfn[:, a], d2)
+    H[:, B, B] = HBB
     return H
+
+
+def _scatter(g: list, grp: Groups, conn_s, conn_m, e_m, normals: NodalNormals, n_s: int,
+             lam, tangent: bool, out: np.ndarray, trip: Triplets, th: Triplets) -> None:
+    """:func:`assemble`'s work, added to ``out`` and appended to ``trip`` (G), ``th`` (H)."""
+    lay = grp.layout
+    S = conn_s[grp.e_s]
+    for a in range(lay.k_s):
+        np.add.at(out, S[:, a], g[a].v)
+    if not tangent:
+        return
+    dofs, Jn, S = _extended(grp, conn_s, conn_m, e_m, normals, n_s)
+    parts = _parts(grp.nv, lay, normals.nodes.shape[1])
+    used = dofs >= 0
+    safe = np.where(used, dofs, 0)
+    for a in range(lay.k_s):
+        trip.rows(S[:, a], safe, _chain_gradient(g[a].g, Jn, parts), used)
+    if lam is not None and g[0].h is not None:
+        lam = np.asarray(lam, dtype=float)
+        f = g[0] * lam[S[:, 0]]
+        for a in range(1, lay.k_s):
+            f = f + g[a] * lam[S[:, a]]
+        H = _chain_hessian(f, Jn, S, normals, parts)
+        if not used.all():
+            H *= used[:, :, None]
+            H *= used[:, None, :]
+        th.block(safe, H.transpose(1, 2, 0))
 
 
 def assemble(g: list, grp: Groups, conn_s, conn_m, e_m, normals: NodalNormals, n_s: int,
@@ -159,32 +223,13 @@ def assemble(g: list, grp: Groups, conn_s, conn_m, e_m, normals: NodalNormals, n
     """``g (n_s,)``, ``G = dg/dx`` and ``H = sum_A lam_A d2g_A/dx2`` from the group jets
     ``g[a]`` (slave node ``a`` of each group), the nodal normals chained in (module
     docstring); dofs: slave node ``A`` ``d A + c``, master node ``C`` ``d n_s + d C + c``."""
-    lay = grp.layout
-    S = conn_s[grp.e_s]
-    out = np.zeros(n_s)
-    for a in range(lay.k_s):
-        np.add.at(out, S[:, a], g[a].v)
+    out, trip, th = np.zeros(n_s), Triplets(), Triplets()
+    _scatter(g, grp, conn_s, conn_m, e_m, normals, n_s, lam, tangent, out, trip, th)
     if not tangent:
         return out, None, None
-    dofs, J, S = _extended(grp, conn_s, conn_m, e_m, normals, n_s)
-    used = dofs >= 0
-    safe = np.where(used, dofs, 0)
-    shape = (n_s, lay.d * (n_s + n_m))
-    trip = Triplets()
-    for a in range(lay.k_s):
-        trip.rows(S[:, a], safe, np.einsum("pn,npr->nr", g[a].g, J), used)
-    H = None
-    if lam is not None and g[0].h is not None:
-        lam = np.asarray(lam, dtype=float)
-        f = g[0] * lam[S[:, 0]]
-        for a in range(1, lay.k_s):
-            f = f + g[a] * lam[S[:, a]]
-        Hl = _chain_hessian(f, J, S, normals, lay) * (used[:, :, None] & used[:, None, :]
-                                                      ).transpose(1, 2, 0)
-        th = Triplets()
-        th.block(safe, Hl)
-        H = th.csr((shape[1], shape[1]))
-    return out, trip.csr(shape), H
+    n = grp.layout.d * (n_s + n_m)
+    H = th.csr((n, n)) if lam is not None and g[0].h is not None else None
+    return out, trip.csr((n_s, n)), H
 
 
 def _combine(C, jets: list) -> list:
@@ -229,17 +274,88 @@ def _biorthogonal(ints, grp: Groups, T: np.ndarray, space) -> tuple[dict, np.nda
     return A, np.einsum("nab,nbc->nac", Av, T)
 
 
+def chunks(e_s: np.ndarray, nv: int, second: bool, entries: int | None = None) -> list:
+    """Rows of the integration cells in chunks of whole slave cells (each in the rows'
+    own order) such that a chunk holds at most ``entries`` (default
+    :data:`CHUNK_ENTRIES`) derivative entries, ``nv^2`` per integration cell with
+    Hessians (``nv`` without), and at least one slave cell; ``[None]``: one chunk, all rows.
+    """
+    per = max(1, int(CHUNK_ENTRIES if entries is None else entries) // (nv * nv if second
+                                                                        else nv))
+    if e_s.size <= per:
+        return [None]
+    order = np.argsort(e_s, kind="stable")
+    es = e_s[order]
+    starts = np.append(np.flatnonzero(np.r_[True, es[1:] != es[:-1]]), es.size)
+    out, lo = [], 0
+    while lo < es.size:
+        j = np.searchsorted(starts, lo + per, side="right") - 1   # last start <= lo + per
+        hi = starts[j] if starts[j] > lo else starts[np.searchsorted(starts, lo, "right")]
+        out.append(np.sort(order[lo:hi]))
+        lo = hi
+    return out
+
+
+def _take(ic: IntegrationCells, rows) -> IntegrationCells:
+    """Rows ``rows`` of ``ic`` (None: all), its data ``(whole, rows)`` as the contract
+    keeps it (or None)."""
+    if rows is None:
+        return ic
+    if ic.data is None:
+        return IntegrationCells(ic.e_s[rows], ic.e_m[rows])
+    if not (isinstance(ic.data, tuple) and len(ic.data) == 2):
+        raise ValueError("IntegrationCells.data must be (whole, rows) or None to be taken "
+                         f"in chunks, got {type(ic.data).__name__}")
+    whole, r = ic.data
+    return IntegrationCells(ic.e_s[rows], ic.e_m[rows], (whole, r[rows]))
+
+
+class _Surfaces(NamedTuple):
+    """One call's surfaces: coordinates, connectivities, cells, normals, measure."""
+
+    xs: np.ndarray
+    seg_s: np.ndarray
+    xm: np.ndarray
+    seg_m: np.ndarray
+    cells: tuple
+    nn: NodalNormals
+    measure: Measure
+
+    def integrals(self, points, ic: IntegrationCells, second: bool, mass: bool,
+                  integrand=None):
+        """Rows ``S`` (slave nodes) and :func:`cell_integrals` of the cells ``ic``."""
+        S = self.seg_s[ic.e_s]
+        loc = LocalVariables.of(self.xs.T[S], self.xm.T[self.seg_m[ic.e_m]], self.nn.n.T[S],
+                                second)
+        pts = points.integration_points(ic, loc)
+        return S, loc, cell_integrals(pts, loc, self.cells, self.measure, mass=mass,
+                                      integrand=integrand)
+
+
+def _mirror(measure: Measure, mirror, d: int) -> tuple:
+    """The nodal normals' mirror: the measure's axis and ``mirror`` together."""
+    return tuple(mirror_of_axis(measure.axis, d)) + tuple(() if mirror is None else mirror)
+
+
 def evaluate(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarray,
              lam: np.ndarray | None = None, tangent: bool = True, space="standard",
-             n_gauss: int = 2, segmentation: Segmentation | None = None,
+             n_gauss: int | None = None, segmentation: Segmentation | None = None,
              pairs=None, margin: float | None = None, crosspoints=None, reach: float = 0.0,
-             measure: Measure = PLANE, cells=None, points=None) -> ContactEval:
+             measure: Measure = PLANE, cells=None, points=None, integrand=None,
+             mirror=None, chunk_entries: int | None = None) -> ContactEval:
     """Mortar weighted gaps ``g``, ``G = dg/dx``, ``H = sum_A lam_A d2g_A/dx2`` by the one
     kernel (module docstring), the interface of ``mortar_quadratic.evaluate``.
 
     ``points``: the segmentation's side of the contract (default the line segmentation of
-    ``cells`` with ``n_gauss`` points, ``pairs``, ``margin``, ``reach``); ``segmentation``:
-    integration cells to reuse (frozen: their end points held).  Returns
+    ``cells`` with ``n_gauss`` points, default one more than the cells' highest order,
+    ``pairs``, ``margin``, ``reach``; on curved cells a dual space's mass integrals take
+    ``max(n_gauss, N_GAUSS_ELEMENT)`` points per integration cell); ``segmentation``:
+    integration cells to reuse (frozen: their end points held).  ``integrand``: what
+    replaces the weighted gap's integrand (:func:`~.mortar_cells.cell_integrals`; groups,
+    merge, dual combination, chained normals and scatter stay), so ``g, G, H`` are that
+    integrand's.  ``mirror``: symmetry lines or planes ``(e, c)``, ``e . x = c``, for the
+    nodal normals (:func:`~.normals.nodal_normals`), with the measure's axis if it has one
+    (both are used).  ``chunk_entries``: the memory bound of :func:`chunks`.  Returns
     :class:`ContactEval` with ``area`` the supports, ``mask``, and ``D``, ``M`` in ``info``.
     """
     xs, xm = np.asarray(xs, dtype=float), np.asarray(xm, dtype=float)
@@ -249,45 +365,80 @@ def evaluate(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarra
     cells = tuple(cell_type(c) for c in cells)
     seg_s = check_connectivity(seg_s, cells[0], xs.shape[1])
     seg_m = check_connectivity(seg_m, cells[1], xm.shape[1])
-    mirror = mirror_of_axis(measure.axis)
+    mirror = _mirror(measure, mirror, xs.shape[0])
     second = tangent and lam is not None
     nn = nodal_normals(xs, seg_s, cells[0], order=2 if second else 1, mirror=mirror)
+    biorth = biorthogonal(space)
     if points is None:
-        points = LineSegmentation(cells, n_gauss, pairs=pairs, margin=margin, reach=reach,
+        order = max(c.order for c in cells)
+        n_gauss = 1 + order if n_gauss is None else n_gauss
+        points = LineSegmentation(cells, n_gauss, n_mass=max(n_gauss, N_GAUSS_ELEMENT)
+                                  if biorth and order > 1 else None, pairs=pairs, margin=margin, reach=reach,
                                   frozen=False, **({"mirror": mirror} if mirror else {}))
-    ic = (IntegrationCells(segmentation.e_s, segmentation.e_m, segmentation)
+    ic = (IntegrationCells(segmentation.e_s, segmentation.e_m,
+                           (segmentation, np.arange(segmentation.n)))
           if segmentation is not None else
           points.integration_cells(xs, seg_s, xm, seg_m, nn.n))
-    S = seg_s[ic.e_s]
-    loc = LocalVariables.of(xs.T[S], xm.T[seg_m[ic.e_m]], nn.n.T[S], second)
-    pts = points.integration_points(ic, loc)
-    biorth = biorthogonal(space)
-    ints = cell_integrals(pts, loc, cells, measure, mass=biorth)
+    surf = _Surfaces(xs, seg_s, xm, seg_m, cells, nn, measure)
     n_s, n_m = xs.shape[1], xm.shape[1]
-    support = np.bincount(S.ravel(), weights=ints.support.ravel(), minlength=n_s)
+    parts = chunks(ic.e_s, LocalLayout.of(cells).n_loc, second, chunk_entries)
+    first = None
+    if parts[0] is None:
+        first = surf.integrals(points, ic, second, biorth, integrand)
+        support = np.bincount(first[0].ravel(), weights=first[2].support.ravel(),
+                              minlength=n_s)
+    else:
+        support = _support(surf, points, ic, n_s, chunk_entries)
     trib = tributary_weights(xs, seg_s, cells[0], 2 * N_GAUSS_ELEMENT - 1, measure,
                              absolute=not measure.unit)
     cp = np.isin(np.arange(n_s), [] if crosspoints is None else crosspoints)
     mask = (support > MASK_TOL * trib) & ~cp
-    grp = groups(ic.e_s, loc.layout, each=not biorth)
+    space = make_space(space) if isinstance(space, str) and biorth else space
+    acc = (np.zeros(n_s), Triplets(), Triplets(), Triplets(), Triplets())
+    for rows in parts:
+        sub = _take(ic, rows)
+        S, loc, ints = first if rows is None else surf.integrals(points, sub, second, biorth,
+                                                                  integrand)
+        _chunk(surf, sub, S, loc, ints, mask, space if biorth else None, lam, tangent, acc)
+    out, trip, th, tD, tM = acc
+    n = xs.shape[0] * (n_s + n_m)
+    info = {"D": tD.csr((n_s, n_s)), "M": tM.csr((n_s, n_m)), "segmentation": ic.data[0] if isinstance(ic.data, tuple) else ic.data,
+            "n_segments": ic.e_s.size}
+    return ContactEval(g=out, G=trip.csr((n_s, n)) if tangent else None,
+                       H=th.csr((n, n)) if second else None, area=support, mask=mask,
+                       info=info)
+
+
+def _support(surf: _Surfaces, points, ic: IntegrationCells, n_s: int, entries) -> np.ndarray:
+    """The nodes' supports ``int N_A w dGamma`` (D's row sums) by a first-order pass in
+    chunks (the mask needs them before any chunk is combined)."""
+    support = np.zeros(n_s)
+    for rows in chunks(ic.e_s, LocalLayout.of(surf.cells).n_loc, False, entries):
+        S, _, ints = surf.integrals(points, _take(ic, rows), False, False)
+        support += np.bincount(S.ravel(), weights=ints.support.ravel(), minlength=n_s)
+    return support
+
+
+def _chunk(surf: _Surfaces, ic: IntegrationCells, S, loc, ints, mask, space, lam, tangent,
+           acc) -> None:
+    """One chunk of whole slave cells: groups, merge ``T``, (dual) ``A~``, ``g_A``, the
+    scatter of ``g``, ``G``, ``H``, ``D``, ``M`` into ``acc``."""
+    grp = groups(ic.e_s, loc.layout, each=space is None)
+    seg_s = surf.seg_s
     merged = ~mask[seg_s[grp.e_s]]
     k = seg_s.shape[1]
-    T = (merge_matrix(merged, cells[0]) if merged.any()      # (line cells only, so far)
+    T = (merge_nodes(merged, surf.cells[0]) if merged.any()
          else np.broadcast_to(np.eye(k), (grp.e_s.size, k, k)))
     Gs = _combine(T, [group_sum(j, grp) for j in ints.g])
     C = T
-    if biorth:
-        A, C = _biorthogonal(ints, grp, T, make_space(space) if isinstance(space, str) else space)
+    if space is not None:
+        A, C = _biorthogonal(ints, grp, T, space)
         Gs = _combine(A, Gs)
-    g, G, H = assemble(Gs, grp, seg_s, seg_m, ic.e_m, nn, n_s, n_m, lam, tangent)
+    out, trip, th, tD, tM = acc
+    n_s = surf.xs.shape[1]
+    _scatter(Gs, grp, seg_s, surf.seg_m, ic.e_m, surf.nn, n_s, lam, tangent, out, trip, th)
     Ci = C[grp.cell]
-    D = _csr(np.einsum("nab,nbc->nac", Ci, ints.D), S, S, (n_s, n_s))
-    M = _csr(np.einsum("nab,nbc->nac", Ci, ints.M), S, seg_m[ic.e_m], (n_s, n_m))
-    info = {"D": D, "M": M, "segmentation": ic.data, "n_segments": ic.e_s.size}
-    return ContactEval(g=g, G=G, H=H, area=support, mask=mask, info=info)
+    tD.outer(S, S, np.einsum("nab,nbc->nac", Ci, ints.D))
+    tM.outer(S, surf.seg_m[ic.e_m], np.einsum("nab,nbc->nac", Ci, ints.M))
 
 
-def _csr(vals: np.ndarray, rows: np.ndarray, cols: np.ndarray, shape) -> sp.csr_matrix:
-    t = Triplets()
-    t.outer(rows, cols, vals)
-    return t.csr(shape)

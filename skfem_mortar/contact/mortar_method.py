@@ -30,8 +30,9 @@ from .discretization import (ContactDiscretization, Factory, OptionTable, check_
                              pattern_matrix, register_method, reserved_keys)
 from .mortar_quadratic_segmentation import candidate_pairs
 from .segmentation import Segmentation, segmentation_for, surface_cell
-from .search import segment_pairs
-from .surfaces import segment_lengths, segments_at_nodes
+from .search import cell_sizes, segment_pairs
+from .mortar_faces import FACE_OPTIONS, face_points, takes_faces
+from .mortar_pattern import stencil_pattern
 
 __all__ = ["Mortar", "RESERVE_LENGTHS", "KERNEL_CELLS"]
 
@@ -159,7 +160,6 @@ class Mortar(ContactDiscretization):
         biorthogonal(multiplier_space)        # a registered traction space (ValueError)
         self.method = ("mortar" if multiplier_space == "standard"
                        else f"mortar-{multiplier_space}")
-        check_options(self.method, options, self.OPTIONS)
         if segmentation not in ("iteration", "step"):
             raise ValueError(f"segmentation must be 'iteration' or 'step', got {segmentation!r}")
         self.slave, self.master, self.pair_name = slave, master, pair_name
@@ -167,12 +167,12 @@ class Mortar(ContactDiscretization):
         self.multiplier_space = multiplier_space
         #: the two surfaces' cell types (:func:`~.segmentation.surface_cell`)
         self.cells = (surface_cell(slave), surface_cell(master))
-        for what, c in zip(("slave", "master"), self.cells):
-            if c.dim != 1:
-                raise ValueError(f"{what} cells must be line cells (dim 1) for {self.method}, "
-                                 f"got {c.name}")
-        #: the curved kernel (a cell other than line2) or the linear one
-        self.curved = any(c.name != "line2" for c in self.cells)
+        #: faces (tri3, quad4) segmented in 3D (:mod:`.mortar_faces`), else lines
+        self.faces = takes_faces(self.cells, segmentation_for(self.cells), self.method, master,
+                                 segmentation)
+        check_options(self.method, options, FACE_OPTIONS if self.faces else self.OPTIONS)
+        #: the curved line kernel (a line cell other than line2) or the linear one
+        self.curved = not self.faces and any(c.name != "line2" for c in self.cells)
         general = any(c.name not in KERNEL_CELLS for c in self.cells)
         self._kernel = (mortar_kernel.evaluate if general else
                         mortar_quadratic.evaluate if self.curved else mortar.evaluate)
@@ -190,6 +190,8 @@ class Mortar(ContactDiscretization):
         self._last: _LastEvaluation | None = None
         #: the weight of ``dGamma`` (:meth:`set_measure`; plane until told)
         self.measure: Measure = PLANE
+        #: the symmetry planes (:meth:`set_symmetry`; none until told)
+        self.planes: list = []
 
     def set_measure(self, measure: Measure) -> None:
         """The weight ``w(x)`` of ``dGamma`` in the model's geometry
@@ -200,6 +202,14 @@ class Mortar(ContactDiscretization):
         if not isinstance(measure, Measure):
             raise ValueError(f"measure must be a Measure of contact.measures, got {measure!r}")
         self.measure = measure
+        self._last = None
+
+    def set_symmetry(self, planes: list) -> None:
+        """The symmetry planes ``(unit normal, offset)`` of a quarter or half model
+        (:class:`~skfem_mortar.contact.discretization.SymmetricDiscretization`): slave
+        nodes on one take the mirror normal ``P s / |P s|`` in every kernel call (its
+        ``mirror``)."""
+        self.planes = [(np.asarray(n, dtype=float), float(c)) for n, c in planes]
         self._last = None
 
     @property
@@ -213,9 +223,11 @@ class Mortar(ContactDiscretization):
     def _kernel_options(self) -> dict:
         """What every kernel call is told: the multiplier space, the options and
         (outside plane models) the measure."""
+        mirror = {"mirror": self.planes} if self.planes else {}
         if self.measure.unit:
-            return {"space": self.multiplier_space, **self.options}
-        return {"space": self.multiplier_space, "measure": self.measure, **self.options}
+            return {"space": self.multiplier_space, **mirror, **self.options}
+        return {"space": self.multiplier_space, "measure": self.measure, **mirror,
+                **self.options}
 
     def set_pinned(self, pinned: np.ndarray | None) -> None:
         self._pinned = pinned
@@ -244,13 +256,14 @@ class Mortar(ContactDiscretization):
                      else 0.0)
             i_s, i_m = candidate_pairs(xs, seg_s, xm, seg_m, margin, reach, widen)
         elif margin is not None:
-            i_s, i_m = segment_pairs(xs, seg_s, xm, seg_m, margin + widen)
+            i_s, i_m = segment_pairs(xs, seg_s, xm, seg_m, margin + widen, cell_s=self.cells[0],
+                                     cell_m=self.cells[1])
         else:
             reach = (self.reach(xs, xm) if "margin" not in self.options and self._x0 is not None
                      else 0.0)
             i_s, i_m = segment_pairs(xs, seg_s, xm, seg_m, reach + widen,
-                                     segment_lengths(xs, seg_s, self.cells[0]),
-                                     segment_lengths(xm, seg_m, self.cells[1]))
+                                     cell_sizes(xs, seg_s, self.cells[0]),
+                                     cell_sizes(xm, seg_m, self.cells[1]), *self.cells)
         return i_s * len(seg_m) + i_m
 
     def _searched(self, xs: np.ndarray, xm: np.ndarray) -> np.ndarray:
@@ -260,7 +273,7 @@ class Mortar(ContactDiscretization):
         if self._sg is None and self._last is not None:
             extra, pinned = self._extra(xs, xm)
             ev = self._last.answer(xs, xm, None, False, extra, self._pinned if pinned else None)
-            found = None if ev is None else ev.info["segmentation"].candidates
+            found = None if ev is None else getattr(ev.info["segmentation"], "candidates", None)
             if found is not None:
                 return found[0] * len(self.master.segments) + found[1]
         return self._pairs(xs, xm)
@@ -269,8 +282,8 @@ class Mortar(ContactDiscretization):
         """Reserve the pairs of the search widened by :data:`RESERVE_LENGTHS` element
         lengths and the current reach (and ``need``)."""
         seg_s, seg_m = self.slave.segments, self.master.segments
-        h = max(float(np.median(segment_lengths(xs, seg_s, self.cells[0]))),
-                float(np.median(segment_lengths(xm, seg_m, self.cells[1]))) if len(seg_m)
+        h = max(float(np.median(cell_sizes(xs, seg_s, self.cells[0]))),
+                float(np.median(cell_sizes(xm, seg_m, self.cells[1]))) if len(seg_m)
                 else 0.0)
         # the search reach grows with the motion over the step: reserve it twice
         reach = self.reach(xs, xm) if self._x0 is not None else 0.0
@@ -279,33 +292,16 @@ class Mortar(ContactDiscretization):
         self.reservations += 1
 
     def _pattern_of(self, held: np.ndarray) -> sp.csr_matrix:
-        """Row ``A``: its own dofs, for each slave element at ``A`` the nodes of that
-        element and of its previous and next elements (the nodal normals of its
-        vertices reach into them; for 2-node elements the nodes ``p, a, b, n``),
-        and the nodes of the held master elements of those elements.  Every slave
-        element's own neighbourhood is held, held pair or not (local, cheap: the
-        slave part never grows, so against a rigid master the pattern repeats from
+        """Row ``A``: its own dofs, for each slave cell at ``A`` the nodes of its
+        nodal-normal stencil (the cells sharing a node with it; line2: ``p, a, b, n``)
+        and the nodes of its held master cells (:func:`~.mortar_pattern.stencil_pattern`).
+        Every slave cell's own neighbourhood is held, held pair or not (local, cheap:
+        the slave part never grows, so against a rigid master the pattern repeats from
         the first iteration on)."""
-        seg_s, seg_m = self.slave.segments, self.master.segments
-        n_s = self.slave.n_nodes
-        e_s, e_m = held // len(seg_m), held % len(seg_m)
-        first, last = self.cells[0].corners[0], self.cells[0].corners[-1]
-        ending, starting = segments_at_nodes(seg_s[:, [first, last]], n_s)
-        el = np.arange(len(seg_s))  # every slave element
-        prev, nxt = ending[seg_s[el, first]], starting[seg_s[el, last]]
-        snodes = np.concatenate([seg_s[el], np.where(prev[:, None] >= 0, seg_s[np.maximum(prev, 0)],
-                                                      seg_s[el, first:first + 1]),
-                                 np.where(nxt[:, None] >= 0, seg_s[np.maximum(nxt, 0)],
-                                          seg_s[el, last:last + 1])], axis=1)
-        k, km = self.cells[0].n_nodes, self.cells[1].n_nodes
-        two, own = np.arange(2), np.arange(n_s)
-        sc = (2 * snodes[:, :, None] + two).reshape(el.size, -1)
-        mc = (2 * n_s + 2 * seg_m[e_m][:, :, None] + two).reshape(e_m.size, 2 * km)  # none held: 0 rows
-        rows = np.concatenate([np.repeat(seg_s[el], sc.shape[1], axis=1).ravel(),
-                               np.repeat(seg_s[e_s], 2 * km, axis=1).ravel(), own, own])
-        cols = np.concatenate([np.tile(sc, (1, k)).ravel(), np.tile(mc, (1, k)).ravel(),
-                               2 * own, 2 * own + 1])
-        return pattern_matrix(rows, cols, (n_s, 2 * n_s + 2 * self.master.n_nodes))
+        n_seg_m = len(self.master.segments)
+        return stencil_pattern(self.slave.segments, self.slave.n_nodes, self.master.segments,
+                               self.master.n_nodes, held // max(n_seg_m, 1), held % max(n_seg_m, 1),
+                               self.slave.X.shape[0])
 
     def pattern(self, xs: np.ndarray, xm: np.ndarray) -> sp.csr_matrix:
         """The reserved pattern (:class:`~skfem_mortar.contact.discretization.PatternedDiscretization`).
@@ -335,12 +331,12 @@ class Mortar(ContactDiscretization):
 
     def reach(self, xs: np.ndarray, xm: np.ndarray) -> float:
         """Largest motion of a slave node plus that of a master node since the last
-        converged state (times sqrt 2): a node open there can penetrate at most
+        converged state (times sqrt d, d the coordinates): a node open there can penetrate at most
         this deep, so the search adds it to its local margin (the element lengths)."""
         xs0, xm0 = self._x0
         ds = np.abs(xs - xs0).max(initial=0.0)
         dm = np.abs(xm - xm0).max(initial=0.0)
-        return float(np.sqrt(2.0) * (ds + dm))
+        return float(np.sqrt(float(xs.shape[0])) * (ds + dm))
 
     def _extra(self, xs: np.ndarray, xm: np.ndarray) -> tuple[dict, bool]:
         """The kernel's per-call options (frozen segmentation or reach,
@@ -362,6 +358,11 @@ class Mortar(ContactDiscretization):
         differentiates their end points by origin)."""
         if "segmentation" in extra:
             return extra
+        if self.faces:
+            found = self._pairs(xs, xm)
+            n_m = len(self.master.segments)
+            return {**extra, "points": face_points(self.cells, self.options,
+                                                   (found // n_m, found % n_m))}
         sg = self._segment(xs, self.slave.segments, xm, self.master.segments, self.cells,
                            margin=self.options.get("margin"), frozen=False,
                            reach=extra.get("reach", 0.0), **self._mirror)
@@ -454,8 +455,9 @@ class Mortar(ContactDiscretization):
         ns, nm = self.slave.n_nodes, self.master.n_nodes
         r = np.concatenate([history["D_prev_rows"], history["M_prev_rows"]])
         nodes = np.concatenate([history["D_prev_cols"], ns + history["M_prev_cols"]])
-        return pattern_matrix(np.repeat(r, 2), (2 * nodes[:, None] + np.arange(2)).ravel(),
-                              (ns, 2 * ns + 2 * nm))
+        d = self.slave.X.shape[0]
+        return pattern_matrix(np.repeat(r, d), (d * nodes[:, None] + np.arange(d)).ravel(),
+                              (ns, d * (ns + nm)))
 
     def state_dict(self) -> dict[str, np.ndarray]:
         """The reserved element pairs of :meth:`pattern` (``[]``: none yet)."""

@@ -18,9 +18,20 @@ composite rule), so the linear and the curved mortar kernels share them.
   by the ``n_gauss``-point Gauss rule mapped onto each integration cell (an
   integration cell lies in one smooth piece of its slave cell).  The kernels mask a
   node whose ``s_A`` is at most ``MASK_TOL`` times ``w_A``
-  (:func:`skfem_mortar.contact.mortar.evaluate`, Notes).
+  (:func:`skfem_mortar.contact.mortar.evaluate`, Notes);
+
+* the merge of masked (and crosspoint) nodes, one rule for every cell of the table
+  read from the row's edges (:func:`merge_nodes`): a merged node's function goes to the
+  cell's kept nodes nearest to it along the edges (:func:`edge_distances`), in equal
+  shares.  On line2 a merged node's goes to the other; on line3 a vertex's to the mid
+  node if it is kept, else to the other vertex, the mid node's in halves to the kept
+  vertices (the lines' rule of ``mortar_quadratic.merge_matrix``, tested bit for bit); on
+  tri3 to the other kept corners, on quad4 to its kept edge neighbours, else to the
+  opposite corner (:mod:`~skfem_mortar.contact.dual3d`'s masking rule).
 """
 from __future__ import annotations
+
+from functools import lru_cache
 
 import numpy as np
 
@@ -28,7 +39,8 @@ from .cells import CellType, line_quadrature
 from .measures import PLANE, Measure
 from .segmentation import Segmentation
 
-__all__ = ["cell_jacobian", "tributary_weights", "multiplier_support"]
+__all__ = ["cell_jacobian", "tributary_weights", "multiplier_support", "edge_distances",
+           "merge_nodes"]
 
 
 def cell_jacobian(cell: CellType, X: np.ndarray, xi: np.ndarray) -> np.ndarray:
@@ -99,3 +111,55 @@ def multiplier_support(xs: np.ndarray, seg_s: np.ndarray, sg: Segmentation, cell
     dG = _weighted(cell_jacobian(cell, xs[:, seg_s[e]], xi) * ((hi - lo) * 0.5) * w, cell,
                    xs[:, seg_s[e]], N, measure)
     return _scatter(xs.shape[1], seg_s[e], N, dG)
+
+
+@lru_cache(maxsize=None)
+def edge_distances(cell: CellType) -> np.ndarray:
+    """Number of edge steps between each two nodes of a cell ``(k, k)``, through
+    consecutive nodes of its ``cell.edges`` (tri3: 1 between any two corners; quad4: 1 to
+    the neighbours, 2 across; line3, edge (0, 2, 1): 1 from a vertex to the mid node, 2
+    between the vertices)."""
+    k = cell.n_nodes
+    dist = np.full((k, k), k, dtype=np.int64)
+    np.fill_diagonal(dist, 0)
+    for edge in cell.edges:
+        for a, b in zip(edge[:-1], edge[1:]):
+            dist[a, b] = dist[b, a] = 1
+    for via in range(k):                       # Floyd-Warshall on a cell's few nodes
+        dist = np.minimum(dist, dist[:, via:via + 1] + dist[via:via + 1, :])
+    dist.setflags(write=False)
+    return dist
+
+
+def merge_nodes(merged: np.ndarray, cell: CellType) -> np.ndarray:
+    """The merge ``T`` of a cell's multiplier-less nodes (module docstring):
+    ``N~_A = sum_B T_AB N_B`` per cell.
+
+    ``merged`` (n, k) bool: the cell's masked (or crosspoint) nodes.  Kept nodes keep
+    their function; a merged node ``B``'s goes to the kept nodes nearest to it along the
+    cell's edges (:func:`edge_distances`), in equal shares; merged rows are zero.
+    ``sum_A T_AB = 1`` for every ``B`` unless the whole cell is merged, so the kept
+    ``N~`` still sum to one.  (On a line of more than three nodes per edge this is not
+    "the nearest kept node on each side": a node two steps away on one side loses to one
+    step on the other.)
+
+    Returns
+    -------
+    T : ndarray (n, k, k)
+    """
+    merged = np.asarray(merged, dtype=bool)
+    if merged.ndim != 2 or merged.shape[1] != cell.n_nodes:
+        raise ValueError(f"merged must have the columns of the cell {cell.name} "
+                         f"({cell.n_nodes} nodes), got shape {merged.shape}")
+    n, k = merged.shape
+    keep = ~merged
+    T = np.zeros((n, k, k))
+    T[:, np.arange(k), np.arange(k)] = keep
+    dist = edge_distances(cell)
+    for b in range(k):
+        d = np.where(keep, dist[b], k + 1)                        # (n, k)
+        nearest = keep & (d == d.min(axis=1, keepdims=True))
+        count = nearest.sum(axis=1, keepdims=True)
+        share = np.where(nearest, 1.0 / np.maximum(count, 1), 0.0)
+        T[:, :, b] += np.where(merged[:, b:b + 1], share, 0.0)
+    return T

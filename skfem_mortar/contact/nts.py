@@ -69,6 +69,7 @@ from .nts_faces import check_face, evaluate_faces, face_candidates, face_sizes, 
 from .rigid3d import RigidSurface3D, exact_gaps
 from .nts_projection import LOCK_STICK, candidates, choose_segments, project
 from .surfaces import AXIS_TOL, segment_lengths, segment_normals, segments_at_nodes
+from .symmetry import on_planes
 
 __all__ = ["NTS", "evaluate", "project", "candidates", "choose_segments", "RESERVE_MARGIN", "RESERVE_HALO", "SLIP_HALO", "LOCK_STICK", "COARSE_RATIO", "failure_hints",
            "nearest_nodes", "vertex_trap"]
@@ -381,11 +382,13 @@ class NTS(ContactDiscretization):
     def set_pinned(self, pinned: np.ndarray | None) -> None:
         self._pinned = pinned
 
-    def set_symmetry(self, mirrored: np.ndarray | None) -> None:
-        """Master nodes on a symmetry plane of a 3D pair (:mod:`.symmetry`): a face edge
-        between two of them is no free border (:func:`~.nts_faces.project_faces`)."""
+    def set_symmetry(self, planes: list) -> None:
+        """The symmetry planes of a 3D pair (:mod:`.symmetry`,
+        :class:`~.discretization.SymmetricDiscretization`): a master face edge between
+        two master nodes on one is no free border (:func:`~.nts_faces.project_faces`)."""
         if self.dim == 2:
-            self._mirrored = mirrored
+            X = np.asarray(self.master.X, dtype=float)
+            self._mirrored = on_planes(X, planes, float(np.ptp(X, axis=1).max()))
 
     def _margin(self, xm: np.ndarray) -> float:
         """The search margin of :func:`project` (default: the median master segment length)."""

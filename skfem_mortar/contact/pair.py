@@ -57,17 +57,19 @@ from . import pair_output, pair_state
 from . import preflight as _preflight  # noqa: F401 (registers the checks Model.preflight runs)
 from .active_set import ActiveSet, chain_order, touching_nodes
 from .contact_eval import ContactEval
-from .discretization import MeasuredDiscretization, PatternedDiscretization
+from .discretization import (MeasuredDiscretization, PatternedDiscretization,
+                             SymmetricDiscretization)
 from .friction import FRICTIONLESS, FrictionLaw, FrictionRows, as_law
 from .kkt import K_GAP, K_LAM, violation
 from .measures import PLANE, Measure, measure_for
 from .methods import METHODS, make_method  # METHODS: the registry's names, the built-ins in it
-from .nts_faces import check_face, face_sizes
-from .symmetry import check_planes, on_planes, planes_from_fixed
+from .nts_faces import FACE_CELLS
+from .search import cell_sizes
+from .symmetry import check_planes, planes_from_fixed
 from .multiplier_spaces import MultiplierSpace, space_for
 from .reservation import Reservation
 from .segmentation import surface_cell
-from .surfaces import check_geometry, segment_lengths
+from .surfaces import check_geometry
 from .tangential_rows import NEAR_BOUND, P_REF_FIT, tangential_rows
 from ..core.binding import rebind
 from ..core.item import Contribution, Item
@@ -77,6 +79,9 @@ from ..output.contact_output import ContactOutput
 __all__ = ["ContactPair", "METHODS", "K_GAP", "K_LAM", "NEAR_BOUND", "P_REF_FIT"]
 
 log = logging.getLogger(__name__)
+
+#: the components of :mod:`.symmetry`'s planes (``check_planes``, ``planes_from_fixed``)
+PLANE_COMPONENTS = 3
 
 
 def _diagonal(c: Contribution) -> tuple[np.ndarray, np.ndarray]:
@@ -103,24 +108,20 @@ def _check_surface(role: str, surface: Any) -> None:
                          f"RigidCircle), got {what}{named}")
 
 
-def _check_3d(slave: Any, master: Any, method: str, friction: Any) -> None:
-    """Refuse what contact between faces (3D bodies) does not offer yet: another
-    method than NTS, quadratic faces, self-contact, friction, and a pair of a curve
-    and a face surface; each ValueError names the feature and the alternative."""
-    dims = {surface_cell(s).dim for s in (slave, master)}
-    if dims == {1}:
+def _check_offered(slave: Any, master: Any, friction: Any) -> None:
+    """Refuse what a pair of these surfaces does not offer: a slave and a master of
+    cells of two dimensions (a curve and a face surface), and on faces (tri3, quad4:
+    :data:`~.nts_faces.FACE_CELLS`) self-contact and friction; each ValueError names
+    the feature and the alternative.  Which method takes which cells is the method's
+    to say (quadratic faces: refused by every built-in method)."""
+    cs, cm = surface_cell(slave), surface_cell(master)
+    if cs.dim != cm.dim:
+        raise ValueError(f"{slave.name!r} is a surface of {cs.name} cells and "
+                         f"{master.name!r} one of {cm.name} cells: the slave and the master "
+                         f"of a contact pair must both be faces or both be curves; in 3D "
+                         f"use RigidPlane3D, RigidSphere or RigidCylinder for a rigid master")
+    if cs.name not in FACE_CELLS:
         return
-    if dims != {2}:
-        face, curve = (slave, master) if surface_cell(slave).dim == 2 else (master, slave)
-        raise ValueError(f"{face.name!r} is a surface of {surface_cell(face).name} faces (a "
-                         f"3D body's) and {curve.name!r} one of line cells (a 2D body's or a "
-                         f"rigid line): the slave and the master of a contact pair must both "
-                         f"be faces or both be curves; in 3D use RigidPlane3D, RigidSphere "
-                         f"or RigidCylinder for a rigid master")
-    if method != "nts":
-        raise ValueError(f"{method} in 3D is not offered yet; use method='nts'")
-    for role, s in (("slave", slave), ("master", master)):
-        check_face(surface_cell(s), f"{role} {s.name!r}")
     if slave.body is not None and slave.body is master.body:
         raise ValueError("self-contact in 3D (slave and master on the same body) is not "
                          "offered yet; split the body into two bodies tied by a TiePair, "
@@ -128,6 +129,15 @@ def _check_3d(slave: Any, master: Any, method: str, friction: Any) -> None:
     if as_law(friction) is not FRICTIONLESS:
         raise ValueError("friction in 3D is not offered yet; use frictionless contact "
                          "(friction=None), or a plane or axisymmetric model")
+
+
+def _chain_order(slave: Any) -> np.ndarray | None:
+    """The slave nodes in chain order where its cells chain (two corners each: a curve),
+    else None (:class:`~.active_set.ActiveSet` then releases no tail in order)."""
+    cell = surface_cell(slave)
+    if len(cell.corners) != 2:
+        return None
+    return chain_order(slave.segments, slave.closed, slave.n_nodes, cell)
 
 
 class ContactPair(Item):
@@ -231,12 +241,14 @@ class ContactPair(Item):
             raise ValueError(f"method must be one of {', '.join(METHODS)}, got {method!r}")
         _check_surface("slave", slave)
         _check_surface("master", master)
-        _check_3d(slave, master, method, friction)
-        #: declared symmetry planes ``(unit normal, offset)`` (3D; :mod:`.symmetry`)
+        _check_offered(slave, master, friction)
+        #: declared symmetry planes ``(unit normal, offset)`` (:mod:`.symmetry`)
         self.symmetry = check_planes(symmetry)
-        if self.symmetry and surface_cell(slave).dim != 2:
-            raise ValueError("symmetry planes are for contact between 3D bodies (faces); "
-                             "a plane model's symmetry line is a Dirichlet condition")
+        if self.symmetry and self.symmetry[0][0].size != slave.X.shape[0]:
+            raise ValueError(f"symmetry planes have {self.symmetry[0][0].size} components "
+                             f"(contact between 3D bodies), the slave's nodes "
+                             f"{slave.X.shape[0]}; a plane model's symmetry line is a "
+                             f"Dirichlet condition")
         if slave.dofs() is None:
             raise ValueError("slave must be a deformable surface (a rigid surface is a master)")
         if slave is master or (slave.body is not None and slave.body is master.body
@@ -267,9 +279,7 @@ class ContactPair(Item):
         #: ``"projected"`` (default) or ``"exact"`` (the finite-difference tests)
         self.friction_jacobian = "projected"
         self.c = c
-        faces = surface_cell(slave).dim == 2            # the faces of a 3D body
-        lengths = (face_sizes(slave.X, slave.segments) if faces
-                   else segment_lengths(slave.X, slave.segments, slave.cell))
+        lengths = cell_sizes(slave.X, slave.segments, surface_cell(slave))
         self._touch = float(touch_tolerance) * float(np.mean(lengths))
         self._h = float(np.median(lengths))  # the gap tolerance's length
         self._tol_p = 0.0  # pressure tolerance of the last converged check
@@ -283,9 +293,8 @@ class ContactPair(Item):
         if clash:
             raise ValueError(f"method {method!r} names its state {sorted(clash)}, which the "
                              f"pair's state uses; rename them")
-        self.state = ActiveSet(slave.n_nodes, None if faces else chain_order(
-            slave.segments, slave.closed, slave.n_nodes, surface_cell(slave)),
-                               name, cycle_guard=cycle_guard, accelerate=accelerate)
+        self.state = ActiveSet(slave.n_nodes, _chain_order(slave), name,
+                               cycle_guard=cycle_guard, accelerate=accelerate)
         self._started = False
         #: (the discretization's pattern, the triplets over it) and how often a
         #: pattern missed an entry of G or H (:meth:`_widen`)
@@ -434,10 +443,18 @@ class ContactPair(Item):
             ds = self.slave.dofs()  # (d, n)
             pinned = np.all(np.isin(ds, np.asarray(fixed)), axis=0)
         self.discretization.set_pinned(pinned)
-        if surface_cell(self.slave).dim == 2 and hasattr(self.discretization, "set_symmetry"):
-            planes = self.symmetry or planes_from_fixed(self.slave.X, self.slave.dofs(), fixed)
-            X = np.asarray(self.master.X, dtype=float)
-            self.discretization.set_symmetry(on_planes(X, planes, float(np.ptp(X, axis=1).max())))
+        if isinstance(self.discretization, SymmetricDiscretization):
+            self.discretization.set_symmetry(self._planes(fixed))
+
+    def _planes(self, fixed: np.ndarray) -> list:
+        """The symmetry planes: declared, else read from the Dirichlet data (:mod:`.symmetry`,
+        planes of as many components as the slave's coordinates; none otherwise)."""
+        if self.symmetry:
+            return self.symmetry
+        X = np.asarray(self.slave.X, dtype=float)
+        if X.shape[0] != PLANE_COMPONENTS:
+            return []
+        return planes_from_fixed(X, self.slave.dofs(), fixed)
 
     def _bodies(self):
         out = [self.slave.body]

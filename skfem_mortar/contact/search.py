@@ -45,12 +45,12 @@ from __future__ import annotations
 from itertools import product
 
 import numpy as np
-from ..core.chain import polyline
+from ..core.chain import polyline, segment_lengths
 from ..core.timing import timed
 from .cells import CellType, cell_type
 
 __all__ = ["segment_pairs", "node_segment_pairs", "box_pairs", "segment_boxes", "nearest_vertex",
-           "distance_to_polyline"]
+           "distance_to_polyline", "cell_sizes"]
 
 _LARGE = 4.0  # a box is "large" above this many median half sizes
 
@@ -469,3 +469,25 @@ def distance_to_polyline(p: np.ndarray, x: np.ndarray, seg: np.ndarray, cell=Non
         np.minimum.at(best, i_p, r)
         out[idx] = np.minimum(best, d_v[idx])  # a vertex is a point of the polyline too
     return out
+
+
+def cell_sizes(x: np.ndarray, conn: np.ndarray, cell: "str | CellType") -> np.ndarray:
+    """The size ``h`` (n_cell,) of each cell: its longest edge of the cell table
+    (:attr:`CellType.edges`).  An edge that is the whole cell (a line cell) is measured
+    along it (:func:`~skfem_mortar.core.chain.segment_lengths`: the arc length of a
+    curved one), any other by the distance of its two ends (a face's corner-to-corner
+    edge).  One measure for lines and faces alike: what the contact pair's tolerances
+    and the searches' margins read as "an element length"."""
+    cell = cell if isinstance(cell, CellType) else cell_type(cell)
+    x, conn = np.asarray(x, dtype=float), np.asarray(conn, dtype=np.int64)
+    if conn.shape[0] == 0:
+        return np.zeros(0)
+    h = None
+    for edge in cell.edges:
+        if len(edge) == cell.n_nodes:
+            size = segment_lengths(x, conn, cell)
+        else:
+            e = x[:, conn[:, edge[-1]]] - x[:, conn[:, edge[0]]]
+            size = np.sqrt(np.sum(e * e, axis=0))
+        h = size if h is None else np.maximum(h, size)
+    return h

@@ -1,0 +1,242 @@
+"""The one mortar kernel's rules read from the cell table, its chunks and its hooks
+(contact/mortar_kernel.py, contact/mortar_support.py).
+
+* One merge rule for every cell (``mortar_support.merge_nodes``, from the row's edges):
+  bit for bit the lines' rule (``mortar_quadratic.merge_matrix``) on every merged
+  pattern of line2, line3 and the registered-style piecewise line2x2, and on tri3 and
+  quad4 the faces' masking rule written out here independently (to the other kept
+  corners of a triangle; to a quad corner's kept edge neighbours, else across).
+* Chunks of whole slave cells (``chunk_entries``) give the unchunked call's ``g``, ``G``,
+  ``H``, ``D``, ``M``, mask and supports to 1e-14 of their largest entry (only the order
+  of the triplets' sums changes: round-off ~1e-16), with masked and merged nodes, and
+  with a chunk bound so small that every slave cell is its own chunk.
+* ``integrand=``: the weighted gap written as an integrand equals the default bit for
+  bit; another integrand (a slip-like ``int N_A (x_m - x_s) . e_1 dGamma``) has ``G`` and
+  ``H`` that agree with central differences of the whole pipeline to 1e-7 of their
+  scale (step 1e-6: truncation ~1e-10, round-off ~1e-10; a missing chain term is O(1)).
+* ``mirror=``: a slave node on the mirror line takes the mirror normal (its weighted
+  gap changes) and ``G``, ``H`` stay exact (central differences as above); given with an
+  axisymmetric measure's axis, the same line twice changes nothing (bit for bit).
+"""
+from __future__ import annotations
+
+import itertools
+
+import numpy as np
+import pytest
+
+from skfem_mortar.contact import mortar_kernel
+from skfem_mortar.contact.cells import cell_type
+from skfem_mortar.contact.measures import AXISYMMETRIC, PLANE
+from skfem_mortar.contact.mortar_cells import combine, dot, shape_jets, slave_geometry
+from skfem_mortar.contact.mortar_quadratic import merge_matrix
+from skfem_mortar.contact.mortar_support import edge_distances, merge_nodes
+
+LINE2, LINE3, TRI3, QUAD4 = (cell_type(c) for c in ("line2", "line3", "tri3", "quad4"))
+
+
+def _patterns(k):
+    return np.array(list(itertools.product([False, True], repeat=k)))
+
+
+@pytest.mark.parametrize("cell", [LINE2, LINE3])
+def test_merge_rule_is_the_lines_rule_bit_for_bit(cell):
+    merged = _patterns(cell.n_nodes)
+    assert np.array_equal(merge_nodes(merged, cell), merge_matrix(merged, cell))
+
+
+def test_merge_rule_on_a_piecewise_line():
+    """line2x2-like (start, middle, end on one edge): the lines' rule, bit for bit."""
+    from skfem_mortar.contact.cells import CellType
+    base = LINE3
+    cell = CellType("line2x2_rule", 1, 3, (0, 2), ((0, 1, 2),), np.array([[-1.0, 0.0, 1.0]]),
+                    base.shape, base.dshape, base.d2shape, base.quadrature, 1)
+    merged = _patterns(3)
+    assert np.array_equal(merge_nodes(merged, cell), merge_matrix(merged, cell))
+
+
+def _faces_rule(merged, cell):
+    """The faces' masking rule written out: tri3 to the other kept corners; quad4 to the
+    kept edge neighbours of a corner, else to the opposite corner; equal shares."""
+    k = cell.n_nodes
+    T = np.diag((~merged).astype(float))
+    for b in np.flatnonzero(merged):
+        if k == 3:
+            to = [a for a in range(3) if a != b and not merged[a]]
+        else:
+            to = [a for a in ((b + 1) % 4, (b + 3) % 4) if not merged[a]]
+            if not to and not merged[(b + 2) % 4]:
+                to = [(b + 2) % 4]
+        for a in to:
+            T[a, b] += 1.0 / len(to)
+    return T
+
+
+@pytest.mark.parametrize("cell", [TRI3, QUAD4])
+def test_merge_rule_is_the_faces_rule(cell):
+    merged = _patterns(cell.n_nodes)
+    T = merge_nodes(merged, cell)
+    for m, t in zip(merged, T):
+        assert np.array_equal(t, _faces_rule(m, cell)), m
+    assert np.array_equal(edge_distances(QUAD4), [[0, 1, 2, 1], [1, 0, 1, 2], [2, 1, 0, 1],
+                                                  [1, 2, 1, 0]])
+
+
+def test_merge_rule_names_its_parameter():
+    with pytest.raises(ValueError, match="merged must have the columns of the cell line3"):
+        merge_nodes(np.zeros((1, 2), dtype=bool), LINE3)
+
+
+def _curve(x0, x1, n, f, k):
+    t = np.linspace(x0, x1, (k - 1) * n + 1)
+    X = np.vstack([t, f(t)])
+    if k == 2:
+        return X, np.array([[i, i + 1] for i in range(n)])
+    return X, np.array([[2 * i, 2 * i + 2, 2 * i + 1] for i in range(n)])
+
+
+def _pair(k, shift=0.8):
+    """A curved slave whose far end hangs off the master (masked, merged nodes)."""
+    xs, ss = _curve(0.05 + shift, 0.95 + shift, 5 if k == 2 else 3,
+                    lambda t: 0.02 + 0.1 * (t - shift) ** 2, k)
+    xm, sm = _curve(1.3, -0.2, 6 if k == 2 else 4, lambda t: -0.05 * t ** 2, k)
+    return xs, ss, xm, sm
+
+
+def _rel(a, b):
+    a = a.toarray() if hasattr(a, "toarray") else np.asarray(a)
+    b = b.toarray() if hasattr(b, "toarray") else np.asarray(b)
+    return np.abs(a - b).max() / max(np.abs(a).max(), 1e-300)
+
+
+@pytest.mark.parametrize("k, space", [(2, "dual"), (3, "standard"), (3, "dual")])
+@pytest.mark.parametrize("per", [1, 2])
+def test_chunks_give_the_unchunked_call(k, space, per):
+    """``per`` integration cells a chunk (``per nv^2`` entries)."""
+    xs, ss, xm, sm = _pair(k)
+    nv = 12 if k == 2 else 18
+    entries = per * nv * nv
+    lam = np.linspace(0.5, 1.5, xs.shape[1])
+    kw = dict(lam=lam, space=space, cells=(cell_type(f"line{k}"),) * 2)
+    one = mortar_kernel.evaluate(xs, ss, xm, sm, **kw)
+    parts = mortar_kernel.chunks(one.info["segmentation"].e_s, nv, True, entries)
+    assert len(parts) > 1
+    cut = mortar_kernel.evaluate(xs, ss, xm, sm, chunk_entries=entries, **kw)
+    assert not one.mask.all() and np.array_equal(one.mask, cut.mask)
+    assert _rel(one.area, cut.area) <= 1e-15      # the support pass: values, other sum order
+    for a, b in ((one.g, cut.g), (one.G, cut.G), (one.H, cut.H), (one.info["D"], cut.info["D"]),
+                 (one.info["M"], cut.info["M"])):
+        assert _rel(a, b) <= 1e-14
+
+
+def test_chunks_are_whole_slave_cells_under_the_bound():
+    e_s = np.array([3, 0, 0, 1, 2, 2, 2, 1, 4])
+    parts = mortar_kernel.chunks(e_s, 2, False, 6)          # 3 cells a chunk
+    assert np.array_equal(np.sort(np.concatenate(parts)), np.arange(e_s.size))
+    for p in parts:
+        assert np.all(np.diff(p) > 0)                      # the rows' own order
+        assert all(np.isin(np.flatnonzero(e_s == e), p).all() for e in np.unique(e_s[p]))
+        assert p.size <= 3 or np.unique(e_s[p]).size == 1
+    assert mortar_kernel.chunks(e_s, 2, False, 100) == [None]
+
+
+def _weighted_gap(points, local, cells, measure):
+    d = local.layout.d
+    N, xs, dG = slave_geometry(points, local, cells[0], measure)
+    xm = combine(shape_jets(cells[1], points.xi_m), local.x_m, d)
+    nt = combine(N, local.n_s, d)
+    gn = dot(nt, [q - p for p, q in zip(xs, xm)]) * dot(nt, nt).sqrt().inv()
+    return [(N[a] * gn * dG).sum() for a in range(cells[0].n_nodes)]
+
+
+def _slip_like(points, local, cells, measure):
+    N, xs, dG = slave_geometry(points, local, cells[0], measure)
+    xm = combine(shape_jets(cells[1], points.xi_m), local.x_m, local.layout.d)
+    return [(N[a] * (xm[0] - xs[0]) * dG).sum() for a in range(cells[0].n_nodes)]
+
+
+@pytest.mark.parametrize("k, space", [(2, "standard"), (3, "dual")])
+def test_integrand_hook_default_is_the_weighted_gap(k, space):
+    xs, ss, xm, sm = _pair(k)
+    kw = dict(lam=np.linspace(0.5, 1.5, xs.shape[1]), space=space,
+              cells=(cell_type(f"line{k}"),) * 2, measure=AXISYMMETRIC)
+    a = mortar_kernel.evaluate(xs, ss, xm, sm, **kw)
+    b = mortar_kernel.evaluate(xs, ss, xm, sm, integrand=_weighted_gap, **kw)
+    assert np.array_equal(a.g, b.g)
+    assert (a.G != b.G).nnz == 0 and (a.H != b.H).nnz == 0
+
+
+def _fd(xs, ss, xm, sm, lam, h=1e-6, held=(), **kw):
+    """Largest errors of ``G`` and ``H`` against central differences along random
+    directions (``held`` dofs not moved), relative to their largest entries."""
+    ev = mortar_kernel.evaluate(xs, ss, xm, sm, lam=lam, **kw)
+    G, H = ev.G.toarray(), ev.H.toarray()
+    x = np.r_[xs.T.ravel(), xm.T.ravel()]
+    d, n = xs.shape[0], xs.size
+
+    def at(y):
+        return mortar_kernel.evaluate(y[:n].reshape(-1, d).T, ss, y[n:].reshape(-1, d).T, sm,
+                                      lam=lam, **kw)
+    eg = eh = 0.0
+    for v in np.random.default_rng(1).normal(size=(3, x.size)):
+        v[list(held)] = 0.0
+        p, m = at(x + h * v), at(x - h * v)
+        assert np.array_equal(p.mask, ev.mask) and np.array_equal(m.mask, ev.mask)
+        eg = max(eg, np.abs((p.g - m.g) / (2 * h) - G @ v).max() / np.abs(G).max())
+        eh = max(eh, np.abs((p.G.T @ lam - m.G.T @ lam) / (2 * h) - H @ v).max()
+                 / np.abs(H).max())
+    return ev, eg, eh
+
+
+@pytest.mark.parametrize("k, space", [(2, "dual"), (3, "standard")])
+def test_integrand_hook_derivatives_against_finite_differences(k, space):
+    xs, ss, xm, sm = _pair(k)
+    lam = np.linspace(0.5, 1.5, xs.shape[1])
+    ev, eg, eh = _fd(xs, ss, xm, sm, lam, space=space, cells=(cell_type(f"line{k}"),) * 2,
+                     integrand=_slip_like)
+    assert not ev.mask.all()
+    assert eg <= 1e-7 and eh <= 1e-7
+
+
+def test_integrand_must_give_one_jet_per_slave_node():
+    xs, ss, xm, sm = _pair(2)
+    with pytest.raises(ValueError, match="integrand must return 2 jets"):
+        mortar_kernel.evaluate(xs, ss, xm, sm, cells=(LINE2, LINE2),
+                               integrand=lambda *a: _slip_like(*a)[:1])
+
+
+def test_mirror_normal_exact_and_combined_with_the_axis():
+    xs, ss, xm, sm = _pair(2, shift=0.0)
+    xs = xs - np.array([[xs[0, 0]], [0.0]])                 # slave node 0 on x = 0
+    xs[1] += 0.2 * xs[0]                                    # its normal tilted
+    xm = xm + np.array([[0.05], [0.0]])
+    lam = np.linspace(0.5, 1.5, xs.shape[1])
+    kw = dict(space="dual", cells=(LINE2, LINE2))
+    mirror = ((np.array([1.0, 0.0]), 0.0),)
+    plain = mortar_kernel.evaluate(xs, ss, xm, sm, lam=lam, **kw)
+    # node 0's x dof held: a step off the line leaves the mirror normal's regime
+    ev, eg, eh = _fd(xs, ss, xm, sm, lam, mirror=mirror, held=(0,), **kw)
+    assert abs(ev.g[0] - plain.g[0]) > 1e-3 * abs(plain.g[0])
+    assert eg <= 1e-7 and eh <= 1e-7
+    axi = mortar_kernel.evaluate(xs, ss, xm, sm, lam=lam, measure=AXISYMMETRIC, **kw)
+    both = mortar_kernel.evaluate(xs, ss, xm, sm, lam=lam, measure=AXISYMMETRIC,
+                                  mirror=mirror, **kw)
+    assert np.array_equal(axi.g, both.g) and (axi.H != both.H).nnz == 0
+    assert PLANE.unit
+
+
+@pytest.mark.parametrize("shift", [0.3, 0.8])
+def test_curved_dual_defaults_match_the_curved_kernel(shift):
+    """line3 dual with both kernels' defaults: the gap by 3 points per integration cell,
+    the mass integrals of ``A_e`` by 5 points per integration cell here and by 5 over the
+    projectable part there: two quadratures of one integral, apart by the 5-point rule's
+    error on a mildly curved cell (measured 1e-14 of g, 2e-12 of G, 1e-12 of H, 2e-13 of
+    D); with 3 mass points per integration cell they were 4e-5 to 1e-2 apart in H."""
+    from skfem_mortar.contact import mortar_quadratic
+    xs, ss, xm, sm = _pair(3, shift)
+    lam = np.linspace(0.5, 1.5, xs.shape[1])
+    a = mortar_kernel.evaluate(xs, ss, xm, sm, lam=lam, space="dual", cells=(LINE3, LINE3))
+    b = mortar_quadratic.evaluate(xs, ss, xm, sm, lam=lam, space="dual")
+    assert np.array_equal(a.mask, b.mask)
+    for x, y in ((a.g, b.g), (a.G, b.G), (a.H, b.H), (a.info["D"], b.info["D"])):
+        assert _rel(x, y) <= 1e-11
