@@ -49,10 +49,10 @@ def _reflections(planes: list) -> list[tuple[np.ndarray, np.ndarray, list[int]]]
     return out
 
 
-def mirrored_master(xm: np.ndarray, seg_m: np.ndarray, planes: list, band: float
-                    ) -> tuple[np.ndarray, np.ndarray, np.ndarray, list]:
-    """The master extended by the mirror images of its faces within ``band`` of the
-    planes (of each plane reflected across; module docstring).
+def mirrored_master(xm: np.ndarray, seg_m: np.ndarray, planes: list,
+                    band: "float | np.ndarray") -> tuple[np.ndarray, np.ndarray, np.ndarray, list]:
+    """The master extended by the mirror images of its faces within ``band`` (a length,
+    or one per face) of the planes (of each plane reflected across; module docstring).
 
     Returns
     -------
@@ -112,7 +112,8 @@ def fold(ev: ContactEval, n_s: int, n_m: int, node: np.ndarray, Rs: list) -> Con
 
 
 def evaluate_mirrored(kernel, xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray,
-                      seg_m: np.ndarray, planes: list, band: float, **options) -> ContactEval:
+                      seg_m: np.ndarray, planes: list, band: "float | np.ndarray",
+                      **options) -> ContactEval:
     """``kernel(xs, seg_s, xm_ext, seg_ext, **options)`` on the master extended by its
     mirror images (:func:`mirrored_master`), folded back (:func:`fold`)."""
     xm_ext, seg_ext, node, Rs = mirrored_master(xm, seg_m, planes, band)
