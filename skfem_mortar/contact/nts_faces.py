@@ -17,7 +17,8 @@ The 2D kernel's rules (:mod:`.nts_projection`) carried over the cell's dimension
   previous iteration is kept while ``o <= stick`` (hysteresis); otherwise the
   smallest distance from the node to the face's nearest point (the Newton point
   when inside, else the nearest point of its boundary edges, which are straight on
-  tri3 and quad4) wins, ties to the smaller overshoot, then the lower face index.
+  tri3 and quad4) wins, ties (below) to the smaller overshoot, then the face whose
+  centroid is nearest, then the lower face index.
   So a node over the inside of a face takes it; a node outside every face near an
   edge or vertex takes a face through the nearest point of the surface.
 * **Ties**: distances within :data:`TIE_TOL` times the faces' size count as equal,
