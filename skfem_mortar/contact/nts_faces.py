@@ -17,9 +17,24 @@ The 2D kernel's rules (:mod:`.nts_projection`) carried over the cell's dimension
   previous iteration is kept while ``o <= stick`` (hysteresis); otherwise the
   smallest distance from the node to the face's nearest point (the Newton point
   when inside, else the nearest point of its boundary edges, which are straight on
-  tri3 and quad4) wins, ties to the smaller overshoot, then the lower face index.
+  tri3 and quad4) wins, ties (below) to the smaller overshoot, then the face whose
+  centroid is nearest, then the lower face index.
   So a node over the inside of a face takes it; a node outside every face near an
   edge or vertex takes a face through the nearest point of the surface.
+* **Ties**: distances within :data:`TIE_TOL` times the faces' size count as equal,
+  and so do overshoots within ``TIE_TOL``; faces still tied go to the one whose
+  centroid is nearest the node, then the lower index (so a node and its mirror image
+  pick mirror images of faces, whatever the round-off, and keep them by the
+  hysteresis).  The node's other candidate faces whose nearest point lies as far
+  from it as the chosen face's (within ``TIE_TOL`` h, and not beyond a free edge)
+  share the node with it: its gap, ``G`` and ``H`` are the mean over
+  these faces (:func:`tied_faces`).  A node above the edge or vertex where faces
+  meet at an angle (a ridge or valley of the master) is equally far from them, and
+  the mean is the centre of the gap's generalized gradient there; picking one face
+  (the lower index) would push the node sideways along that face's normal.  So a
+  mesh and its mirror image give mirrored answers: a whole (or half) model equals
+  its half (or quarter) with symmetry planes, where the faces across the plane are
+  the mirror images of the faces at it.
 * **Free edges**: a node whose chosen face's nearest point lies on a free edge of the
   master (an edge of one face only, not on a symmetry plane: ``mirrored`` nodes at
   both ends) with ``o > end_tolerance`` has left the master: out of ``mask``
@@ -52,7 +67,7 @@ from .search import nearest_vertex, node_segment_pairs
 
 __all__ = ["FACE_CELLS", "overshoot", "face_candidates", "project_faces", "gap_jets",
            "face_weights", "evaluate_faces", "free_edges", "face_sizes", "face_edges",
-           "face_distances", "check_face", "touching_faces"]
+           "face_distances", "check_face", "touching_faces", "tied_faces", "TIE_TOL"]
 
 #: the surface cells NTS projects onto (linear faces; quadratic ones are refused)
 FACE_CELLS = ("tri3", "quad4")
@@ -63,6 +78,12 @@ FACE_CELLS = ("tri3", "quad4")
 #: 0.1 cell and 2e-10 at 0.3 (degree 4: 7e-10 and 7e-7)
 WEIGHT_DEGREE = 9
 
+
+#: the nodes' ties between faces (module docstring): two faces are as far from a node
+#: when their distances differ by at most this times the faces' size.  Far above the
+#: round-off of the distances (1e-16 h: mirror images of a face give the same
+#: distance to that), far below any gap that matters
+TIE_TOL = 1e-9
 
 #: slave nodes per block of the gap's jets, whose temporaries hold (nv, nv, block)
 #: arrays (nv = 15 on quad4).  Measured peak (tracemalloc) of a whole evaluate with H:
@@ -175,6 +196,48 @@ def touching_faces(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.
     return out
 
 
+def tied_faces(i_n: np.ndarray, best: np.ndarray, dist: np.ndarray, h: np.ndarray,
+               ok: np.ndarray) -> np.ndarray:
+    """The candidates (indices into ``i_n``) tied with their node's chosen one
+    (module docstring): not chosen, ``ok`` (not beyond a free edge), and
+    ``|dist - dist_chosen| <= TIE_TOL max(h, h_chosen)`` with ``dist`` the distance
+    to each candidate face's nearest point and ``h`` its size; ``best`` the chosen
+    candidate of each node that has one, in node order."""
+    n = np.full(int(i_n.max()) + 1 if i_n.size else 0, -1, dtype=np.int64)
+    n[i_n[best]] = best
+    c = n[i_n]
+    tol = TIE_TOL * np.maximum(h, h[c])
+    tie = ok & (c >= 0) & (c != np.arange(i_n.size)) & (np.abs(dist - dist[c]) <= tol)
+    return np.flatnonzero(tie)
+
+
+def _choose(xs, xm, faces, i_n, i_e, over, dist, n_s, prefer, stick, lock) -> np.ndarray:
+    """:func:`~.nts_projection.choose_segments` with ties made exact: a distance within
+    ``TIE_TOL h`` of the node's smallest counts as the smallest, an overshoot below
+    ``TIE_TOL`` as 0, and the candidates still tied go to the face whose centroid is
+    nearest the node, then the lower index (module docstring: mirror images of a
+    face and node pick mirror images, whatever the round-off)."""
+    from .nts_projection import choose_segments
+    dmin = np.full(n_s, np.inf)
+    np.minimum.at(dmin, i_n, dist)
+    d = np.where(dist <= dmin[i_n] + TIE_TOL * face_sizes(xm, faces[i_e]), dmin[i_n], dist)
+    o = np.where(over <= TIE_TOL, 0.0, over)
+    centre = np.linalg.norm(xs[:, i_n] - xm[:, faces[i_e]].mean(axis=2), axis=0)
+    order = np.lexsort((centre, i_n))
+    return order[choose_segments(i_n[order], i_e[order], -o[order], d[order], n_s, prefer,
+                                 stick, lock)]
+
+
+def _unclipped_gaps(cell: CellType, xs: np.ndarray, P: np.ndarray, xi: np.ndarray
+                    ) -> tuple[np.ndarray, np.ndarray]:
+    """``g = n(xi) . (x_s - x(xi))`` and ``n`` of the points ``xs (3, m)`` on the faces
+    with nodes ``P (3, m, k)`` at their unclipped ``xi (2, m)``."""
+    x, T = _map(cell, P, xi)
+    nv = np.cross(T[:, 0], T[:, 1], axis=0)
+    n = nv / np.maximum(np.sqrt(np.sum(nv * nv, axis=0)), 1e-300)
+    return np.sum((xs - x) * n, axis=0), n
+
+
 def free_edges(faces: np.ndarray, cell: CellType, mirrored: np.ndarray | None) -> np.ndarray:
     """Bool (n_f, n_edges): the edge of one face only (the master surface's border),
     not lying on a symmetry plane (both ends ``mirrored``)."""
@@ -199,19 +262,19 @@ def project_faces(xs: np.ndarray, xm: np.ndarray, faces: np.ndarray, cell: CellT
     -------
     dict with ``segment`` (n_s,) the chosen face (-1: none), ``xi`` (2, n_s) its
     unclipped coordinates, ``mask`` (n_s,), ``n`` (3, n_s) the face normal there,
-    ``g`` (n_s,) the gap (0 out of ``mask``), ``overshoot`` (n_s,) and ``dist``
-    (n_s,) the distance to the chosen face's nearest point and ``nearest`` (n_s,) that
-    face (both also out of ``mask``: a node beyond a free edge; ``inf`` and -1
-    without a candidate).
+    ``g`` (n_s,) the gap (the mean over the tied faces; 0 out of ``mask``),
+    ``overshoot`` (n_s,) and ``dist`` (n_s,) the distance to the chosen face's
+    nearest point and ``nearest`` (n_s,) that face (both also out of ``mask``: a
+    node beyond a free edge; ``inf`` and -1 without a candidate), and ``ties``:
+    ``(node, face, xi)`` of the faces tied with a chosen one of a node in ``mask``.
     """
-    from .nts_projection import choose_segments
     n_s, n_f = xs.shape[1], len(faces)
     key = face_candidates(xs, xm, faces, cell, margin)
     i_n, i_e = key // n_f, key % n_f
     pr = project_points(xs[:, i_n], xm, faces, cell, i_e)
     dist, edge = _nearest_on_face(xs[:, i_n], xm, faces[i_e], cell, pr)
     over = overshoot(cell, pr.xi)
-    best = choose_segments(i_n, i_e, -over, dist, n_s, prefer, stick, lock)
+    best = _choose(xs, xm, faces, i_n, i_e, over, dist, n_s, prefer, stick, lock)
     k, e = i_n[best], i_e[best]
     segment = np.full(n_s, -1, dtype=np.int64)
     segment[k] = e
@@ -230,12 +293,18 @@ def project_faces(xs: np.ndarray, xm: np.ndarray, faces: np.ndarray, cell: CellT
     kept = mask & (segment == prefer) if prefer is not None else np.zeros(n_s, dtype=bool)
     tol = np.where(kept, max(stick, end_tolerance), end_tolerance)
     mask &= ~(on_free & (o > tol))
-    x, T = _map(cell, xm[:, faces[es]], xi)
-    nv = np.cross(T[:, 0], T[:, 1], axis=0)
-    n = nv / np.maximum(np.sqrt(np.sum(nv * nv, axis=0)), 1e-300)
-    g = np.where(mask, np.sum((xs - x) * n, axis=0), 0.0)
+    g, n = _unclipped_gaps(cell, xs, xm[:, faces[es]], xi)
+    ok = ~((edge >= 0) & fe[i_e, np.maximum(edge, 0)] & (over > end_tolerance))
+    t = tied_faces(i_n, best, dist, face_sizes(xm, faces[i_e]), ok)
+    t = t[mask[i_n[t]]]
+    if t.size:                    # the mean over the tied faces (module docstring)
+        gt = _unclipped_gaps(cell, xs[:, i_n[t]], xm[:, faces[i_e[t]]], pr.xi[:, t])[0]
+        count = 1.0 + np.bincount(i_n[t], minlength=n_s)
+        g = (g + np.bincount(i_n[t], weights=gt, minlength=n_s)) / count
+    g = np.where(mask, g, 0.0)
     return {"segment": np.where(mask, segment, -1), "xi": xi, "mask": mask, "n": n, "g": g,
-            "overshoot": o, "dist": dn, "nearest": segment}
+            "overshoot": o, "dist": dn, "nearest": segment,
+            "ties": (i_n[t], i_e[t], pr.xi[:, t])}
 
 
 def _map(cell: CellType, P: np.ndarray, xi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -342,16 +411,23 @@ def evaluate_faces(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.
     info = {"xi": pr["xi"], "segment": pr["segment"], "normal": pr["n"]}
     if not tangent:
         return ContactEval(g=g, G=None, H=None, area=area, mask=mask, info=info)
-    k = np.flatnonzero(mask)
-    m = seg_m[pr["segment"][k]]
+    tn, tf, txi = pr["ties"]
+    k = np.concatenate([np.flatnonzero(mask), tn])      # a row per (node, face): the
+    e = np.concatenate([pr["segment"][mask], tf])       # chosen ones, then the ties
+    xi = np.concatenate([pr["xi"][:, mask], txi], axis=1)
+    m = seg_m[e]
     second = lam is not None
-    g = g.copy()
-    dg = np.zeros((k.size, 3 + 3 * cm.n_nodes))
+    gv, dg = np.zeros(k.size), np.zeros((k.size, 3 + 3 * cm.n_nodes))
     h = np.zeros((dg.shape[1], dg.shape[1], k.size)) if second else None
     for lo in range(0, k.size, CHUNK_NODES):     # the jets' memory bounded per chunk
         c = slice(lo, lo + CHUNK_NODES)
-        gj = gap_jets(cm, xs[:, k[c]], xm[:, m[c]], pr["xi"][:, k[c]], second)
-        g[k[c]], dg[c] = gj.v, gj.g.T
+        gj = gap_jets(cm, xs[:, k[c]], xm[:, m[c]], xi[:, c], second)
+        gv[c], dg[c] = gj.v, gj.g.T
         if second:
             h[:, :, c] = gj.hessian()
+    w = 1.0 / np.bincount(k, minlength=g.size)[k]   # the mean over a node's tied faces
+    dg *= w[:, None]
+    if second:
+        h *= w
+    g = np.where(mask, np.bincount(k, weights=gv * w, minlength=g.size), g)
     return node_gap_eval(g, k, m, dg, h, lam, n_m, 3, area, mask, info)
