@@ -41,6 +41,7 @@ from .cells import CellType, cell_type
 from .curves import chain_nodes, polyline
 from .nts_faces import touching_faces
 from .search import node_segment_pairs
+from .surface_kinds import CURVE, FACE, entry
 
 __all__ = ["ActiveSet", "StatusSet", "chain_order", "extrapolated_release", "normal_nodal_force",
            "touching_nodes"]
@@ -93,9 +94,15 @@ def touching_nodes(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.
     cell types (curved cells: their chords through every node). Bool ``(n_s,)``.
     """
     xs, xm = np.asarray(xs, dtype=float), np.asarray(xm, dtype=float)
-    if cell_type(cells[0]).dim == 2:                 # the faces of 3D bodies
-        return touching_faces(xs, np.asarray(seg_s), xm, np.asarray(seg_m),
-                              cell_type(cells[0]), cell_type(cells[1]), tol)
+    touching = entry(_TOUCHING, cells[0], "touching_nodes")   # the slave cell's kind
+    return touching(xs, np.asarray(seg_s), xm, np.asarray(seg_m), cell_type(cells[0]),
+                    cell_type(cells[1]), tol)
+
+
+def _touching_curves(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarray,
+                     cs: CellType, cm: CellType, tol: float) -> np.ndarray:
+    """:func:`touching_nodes` between curves: the polylines' vertices."""
+    cells = (cs, cm)
     # curved cells: their chords through every node (the touch tolerance is far
     # above the sag of a cell that can touch flat)
     seg_s = polyline(np.asarray(seg_s, dtype=np.int64).reshape(len(seg_s), -1), cells[0])
@@ -109,6 +116,10 @@ def touching_nodes(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.
     out[seg_s[e[t <= 0.5], 0]] = True
     out[seg_s[e[t >= 0.5], 1]] = True
     return out
+
+
+#: the touching test of each surface kind (:mod:`.surface_kinds`)
+_TOUCHING = {CURVE: _touching_curves, FACE: touching_faces}
 
 
 def normal_nodal_force(G: sp.spmatrix, lam: np.ndarray, n_slave: int, d: int = 2

@@ -24,6 +24,7 @@ from ..core.chain import polyline
 from . import nts
 from .nts_faces import face_sizes, project_faces
 from .search import nearest_vertex
+from .surface_kinds import CURVE, FACE, entry
 from .preflight_pairs import contact_pairs
 from .preflight_rigid import _columns, _describe, _times_modes, _touching_rows, free_combinations
 
@@ -107,18 +108,30 @@ def _matching(pair: Any) -> bool:
     slave segment both within ``MATCH h``."""
     xs, xm = np.asarray(pair.slave.X, float), np.asarray(pair.master.X, float)
     pm = xm[:, np.unique(pair.master.segments)]
-    if pair.slave.cell.dim == 2:                  # faces: coincident with a slave node
-        h = float(np.median(face_sizes(xs, pair.slave.segments)))
-        pr = project_faces(pm, xs, pair.slave.segments, pair.slave.cell, h)
-        meet = pr["mask"] & (np.abs(pr["g"]) <= h)
-        d, _ = nearest_vertex(xs, pm)
-        return bool(np.all((d <= MATCH * h) | ~meet))
+    return entry(_MATCHING, pair.slave.cell, "the NTS patch check")(pair, xs, pm)
+
+
+def _matching_faces(pair: Any, xs: np.ndarray, pm: np.ndarray) -> bool:
+    """:func:`_matching` on faces: coincident with a slave node."""
+    h = float(np.median(face_sizes(xs, pair.slave.segments)))
+    pr = project_faces(pm, xs, pair.slave.segments, pair.slave.cell, h)
+    meet = pr["mask"] & (np.abs(pr["g"]) <= h)
+    d, _ = nearest_vertex(xs, pm)
+    return bool(np.all((d <= MATCH * h) | ~meet))
+
+
+def _matching_curves(pair: Any, xs: np.ndarray, pm: np.ndarray) -> bool:
+    """:func:`_matching` on curves: coincident with a slave node, off the segment ends."""
     seg_s = polyline(pair.slave.segments, pair.slave.cell)
     h = float(np.median(np.hypot(*(xs[:, seg_s[:, 1]] - xs[:, seg_s[:, 0]]))))
     pr = nts.project(pm, xs, seg_s)
     meet = pr["mask"] & (np.abs(pr["g"]) <= h)
     off_end = np.minimum(np.abs(pr["xi"]), np.abs(1.0 - pr["xi"])) * pr["l"]
     return bool(np.all((np.abs(pr["g"]) <= MATCH * h) & (off_end <= MATCH * h) | ~meet))
+
+
+#: the coincidence check of each surface kind (:mod:`.surface_kinds`)
+_MATCHING = {CURVE: _matching_curves, FACE: _matching_faces}
 
 
 def nts_patch_text(pair: Any) -> str:

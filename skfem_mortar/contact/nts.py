@@ -53,7 +53,8 @@ patch test.  Single pass with the finer surface as slave is the usual remedy.
 from __future__ import annotations
 
 import logging
-from typing import Any
+from dataclasses import dataclass
+from typing import Any, Callable
 
 import numpy as np
 import scipy.sparse as sp
@@ -69,6 +70,7 @@ from .nts_faces import check_face, evaluate_faces, face_candidates, face_sizes, 
 from .rigid3d import RigidSurface3D, exact_gaps
 from .nts_projection import LOCK_STICK, candidates, choose_segments, project
 from .surfaces import AXIS_TOL, segment_lengths, segment_normals, segments_at_nodes
+from .surface_kinds import CURVE, FACE, entry
 from .symmetry import on_planes
 
 __all__ = ["NTS", "evaluate", "project", "candidates", "choose_segments", "RESERVE_MARGIN", "RESERVE_HALO", "SLIP_HALO", "LOCK_STICK", "COARSE_RATIO", "failure_hints",
@@ -146,10 +148,15 @@ def evaluate(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarra
         ``area`` is the tributary weight of each slave node; ``info`` holds
         ``xi`` (in ``[0, 1]`` along the cell), ``segment`` and ``normal``.
     """
-    if cells is not None and cell_type(cells[1]).dim == 2:   # faces of 3D bodies
-        return evaluate_faces(xs, seg_s, xm, seg_m, tuple(cell_type(c) for c in cells), lam,
-                              tangent, margin, end_tolerance, prefer, stick, lock, measure,
-                              mirrored)
+    # the master cell's kind (:mod:`.surface_kinds`): curves here, faces in :mod:`.nts_faces`
+    kernel = _evaluate_curves if cells is None else entry(_EVALUATE, cells[1], "nts.evaluate")
+    return kernel(xs, seg_s, xm, seg_m, cells, lam, tangent, margin, end_tolerance, prefer,
+                  stick, lock, measure, mirrored)
+
+
+def _evaluate_curves(xs, seg_s, xm, seg_m, cells, lam, tangent, margin, end_tolerance,
+                     prefer, stick, lock, measure, mirrored) -> ContactEval:
+    """:func:`evaluate` between curves (line cells)."""
     xs, seg_s = _check(xs, seg_s, "slave")
     xm, seg_m = _check(xm, seg_m, "master")
     cs, cm = (check_line(c, "nts") for c in line_cells(seg_s, seg_m, cells))
@@ -170,6 +177,15 @@ def evaluate(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarra
     kernel = _affine_gap if is_affine(cm) else _curve_gap
     g, dg, h = kernel(xs, xm, m, k, pr, cm, lam is not None)
     return node_gap_eval(g, k, m, dg, h, lam, n_m, 2, area, mask, info)
+
+
+def _evaluate_faces(xs, seg_s, xm, seg_m, cells, *rest) -> ContactEval:
+    """:func:`evaluate` between faces (:func:`~.nts_faces.evaluate_faces`)."""
+    return evaluate_faces(xs, seg_s, xm, seg_m, tuple(cell_type(c) for c in cells), *rest)
+
+
+#: the NTS gap evaluation of each surface kind (:mod:`.surface_kinds`)
+_EVALUATE = {CURVE: _evaluate_curves, FACE: _evaluate_faces}
 
 
 def _affine_gap(xs, xm, m, k, pr, cell, second):
@@ -313,6 +329,37 @@ def vertex_trap(history: list[np.ndarray], lock: np.ndarray | None) -> np.ndarra
     return trap if lock is None else trap & ~lock
 
 
+@dataclass(frozen=True)
+class KindEntries:
+    """What NTS does differently on a surface kind (:mod:`.surface_kinds`).
+
+    ``check(cell, pair_name)`` the cell (raises ValueError); ``hints(slave,
+    master, pair_name)`` the failure hints; ``sizes(x, cells, cell)`` the cell
+    sizes (the search margin is their median); ``candidates(xs, xm, cells,
+    cell, margin, halo)`` the candidate keys; ``symmetry_mirrors``: a master
+    node on a symmetry plane is mirrored (no free border there).
+    """
+    check: Callable[[CellType, str], CellType]
+    hints: Callable[[Any, Any, str], str]
+    sizes: Callable[[np.ndarray, np.ndarray, CellType], np.ndarray]
+    candidates: Callable[..., np.ndarray]
+    symmetry_mirrors: bool
+
+
+#: the NTS entries of each surface kind: curves (line cells), faces (of 3D bodies)
+KIND_ENTRIES = {
+    CURVE: KindEntries(
+        check=lambda c, name: check_line(c, "nts"), hints=failure_hints, sizes=cell_lengths,
+        candidates=lambda xs, xm, seg, c, margin, halo: candidates(xs, xm, seg, margin, halo,
+                                                                   cell=c),
+        symmetry_mirrors=False),
+    FACE: KindEntries(
+        check=lambda c, name: check_face(c, f"{name}: nts"), hints=lambda s, m, name: "",
+        sizes=lambda x, seg, c: face_sizes(x, seg),
+        candidates=lambda xs, xm, seg, c, margin, halo: face_candidates(xs, xm, seg, c, margin),
+        symmetry_mirrors=True)}
+
+
 class NTS(ContactDiscretization):
     """Node-to-segment contact (:func:`evaluate`) as a
     :class:`~skfem_mortar.contact.discretization.ContactDiscretization`.
@@ -346,12 +393,13 @@ class NTS(ContactDiscretization):
         self.slave, self.master, self.pair_name = slave, master, pair_name
         #: the two surfaces' cell types (:func:`~.segmentation.surface_cell`)
         self.cells = (surface_cell(slave), surface_cell(master))
-        #: reference dimension of the surfaces' cells: 1 (curves), 2 (faces of 3D bodies)
-        self.dim = self.cells[0].dim
+        #: the kind of the slave's cells (:func:`~.surface_kinds.surface_kind`): its entries
+        #: (:data:`KIND_ENTRIES`) check the cells, search, measure and hint
+        self.kind = entry(KIND_ENTRIES, self.cells[0], "nts")
         for c in self.cells:
-            check_line(c, "nts") if self.dim == 1 else check_face(c, f"{pair_name}: nts")
+            self.kind.check(c, pair_name)
         self.options = dict(options)
-        self._hint = failure_hints(slave, master, pair_name) if self.dim == 1 else ""
+        self._hint = self.kind.hints(slave, master, pair_name)
         self._pinned: np.ndarray | None = None
         #: the weight of ``dGamma`` (:meth:`set_measure`)
         self.measure: Measure = PLANE
@@ -386,7 +434,7 @@ class NTS(ContactDiscretization):
         """The symmetry planes of a 3D pair (:mod:`.symmetry`,
         :class:`~.discretization.SymmetricDiscretization`): a master face edge between
         two master nodes on one is no free border (:func:`~.nts_faces.project_faces`)."""
-        if self.dim == 2:
+        if self.kind.symmetry_mirrors:
             X = np.asarray(self.master.X, dtype=float)
             self._mirrored = on_planes(X, planes, float(np.ptp(X, axis=1).max()))
 
@@ -394,8 +442,7 @@ class NTS(ContactDiscretization):
         """The search margin of :func:`project` (default: the median master segment length)."""
         margin = self.options.get("margin")
         if margin is None:
-            lm = (cell_lengths(xm, self.master.segments, self.cells[1]) if self.dim == 1
-                  else face_sizes(xm, self.master.segments))
+            lm = self.kind.sizes(xm, self.master.segments, self.cells[1])
             margin = float(np.median(lm)) if lm.size else 0.0
         return margin
 
@@ -411,15 +458,13 @@ class NTS(ContactDiscretization):
                     halo: int = 0) -> np.ndarray:
         """The candidate keys of the projection (:func:`candidates`; on faces
         :func:`~.nts_faces.face_candidates`, whose nearest-vertex faces are the halo)."""
-        if self.dim == 2:
-            return face_candidates(xs, xm, self.master.segments, self.cells[1], margin)
-        return candidates(xs, xm, self.master.segments, margin, halo, cell=self.cells[1])
+        return self.kind.candidates(xs, xm, self.master.segments, self.cells[1], margin, halo)
 
     def _pattern_of(self, held: np.ndarray) -> sp.csr_matrix:
         """Row ``k``: the dofs of slave node ``k`` and of its held master segments."""
         seg_m = self.master.segments
         n_s, n_seg = self.slave.n_nodes, len(seg_m)
-        d = self.dim + 1                             # dofs per node
+        d = int(np.shape(self.slave.X)[0])           # dofs per node
         k, e = held // n_seg, held % n_seg
         own = np.arange(n_s)
         nm = d * self.cells[1].n_nodes               # master dofs of a segment: 4, 6 (3-node), 9, 12
@@ -464,7 +509,7 @@ class NTS(ContactDiscretization):
             extra["prefer"] = self._prefer
             if self._lock is not None and self._lock.any():
                 extra["lock"] = self._lock
-        if self.dim == 2 and isinstance(self.master, RigidSurface3D):   # an exact surface
+        if isinstance(self.master, RigidSurface3D):   # an exact surface (faces)
             area = face_weights(xs, self.slave.segments, self.cells[0], self.measure)
             ev = exact_gaps(self.master, xs, lam, tangent, area, xm.shape[1])
         else:

@@ -23,6 +23,7 @@ from ..core.chain import polyline
 from . import nts
 from .cell_map import reversal
 from .preflight_faces import facing_faces, inward_faces
+from .surface_kinds import CURVE, FACE, entry
 from .surfaces import RigidCircle, RigidPlane, segment_normals, tributary_lengths
 
 __all__ = ["check_surface", "check_orientation", "nodal_normals", "FACING"]
@@ -48,12 +49,19 @@ def check_surface(surface: Any) -> None:
     mesh = _solid_mesh(surface)
     if mesh is None:
         return
-    if surface.cell.dim != 1:   # faces of a 3D body
-        inward, l = inward_faces(surface, mesh)
-        found = l > 0
-        if l[inward].sum() > 0.5 * l.sum():
-            raise ValueError(_inward_message(surface, int(inward.sum()), int(found.sum()), "faces"))
-        return
+    entry(_INWARD, surface.cell, "check_outward")(surface, mesh)   # the cells' kind
+
+
+def _inward_faces_check(surface: Any, mesh: Any) -> None:
+    """:func:`check_outward` on the faces of a 3D body (:func:`~.preflight_faces.inward_faces`)."""
+    inward, l = inward_faces(surface, mesh)
+    found = l > 0
+    if l[inward].sum() > 0.5 * l.sum():
+        raise ValueError(_inward_message(surface, int(inward.sum()), int(found.sum()), "faces"))
+
+
+def _inward_curves_check(surface: Any, mesh: Any) -> None:
+    """:func:`check_outward` on the boundary segments of a 2D body."""
     ends = surface.nodes[surface.segments[:, list(surface.cell.corners)]]  # body vertices
     nv = mesh.p.shape[1]
     fac = np.sort(mesh.facets[:2], axis=0)
@@ -74,6 +82,10 @@ def check_surface(surface: Any) -> None:
     if l[inward].sum() > 0.5 * l.sum():
         raise ValueError(_inward_message(surface, int(inward.sum()), int(found.sum()),
                                          "segments"))
+
+
+#: the outward check of each surface kind (:mod:`.surface_kinds`)
+_INWARD = {CURVE: _inward_curves_check, FACE: _inward_faces_check}
 
 
 def _inward_message(surface: Any, n_in: int, n: int, what: str) -> str:
@@ -113,14 +125,21 @@ class _Facing:
 
 
 def _facing(pair: Any, z: np.ndarray) -> _Facing:
-    if pair.slave.cell.dim == 2:
-        return _Facing(*facing_faces(pair, z))
+    return entry(_FACING, pair.slave.cell, "check_orientation")(pair, z)   # the cells' kind
+
+
+def _facing_curves(pair: Any, z: np.ndarray) -> _Facing:
+    """:func:`_facing` on curves: the chords' normals at the nearest slave nodes."""
     xs, xm = pair.slave.x(z), pair.master.x(z)
     seg_s = polyline(pair.slave.segments, pair.slave.cell)
     seg_m = polyline(pair.master.segments, pair.master.cell)
     near, pr = nts.nearest_nodes(xs, seg_s, xm, seg_m, band=1.0)
     cos = np.sum(nodal_normals(xs, seg_s) * pr["n"], axis=0)
     return _Facing(near, pr, cos, tributary_lengths(xs, seg_s))
+
+
+#: the facing reading of each surface kind (:mod:`.surface_kinds`)
+_FACING = {CURVE: _facing_curves, FACE: lambda pair, z: _Facing(*facing_faces(pair, z))}
 
 
 def check_orientation(pair: Any, z: np.ndarray) -> None:

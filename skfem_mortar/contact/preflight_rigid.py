@@ -38,7 +38,18 @@ from ..core.dirichlet import Dirichlet
 from . import nts
 from .nts_faces import face_sizes
 from .preflight_pairs import is_contact_pair
+from .surface_kinds import CURVE, FACE, entry
 from .surfaces import segment_normals
+
+#: by surface kind (:mod:`.surface_kinds`), the cells of :func:`_touching_rows`' NTS
+#: evaluation (curves on their chords: line2, the default cells; faces themselves) and
+#: the sizes of those cells
+_NORMAL_CELLS = {
+    CURVE: (lambda pair: (polyline(pair.slave.segments), polyline(pair.master.segments), None),
+            lambda x, seg: segment_normals(x, seg)[1]),
+    FACE: (lambda pair: (pair.slave.segments, pair.master.segments,
+                         (pair.slave.cell, pair.master.cell)),
+           face_sizes)}
 
 __all__ = ["check_rigid_modes", "free_combinations", "HOLD", "SPRING"]
 
@@ -158,11 +169,9 @@ def _touching_rows(pair: Any, z: np.ndarray, load_factor: float, n: int,
     touch = ev.mask if facing else pair.initial_active(z, load_factor) & ev.mask
     xs, xm = pair.slave.x(z), pair.master.x(z)
     # on the chords of 3-node segments (polyline): a check's normal rows, not the gap
-    faces = pair.slave.cell.dim == 2            # 3D bodies: the faces themselves
-    seg_s, seg_m = ((pair.slave.segments, pair.master.segments) if faces else
-                    (polyline(pair.slave.segments), polyline(pair.master.segments)))
-    nv = nts.evaluate(xs, seg_s, xm, seg_m, tangent=True,
-                      cells=(pair.slave.cell, pair.master.cell) if faces else None)
+    normal_cells, sizes = entry(_NORMAL_CELLS, pair.slave.cell, "the normal rows")
+    seg_s, seg_m, cells = normal_cells(pair)
+    nv = nts.evaluate(xs, seg_s, xm, seg_m, tangent=True, cells=cells)
     on = touch & nv.mask
     G = nv.G[np.flatnonzero(on)]
     if getattr(pair, "multipliers_per_node", 1) > 1:   # tangential rows
@@ -176,7 +185,7 @@ def _touching_rows(pair: Any, z: np.ndarray, load_factor: float, n: int,
     C = sp.csr_matrix((G.data[keep], (G.row[keep], gd[G.col[keep]])), shape=(G.shape[0], n))
     norm = np.sqrt(np.asarray(C.multiply(C).sum(axis=1)).ravel())
     C = sp.diags(1.0 / np.where(norm > 0, norm, 1.0)) @ C
-    ls = face_sizes(xs, seg_s) if faces else segment_normals(xs, seg_s)[1]
+    ls = sizes(xs, seg_s)
     return _Touch(C.tocsr(), nv.info["normal"][:, on],
                   float(np.min(glen[ev.mask], initial=np.inf)), float(pair.touch_distance),
                   float(np.mean(ls)))
