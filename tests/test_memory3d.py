@@ -19,12 +19,11 @@ nodes).  Mortar's numbers: ``benchmarks/contact_cost3d.py --memory``.
 Mortar at 1e4 faces takes minutes (77 ms of CPU a slave face), so its test here is
 the property that bounds it: the kernel's peak does not grow with the number of its
 chunks (:func:`~skfem_mortar.contact.mortar_kernel.chunks`), so the peak at 1e4 faces
-is that of one chunk.  It fails today: the kernel keeps every chunk's COO triplets
-until the end (H's triplets with the nodal normals' stencils: 0.18 MiB per
-integration cell on tri3/quad4, 0.28 on quad4/quad4, so about 18 GB at the 6.6e4 cells
-of 1e4 quad4 faces), hence the strict xfail; summing each chunk's triplets into the
-CSR result as it is done keeps the peak flat (measured with that change: 49 and 52
-MiB below, against 49 and 93 without).
+is that of one chunk.  Keeping every chunk's COO triplets until the end (H's
+triplets with the nodal normals' stencils: 0.18 MiB per integration cell on tri3/quad4,
+0.28 on quad4/quad4) would need about 18 GB at the 6.6e4 cells of 1e4 quad4 faces; the
+kernel sums each chunk's triplets into the CSR result as it is done, which keeps the
+peak flat (measured: 49 and 52 MiB below, against 49 and 93 when the triplets were kept).
 """
 from __future__ import annotations
 
@@ -112,8 +111,6 @@ def _mortar_peak(n: int, chunk_entries: int) -> tuple[int, int]:
     return peak, ev.info["n_segments"]
 
 
-@pytest.mark.xfail(strict=True, reason="the mortar kernel keeps every chunk's triplets "
-                   "until the end (module docstring); remove this mark with the fix")
 def test_the_mortar_kernel_peak_does_not_grow_with_its_chunks():
     """Four times the faces in chunks of the same bound: the peak may grow by the
     accumulated sparse result only (CSR, a few kB per integration cell), allowed

@@ -31,8 +31,14 @@ from .discretization import (ContactDiscretization, Factory, OptionTable, check_
 from .mortar_quadratic_segmentation import candidate_pairs
 from .segmentation import Segmentation, segmentation_for, surface_cell
 from .search import cell_sizes, segment_pairs
+from .mirror_faces import evaluate_mirrored
 from .mortar_faces import FACE_OPTIONS, face_points, takes_faces
 from .mortar_pattern import stencil_pattern
+
+#: master faces within this many of their own sizes of a symmetry plane get mirror
+#: images (:mod:`.mirror_faces`): the images that can meet a slave face on the plane
+#: are those of the master faces at the plane or next to them
+MIRROR_BAND = 2.0
 
 __all__ = ["Mortar", "RESERVE_LENGTHS", "KERNEL_CELLS"]
 
@@ -389,9 +395,17 @@ class Mortar(ContactDiscretization):
         hit = self._last.answer(xs, xm, lam, tangent, extra, pin) if self._last else None
         if hit is not None:
             return hit
-        ev = self._kernel(xs, self.slave.segments, xm, self.master.segments, lam=lam,
-                          tangent=tangent, cells=self.cells, **self._segmented(xs, xm, extra),
-                          **self._kernel_options)
+        if self.faces and self.planes:   # the master with its mirror images (mirror_faces)
+            band = MIRROR_BAND * cell_sizes(xm, self.master.segments, self.cells[1])
+            ev = evaluate_mirrored(self._kernel, xs, self.slave.segments, xm,
+                                   self.master.segments, self.planes, band, lam=lam,
+                                   tangent=tangent, cells=self.cells,
+                                   points=face_points(self.cells, self.options, None), **extra,
+                                   **self._kernel_options)
+        else:
+            ev = self._kernel(xs, self.slave.segments, xm, self.master.segments, lam=lam,
+                              tangent=tangent, cells=self.cells,
+                              **self._segmented(xs, xm, extra), **self._kernel_options)
         if pinned:
             ev.mask = ev.mask & ~self._pinned
         self._last = _LastEvaluation.of(ev, xs, xm, lam, tangent, extra, pin)

@@ -99,6 +99,7 @@ from .cells import CellType
 from .curves import (arc_length, cell_nodes, check_line, curve, ends, is_affine,
                      project_values, projection_jets)
 from .scatter import Triplets
+from .surface_kinds import CURVE, surface_kind
 from .segmentation import line_cells
 from .jets import Jet
 from .mortar_slip_cells import tangent_jets, tangential_evaluate
@@ -382,9 +383,9 @@ def _cells(seg_s: np.ndarray, seg_m: np.ndarray, cells) -> tuple:
     """The cells of a mortar call: line cells (the one kernel's 2D segmentations)."""
     cells = line_cells(seg_s, seg_m, cells)
     for what, c in zip(("slave", "master"), cells):
-        if c.dim != 1:
-            raise ValueError(f"cells must be line cells (dim 1) for the mortar slip, got "
-                             f"{what} {c.name}")
+        if surface_kind(c) != CURVE:
+            raise ValueError(f"cells must be line cells (curves) for the mortar slip, got "
+                             f"{what} {c.name} (friction in 3D is not offered yet)")
     return cells
 
 
