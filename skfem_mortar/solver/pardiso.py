@@ -58,19 +58,9 @@ def _point_to_mkl() -> None:
             return
 
 
-def _reproducible_mkl() -> None:
-    """Ask MKL for conditional numerical reproducibility (``MKL_CBWR=AUTO,STRICT``) unless
-    the user set ``MKL_CBWR``: without it PARDISO's threaded factorization sums in an
-    order that changes from run to run (the oring scene's contact force moved by 1e-15
-    between two runs of the same code), so a resumed run could not repeat an
-    uninterrupted one bit for bit.  Read by MKL when it loads, so set before the import."""
-    os.environ.setdefault("MKL_CBWR", "AUTO,STRICT")
-
-
 def _pardiso_available() -> bool:
     if "pypardiso" not in sys.modules:
         _point_to_mkl()
-        _reproducible_mkl()
     try:
         import pypardiso  # noqa: F401
     except Exception:  # ImportError, or MKL missing at import time
