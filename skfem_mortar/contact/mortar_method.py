@@ -214,8 +214,11 @@ class Mortar(ContactDiscretization):
         (:class:`~skfem_mortar.contact.discretization.SymmetricDiscretization`): slave
         nodes on one take the mirror normal ``P s / |P s|`` in every kernel call (its
         ``mirror``)."""
-        self.planes = [(np.asarray(n, dtype=float), float(c)) for n, c in planes]
-        self._last = None
+        planes = [(np.asarray(n, dtype=float), float(c)) for n, c in planes]
+        same = len(planes) == len(self.planes) and all(
+            np.array_equal(n, m) and c == e for (n, c), (m, e) in zip(planes, self.planes))
+        if not same:     # told before every step: the last evaluation stands if nothing moved
+            self.planes, self._last = planes, None
 
     @property
     def _mirror(self) -> dict:
