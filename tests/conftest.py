@@ -7,10 +7,6 @@ import json  # noqa: E402
 
 import pytest  # noqa: E402
 
-import solver_record  # noqa: E402
-from solver_record import (  # noqa: E402,F401  (hooks: CI's second step)
-    pytest_collection_modifyitems, pytest_fixture_setup, pytest_runtest_protocol)
-
 #: ``SKFEM_MORTAR_RECORD=path``: every test appends one JSON line to ``path``
 #: with its outcome and what its load steps did (benchmarks/extremes_table.py)
 _RECORD = os.environ.get("SKFEM_MORTAR_RECORD")
@@ -29,7 +25,6 @@ def pytest_configure(config):
     (``stepping.newton_step``) of every test, including those of the
     module-scoped fixtures its set-up runs: converged steps, Newton iterations
     per converged step, failed attempts (step cuts)."""
-    solver_record.install()
     if not _RECORD:
         return
     import skfem_mortar.solver.stepping as stepping
@@ -60,7 +55,6 @@ def pytest_runtest_makereport(item, call):
         if "not installed" in why or "could not import" in why:
             rep.outcome = "failed"
             rep.longrepr = f"an extra is required here but missing: {why}"
-    solver_record.note(item, rep)
     if not _RECORD or rep.when != "call":
         return
     seen = getattr(item, "_load_steps", None) or {"iterations": [], "cuts": 0}
