@@ -32,7 +32,7 @@ from skfem_mortar.contact.surfaces import ContactSurface
 
 from skfem_mortar.contact import segmentation as sgm
 from skfem_mortar.contact.cells import CELLS, CellType, cell_type, line_quadrature, register_cell
-from skfem_mortar.contact.mortar_quadratic import merge_matrix
+from skfem_mortar.contact.mortar_support import merge_matrix
 from skfem_mortar.contact.mortar_support import multiplier_support, tributary_weights
 from skfem_mortar.contact.mortar_quadratic_segmentation import monomials, segment_lines
 

@@ -2,7 +2,7 @@
 (contact/mortar_kernel.py, contact/mortar_support.py).
 
 * One merge rule for every cell (``mortar_support.merge_nodes``, from the row's edges):
-  bit for bit the lines' rule (``mortar_quadratic.merge_matrix``) on every merged
+  bit for bit the lines' rule (``mortar_support.merge_matrix``) on every merged
   pattern of line2, line3 and the registered-style piecewise line2x2, and on tri3 and
   quad4 the faces' masking rule written out here independently (to the other kept
   corners of a triangle; to a quad corner's kept edge neighbours, else across).
@@ -29,7 +29,7 @@ from skfem_mortar.contact import mortar_kernel
 from skfem_mortar.contact.cells import cell_type
 from skfem_mortar.contact.measures import AXISYMMETRIC, PLANE
 from skfem_mortar.contact.mortar_cells import combine, dot, shape_jets, slave_geometry
-from skfem_mortar.contact.mortar_quadratic import merge_matrix
+from skfem_mortar.contact.mortar_support import merge_matrix
 from skfem_mortar.contact.mortar_support import edge_distances, merge_nodes
 
 LINE2, LINE3, TRI3, QUAD4 = (cell_type(c) for c in ("line2", "line3", "tri3", "quad4"))
@@ -225,18 +225,3 @@ def test_mirror_normal_exact_and_combined_with_the_axis():
     assert PLANE.unit
 
 
-@pytest.mark.parametrize("shift", [0.3, 0.8])
-def test_curved_dual_defaults_match_the_curved_kernel(shift):
-    """line3 dual with both kernels' defaults: the gap by 3 points per integration cell,
-    the mass integrals of ``A_e`` by 5 points per integration cell here and by 5 over the
-    projectable part there: two quadratures of one integral, apart by the 5-point rule's
-    error on a mildly curved cell (measured 1e-14 of g, 2e-12 of G, 1e-12 of H, 2e-13 of
-    D); with 3 mass points per integration cell they were 4e-5 to 1e-2 apart in H."""
-    from skfem_mortar.contact import mortar_quadratic
-    xs, ss, xm, sm = _pair(3, shift)
-    lam = np.linspace(0.5, 1.5, xs.shape[1])
-    a = mortar_kernel.evaluate(xs, ss, xm, sm, lam=lam, space="dual", cells=(LINE3, LINE3))
-    b = mortar_quadratic.evaluate(xs, ss, xm, sm, lam=lam, space="dual")
-    assert np.array_equal(a.mask, b.mask)
-    for x, y in ((a.g, b.g), (a.G, b.G), (a.H, b.H), (a.info["D"], b.info["D"])):
-        assert _rel(x, y) <= 1e-11

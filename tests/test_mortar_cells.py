@@ -2,9 +2,8 @@
 integration points (contact/line_points.py, the contract of
 contact/integration_points.py).
 
-* It reproduces the two 2D kernels: ``g``, ``G = dg/dx``, ``H = sum lam_A d2g_A/dx2``, ``D``
-  and ``M`` of ``mortar.evaluate``/``integrals`` (line2) and ``mortar_quadratic.evaluate``
-  (line3 on line3 and on line2), plane and axisymmetric, to 1e-13 of their largest entry
+* It reproduces the line2 kernel: ``g``, ``G = dg/dx``, ``H = sum lam_A d2g_A/dx2``, ``D``
+  and ``M`` of ``mortar.evaluate``/``integrals``, plane and axisymmetric, to 1e-13 of their largest entry
   (the same integrals at the same Gauss points, summed in another order: round-off is
   ~1e-16 of it; a wrong Gauss point, weight or normal shows at 1e-3 and more).
 * ``G`` and ``H`` with the nodal normals chained in at assembly agree with central
@@ -20,7 +19,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from skfem_mortar.contact import mortar, mortar_kernel, mortar_quadratic
+from skfem_mortar.contact import mortar, mortar_kernel
 from skfem_mortar.contact.cells import cell_type
 from skfem_mortar.contact.integration_points import (IntegrationPoints, LocalLayout,
                                                      LocalVariables, check_points)
@@ -72,40 +71,6 @@ def test_reproduces_the_linear_kernel(shift, space, measure):
     assert (A.mask == E.mask).all() and E.mask.all() == (shift < 0.5)
     for a, b in ((A.g, E.g), (A.G, E.G), (A.H, E.H), (A.info["D"], E.info["D"]),
                  (A.info["M"], E.info["M"]), (A.area, E.area)):
-        _close(a, b)
-
-
-@pytest.mark.parametrize("km", [2, 3])
-@pytest.mark.parametrize("shift", [0.3, 0.8])
-@pytest.mark.parametrize("measure", [PLANE, AXISYMMETRIC])
-def test_reproduces_the_curved_kernel(km, shift, measure):
-    """Standard multipliers; the supports (``area``) too in plane models (axisymmetric:
-    mortar_support takes one point more than the kernel's rule)."""
-    xs, ss, xm, sm = _pair(3, km, seed=km, shift=shift)
-    lam = np.random.default_rng(6).random(xs.shape[1])
-    A = run(xs, ss, xm, sm, (LINE3, cell_type(f"line{km}")), lam, 3, measure)
-    E = mortar_quadratic.evaluate(xs, ss, xm, sm, lam=lam, n_gauss=3, measure=measure)
-    assert (A.mask == E.mask).all()
-    for a, b in ((A.g, E.g), (A.G, E.G), (A.H, E.H), (A.info["D"], E.info["D"]),
-                 (A.info["M"], E.info["M"])):
-        _close(a, b)
-    if measure.unit:
-        _close(A.area, E.area)
-
-
-@pytest.mark.parametrize("km", [2, 3])
-def test_curved_dual_equals_the_curved_kernel_on_one_rule(km):
-    """The dual basis: the curved kernel integrates ``D_e``, ``M_e`` by an element rule over
-    the projectable part, the one kernel sums them over the integration cells; with
-    10-point rules (their error on these mildly curved cells is below round-off: 6 points leave 6e-13) the two agree to round-off.  (With the
-    kernels' defaults, 3 points per integration cell against 5 over the part, they
-    differ by the rules' error on a curved cell: measured 4e-8 in g, 6e-4 in H.)"""
-    xs, ss, xm, sm = _pair(3, km, seed=km, shift=0.8)
-    lam = np.random.default_rng(6).random(xs.shape[1])
-    A = run(xs, ss, xm, sm, (LINE3, cell_type(f"line{km}")), lam, 10, space="dual")
-    E = mortar_quadratic.evaluate(xs, ss, xm, sm, lam=lam, n_gauss=10, n_gauss_element=10,
-                                  space="dual")
-    for a, b in ((A.g, E.g), (A.G, E.G), (A.H, E.H)):
         _close(a, b)
 
 

@@ -14,15 +14,15 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 
-from skfem_mortar.contact import mortar, mortar_quadratic as mq
+from skfem_mortar.contact import mortar, mortar_kernel
 from skfem_mortar.contact.cells import cell_type
 from skfem_mortar.contact.measures import AXISYMMETRIC, PLANE
 from skfem_mortar.contact.mortar_slip_cells import tangential_evaluate
 from skfem_mortar.contact.mortar_method import Mortar
-from skfem_mortar.contact.mortar_quadratic_segmentation import element_polynomial, shape_values
+from skfem_mortar.contact.mortar_quadratic_segmentation import element_polynomial
 from skfem_mortar.contact.slip import mortar_history, mortar_slip
 
-from test_mortar_quadratic import _surfaces, base, chain, disk, fd_check
+from test_mortar_quadratic import _surfaces, base, chain, disk, dual_moments, fd_check
 
 # Central differences (test_mortar_quadratic.fd_check, h = 1e-6) on unit-size data:
 # truncation ~h^2 |g'''| ~ 1e-12, round-off ~eps |g| / h ~ 1e-12 for G and
@@ -157,7 +157,7 @@ def test_D_totals_and_uniform_gap(k, space):
         if k == 3:
             off[np.ix_(ss[0], ss[0])] = 0.0
         assert np.abs(off).max() < 1e-14 * np.abs(D).max()
-    plane = mortar.evaluate if k == 2 else mq.evaluate
+    plane = mortar.evaluate if k == 2 else mortar_kernel.evaluate
     ep = plane(xs, ss, xm, sm, tangent=False, space=space, measure=PLANE)
     assert not np.allclose(ep.area, ev.area)       # the measure is not ignored
 
@@ -184,12 +184,8 @@ def test_D_total_on_a_curved_slave():
 def test_dual_biorthogonal_in_r_dGamma(part):
     """``int Phi_A N_B r dGamma = delta_AB int N_A r dGamma`` on the projectable part
     ``[lo, hi]``, line2 (nodal weights ``2 pi r_a``, ``2 pi r_b`` with ``r_a = 0``: a
-    node on the axis) and a curved line3 element, by a 40-point rule (the kernels'
-    rules are exact for these integrands: line2's are cubic; line3's straight-
-    element integrands have degree 5 <= 9 of the 5-point rule, the curved one's
-    with the kernel's own 5-point rule exact to round-off; by 40 points the
-    curved one (bent by 0.3 of its length, the weight r on top) to the 5-point
-    rule's error, measured 4e-5 of int N_A)."""
+    node on the axis), by a 40-point rule (the kernel's rule is exact for these cubic
+    integrands: round-off)."""
     lo, hi = np.array([part[0]]), np.array([part[1]])
     eta, w = np.polynomial.legendre.leggauss(40)
     xi = (lo + hi) / 2 + (hi - lo) / 2 * eta
@@ -202,20 +198,23 @@ def test_dual_biorthogonal_in_r_dGamma(part):
     Phi = np.array([[A[0][0], A[1][0]], [A[2][0], A[3][0]]]) @ N
     m, d = (Phi * r * w) @ N.T, (N * r * w).sum(1)
     np.testing.assert_allclose(m, np.diag(d), atol=1e-14 * d.max())
-    # line3: a curved element from r = 0
-    for curved, n, tol in ((False, 40, 1e-14), (True, mq.N_GAUSS_ELEMENT, 1e-14),
-                           (True, 40, 1e-4)):
-        x = np.array([[0.0, 1.0, 0.55 if curved else 0.5], [0.0, 0.1, 0.2 if curved else 0.05]])
-        P = element_polynomial([(x[0, a:a + 1], x[1, a:a + 1]) for a in range(3)], LINE3)
-        A3 = mq.dual_coefficients(P, lo, hi, LINE3, measure=AXISYMMETRIC)
-        et, wt = np.polynomial.legendre.leggauss(n)
-        x3 = (lo + hi) / 2 + (hi - lo) / 2 * et
-        rr = P[0][0] + P[1][0] * x3 + P[2][0] * x3 ** 2
-        dG = np.hypot(P[1][0] + 2 * P[2][0] * x3, P[1][1] + 2 * P[2][1] * x3) * rr * wt
-        N3 = np.array(shape_values(LINE3, x3[None, :]))[:, 0]
-        Phi3 = np.array([[A3[a, b][0] for b in range(3)] for a in range(3)]) @ N3
-        m, d = (Phi3 * dG) @ N3.T, (N3 * dG).sum(1)
-        np.testing.assert_allclose(m, np.diag(d), atol=tol * d.max())
+
+
+@pytest.mark.parametrize("curved", [False, True])
+@pytest.mark.parametrize("master, crosspoints", [((1.5, -0.5), None), ((1.5, 0.6), None),
+                                                 ((0.5, -0.5), None), ((1.5, -0.5), [0])])
+def test_line3_dual_biorthogonal_in_r_dGamma(curved, master, crosspoints):
+    """The one kernel's dual basis on a line3 element from r = 0 (the axis vertex: no
+    support, merged), ``N~ = T N``: ``int Phi_A N~_B r dGamma = delta_AB int N~_A r dGamma``
+    on the projectable part, exact for the kernel's element rule (off the diagonal:
+    round-off, 1e-14 of D); by a 40-point rule: straight, 1e-14 (degree 5 <= 9 of the
+    5-point rule); curved (bent by 0.3 of its length, the weight r on top) to the
+    5-point rule's error, measured 4e-6 of int N~_A (tolerance 1e-5)."""
+    m, d, dN, D, _ = dual_moments(curved, master, crosspoints, measure=AXISYMMETRIC)
+    assert np.abs(m - np.diag(np.diag(m))).max() <= 1e-14 * np.abs(m).max()
+    tol = (1e-5 if curved else 1e-14) * d.max()
+    np.testing.assert_allclose(m, np.diag(d), atol=tol)
+    np.testing.assert_allclose(D.sum(0), dN, atol=tol)
 
 
 def test_set_measure_checks_its_argument():

@@ -1,4 +1,4 @@
-"""The mortar kernel on curved 3-node segments (contact/mortar_quadratic.py).
+"""The one mortar kernel on curved 3-node segments (contact/mortar_kernel.py).
 
 Exact derivatives against central differences on curved, partly overlapping,
 sliding configurations (3-node on 3-node, 3-node on 2-node, 2-node on 3-node;
@@ -13,10 +13,10 @@ import types
 import numpy as np
 import pytest
 
-from skfem_mortar.contact import mortar, mortar_kernel, mortar_quadratic as mq
+from skfem_mortar.contact import mortar, mortar_kernel
 from skfem_mortar.contact.mortar_method import Mortar
 from skfem_mortar.contact.cells import cell_type
-from skfem_mortar.contact.mortar_support import tributary_weights
+from skfem_mortar.contact.mortar_support import N_GAUSS_ELEMENT, merge_matrix, tributary_weights
 from skfem_mortar.contact.mortar_quadratic_segmentation import (
     element_polynomial, nodal_normals, project_on_master, project_on_slave, shape_values)
 
@@ -71,7 +71,7 @@ def fd_errors(xs, ss, xm, sm, **kw):
     z = np.concatenate([xs.T.ravel(), xm.T.ravel()])
 
     def ev(q, tangent=False, lam=None):
-        return mq.evaluate(q[:2 * n_s].reshape(-1, 2).T, ss, q[2 * n_s:].reshape(-1, 2).T, sm,
+        return mortar_kernel.evaluate(q[:2 * n_s].reshape(-1, 2).T, ss, q[2 * n_s:].reshape(-1, 2).T, sm,
                            lam=lam, tangent=tangent, **kw)
     return fd_check(ev, z, lam)
 
@@ -125,65 +125,70 @@ def test_merge_matrix_keeps_a_partition_of_unity():
     the columns sum to one (unless all are merged)."""
     for bits in range(8):
         merged = np.array([[(bits >> j) & 1 for j in range(3)]], bool)
-        T = mq.merge_matrix(merged, LINE3)[0]
+        T = merge_matrix(merged, LINE3)[0]
         assert np.all(T[merged[0]] == 0)
         if not merged.all():
             np.testing.assert_array_equal(T.sum(axis=0), np.ones(3))
-    T = mq.merge_matrix(np.array([[True, False, False]]), LINE3)[0]
+    T = merge_matrix(np.array([[True, False, False]]), LINE3)[0]
     assert T[2, 0] == 1.0      # a merged vertex goes to the mid node
 
 
-def _element(curved: bool):
-    """One slave element (start, end, mid); straight: the mid node at the midpoint
-    (constant Jacobian); curved: moved along and lifted off the chord."""
-    x = np.array([[0.0, 1.0, 0.55 if curved else 0.5], [0.0, 0.1, 0.2 if curved else 0.05]])
-    return element_polynomial([(x[0, a:a + 1], x[1, a:a + 1]) for a in range(3)], LINE3)
+def _element(curved: bool) -> np.ndarray:
+    """One slave element (start, end, mid) from the axis ``x = 0``; straight: the mid node at
+    the midpoint (constant Jacobian); curved: moved along and lifted off the chord."""
+    return np.array([[0.0, 1.0, 0.55 if curved else 0.5], [0.0, 0.1, 0.2 if curved else 0.05]])
 
 
-def _moments(P, A, lo, hi, T=None, n=40):
-    """``int Phi_A N~_B dGamma`` and ``int N~_A dGamma`` over [lo, hi] by an n-point rule."""
+def dual_moments(curved: bool, master: tuple, crosspoints=None, measure=None, n: int = 40):
+    """The one kernel's dual basis on one slave element (:func:`_element`) under a flat
+    master from ``x = master[0]`` to ``master[1]`` at ``y = -0.5``, with the element rule
+    (``n_gauss = N_GAUSS_ELEMENT``: the gap's and the mass integrals' rule are one).
+    Returns ``m = D T^T`` (``int Phi_A N~_B w dGamma``, ``N~ = T N`` with ``T`` the merge of
+    the masked and crosspoint nodes), ``int N~_A w dGamma`` and ``int N_B w dGamma`` over the
+    projectable part by an ``n``-point rule (``w = 2 pi x`` for an axisymmetric ``measure``),
+    ``D`` and ``T``."""
+    xs, xm = _element(curved), np.array([[master[0], master[1]], [-0.5, -0.5]])
+    kw = {} if measure is None else {"measure": measure}
+    ev = mortar_kernel.evaluate(xs, [[0, 1, 2]], xm, [[0, 1]], tangent=False, space="dual",
+                                n_gauss=N_GAUSS_ELEMENT, crosspoints=crosspoints, **kw)
+    (lo, hi), = ev.info["segmentation"].xi
+    merged = ~ev.mask
+    if crosspoints is not None:
+        merged[crosspoints] = True
+    T = merge_matrix(merged[None, :], LINE3)[0]
+    D = ev.info["D"].toarray()
+    P = element_polynomial([(xs[0, a:a + 1], xs[1, a:a + 1]) for a in range(3)], LINE3)
     eta, w = np.polynomial.legendre.leggauss(n)
     xi = (lo + hi) / 2 + (hi - lo) / 2 * eta
-    tx, ty = P[1][0] + 2 * P[2][0] * xi, P[1][1] + 2 * P[2][1] * xi
-    dG = np.hypot(tx, ty) * (hi - lo) / 2 * w
+    dG = np.hypot(P[1][0] + 2 * P[2][0] * xi, P[1][1] + 2 * P[2][1] * xi) * (hi - lo) / 2 * w
+    if measure is not None:
+        dG = dG * 2 * np.pi * (P[0][0] + P[1][0] * xi + P[2][0] * xi ** 2)
     N = np.array(shape_values(LINE3, xi[None, :]))[:, 0]
-    Nt = N if T is None else T @ N
-    Phi = np.array([[A[a, b][0] for b in range(3)] for a in range(3)]) @ Nt
-    return (Phi * dG) @ Nt.T, (Nt * dG).sum(1)
+    return D @ T.T, (T @ N * dG).sum(1), (N * dG).sum(1), D, T
 
 
 @pytest.mark.parametrize("curved", [False, True])
-@pytest.mark.parametrize("part", [(-1.0, 1.0), (-0.4, 1.0), (-1.0, 0.3)])
-def test_dual_biorthogonality(curved, part):
-    """int Phi_A N_B dGamma = delta_AB int N_A dGamma on the projectable part.
+@pytest.mark.parametrize("master, crosspoints", [((1.5, -0.5), None), ((1.5, 0.6), None),
+                                                 ((0.5, -0.5), None), ((1.5, -0.5), [0])])
+def test_dual_biorthogonality(curved, master, crosspoints):
+    """int Phi_A N~_B dGamma = delta_AB int N~_A dGamma on the projectable part (whole,
+    from the right, from the left; with the start vertex a crosspoint), ``N~ = T N``.
 
-    With the kernel's element rule (5 points) the identity is exact for that rule;
-    measured with a 40-point rule it holds to the 5-point rule's error on
-    sqrt(|x'|^2) (straight: exact, 1e-15; the curved element here bends by 0.3
-    of its length: ~1e-6 of int N_A, well below its 1e-2 size)."""
-    P = _element(curved)
-    lo, hi = np.array([part[0]]), np.array([part[1]])
-    A = mq.dual_coefficients(P, lo, hi, LINE3)
-    m, d = _moments(P, A, lo[0], hi[0], n=mq.N_GAUSS_ELEMENT)
-    np.testing.assert_allclose(m, np.diag(d), atol=1e-14)
-    m, d = _moments(P, A, lo[0], hi[0])
-    np.testing.assert_allclose(m, np.diag(d), atol=(1e-5 if curved else 1e-14) * d.max())
-
-
-def test_dual_biorthogonal_to_the_modified_functions():
-    """With the start vertex merged (crosspoint), the two dual functions are
-    biorthogonal to N~ = T N and sum to one (round-off: a straight element)."""
-    P = _element(False)
-    lo, hi = np.array([-1.0]), np.array([1.0])
-    T = mq.merge_matrix(np.array([[True, False, False]]), LINE3)
-    A = mq.dual_coefficients(P, lo, hi, LINE3, T)
-    m, d = _moments(P, A, -1.0, 1.0, T[0])
-    np.testing.assert_allclose(m, np.diag(d), atol=1e-14)
-    assert d[0] == 0.0 and np.all(d[1:] > 0)
-    eta = np.linspace(-1, 1, 7)
-    N = np.array(shape_values(LINE3, eta))
-    Phi = np.array([[A[a, b][0] for b in range(3)] for a in range(3)]) @ (T[0] @ N)
-    np.testing.assert_allclose(Phi.sum(0), 1.0, atol=1e-13)
+    With the kernel's element rule for both integrals the identity is exact for that rule
+    (off the diagonal: round-off, 1e-14 of D).  Measured with a 40-point rule it holds to
+    the 5-point rule's error on sqrt(|x'|^2) (straight: exact, 1e-14; the curved element
+    bends by 0.3 of its length: ~1e-6 of int N_A, below 1e-5).  The functions sum to one
+    (``sum_A Phi_A = 1``, the columns of D are ``int N_B dGamma``) and a merged node's is zero."""
+    m, d, dN, D, T = dual_moments(curved, master, crosspoints)
+    off = m - np.diag(np.diag(m))
+    assert np.abs(off).max() <= 1e-14 * np.abs(m).max()
+    tol = (1e-5 if curved else 1e-14) * d.max()
+    np.testing.assert_allclose(m, np.diag(d), atol=tol)
+    np.testing.assert_allclose(D.sum(0), dN, atol=tol)
+    dead = ~T.any(axis=1)
+    assert np.all(D[dead] == 0.0) and np.all(d[~dead] > 0)
+    if crosspoints is not None:
+        assert dead[0] and not dead[1:].any()
 
 
 # ------------------------------------------------------------ exact answers
@@ -206,7 +211,7 @@ def test_patch_uniform_gap(dual, km):
     g0 = 0.013
     xs, ss = chain(5, lambda x: 0.0 * x, 1.0, 0.0)
     xm, sm = chain(4, lambda x: g0 + 0.0 * x, -0.1, 1.13, km)
-    ev = mq.evaluate(xs, ss, xm, sm, tangent=False, space=("dual" if dual else "standard"))
+    ev = mortar_kernel.evaluate(xs, ss, xm, sm, tangent=False, space=("dual" if dual else "standard"))
     assert ev.mask.all()
     np.testing.assert_allclose(ev.g, g0 * ev.area, rtol=1e-12)
     np.testing.assert_allclose(ev.area, tributary_weights(xs, ss, LINE3, 9), rtol=1e-12)
@@ -222,7 +227,7 @@ def test_linear_gap_field(dual):
     g0, s = 0.01, 0.02
     xs, ss = chain(3, lambda x: 0.0 * x, 1.0, 0.0)
     xm, sm = chain(4, lambda x: g0 + s * x, -0.2, 1.2)   # left to right: normal down
-    ev = mq.evaluate(xs, ss, xm, sm, tangent=False, space=("dual" if dual else "standard"), n_gauss=3)
+    ev = mortar_kernel.evaluate(xs, ss, xm, sm, tangent=False, space=("dual" if dual else "standard"), n_gauss=3)
     exact = np.zeros(xs.shape[1])
     eta, w = np.polynomial.legendre.leggauss(6)
     for e in ss:
@@ -246,7 +251,7 @@ def test_each_slave_cell_covered_once(lift, shift):
     xs = xs + [[shift], [0.0]]
     xm, sm = chain(3, base, 0.5 if lift else 0.37, -0.05, 3, 0.1, seed=4)
     xm[1] -= lift
-    ev = mq.evaluate(xs, ss, xm, sm, tangent=False)
+    ev = mortar_kernel.evaluate(xs, ss, xm, sm, tangent=False)
     eta, w = np.polynomial.legendre.leggauss(20)
     length = 0.0
     for e in ss:
@@ -262,7 +267,7 @@ def test_overlap_length():
     xs, ss = chain(4, lambda x: 0.0 * x, 1.0, 0.0)
     xm, sm = chain(3, lambda x: g0 + 0.0 * x, 0.25, 0.8)
     for dual in (False, True):
-        ev = mq.evaluate(xs, ss, xm, sm, tangent=False, space=("dual" if dual else "standard"))
+        ev = mortar_kernel.evaluate(xs, ss, xm, sm, tangent=False, space=("dual" if dual else "standard"))
         np.testing.assert_allclose(ev.g.sum(), g0 * 0.55, rtol=1e-12)
 
 
@@ -278,7 +283,7 @@ def test_two_node_surfaces_equal_the_linear_kernel(dual, crosspoints):
     (~1e2 here): 1e-12."""
     xs, ss, xm, sm = configuration(2, 2, 0.17)
     lam = np.linspace(0.5, 1.5, xs.shape[1])
-    a = mq.evaluate(xs, ss, xm, sm, lam=lam, space=("dual" if dual else "standard"), n_gauss=2, crosspoints=crosspoints)
+    a = mortar_kernel.evaluate(xs, ss, xm, sm, lam=lam, space=("dual" if dual else "standard"), n_gauss=2, crosspoints=crosspoints)
     b = mortar.evaluate(xs, ss, xm, sm, lam=lam, space=("dual" if dual else "standard"), n_gauss=2, crosspoints=crosspoints)
     assert (a.mask == b.mask).all()
     rel = 1e-12 if dual else 1e-14
@@ -305,12 +310,12 @@ def test_converted_surfaces_give_the_linear_totals(dual):
     assert lin.mask.all() and lin.g.sum() > 0.01
     xs3, ss3 = _to_three_node(xs, ss)
     xm3, sm3 = _to_three_node(xm, sm)
-    quad = mq.evaluate(xs3, ss3, xm3, sm3, tangent=False, space=("dual" if dual else "standard"))
+    quad = mortar_kernel.evaluate(xs3, ss3, xm3, sm3, tangent=False, space=("dual" if dual else "standard"))
     np.testing.assert_allclose(quad.g.sum(), lin.g.sum(), rtol=1e-12)
     # per element: each slave element alone (the slave is flat, so its nodal
     # normals do not depend on the neighbours): its nodes' g_A sum to int_e g_n
     for e in range(len(ss)):
-        one = mq.evaluate(xs3[:, ss3[e]], [[0, 1, 2]], xm3, sm3, tangent=False, space=("dual" if dual else "standard"))
+        one = mortar_kernel.evaluate(xs3[:, ss3[e]], [[0, 1, 2]], xm3, sm3, tangent=False, space=("dual" if dual else "standard"))
         ref = mortar.evaluate(xs[:, ss[e]], [[0, 1]], xm, sm, tangent=False, space=("dual" if dual else "standard"))
         np.testing.assert_allclose(one.g.sum(), ref.g.sum(), rtol=1e-12)
 
@@ -329,7 +334,8 @@ def test_nodal_normals_of_an_arc():
 def test_projections_are_roots():
     """A master vertex projected onto a curved slave element along n~ (residual
     zero), and a point projected onto a curved master element."""
-    P = _element(True)
+    x = _element(True)
+    P = element_polynomial([(x[0, a:a + 1], x[1, a:a + 1]) for a in range(3)], LINE3)
     Q = element_polynomial([(np.array([0.1]), np.array([-1.0])), (np.array([0.0]), np.array([-1.0])),
                             (np.array([0.05]), np.array([-1.0]))], LINE3)
     xi, ok = project_on_slave(P, Q, (np.array([0.4]), np.array([-0.3])))
@@ -385,8 +391,6 @@ def test_mortar_step_policy_on_curved_segments():
 def test_bad_input():
     xs, ss, xm, sm = configuration(3, 3, 0.37)
     with pytest.raises(ValueError, match="n_gauss"):
-        mq.evaluate(xs, ss, xm, sm, n_gauss=0)
-    with pytest.raises(ValueError, match="n_gauss_element"):
-        mq.evaluate(xs, ss, xm, sm, n_gauss_element=11)
+        mortar_kernel.evaluate(xs, ss, xm, sm, n_gauss=0)
     with pytest.raises(ValueError, match="seg_s"):
-        mq.evaluate(xs, np.c_[ss, ss[:, :1]], xm, sm)
+        mortar_kernel.evaluate(xs, np.c_[ss, ss[:, :1]], xm, sm)

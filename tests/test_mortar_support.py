@@ -1,7 +1,7 @@
 """The slave nodes' mortar supports and tributary weights read from the cell table
 (:mod:`skfem_mortar.contact.mortar_support`), shared by the linear and curved kernels,
 and the crosspoint merge along the cell's edge (:func:`~skfem_mortar.contact.
-mortar_quadratic.merge_matrix`).
+mortar_support.merge_matrix`).
 
 Tolerances: the closed forms below and the Gauss sums agree to round-off of sums of a
 few terms of size ~1 (rtol 1e-14); where the integrand is not a polynomial (a curved

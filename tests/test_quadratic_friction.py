@@ -16,7 +16,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from skfem_mortar.contact import mortar_kernel, mortar_quadratic as mq, nts
+from skfem_mortar.contact import mortar_kernel, nts
 from skfem_mortar.contact.mortar_slip_cells import tangential_evaluate
 from skfem_mortar.contact.slip import mortar_history, mortar_slip, nts_slip
 from test_mortar_quadratic import configuration
@@ -224,7 +224,7 @@ def test_mortar_pure_sliding_on_straight_3_node_surfaces(dual):
     xs0, ss = line(0.0, 1.0, 1e-3, 4)
     xm0, sm = line(1.6, -0.6, 0.0, 5)
     hist = mortar_history(xs0, ss, xm0, sm, space=("dual" if dual else "standard"))
-    area = mq.evaluate(xs0, ss, xm0, sm, space=("dual" if dual else "standard"), tangent=False).area
+    area = mortar_kernel.evaluate(xs0, ss, xm0, sm, space=("dual" if dual else "standard"), tangent=False).area
     d = 0.137
     e = mortar_slip(xs0 + [[-d], [0.0]], ss, xm0, sm, hist["D_prev"], hist["M_prev"],
                     space=("dual" if dual else "standard"), tangent=False)

@@ -4,7 +4,7 @@ Oriented contact surfaces, rigid planes and circles (:mod:`.surfaces`), the cont
 (:mod:`.search`), the contact discretization protocol and its registry (:mod:`.discretization`),
 node-to-segment (:mod:`.nts`, any line cell of the table; the cells' curves :mod:`.curves`) and mortar
 contact (:mod:`.mortar_method`, with the kernel in :mod:`.mortar`, :mod:`.mortar_segmentation`
-and :mod:`.jets`; for 3-node segments :mod:`.mortar_quadratic` and
+and :mod:`.jets`; for every line cell the one kernel :mod:`.mortar_kernel` with
 :mod:`.mortar_quadratic_segmentation`), mesh tying (:mod:`.tie`), the contact pair
 (:mod:`.pair`, :class:`~.pair.ContactPair`), its evaluation record (:mod:`.contact_eval`), the active set
 (:mod:`.active_set`) and the preflight checks (:mod:`.preflight`).

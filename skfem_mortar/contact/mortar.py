@@ -92,8 +92,7 @@ __all__ = ["evaluate", "segment", "Segmentation", "dual_coefficients", "MASK_TOL
            "segment_end_points", "gauss_rule", "Quadrature", "segment_quadrature",
            "multiplier_coefficients", "biorthogonal", "multiplier_shape_functions", "MortarIntegrals",
            "mortar_integrals", "weighted_gap", "gap_jets", "assemble_local",
-           "integrals", "SurfaceIntegrals", "nodal_tangents",
-           "tangential_jets", "tangential_evaluate"]
+           "integrals", "SurfaceIntegrals"]
 
 MASK_TOL = 1e-6
 """Slave nodes whose mortar support is below this fraction of their tributary length
@@ -401,58 +400,6 @@ def gap_jets(K, gn: Jet, quad: Quadrature, lam_ab=None):
     return ga, gb, q
 
 
-# ------------------------------------------------- friction: the tangential offset
-def nodal_tangents(xs: np.ndarray, seg: np.ndarray, second: bool = True, nv: int = 6):
-    """The nodal tangents ``tau_A = (n_y, -n_x)`` of the slave nodes, as jets.
-
-    ``n_A`` the averaged nodal normal (:func:`nodal_normals`, same local
-    variables ``(x_p, y_p, x_A, y_A, x_n, y_n)``) turned by -90 degrees: for a
-    slave facing a master, ``tau_A`` runs along the master's segments (against
-    the slave chain), the direction of NTS's master tangent ``e``.
-
-    Returns
-    -------
-    (tx, ty) : Jet (n_s,)
-    pnode, nnode : int ndarray (n_s,), as :func:`nodal_normals`.
-    """
-    (nx, ny), pnode, nnode = nodal_normals(xs, seg, second, nv)
-    return (ny, -nx), pnode, nnode
-
-
-def tangential_jets(K, alpha: Jet, el, quad: Quadrature, ta: tuple, tb: tuple, lam_ab=None):
-    """Jets of the tangential offset ``r_A = tau_A * int Phi_A (x_m - x_s) dGamma`` (a dot product)
-    over each mortar segment, ``A`` in ``(a, b)``.
-
-    ``x_m - x_s = alpha n~`` at the Gauss points (the projection along the
-    slave normal field, :class:`MasterProjection`), so
-    ``r_A = int Phi_A alpha (n~ . tau_A) dGamma``; ``tau_A`` is the nodal tangent
-    (:func:`nodal_tangents`), one vector per node.  Summed over segments,
-    ``r_A = tau_A . (sum_C M_AC x_C - sum_B D_AB x_B)``: zero on flat surfaces,
-    where ``n~`` is normal to ``tau_A``.
-
-    Returns
-    -------
-    r_a, r_b : Jet (n,), first order (rows of ``G``).
-    q : Jet (n,) or None
-        ``lam_a r_a + lam_b r_b`` to second order, when ``lam_ab`` is given.
-    """
-    E = at_gauss
-    ka0, ka1, kb0, kb1 = K
-    nt = tuple(E(c) + E(d) * quad.xi for c, d in zip(el.n0, el.dn))   # n~ at the Gauss points
-    f = quad.dgamma(alpha)                                               # alpha dGamma
-    fa = f * (nt[0] * E(ta[0]) + nt[1] * E(ta[1]))
-    fb = f * (nt[0] * E(tb[0]) + nt[1] * E(tb[1]))
-    x1 = quad.xi.first()
-    ra = ((E(ka0.first()) + E(ka1.first()) * x1) * fa.first()).sum(1)
-    rb = ((E(kb0.first()) + E(kb1.first()) * x1) * fb.first()).sum(1)
-    q = None
-    if lam_ab is not None:
-        la, lb = lam_ab
-        q = ((E(ka0 * la) + E(ka1 * la) * quad.xi) * fa
-             + (E(kb0 * lb) + E(kb1 * lb) * quad.xi) * fb).sum(1)
-    return ra, rb, q
-
-
 # -------------------------------------------------------------- one block of segments
 class _Local(NamedTuple):
     """Nodes of each mortar segment: slave p, a, b, n; master m1, m2; lo, hi
@@ -588,22 +535,6 @@ def _block(xs, xm, loc: _Local, sg: Segmentation, sl, nv: int, second: bool, bio
         g = weighted_gap(ints.n_AB, ints.n_AC, np.stack([xs[:, a].T, xs[:, b].T], 1),
                          np.stack([xm[:, m1].T, xm[:, m2].T], 1))
     return _Block(ints=ints, g=g, ga=ga, gb=gb, q=q)
-
-
-def _tangential_block(xs, xm, loc: _Local, sg: Segmentation, sl, nv: int, second: bool,
-                      biorth: bool, merged: np.ndarray, rule, nrm, tau, lam_ab=None,
-                      measure: Measure = PLANE) -> _Block:
-    """:func:`tangential_jets` on the mortar segments ``sl`` (as :func:`_block`;
-    ``tau`` the nodal tangent jets), with the mortar integrals (values)."""
-    _, a, b, _, _, _, _, _ = loc
-    f = _segment_fields(xs, xm, loc, sg, sl, nv, second, biorth, merged, rule, nrm, measure)
-    ta = (_embed(tau[0], a, 0, nv, second), _embed(tau[1], a, 0, nv, second))
-    tb = (_embed(tau[0], b, 2, nv, second), _embed(tau[1], b, 2, nv, second))
-    ra, rb, q = tangential_jets(f.K, f.proj.alpha(f.quad.xi), f.el, f.quad, ta, tb,
-                                lam_ab if second else None)
-    xv = f.quad.xi.v
-    ints = mortar_integrals(f.K, xv, f.proj.s(xv), f.quad.weights())
-    return _Block(ints=ints, g=None, ga=ra, gb=rb, q=q)
 
 
 # -------------------------------------------------------------------- evaluate
@@ -894,46 +825,6 @@ def evaluate(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarra
     sg = P.sg
     return ContactEval(g=g, G=G, H=H, area=A.area, mask=P.mask,
                        info={"D": A.D, "M": A.M, "segmentation": sg, "n_segments": sg.n})
-
-
-def tangential_evaluate(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarray,
-                        lam: np.ndarray | None = None, tangent: bool = True,
-                        space: "MultiplierSpace | str" = "standard", n_gauss: int = 2, segmentation: Segmentation | None = None,
-                        pairs: tuple[np.ndarray, np.ndarray] | None = None,
-                        margin: float | None = None, crosspoints: np.ndarray | None = None,
-                        reach: float = 0.0, cells: tuple | None = None,
-                        measure: Measure = PLANE) -> ContactEval:
-    """The tangential offsets ``r_A = tau_A * (sum_C M_AC x_C - sum_B D_AB x_B)`` (a dot product),
-    ``G = dr/dx`` and ``H = sum_A lam_A d^2 r_A/dx^2``, exact.
-
-    The same mortar segments, multiplier functions and mask as :func:`evaluate`
-    (same parameters; ``lam`` here the tangential multipliers), the integrand
-    of :func:`tangential_jets` instead of the weighted gap's, and the nodal
-    tangents ``tau_A = (n_y, -n_x)`` (:func:`nodal_tangents`).  This is the
-    configuration-dependent part of the objective slip of
-    :func:`skfem_mortar.contact.slip.mortar_slip`.
-
-    Returns
-    -------
-    ContactEval
-        ``g`` holds ``r_A``; ``info`` the current ``D``, ``M`` (csr, as
-        :func:`evaluate`'s), ``tangent`` (2, n_s) the values ``tau_A`` and
-        ``segmentation``.
-    """
-    second = tangent and lam is not None
-    P = _Problem.of(xs, seg_s, xm, seg_m, segmentation, pairs, margin, reach, crosspoints,
-                    n_gauss, nodal_jets=(6 if tangent else 0), second=second, cells=cells,
-                    measure=measure)
-    tau = (P.nrm[1], -P.nrm[0])        # nodal_tangents, from the normals P holds
-    bi = biorthogonal(space)
-
-    def block(ls, sl, nv_g, lam_ab, sec):
-        return _tangential_block(P.xs, P.xm, ls, P.sg, sl, nv_g, sec, bi, P.merged,
-                                 P.rule, P.nrm, tau, lam_ab, P.measure)
-    r, G, H, A = _jet_rows(P, tangent, bi, n_gauss, lam, block)
-    return ContactEval(g=r, G=G, H=H, area=A.area, mask=P.mask,
-                       info={"D": A.D, "M": A.M, "tangent": np.stack([tau[0].v, tau[1].v]),
-                             "segmentation": P.sg, "n_segments": P.sg.n})
 
 
 class SurfaceIntegrals(NamedTuple):

@@ -47,8 +47,7 @@ from .line_points import LineSegmentation
 from .measures import PLANE, Measure
 from .mortar import MASK_TOL, biorthogonal
 from .mortar_cells import cell_integrals
-from .mortar_quadratic import N_GAUSS_ELEMENT
-from .mortar_support import merge_nodes, tributary_weights
+from .mortar_support import N_GAUSS_ELEMENT, merge_nodes, tributary_weights
 from .multiplier_spaces import make_space
 from .normals import NodalNormals, mirror_of_axis, nodal_normals
 from .scatter import Triplets
@@ -357,7 +356,7 @@ def evaluate(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarra
              measure: Measure = PLANE, cells=None, points=None, integrand=None,
              mirror=None, chunk_entries: int | None = None) -> ContactEval:
     """Mortar weighted gaps ``g``, ``G = dg/dx``, ``H = sum_A lam_A d2g_A/dx2`` by the one
-    kernel (module docstring), the interface of ``mortar_quadratic.evaluate``.
+    kernel (module docstring), for every pair of line cells (line2/line2 too).
 
     ``points``: the segmentation's side of the contract (default the line segmentation of
     ``cells`` with ``n_gauss`` points, default one more than the cells' highest order,

@@ -1,7 +1,7 @@
 """Mortar geometry of curved 3-node segments: normal field, projections, mortar segments.
 
-Steps 1 to 3 of the quadratic mortar kernel
-(:mod:`skfem_mortar.contact.mortar_quadratic` holds steps 4 to 8), for surfaces
+Steps 1 to 3 of the mortar method on lines (the one kernel
+:mod:`skfem_mortar.contact.mortar_kernel` integrates on its segments), for surfaces
 of 3-node segments ``(start, end, mid)`` (order 2) against surfaces of either
 order; a 2-node surface is handled by the same code with its shape functions.
 Every function is vectorized over elements (or candidate pairs, or mortar
@@ -42,14 +42,6 @@ Step 2, projections along the slave normal field
   ``eta``), by Newton's method from ``-F_0/F_1``; used for the slave element
   ends (along their nodal normals, to decide on which side of the slave element
   a master vertex lies) and for the Gauss points (along ``n~(xi)``).
-* With jets, :func:`newton_jet` takes one Newton step in jet arithmetic from
-  the converged value ``x_0`` (a constant), which leaves an error ``O(|dq|^2)`` in
-  the local variables ``q`` (value and gradient exact), and adds the
-  second-order implicit-function term: with ``d = x - x_0``,
-  ``0 = F + F' d + F''/2 d^2 + O(d^3)`` gives
-  ``x = x_1 - F''/(2 F') d^2``, whose Hessian is ``-(F''/F') g g^T`` (``g`` the
-  gradient of the root), so the Hessian is exact too.  This is what a second
-  Newton step in jets gives (error ``O(|dq|^4)``), at the cost of one outer product.
 
 Step 3, mortar segments (:func:`segment`)
 -----------------------------------------
@@ -68,12 +60,12 @@ bound a mortar segment: a master element is one curve from its start to its end.
 from __future__ import annotations
 
 from functools import lru_cache
-from typing import Any, NamedTuple
+from typing import NamedTuple
 
 import numpy as np
 
 from ..core.chain import segments_at_nodes
-from .jets import Jet, _outer, constant_like, inv, sqrt, value
+from .jets import inv, sqrt, value
 from . import mortar_segmentation
 from .cells import CellType
 from .mortar_segmentation import LEN_TOL, _side, clip_to_slave, master_coordinates, mirror_normal
@@ -82,8 +74,8 @@ from .segmentation import Segmentation, line_cells, register_default
 from .search import box_pairs
 
 __all__ = ["monomials", "shape_values", "element_polynomial", "poly", "poly_derivative",
-           "element_normals", "slave_slots", "SlaveSlots", "nodal_normals", "nodal_normal_jets",
-           "project_on_slave", "project_on_master", "newton_jet", "candidate_pairs",
+           "element_normals", "slave_slots", "SlaveSlots", "nodal_normals",
+           "project_on_slave", "project_on_master", "candidate_pairs",
            "segment", "segment_lines", "Segmentation", "chord_lengths"]
 
 
@@ -348,49 +340,6 @@ def nodal_normals(xs: np.ndarray, seg: np.ndarray, cell: CellType | None = None,
     return out
 
 
-def nodal_normal_jets(xs: np.ndarray, seg: np.ndarray, second: bool = True,
-                      cell: CellType | None = None, mirror=()
-                      ) -> tuple[tuple[Jet, Jet], np.ndarray]:
-    """Step 1 in jets: the nodal normal of every slave node, with its exact first
-    (and ``second``) derivatives.
-
-    Node ``A``'s normal is taken from one element holding it (its vertex normals
-    agree between the two elements at a vertex: the same normalized sum of the
-    same two element normals), as a jet of that element's ``3 k - 2`` slot
-    positions (:class:`SlaveSlots`, variables ``2 j, 2 j + 1`` of slot ``j``).
-
-    Returns
-    -------
-    (nx, ny) : Jet (n_s,)
-        Zero (with zero derivatives) at a node on no segment.
-    nodes : int ndarray (n_s, 3 k - 2)
-        The slave nodes of the variables (pair ``j`` is node ``nodes[:, j]``).
-    """
-    xs = np.asarray(xs, dtype=float)
-    seg = np.asarray(seg, dtype=np.int64)
-    cell = line_cells(seg, seg, None if cell is None else (cell, cell))[0]
-    n_s, k = xs.shape[1], cell.n_nodes
-    sl = slave_slots(xs, seg, cell, mirror)
-    elem = np.full(n_s, -1, dtype=np.int64)
-    col = np.zeros(n_s, dtype=np.int64)
-    for a in range(k):
-        elem[seg[:, a]] = np.arange(seg.shape[0])
-        col[seg[:, a]] = a
-    on = elem >= 0
-    el = np.maximum(elem, 0)
-    ns = 3 * k - 2
-    V = [(Jet.variable(sl.pos[0, el, j], 2 * j, 2 * ns, second),
-          Jet.variable(sl.pos[1, el, j], 2 * j + 1, 2 * ns, second)) for j in range(ns)]
-    nrm = element_normals(V, cell, sl.wp[el], sl.wn[el], sl.mirrored_of(el))
-    out = []
-    for i in (0, 1):
-        acc = nrm[k - 1][i]
-        for a in range(k - 1):
-            acc = Jet.where(col == a, nrm[a][i], acc)
-        out.append(acc * on)
-    return (out[0], out[1]), sl.nodes[el]
-
-
 # ------------------------------------------------------------ step 2: projections
 def _slave_residual(P, Q, xc, xi):
     """``f = (x_s(xi) - x_c) x n~(xi)`` and ``f'`` (arrays or jets)."""
@@ -402,24 +351,6 @@ def _slave_residual(P, Q, xc, xi):
     f = rx * ny - ry * nx
     df = tx * ny - ty * nx + rx * dny - ry * dnx
     return f, df
-
-
-def newton_jet(residual, x0: np.ndarray, like, curvature: np.ndarray) -> Any:
-    """The root of ``F(x; q) = 0`` with exact derivatives, from the converged value ``x0``.
-
-    ``residual(x) -> (F, F')`` in jets; ``curvature``: the value ``F''(x0)``.
-    One Newton step in jets from the constant ``x0`` (exact value and gradient
-    ``g``) plus the implicit-function term ``-(F''/F') g g^T`` in the Hessian
-    (module doc).
-    """
-    x = constant_like(x0, like)
-    f, df = residual(x)
-    x = x - f / df
-    if x.h is not None:
-        with np.errstate(divide="ignore", invalid="ignore"):
-            corr = np.nan_to_num(-curvature / df.v)
-        x = Jet(x.v, x.g, x.h + _outer(x.g, x.g * corr))
-    return x
 
 
 def project_on_slave(P: list, Q: list, xc, xi0=None, n_newton: int = _NEWTON):
@@ -449,21 +380,6 @@ def project_on_slave(P: list, Q: list, xc, xi0=None, n_newton: int = _NEWTON):
         scale = reach * sum(np.hypot(*q) for q in Q if q is not None)
         ok = np.isfinite(xi) & (np.abs(f) <= 1e-10 * scale + 1e-300)
     return np.where(ok, xi, 0.0), ok
-
-
-def project_on_slave_jet(P: list, Q: list, xc, xi: np.ndarray):
-    """Step 2 in jets: :func:`project_on_slave`'s root ``xi`` (values) with its exact
-    first and second derivatives (:func:`newton_jet`)."""
-    Pv, Qv = _values(P), _values(Q)
-    xv = (value(xc[0]), value(xc[1]))
-    (x0, y0), (t0, t1), (m0, m1) = curve(Pv, xi), tangent(Pv, xi), curve(Qv, xi)
-    d0, d1 = tangent(Qv, xi)
-    f2 = 2.0 * (t0 * d1 - t1 * d0)           # f'' = X'' x n~ + 2 X' x n~' + (X - x_c) x n~''
-    if Pv[2] is not None:
-        f2 = f2 + 2.0 * (Pv[2][0] * m1 - Pv[2][1] * m0)
-    if Qv[2] is not None:
-        f2 = f2 + 2.0 * ((x0 - xv[0]) * Qv[2][1] - (y0 - xv[1]) * Qv[2][0])
-    return newton_jet(lambda x: _slave_residual(P, Q, xc, x), xi, P[0][0], f2)
 
 
 def _values(C: list) -> list:
@@ -498,16 +414,6 @@ def project_on_master(R: list, x0, d, n_newton: int = _NEWTON):
         scale = (np.hypot(*R[1]) + (0.0 if R[2] is None else np.hypot(*R[2]))) * np.hypot(*d)
         ok = np.isfinite(eta) & (np.abs(f) <= 1e-10 * scale + 1e-300)
     return np.where(ok, eta, np.nan), ok
-
-
-def project_on_master_jet(R: list, x0, d, eta: np.ndarray):
-    """Step 2 in jets: the root ``eta`` (values) with exact derivatives; for a
-    2-node master the root ``-F_0 / F_1`` directly."""
-    if R[2] is None:
-        f, df = _master_residual(R, x0, d, 0.0)
-        return -(f / df)
-    f2 = 2.0 * (value(R[2][0]) * value(d[1]) - value(R[2][1]) * value(d[0]))
-    return newton_jet(lambda e: _master_residual(R, x0, d, e), eta, R[0][0], f2)
 
 
 # ------------------------------------------------------- step 3: mortar segments

@@ -25,7 +25,7 @@ composite rule), so the linear and the curved mortar kernels share them.
   cell's kept nodes nearest to it along the edges (:func:`edge_distances`), in equal
   shares.  On line2 a merged node's goes to the other; on line3 a vertex's to the mid
   node if it is kept, else to the other vertex, the mid node's in halves to the kept
-  vertices (the lines' rule of ``mortar_quadratic.merge_matrix``, tested bit for bit); on
+  vertices (the lines' rule of :func:`merge_matrix`, tested bit for bit); on
   tri3 to the other kept corners, on quad4 to its kept edge neighbours, else to the
   opposite corner (:mod:`~skfem_mortar.contact.dual3d`'s masking rule).
 """
@@ -40,7 +40,12 @@ from .measures import PLANE, Measure
 from .segmentation import Segmentation
 
 __all__ = ["cell_jacobian", "tributary_weights", "multiplier_support", "edge_distances",
-           "merge_nodes"]
+           "merge_nodes", "merge_matrix", "N_GAUSS_ELEMENT"]
+
+N_GAUSS_ELEMENT = 5
+"""Default Gauss points of the element rule of ``D_e``, ``M_e`` (dual basis) and of
+the tributary weights on curved cells (exact to degree 9; the integrands of a straight
+element have degree 4)."""
 
 
 def cell_jacobian(cell: CellType, X: np.ndarray, xi: np.ndarray) -> np.ndarray:
@@ -162,4 +167,47 @@ def merge_nodes(merged: np.ndarray, cell: CellType) -> np.ndarray:
         count = nearest.sum(axis=1, keepdims=True)
         share = np.where(nearest, 1.0 / np.maximum(count, 1), 0.0)
         T[:, :, b] += np.where(merged[:, b:b + 1], share, 0.0)
+    return T
+
+
+def merge_matrix(merged: np.ndarray, cell: CellType) -> np.ndarray:
+    """The crosspoint/boundary modification ``N~_A = sum_B T_AB N_B`` per element.
+
+    ``merged`` (n, n_nodes) bool: the element's nodes without a multiplier, in the
+    columns of ``cell``.  Kept nodes keep their function; a merged node's goes to
+    the nearest kept node on each side along the cell's edge (``cell.edges``), in
+    halves when there is one on both sides, whole when on one.  For line3 (edge
+    start, mid, end) a merged vertex's goes to the mid node if that is kept, else
+    to the other vertex; a merged mid node's in halves to the kept vertices; for
+    line2 a merged node's to the other.  Merged rows are zero.  ``sum_A T_AB = 1``
+    for every ``B`` unless the whole element is merged, so ``sum_A N~_A = 1``.
+
+    Returns
+    -------
+    T : ndarray (n, n_nodes, n_nodes)
+    """
+    merged = np.asarray(merged, dtype=bool)
+    n, k = merged.shape
+    if k != cell.n_nodes or cell.dim != 1:
+        raise ValueError(f"merged must have the columns of the line cell {cell.name} "
+                         f"({cell.n_nodes} nodes), got shape {merged.shape}")
+    keep = ~merged
+    order = cell.edges[0]                       # the nodes in order along the line
+    T = np.zeros((n, k, k))
+    for a in range(k):
+        T[:, a, a] = keep[:, a]
+    rows = np.arange(n)
+    for p, b in enumerate(order):
+        if not merged[:, b].any():
+            continue
+        sides = []
+        for walk in (order[p - 1::-1] if p else (), order[p + 1:]):
+            target = np.full(n, -1)
+            for q in walk:                      # the nearest kept node on this side
+                target = np.where((target < 0) & keep[:, q], q, target)
+            sides.append(target)
+        share = np.where((sides[0] >= 0) & (sides[1] >= 0), 0.5, 1.0)
+        for t in sides:
+            on = merged[:, b] & (t >= 0)
+            T[rows[on], t[on], b] += share[on]
     return T
