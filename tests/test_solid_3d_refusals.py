@@ -97,15 +97,16 @@ def test_a_cable_in_a_3d_model_is_refused_naming_it():
         Model([cable], geometry="3d")
 
 
-def test_contact_on_a_3d_body_is_refused():
-    """Until the 3D contact issue: either the surface (a 3D body's facets) or the
-    model (a contact pair works in a plane geometry) refuses."""
+def test_a_3d_body_against_a_plane_rigid_line_is_refused():
+    """A 3D body's faces against a 2D rigid line (RigidPlane): the pair refuses the
+    mix of faces and curves and names the 3D rigid masters."""
     from skfem_mortar.contact.pair import ContactPair
     from skfem_mortar.contact.surfaces import ContactSurface, RigidPlane
 
     mesh = cube_tet().with_boundaries({"top": lambda x: np.isclose(x[2], 1.0)})
     solid = Solid(mesh, LAW, "tet1", name="block")
-    with pytest.raises(ValueError, match=r"3D body|element 'tet1'|geometry is '3d'"):
+    with pytest.raises(ValueError, match=r"must both be faces or both be curves; in 3D use "
+                                         r"RigidPlane3D"):
         pair = ContactPair(ContactSurface.from_solid(solid, "top"),
                            RigidPlane((0.0, 2.0), (0.0, -1.0)))
         Model([solid, pair])

@@ -72,6 +72,14 @@ GRIDS: dict[str, dict[str, Any]] = {
                "grid": {"refine": [1, 2, 3], "element": ["tet1", "hex1"],
                         "multipliers": ["standard", "dual"]},
                "quick": {"refine": [1, 2]}},
+    # patch3d: the 3D contact patch test, exact with mortar on every pairing
+    "patch3d": {"metrics": ["pressure_error", "displacement_error"],
+                "grid": {"element": ["hex1", "tet1", "tet1/hex1", "hex1/tet1"],
+                         "slave": ["upper", "lower"]},
+                "quick": {"element": ["hex1"]}},
+    # hertz3d: a quarter of hertz_axi's sphere against Hertz (the mesh series of refine)
+    "hertz3d": {"metrics": ["peak_pressure_error", "contact_radius_error", "contact_force_error"],
+                "grid": {"refine": [-3, -2, -1]}, "quick": {"refine": [-3]}},
     # thick_sphere: the axisymmetric wall against Lame, linear and quadratic elements
     "thick_sphere": {"metrics": ["l2_error", "u_inner_error"],
                      "grid": {"element": ["tri1", "quad1", "tri2", "quad2"], "n": [2, 4, 8]},

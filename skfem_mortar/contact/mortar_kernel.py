@@ -208,7 +208,7 @@ def _scatter(g: list, grp: Groups, conn_s, conn_m, e_m, normals: NodalNormals, n
     S = conn_s[grp.e_s]
     for a in range(lay.k_s):
         np.add.at(out, S[:, a], g[a].v)
-    if not tangent:
+    if not tangent or not grp.e_s.size:      # no cells in this call: nothing to scatter
         return
     dofs, Jn, S = _extended(grp, conn_s, conn_m, e_m, normals, n_s)
     parts = _parts(grp.nv, lay, normals.nodes.shape[1])

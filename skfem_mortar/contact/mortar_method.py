@@ -278,7 +278,8 @@ class Mortar(ContactDiscretization):
         """:meth:`_pairs` at these positions, read from the last evaluation when it
         searched at them (its segmentation keeps the candidates; the same search
         with the same margins), else searched again."""
-        if self._sg is None and self._last is not None:
+        # (with mirror images the evaluation's candidates index the extended master)
+        if self._sg is None and self._last is not None and not (self.faces and self.planes):
             extra, pinned = self._extra(xs, xm)
             ev = self._last.answer(xs, xm, None, False, extra, self._pinned if pinned else None)
             found = None if ev is None else getattr(ev.info["segmentation"], "candidates", None)

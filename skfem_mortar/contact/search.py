@@ -480,7 +480,7 @@ def cell_sizes(x: np.ndarray, conn: np.ndarray, cell: "str | CellType") -> np.nd
     and the searches' margins read as "an element length"."""
     cell = cell if isinstance(cell, CellType) else cell_type(cell)
     x, conn = np.asarray(x, dtype=float), np.asarray(conn, dtype=np.int64)
-    if conn.shape[0] == 0:
+    if not conn.size:                  # no cells
         return np.zeros(0)
     h = None
     for edge in cell.edges:

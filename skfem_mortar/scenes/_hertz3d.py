@@ -225,8 +225,8 @@ def derived(params: dict) -> list:
 PARAMS = (
     *(_AXI[k] for k in ("radius", "load", "E", "nu", "E_base", "nu_base", "base")),
     Param("refine", -2, "mesh level: element size (a/30) 2^-refine under the contact (as "
-          "hertz_axi; -2: a/7.5, 2.6e4 tetrahedra in the quarter sphere)", int, low=-3,
-          high=0),
+          "hertz_axi; -2: a/7.5, 2.6e4 tetrahedra in the quarter sphere; -1: 2e5, built in "
+          "6 s)", int, low=-3, high=-1),
     Param("element", "tet1", "bodies' element: tet1 (graded by bisection) or hex1 (each "
           "tetrahedron of the twice coarser mesh split into four)", str,
           choices=("tet1", "hex1")),
