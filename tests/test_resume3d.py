@@ -47,27 +47,7 @@ from skfem_mortar.core.model import Model
 from skfem_mortar.loads.traction import Traction
 from skfem_mortar.output.io import read_series
 from skfem_mortar.scenes import METHODS, Param, Scene, Setup
-from skfem_mortar.scenes._patch3d import (PARAMS, build_bodies, displacement_error,
-                                          estimate_dofs, exact_patch3d, patch_metrics)
-
-
-def _blocks(params: dict, method: str | None = None) -> Setup:
-    """patch3d's blocks and pair (the registration's build), its readings."""
-    parts, exact = build_bodies(params), exact_patch3d(params)
-    slave = ContactSurface.from_solid(*parts.slave, name="slave_face")
-    master = ContactSurface.from_solid(*parts.master, name="master_face")
-    pair = ContactPair(slave, master, method or "nts", name="contact")
-    model = Model(parts.items + [pair], geometry="3d")
-
-    def metrics(result) -> dict:
-        z = result.z
-        f_slave, f_master = pair.forces(z)
-        reaction = parts.lower.reaction(result.residual(), parts.support)
-        return patch_metrics(exact, pair.pressure_and_gap(z)[0], f_slave.sum(axis=1),
-                             f_master.sum(axis=1), reaction,
-                             displacement_error(parts, exact, z))
-
-    return Setup(model=model, metrics=metrics)
+from skfem_mortar.scenes.patch3d import SCENE as PATCH3D
 
 
 def _sphere(params: dict, method: str | None = None) -> Setup:
@@ -94,8 +74,9 @@ def _sphere(params: dict, method: str | None = None) -> Setup:
 
 
 SCENES = {"blocks3d_resume_test": Scene(
-              name="blocks3d_resume_test", summary="patch3d's blocks (test)", params=PARAMS,
-              build=_blocks, methods=METHODS, default_steps=3, estimate_dofs=estimate_dofs,
+              name="blocks3d_resume_test", summary="patch3d's blocks (test)", params=PATCH3D.params,
+              build=PATCH3D.build, methods=METHODS, default_steps=3,
+              estimate_dofs=PATCH3D.estimate_dofs,
               sizes=("n_lower", "n_upper")),
           "sphere3d_resume_test": Scene(
               name="sphere3d_resume_test", summary="a block pushed into a sphere (test)",

@@ -14,11 +14,12 @@ import numpy as np
 import pytest
 from scipy.spatial import cKDTree
 
-from skfem_mortar import ContactPair, ContactSurface, Model, solve
+from skfem_mortar import ContactPair, Model, solve
 from skfem_mortar.contact.cells import cell_type
 from skfem_mortar.contact.nts import evaluate
 from skfem_mortar.contact.nts_faces import TIE_TOL, project_faces
 from skfem_mortar.scenes._hertz3d import PARAMS, build_bodies, exact_hertz3d, hertz_metrics
+from skfem_mortar.scenes.hertz3d import contact_surfaces
 from skfem_mortar.solver.newton import NewtonOptions
 
 COARSE = {**{p.name: p.default for p in PARAMS}, "refine": -3, "kinematics": "small"}
@@ -33,12 +34,7 @@ SYM_TOL = 1e-8
 
 def _run(model: str, base: str, method: str) -> dict:
     parts = build_bodies({**COARSE, "model": model, "base": base})
-    slave = ContactSurface.from_solid(*parts.slave, name="sphere_face")
-    if parts.base is None:
-        master = ContactSurface(None, None, parts.master["faces"], X=parts.master["X"],
-                                name="plane", cell="quad4")
-    else:
-        master = ContactSurface.from_solid(*parts.master, name="base_top")
+    slave, master = contact_surfaces(parts)
     pair = ContactPair(slave, master, method, name="contact")
     res = solve(Model(parts.items + [pair], geometry="3d"), n_steps=1,
                 newton=NewtonOptions(rtol=1e-12))

@@ -16,19 +16,24 @@ from . import METHODS, Scene, Setup
 from ._hertz3d import PARAMS, build_bodies, derived, estimate_dofs, exact_hertz3d, hertz_metrics
 from .hertz import one_step
 
-__all__ = ["SCENE", "build"]
+__all__ = ["SCENE", "build", "contact_surfaces"]
+
+
+def contact_surfaces(parts) -> tuple[ContactSurface, ContactSurface]:
+    """The sphere's faces (slave) and the master: the rigid plane as quad4 faces, or the
+    elastic base's top."""
+    slave = ContactSurface.from_solid(*parts.slave, name="sphere_face")
+    if parts.base is None:
+        return slave, ContactSurface(None, None, parts.master["faces"], X=parts.master["X"],
+                                     name="plane", cell="quad4")
+    return slave, ContactSurface.from_solid(*parts.master, name="base_top")
 
 
 def build(params: dict, method: str | None = None) -> Setup:
     """The sphere (and base), load, rollers and the contact pair; Hertz readings."""
     parts, exact = build_bodies(params), exact_hertz3d(params)
     method = method or "nts"
-    slave = ContactSurface.from_solid(*parts.slave, name="sphere_face")
-    if parts.base is None:
-        master = ContactSurface(None, None, parts.master["faces"], X=parts.master["X"],
-                                name="plane", cell="quad4")
-    else:
-        master = ContactSurface.from_solid(*parts.master, name="base_top")
+    slave, master = contact_surfaces(parts)
     options = {} if method == "nts" else {"segmentation": params["segmentation"]}
     pair = ContactPair(slave, master, method, name="contact", **options)
     model = Model(parts.items + [pair], geometry="3d")
