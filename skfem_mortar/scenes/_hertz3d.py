@@ -5,7 +5,8 @@ The quarter ``X, Y >= 0`` of the hemisphere of ``hertz_axi`` (radius ``R``, cent
 ``(0, 0, R)``, touching ``Z = 0`` at the origin), pressed by the total force ``F``
 (``load``, over the whole sphere) as a uniform dead traction on its flat top
 ``Z = R``: the model's share of it (``F / 4`` on the quarter) over the top's area
-(a polygon, 1.2 % short of ``pi R^2 / 4`` on the coarsest mesh), on a rigid plane ``Z = 0``
+(a polygon, 0.4 to 0.7 % short of ``pi R^2 / 4``; the force is exact, and
+the top is ``R``, 40 ``a`` by default, from the contact), on a rigid plane ``Z = 0``
 or on the quarter of ``hertz_axi``'s elastic cylinder (radius and height
 ``W = 30 a``, its bottom clamped) (``base``).  The symmetry planes ``X = 0`` and
 ``Y = 0`` are rollers (``u_x = 0``, ``u_y = 0`` on them) on both bodies, declared as
@@ -62,7 +63,7 @@ from ..loads.traction import Traction
 from . import Param, hertz_axi
 from ._axi import fit_ellipse
 from ._contact3d import (cylinder_planes, graded_axis, graded_octant, graded_quarter_cylinder,
-                         mirrored, nodes_on_plane, octant_axes, octant_planes, plane_grid,
+                         mirrored, nodes_on_plane, octant_axes, octant_planes, plane_on_lines,
                          tagged)
 from ._scene3d import make_solid, memory_quantity
 from .hertz_axi import FIT_WINDOW, hertz_sphere
@@ -96,7 +97,8 @@ class HertzParts:
     master : tuple (Solid, str) or dict
         The base and ``top``, or the rigid plane ``Z = 0`` (outward normal ``+z``) over
         ``RIGID_SIZE a`` from the axis: ``{"X": (3, n), "faces": (n_faces, 4)}``
-        (:func:`~skfem_mortar.scenes._contact3d.plane_grid`, faces ``1.5 h0`` a side).
+        (:func:`~skfem_mortar.scenes._contact3d.plane_on_lines`, faces about ``1.5 h0`` a
+        side; the half's is the quarter's and its mirror image).
     symmetry : list of (int, float)
         The symmetry planes ``X[axis] = value`` the rollers declare.
     share : float
@@ -164,8 +166,11 @@ def build_bodies(params: dict) -> HertzParts:
     items = [sphere, Traction(sphere, "top", [0.0, 0.0, -F / (share * top_area)],
                               name="load"), *_rollers(sphere, model, "sphere")]
     if params["base"] == "rigid":
-        xs = (0.0 if model == "quarter" else -RIGID_SIZE * a, RIGID_SIZE * a)
-        X, faces = plane_grid(xs, (0.0, RIGID_SIZE * a), 0.0, 1.5 * h0)
+        # the half's plane is the quarter's and its mirror image (its touch tests and
+        # projections then mirror the quarter's)
+        lines = np.linspace(0.0, RIGID_SIZE * a, int(np.ceil(RIGID_SIZE * a / (1.5 * h0))) + 1)
+        xs = lines if model == "quarter" else np.concatenate([-lines[:0:-1], lines])
+        X, faces = plane_on_lines(xs, lines, 0.0)
         plane = {"X": X, "faces": faces}
         return HertzParts(sphere, None, items, (sphere, "sphere"), plane, symmetry, share, h0)
     W = 30.0 * a
