@@ -66,6 +66,7 @@ from ._contact3d import (cylinder_planes, graded_axis, graded_octant, graded_qua
                          mirrored, nodes_on_plane, octant_axes, octant_planes, plane_on_lines,
                          tagged)
 from ._scene3d import make_solid, memory_quantity
+from .hertz import A_OVER_R
 from .hertz_axi import FIT_WINDOW, hertz_sphere
 
 __all__ = ["PARAMS", "HertzParts", "build_bodies", "exact_hertz3d", "hertz_metrics",
@@ -229,13 +230,20 @@ _AXI = {p.name: p for p in hertz_axi.SCENE.params}
 def estimate_dofs(params: dict) -> int:
     """Displacement dofs, counted from the grids' axes (no mesh built): 3 per node of
     the sphere's grid (and of the base's), the same for tet1 and hex1 (the quarter;
-    the half has the mirrored nodes too)."""
-    a = exact_hertz3d(params)["contact_radius"]
-    h0, fine = a / 30.0 * 2.0 ** (-int(params["refine"])), FINE_ZONE * a
-    plane, depth = octant_axes(float(params["radius"]), h0, fine)
+    the half has the mirrored nodes too).  The grids depend on ``a / R`` alone; a
+    ratio outside the range that :func:`derived` refuses (``A_OVER_R``), or none
+    (a load or modulus out of range), is counted at the nearest end (the finer grid
+    without one), so that the refusal names the parameter, not ``refine``."""
+    try:
+        ratio = exact_hertz3d(params)["contact_radius"] / float(params["radius"])
+    except (ArithmeticError, ValueError):
+        ratio = A_OVER_R[0]
+    ratio = float(np.clip(ratio, *A_OVER_R)) if np.isfinite(ratio) else A_OVER_R[0]
+    h0, fine = ratio / 30.0 * 2.0 ** (-int(params["refine"])), FINE_ZONE * ratio
+    plane, depth = octant_axes(1.0, h0, fine)               # in units of R
     nodes = plane.size ** 2 * depth.size
-    if params["base"] != "rigid":
-        nodes += graded_axis(h0 / (30.0 * a), fine / (30.0 * a)).size ** 3
+    if params["base"] != "rigid":                           # in units of W = 30 a
+        nodes += graded_axis(h0 / (30.0 * ratio), fine / (30.0 * ratio)).size ** 3
     return int(3 * nodes * (1 if params.get("model", "quarter") == "quarter" else 2))
 
 
