@@ -26,7 +26,6 @@ the profile farther from the axis, which lowers the largest value towards Hertz'
 import importlib.util
 from pathlib import Path
 
-import numpy as np
 import pytest
 
 _spec = importlib.util.spec_from_file_location(
