@@ -8,8 +8,8 @@ import pytest
 from skfem import MeshTet1
 
 from skfem_mortar.core.dirichlet import Dirichlet
-from skfem_mortar.scenes._contact3d import (graded_octant, graded_quarter_cylinder,
-                                            symmetry_planes, tets_to_hexes)
+from skfem_mortar.scenes._contact3d import (graded_axis, graded_octant,
+                                            graded_quarter_cylinder, symmetry_planes)
 from skfem_mortar.scenes._hertz3d import PARAMS, build_bodies, exact_hertz3d, hertz_metrics
 
 DEFAULTS = {p.name: p.default for p in PARAMS}
@@ -48,7 +48,11 @@ def test_octant_is_valid_on_its_sphere_and_graded():
         assert np.abs(mesh.p[k, nodes] - v).max() < 1e-12 * R, tag
     h, c = _longest(mesh)
     near = np.linalg.norm(c, axis=0) < 1.2 * A - h
-    assert near.sum() > 100 and h[near].max() <= 1.5 * h0 * (1 + 1e-12)
+    # a Kuhn tetrahedron's longest edge is its cube's diagonal, sqrt(3) h0; the map
+    # stretches the cells within 1.2 a of the contact point by at most 3 % (its
+    # in-plane factor sqrt(1 - w^2 / 2) at the depth 1.2 a / R = 0.03)
+    assert near.sum() > 100 and h[near].max() <= math.sqrt(3.0) * 1.03 * h0
+    assert h[near].min() >= 0.97 * h0         # and by at least -3 % (cube edges, h0)
     assert h.max() > 20 * h0                  # graded: large far from the contact
     assert mesh.p[2].min() == 0.0             # the contact point is a node
 
@@ -62,16 +66,26 @@ def test_quarter_cylinder_is_valid_and_on_its_side():
     assert _volumes(mesh).sum() == pytest.approx(math.pi * W ** 3 / 4.0, rel=0.03)
 
 
-def test_hexahedra_of_the_tetrahedra_are_valid_and_on_the_sphere():
-    tets = graded_octant(R, A / 1.875, 1.2 * A)
-    split = tets_to_hexes(tets)                   # four per tetrahedron, all valid
-    assert split.t.shape[1] == 4 * tets.t.shape[1]
-    assert split._mapping().detDF(CORNERS).min() > 0.0
-    mesh = graded_octant(R, A / 1.875, 1.2 * A, element="hex1")
+def test_hexahedra_are_valid_and_on_the_sphere_and_share_the_tetrahedras_nodes():
+    mesh = graded_octant(R, A / 3.75, 1.2 * A, element="hex1")
     assert mesh._mapping().detDF(CORNERS).min() > 0.0
     on = np.unique(mesh.facets[:, mesh.boundaries["sphere"]])
     dist = np.linalg.norm(mesh.p[:, on] - np.array([[0.0], [0.0], [R]]), axis=0)
     assert np.abs(dist - R).max() < 1e-12 * R
+    tets = graded_octant(R, A / 3.75, 1.2 * A)          # the same grid, split
+    assert np.array_equal(tets.p, mesh.p) and tets.t.shape[1] == 6 * mesh.t.shape[1]
+
+
+def test_graded_axis_is_fine_then_grows():
+    x = graded_axis(0.01, 0.05)
+    d = np.diff(x)
+    assert x[0] == 0.0 and x[-1] == 1.0
+    assert np.allclose(d[:5], 0.01, rtol=1e-12) and np.all(d[5:] > 0.01)
+    ratio = d[1:] / d[:-1]
+    # 1.5 a cell; the last cell (stretched to end at 1, or merged) within 0.5 to 2.5
+    assert np.allclose(ratio[4:-1], 1.5, rtol=1e-12) and 0.5 <= ratio[-1] <= 2.5
+    with pytest.raises(ValueError, match="growth"):
+        graded_axis(0.01, 0.05, growth=1.0)
 
 
 @pytest.mark.parametrize("model,planes", [("quarter", [(0, 0.0), (1, 0.0)]),
@@ -152,14 +166,18 @@ def test_rigid_plane_grid_faces_up_over_its_rectangle():
     assert X[0].min() == -0.6 and X[1].max() == 0.6 and np.all(X[2] == 0.0)
 
 
-def test_dof_estimate_is_near_the_mesh():
-    # the estimate refuses sizes the machine cannot hold: within 30 % of the mesh
+@pytest.mark.parametrize("base,model", [("rigid", "quarter"), ("elastic", "half")])
+def test_dof_estimate_is_the_meshes_count(base, model):
+    # the estimate refuses sizes the machine cannot hold: counted from the grids' axes
     from skfem_mortar.scenes._hertz3d import estimate_dofs
 
     for element in ("tet1", "hex1"):
-        params = {**COARSE, "element": element}
-        n = 3 * build_bodies(params).sphere.mesh.p.shape[1]
-        assert 0.7 < estimate_dofs(params) / n < 1.3, (element, estimate_dofs(params), n)
+        params = {**COARSE, "element": element, "base": base, "model": model}
+        parts = build_bodies(params)
+        n = sum(3 * b.mesh.p.shape[1] for b in (parts.sphere, parts.base) if b is not None)
+        # the half shares the quarter's nodes on X = 0 with its mirror image
+        assert estimate_dofs(params) == n if model == "quarter" else (
+            n < estimate_dofs(params) < 1.1 * n), (element, estimate_dofs(params), n)
 
 
 def test_quarter_and_half_fit_the_same_points():

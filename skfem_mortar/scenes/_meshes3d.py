@@ -80,15 +80,24 @@ def _kuhn_tets(corner: np.ndarray) -> np.ndarray:
     return np.hstack(tets)
 
 
-def _cells(index: np.ndarray, simplices: bool) -> np.ndarray:
+def _cells(index: np.ndarray, simplices: bool, reflect: int | None = None) -> np.ndarray:
     """Hexahedra ``(8, n)`` or Kuhn tetrahedra ``(4, 6 n)`` of a structured block of
-    nodes ``index`` (node numbers, ``(n1 + 1, n2 + 1, n3 + 1)``, right-handed axes)."""
+    nodes ``index`` (node numbers, ``(n1 + 1, n2 + 1, n3 + 1)``, right-handed axes).
+
+    ``reflect`` (an axis): the cells of odd index along it are split as the mirror
+    image of the Kuhn split (the diagonal from their highest to their lowest corner
+    along that axis), so that every other layer is the mirror image of its
+    neighbours (conforming: a layer's mirror image across a shared face splits that
+    face alike).  Mirrored cells are negatively oriented: callers reorient."""
     n1, n2, n3 = (s - 1 for s in index.shape)
     corner = np.empty((2, 2, 2, n1 * n2 * n3), dtype=np.int64)
     for a in (0, 1):
         for b in (0, 1):
             for c in (0, 1):
                 corner[a, b, c] = index[a:a + n1, b:b + n2, c:c + n3].ravel()
+    if reflect is not None:
+        layer = np.indices((n1, n2, n3))[reflect].ravel()
+        corner = np.where(layer % 2 == 1, np.flip(corner, axis=reflect), corner)
     if simplices:
         return _kuhn_tets(corner)
     return np.array([corner[tuple(o)] for o in _HEX_CORNERS])
