@@ -31,10 +31,6 @@ ALLOWED = {
     "segmentation.py": "the segmentation registry (by dimension)",
     "surface_kinds.py": "the kind of a cell: curves or faces, by dimension",
 }
-#: modules that still compare a dimension and are to ask the table (owned elsewhere)
-PENDING = {
-    "mortar_support.py", "pair_output.py", "surfaces.py", "tie.py",
-}
 
 
 def _is_dim(node: ast.AST) -> bool:
@@ -68,9 +64,7 @@ def test_finder_finds_dimension_tests(tmp_path):
 
 def test_no_dimension_branch_outside_cells_and_segmentations():
     found = {p.name: dim_comparisons(p) for p in sorted(ROOT.glob("*.py"))}
-    bad = {k: v for k, v in found.items() if v and k not in ALLOWED and k not in PENDING}
+    bad = {k: v for k, v in found.items() if v and k not in ALLOWED}
     assert not bad, f"compare .dim with a literal only in {sorted(ALLOWED)}; ask surface_kinds: {bad}"
-    stale = sorted(k for k in PENDING if not found.get(k))
-    assert not stale, f"no dimension comparison left in {stale}: take them off PENDING"
     unused = sorted(k for k in ALLOWED if k not in found)
     assert not unused, f"no such module: {unused}"

@@ -1,17 +1,20 @@
 """The slave nodes' mortar supports and tributary weights, read from the cell table.
 
-Values only (no derivatives), for any line cell type: the shape functions and their
-derivatives come from the cell's row (:attr:`~skfem_mortar.contact.cells.CellType.shape`,
+Values only (no derivatives), for any cell type of the table: the shape functions and
+their derivatives come from the cell's row (:attr:`~skfem_mortar.contact.cells.CellType.shape`,
 :attr:`~skfem_mortar.contact.cells.CellType.dshape`), the whole-cell rule from its
 :attr:`~skfem_mortar.contact.cells.CellType.quadrature` (a piecewise cell brings its
 composite rule), so the linear and the curved mortar kernels share them.
 
 * the tributary weight of slave node ``A``, over the whole slave surface, ::
 
-      w_A = sum_e int_{-1}^{1} N_A(xi) |dx/dxi| dxi,   x(xi) = sum_B N_B(xi) x_B;
+      w_A = sum_e int N_A(xi) |v(xi)| dxi,   x(xi) = sum_B N_B(xi) x_B,
 
-* its mortar support, over the integration cells ``[xi_a, xi_b]`` of a segmentation
-  (:class:`~skfem_mortar.contact.segmentation.Segmentation`), ::
+  ``|v| = |dx/dxi|`` on lines, ``|dx/dxi_1 x dx/dxi_2|`` on surface cells
+  (:func:`cell_jacobian`);
+
+* on lines, its mortar support, over the integration cells ``[xi_a, xi_b]`` of a
+  segmentation (:class:`~skfem_mortar.contact.segmentation.Segmentation`), ::
 
       s_A = sum_c int_{xi_a}^{xi_b} N_A(xi) |dx/dxi| dxi,
 
@@ -35,6 +38,7 @@ from functools import lru_cache
 
 import numpy as np
 
+from .cell_map import area_vectors
 from .cells import CellType, line_quadrature
 from .measures import PLANE, Measure
 from .segmentation import Segmentation
@@ -49,16 +53,12 @@ element have degree 4)."""
 
 
 def cell_jacobian(cell: CellType, X: np.ndarray, xi: np.ndarray) -> np.ndarray:
-    """``|dx/dxi| = |sum_B dN_B/dxi x_B|`` at ``xi`` (n, nq) of line cells with node
-    positions ``X`` (2, n, n_nodes), (n, nq); on surface cells ``xi`` (2, n, nq) and
-    ``X`` (3, n, n_nodes): ``|T_1 x T_2|``, ``T_r = sum_B dN_B/dxi_r x_B``."""
-    if cell.dim == 1:
-        dN = np.asarray(cell.dshape(xi[None]))[:, 0]              # (n_nodes, n, nq)
-        t = np.einsum("ink,knq->inq", X, dN)
-        return np.sqrt(t[0] * t[0] + t[1] * t[1])
-    dN = np.asarray(cell.dshape(xi))                              # (n_nodes, 2, n, nq)
-    T = np.einsum("ink,krnq->irnq", X, dN)
-    return np.sqrt((np.cross(T[:, 0], T[:, 1], axis=0) ** 2).sum(0))
+    """``|v|`` at ``xi`` (dim, n, nq) of cells with node positions ``X`` (d, n, n_nodes):
+    (n, nq), ``v`` the area vector of the tangents ``T_r = sum_B dN_B/dxi_r x_B``
+    (:func:`~skfem_mortar.contact.cell_map.area_vectors`: ``|dx/dxi|`` on lines,
+    ``|T_1 x T_2|`` on surface cells)."""
+    T = np.einsum("ink,krnq->irnq", X, np.asarray(cell.dshape(xi)))   # (d, dim, n, nq)
+    return np.sqrt((area_vectors(T) ** 2).sum(0))
 
 
 def _weighted(dG: np.ndarray, cell: CellType, X: np.ndarray, N: np.ndarray,
@@ -97,7 +97,6 @@ def tributary_weights(xs: np.ndarray, seg: np.ndarray, cell: CellType, degree: i
     pts, w = cell.quadrature(degree + (0 if measure.unit else 1))
     xi = np.broadcast_to(pts[:, None, :], (pts.shape[0], seg.shape[0], pts.shape[1]))
     N = np.asarray(cell.shape(xi))
-    xi = xi[0] if cell.dim == 1 else xi
     dG = _weighted(cell_jacobian(cell, xs[:, seg], xi) * w, cell, xs[:, seg], N, measure)
     return _scatter(xs.shape[1], seg, np.abs(N) if absolute else N, dG)
 
@@ -113,7 +112,7 @@ def multiplier_support(xs: np.ndarray, seg_s: np.ndarray, sg: Segmentation, cell
     lo, hi = sg.xi[:, :1], sg.xi[:, 1:]
     xi = lo * ((1.0 - eta[0]) * 0.5) + hi * ((1.0 + eta[0]) * 0.5)
     N = np.asarray(cell.shape(xi[None]))
-    dG = _weighted(cell_jacobian(cell, xs[:, seg_s[e]], xi) * ((hi - lo) * 0.5) * w, cell,
+    dG = _weighted(cell_jacobian(cell, xs[:, seg_s[e]], xi[None]) * ((hi - lo) * 0.5) * w, cell,
                    xs[:, seg_s[e]], N, measure)
     return _scatter(xs.shape[1], seg_s[e], N, dG)
 
@@ -188,9 +187,10 @@ def merge_matrix(merged: np.ndarray, cell: CellType) -> np.ndarray:
     """
     merged = np.asarray(merged, dtype=bool)
     n, k = merged.shape
-    if k != cell.n_nodes or cell.dim != 1:
-        raise ValueError(f"merged must have the columns of the line cell {cell.name} "
-                         f"({cell.n_nodes} nodes), got shape {merged.shape}")
+    if k != cell.n_nodes or len(cell.edges) != 1:   # a line cell is its own one edge
+        raise ValueError(f"merged must have the columns of a line cell (one edge), got "
+                         f"shape {merged.shape} for the cell {cell.name} ({cell.n_nodes} "
+                         f"nodes, {len(cell.edges)} edges)")
     keep = ~merged
     order = cell.edges[0]                       # the nodes in order along the line
     T = np.zeros((n, k, k))

@@ -6,7 +6,7 @@ asks which method or friction law the pair has.
 """
 from __future__ import annotations
 
-from typing import Any
+from typing import Any, Callable, NamedTuple
 
 import numpy as np
 
@@ -16,8 +16,32 @@ from .curves import polyline
 from .nts_faces import face_distances, face_edges
 from .search import distance_to_polyline
 from .segmentation import surface_cell
+from .surface_kinds import CURVE, FACE, entry
 
-__all__ = ["contact_data", "along_surface", "forces", "weightless_read", "WEIGHTLESS"]
+__all__ = ["contact_data", "along_surface", "forces", "weightless_read", "WEIGHTLESS",
+           "READINGS"]
+
+
+class Reading(NamedTuple):
+    """What the outputs read differently on a surface kind (:mod:`.surface_kinds`).
+
+    ``chords(segments, cell)`` the node pairs (n, 2) along which a weightless node
+    finds its neighbours (:func:`weightless_read`); ``distance(p, xm, segments, cell)``
+    the distance of points from the master surface (of nodes without a master
+    partner); ``order(surface, cell)`` the rows' node order, or None for the surface's
+    own order (:func:`along_surface`).
+    """
+    chords: Callable[[np.ndarray, Any], np.ndarray]
+    distance: Callable[[np.ndarray, np.ndarray, np.ndarray, Any], np.ndarray]
+    order: Callable[[Any, Any], "np.ndarray | None"]
+
+
+#: the readings of each surface kind: curves in chain order, the faces of a 3D body
+#: in the surface's order
+READINGS = {
+    CURVE: Reading(chords=polyline, distance=distance_to_polyline,
+                   order=lambda s, c: chain_order(s.segments, s.closed, s.n_nodes, c)),
+    FACE: Reading(chords=face_edges, distance=face_distances, order=lambda s, c: None)}
 
 
 def contact_data(pair: Any, z: np.ndarray) -> dict[str, np.ndarray]:
@@ -29,18 +53,17 @@ def contact_data(pair: Any, z: np.ndarray) -> dict[str, np.ndarray]:
     p = np.where((p < 0) & (p >= -pair._tol_p), 0.0, p)
     p[p == 0] = 0.0  # no -0.0
     cell = surface_cell(pair.slave)
-    faces = cell.dim == 2                       # the faces of a 3D body
-    p = weightless_read(p, ev.area, ev.mask, face_edges(pair.slave.segments, cell) if faces
-                        else polyline(pair.slave.segments, cell))
+    p = weightless_read(p, ev.area, ev.mask,
+                        entry(READINGS, cell, "contact_data").chords(pair.slave.segments, cell))
     x = pair.slave.x(z)
     g = np.where(ev.mask, g, np.nan)
     dist = np.where(ev.mask, g, 0.0)
     if not ev.mask.all():
         far = ~ev.mask
-        xm = pair.master.x(z)
-        dist[far] = (face_distances(x[:, far], xm, pair.master.segments, pair.master.cell)
-                     if faces else distance_to_polyline(x[:, far], xm, pair.master.segments))
-    data = {"x": x[0], "y": x[1], **({"z": x[2]} if faces else {}), "gap": g, "pressure": p,
+        master = surface_cell(pair.master)
+        dist[far] = entry(READINGS, master, "contact_data").distance(
+            x[:, far], pair.master.x(z), pair.master.segments, master)
+    data = {**{c: x[i] for i, c in enumerate("xyz"[:x.shape[0]])}, "gap": g, "pressure": p,
             "has_master": ev.mask, "distance": dist}
     if pair.geometry == "axisymmetric":   # the coordinates by their names there
         data.update(r=x[0], z=x[1])
@@ -92,7 +115,7 @@ def along_surface(s: Any) -> np.ndarray:
     order, an open chain from its end with the smaller reference ``x`` (then
     ``y``), a closed one from the start of its first segment."""
     cell = surface_cell(s)
-    order = None if cell.dim == 2 else chain_order(s.segments, s.closed, s.n_nodes, cell)
+    order = entry(READINGS, cell, "along_surface").order(s, cell)
     if order is None:  # faces, or not one chain through every node: the surface's order
         return np.arange(s.n_nodes)
     a, b = s.X[:, order[0]], s.X[:, order[-1]]

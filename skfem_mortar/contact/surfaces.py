@@ -28,7 +28,7 @@ the chain reads.
 """
 from __future__ import annotations
 
-from typing import Any
+from typing import Any, Callable, NamedTuple
 
 import numpy as np
 import scipy.sparse as sp
@@ -44,10 +44,12 @@ from .boundary_cells import boundary_cells, closed_surface
 from .cell_map import (cell_measures, cell_normals, cell_points, check_connectivity,
                        output_cells, reversal)
 from .cells import CellType, cell_type
+from .surface_kinds import CURVE, FACE, entry
 
 __all__ = ["ContactSurface", "RigidPlane", "RigidCircle", "chain_segments",
            "segment_lengths", "segment_normals", "tributary_lengths", "segments_at_nodes",
-           "LINEAR_TRACE", "QUADRATIC_TRACE", "TRACE_3D", "check_geometry", "AXIS_TOL"]
+           "LINEAR_TRACE", "QUADRATIC_TRACE", "TRACE_3D", "check_geometry", "AXIS_TOL",
+           "Layout", "LAYOUTS"]
 
 #: the most segments a rigid surface is built with (:class:`RigidPlane`,
 #: :class:`RigidCircle`): as many as the finest cable has elements
@@ -194,15 +196,10 @@ class ContactSurface:
         segments = index_array("segments", segments, n)
         segments = check_connectivity(segments if segments.ndim == 2 else
                                       segments.reshape(-1, self.cell.n_nodes), self.cell, n)
-        if self.cell.dim == 1:
-            order, self.closed = chain_segments(segments[:, list(self.cell.corners)], n)
-            self.segments = segments[order]
-        else:
-            self.closed = closed_surface(segments, self.cell, n)
-            self.segments = segments
+        layout = entry(LAYOUTS, self.cell, "ContactSurface")
+        self.segments, self.closed = layout.arrange(segments, self.cell, n)
         if np.any(cell_measures(self._X, self.segments, self.cell) <= 0):
-            raise ValueError("surface has a " + ("segment of zero length" if self.cell.dim == 1
-                                                 else "cell of zero area"))
+            raise ValueError(f"surface has a {layout.zero}")
 
     # -- geometry ----------------------------------------------------------
     @property
@@ -268,7 +265,7 @@ class ContactSurface:
         out = ContactSurface.__new__(ContactSurface)
         out.__dict__.update(self.__dict__)
         out.name = name or self.name
-        out.segments = np.ascontiguousarray(seg[::-1] if self.cell.dim == 1 else seg)
+        out.segments = np.ascontiguousarray(entry(LAYOUTS, self.cell, "reversed").turned(seg))
         return out
 
     # -- construction --------------------------------------------------------
@@ -346,6 +343,36 @@ class ContactSurface:
         nodes, local = np.unique(el, return_inverse=True)
         return cls(cable, nodes, local.reshape(-1, 2), name=name or f"{cable.name}_{side}",
                    cell="line2")
+
+
+def _chained(segments: np.ndarray, cell: CellType, n: int) -> tuple[np.ndarray, bool]:
+    """Line cells in chain order (by their ends, the cell's corners) and whether the
+    chain is closed (:func:`chain_segments`)."""
+    order, closed = chain_segments(segments[:, list(cell.corners)], n)
+    return segments[order], closed
+
+
+class Layout(NamedTuple):
+    """How the cells of a surface kind (:mod:`.surface_kinds`) are laid out.
+
+    ``arrange(segments, cell, n)`` the cells in the surface's order and whether the
+    surface is closed; ``turned(segments)`` the order of the cells of the surface
+    turned over (their nodes already permuted by
+    :func:`~skfem_mortar.contact.cell_map.reversal`); ``zero`` what a cell of zero
+    measure is called in the error.
+    """
+    arrange: Callable[[np.ndarray, CellType, int], tuple[np.ndarray, bool]]
+    turned: Callable[[np.ndarray], np.ndarray]
+    zero: str
+
+
+#: the layout of each surface kind: curves are one chain, run the other way when
+#: turned over; the faces of a 3D body stay in their order
+LAYOUTS = {
+    CURVE: Layout(arrange=_chained, turned=lambda seg: seg[::-1],
+                  zero="segment of zero length"),
+    FACE: Layout(arrange=lambda seg, c, n: (seg, closed_surface(seg, c, n)),
+                 turned=lambda seg: seg, zero="cell of zero area")}
 
 
 def _given_cell(cell: Any, segments: Any, d: int) -> CellType:

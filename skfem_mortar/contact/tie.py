@@ -84,6 +84,7 @@ from .multiplier_spaces import MultiplierSpace, traction_space
 from .normals import nodal_normals
 from .points3d import FacePoints
 from .segmentation import surface_cell
+from .surface_kinds import CURVE, FACE, entry
 from .surfaces import ContactSurface
 
 __all__ = ["TiePair", "TieOutput"]
@@ -108,8 +109,22 @@ def _face_points(cells: tuple, n_gauss: int) -> FacePoints:
     return FacePoints(cells, 2 * n_gauss)
 
 
-#: the one kernel's integration points by the slave cell's ``dim`` (the cell table)
-POINTS = {1: _line_points, 2: _face_points}
+#: the one kernel's integration points by the slave cell's kind (:mod:`.surface_kinds`)
+POINTS = {CURVE: _line_points, FACE: _face_points}
+
+
+def _shear_along(lam: np.ndarray, n: np.ndarray, normal: np.ndarray) -> np.ndarray:
+    """Along a curve: the signed scalar ``lam . t``, ``t = (-n_y, n_x)``."""
+    return lam[1] * n[0] - lam[0] * n[1]
+
+
+def _shear_vector(lam: np.ndarray, n: np.ndarray, normal: np.ndarray) -> np.ndarray:
+    """On faces: the tangential vector ``lam - (lam . n) n``."""
+    return lam - normal * n
+
+
+#: :meth:`TiePair.tie_data`'s shear by the slave cell's kind
+SHEAR = {CURVE: _shear_along, FACE: _shear_vector}
 
 
 def _integrals(s: ContactSurface, m: ContactSurface, space: MultiplierSpace, n_gauss: int,
@@ -123,7 +138,7 @@ def _integrals(s: ContactSurface, m: ContactSurface, space: MultiplierSpace, n_g
     ev = mortar_kernel.evaluate(s.X, s.segments, m.X, m.segments, tangent=False,
                                 **space.kernel_options(), n_gauss=n_gauss,
                                 crosspoints=crosspoints, measure=measure, cells=cells,
-                                points=POINTS[cells[0].dim](cells, n_gauss))
+                                points=entry(POINTS, cells[0], "TiePair")(cells, n_gauss))
     return _Integrals(ev.info["D"], ev.info["M"], ev.mask)
 
 
@@ -386,9 +401,10 @@ class TiePair(Item):
         weak displacement jump, a length) and ``tied``."""
         x = self.slave.x(z)
         lam = self.traction(z)
-        n = nodal_normals(x, self.slave.segments, surface_cell(self.slave), order=0).n
+        cell = surface_cell(self.slave)
+        n = nodal_normals(x, self.slave.segments, cell, order=0).n
         normal = np.sum(lam * n, axis=0)
-        shear = lam[1] * n[0] - lam[0] * n[1] if self.dim == 2 else lam - normal * n
+        shear = entry(SHEAR, cell, "tie_data")(lam, n, normal)
         w = np.where(self._weight != 0, self._weight, 1.0)
         return {**{c: x[i].copy() for i, c in enumerate("xyz"[:self.dim])},
                 "traction": lam, "normal": normal, "shear": shear,

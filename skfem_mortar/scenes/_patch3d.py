@@ -99,13 +99,15 @@ def _elements(pairing: str) -> tuple[str, str]:
 
 
 def _block(params: dict, element: str, n: int, lo: float, hi: float, z0: float,
-           fixed: set[int], name: str, footprint: tuple | None = None) -> Solid:
+           fixed: set[int], name: str, footprint: tuple | None = None,
+           lines: np.ndarray | None = None) -> Solid:
     """A block ``[lo, hi]^2 x [z0, z0 + HEIGHT]`` of ``n`` cells a side, tagged ``bottom``,
     ``top`` and, with a ``footprint`` ``(a, b)``, its top faces inside ``[a, b]^2``
-    ``covered``, the others ``uncovered``."""
+    ``covered``, the others ``uncovered``; ``lines``: its x-grid lines (default ``n``
+    equal cells)."""
     h = (hi - lo) / n
     nz = max(1, int(round(HEIGHT / h)))
-    xs = np.linspace(lo, hi, n + 1)
+    xs = np.linspace(lo, hi, n + 1) if lines is None else np.asarray(lines, dtype=float)
     tilt = tilted_lines(n, h, float(params["distort"]), fixed | {0, n, n // 2})
     mesh = grid_mesh(element, xs, xs, np.linspace(z0, z0 + HEIGHT, nz + 1), tilt)
     tol = 1e-9
@@ -126,14 +128,18 @@ def _rollers(body: Solid, name: str) -> list:
                       name=f"{name}_roller_{'xy'[k]}") for k in (0, 1)]
 
 
-def build_bodies(params: dict) -> PatchParts:
+def build_bodies(params: dict, upper_lines: np.ndarray | None = None) -> PatchParts:
     """The two blocks, their pressures and rollers (module docstring), the contact
-    surfaces' names; ``params`` as the scene's (:data:`PARAMS`)."""
+    surfaces' names; ``params`` as the scene's (:data:`PARAMS`).  ``upper_lines``: the
+    upper block's ``n_upper + 1`` x-grid lines, increasing from the footprint's edge to
+    the other, through ``X = 1/2`` (default equal cells; ``distort`` is then not
+    applied to them), to place a slave face across a line of the lower block's grid."""
     up_el, low_el = _elements(params["element"])
     n_low, n_up, m = int(params["n_lower"]), int(params["n_upper"]), int(params["margin"])
     lo, hi = m / n_low, 1.0 - m / n_low
     lower = _block(params, low_el, n_low, 0.0, 1.0, 0.0, {m, n_low - m}, "lower", (lo, hi))
-    upper = _block(params, up_el, n_up, lo, hi, HEIGHT, set(), "upper")
+    upper = _block(params, up_el, n_up, lo, hi, HEIGHT, set(), "upper",
+                   lines=_upper_lines(upper_lines, n_up, lo, hi))
     q = float(params["pressure"])
     items = [upper, lower, FollowerPressure3D(upper, q, "top", name="pressure")]
     if m > 0:
@@ -145,6 +151,20 @@ def build_bodies(params: dict) -> PatchParts:
     other = "lower" if params["slave"] == "upper" else "upper"
     return PatchParts(upper, lower, items, surfaces[params["slave"]], surfaces[other],
                       (lo, hi), support)
+
+
+def _upper_lines(lines: np.ndarray | None, n: int, lo: float, hi: float
+                 ) -> np.ndarray | None:
+    """``lines`` checked against the footprint ``[lo, hi]`` (ValueError naming
+    ``upper_lines``): ``n + 1`` increasing values from ``lo`` to ``hi`` through 1/2."""
+    if lines is None:
+        return None
+    xs = np.asarray(lines, dtype=float)
+    if (xs.shape != (n + 1,) or not np.all(np.diff(xs) > 0) or xs[0] != lo or xs[-1] != hi
+            or not np.any(xs == 0.5)):
+        raise ValueError(f"upper_lines must be n_upper + 1 = {n + 1} increasing x values "
+                         f"from {lo} to {hi} through 0.5 (the rollers' plane), got {lines!r}")
+    return xs
 
 
 def exact_patch3d(params: dict) -> dict:
