@@ -30,7 +30,7 @@ from .curves import XI_LIMIT, cell_nodes, curve, ends, is_affine, project_values
 from .search import nearest_vertex, node_segment_pairs
 from .surfaces import segment_normals, segments_at_nodes
 
-__all__ = ["project", "candidates", "choose_segments", "LOCK_STICK", "XI_LIMIT"]
+__all__ = ["project", "candidates", "choose_segments", "curve_rows", "LOCK_STICK", "XI_LIMIT"]
 
 LOCK_STICK = 0.5
 """Hysteresis width (fraction of the segment length) of a node locked at a reflex vertex."""
@@ -194,6 +194,15 @@ def project(xs: np.ndarray, xm: np.ndarray, seg_m: np.ndarray, margin: float | N
     g = np.where(mask, g, 0.0)
     return {"segment": np.where(mask, segment, -1), "xi": xi_all, "mask": mask,
             "n": n, "e": ev, "l": l, "g": g}
+
+
+def curve_rows(pr: dict) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The rows of the gap (:func:`~.nts_gap.gap_eval`) of :func:`project`'s output: a
+    row ``(node, segment, xi)`` per node in ``mask``, ``xi (1, n)`` in the cell's
+    coordinate ``[-1, 1]`` (``2 xi - 1`` of an affine cell's ``[0, 1]``)."""
+    k = np.flatnonzero(pr["mask"])
+    xi = pr["xi_curve"][k] if "xi_curve" in pr else 2.0 * pr["xi"][k] - 1.0
+    return k, pr["segment"][k], xi[None]
 
 
 def _free_ends(chain: np.ndarray, seg_of_end: np.ndarray, seg_of_start: np.ndarray,
