@@ -47,21 +47,22 @@ import scipy.sparse as sp
 
 from .cells import CellType, cell_type
 from .measures import PLANE, Measure
-from .curves import cell_lengths, check_line, ends, polyline, tributary_weights
+from .curves import cell_lengths, check_line, polyline, tributary_weights
 from .segmentation import line_cells, surface_cell
 from .contact_eval import ContactEval
 from .discretization import (ContactDiscretization, OptionTable, check_entries, check_options,
                              covers, pattern_matrix, register_method, reserved_keys)
 from .nts_faces import (check_face, face_candidates, face_rows, face_sizes, face_weights,
                         project_faces)
+from .nts_friction import NTSFriction
 from .nts_gap import gap_eval
 from .rigid3d import RigidSurface3D, exact_gaps
 from .nts_projection import LOCK_STICK, candidates, choose_segments, curve_rows, project
-from .surfaces import AXIS_TOL, segment_lengths, segment_normals, segments_at_nodes
+from .surfaces import AXIS_TOL, segment_lengths, segment_normals
 from .surface_kinds import CURVE, FACE, entry
 from .symmetry import on_planes
 
-__all__ = ["NTS", "evaluate", "project", "candidates", "choose_segments", "RESERVE_MARGIN", "RESERVE_HALO", "SLIP_HALO", "LOCK_STICK", "COARSE_RATIO", "failure_hints",
+__all__ = ["NTS", "evaluate", "project", "candidates", "choose_segments", "RESERVE_MARGIN", "RESERVE_HALO", "LOCK_STICK", "COARSE_RATIO", "failure_hints",
            "nearest_nodes", "vertex_trap"]
 
 log = logging.getLogger("skfem_mortar.contact.pair")  # the pair's log, as before the split
@@ -74,9 +75,6 @@ RESERVE_MARGIN = 2.0
 #: ... and this many chain neighbours on each side of the two segments at the
 #: node's nearest master vertex (a node far from every box slides by a segment)
 RESERVE_HALO = 1
-#: friction: the reserved tangential row of a node holds the segments this many
-#: chain neighbours on each side of its converged segment (:meth:`NTS.slip_pattern`)
-SLIP_HALO = 2
 
 
 def _check(x: np.ndarray, seg: np.ndarray, what: str) -> tuple[np.ndarray, np.ndarray]:
@@ -321,7 +319,7 @@ KIND_ENTRIES = {
         project=project_faces, rows=face_rows, weights=face_weights)}
 
 
-class NTS(ContactDiscretization):
+class NTS(NTSFriction, ContactDiscretization):
     """Node-to-segment contact (:func:`evaluate`) as a
     :class:`~skfem_mortar.contact.discretization.ContactDiscretization`.
 
@@ -339,8 +337,6 @@ class NTS(ContactDiscretization):
     method = "nts"
     multiplier_kind = "force"
     multipliers_per_node = 1
-    #: the names of :meth:`slip_history`'s arrays (a friction pair's checkpoint entries)
-    slip_history_keys = ("xi_prev", "segment_prev")
     symmetric = True
     has_history = True  # segment preferences and locks carry over to the next step
 
@@ -520,57 +516,6 @@ class NTS(ContactDiscretization):
         return {"prefer": arr(self._prefer_converged, np.int64),
                 "lock": arr(self._lock_converged, bool),
                 "reserved": arr(None if self._reserved is None else self._reserved[0], np.int64)}
-
-    # -- friction (FrictionDiscretization) ------------------------------------
-    def slip_history(self, xs: np.ndarray, xm: np.ndarray, ev: ContactEval
-                     ) -> dict[str, np.ndarray]:
-        """``xi_prev`` (the parameters of the converged projections) and
-        ``segment_prev`` (their master segments, -1 for a node out of ``mask``)."""
-        return {"xi_prev": np.where(ev.mask, ev.info["xi"], 0.0).astype(float),
-                "segment_prev": np.where(ev.mask, ev.info["segment"], -1).astype(np.int64)}
-
-    def check_slip_history(self, history: dict[str, np.ndarray]) -> None:
-        ns, n_seg = self.slave.n_nodes, len(self.master.segments)
-        check_entries(self.pair_name, history, {"xi_prev": [(ns,)], "segment_prev": [(ns,)]})
-        seg = np.asarray(history["segment_prev"])
-        if not np.issubdtype(seg.dtype, np.integer) or (seg.size and (
-                seg.min() < -1 or seg.max() >= n_seg)):
-            raise ValueError(f"{self.pair_name}: checkpoint entry 'segment_prev' must be "
-                             f"integers in [-1, {n_seg})")
-
-    def slip(self, xs: np.ndarray, xm: np.ndarray, history: dict[str, np.ndarray],
-             lam_t: np.ndarray | None, tangent: bool, ev: ContactEval):
-        """:func:`~skfem_mortar.contact.slip.nts_slip` from the converged
-        ``(segment_prev, xi_prev)`` to the segments of ``ev`` (with the
-        hysteresis and locks of this iteration); ``mask`` also ``ev.mask``."""
-        from .slip import nts_slip
-        sl = nts_slip(xs, xm, self.master.segments, history["xi_prev"],
-                      history["segment_prev"], segment=ev.info["segment"], lam_t=lam_t,
-                      tangent=tangent, cell=self.cells[1])
-        sl.mask = sl.mask & ev.mask
-        return sl
-
-    def slip_pattern(self, history: dict[str, np.ndarray]) -> sp.csr_matrix:
-        """Row ``k``: the master dofs of ``segment_prev[k]`` and of the
-        :data:`SLIP_HALO` segments before and after it along the chain (the
-        arc length of the slip runs over the segments crossed in the step)."""
-        seg_m = self.master.segments
-        n_s, n_m = self.slave.n_nodes, self.master.n_nodes
-        chain = ends(seg_m, self.cells[1])
-        ending, starting = segments_at_nodes(chain, n_m)
-        e0 = np.asarray(history["segment_prev"], dtype=np.int64)
-        near, back, ahead = [e0], e0, e0
-        for _ in range(SLIP_HALO):
-            back = np.where(back >= 0, ending[chain[np.maximum(back, 0), 0]], -1)
-            ahead = np.where(ahead >= 0, starting[chain[np.maximum(ahead, 0), 1]], -1)
-            near += [back, ahead]
-        e = np.concatenate(near)
-        k = np.tile(np.arange(n_s), len(near))
-        ok = e >= 0
-        k, e = k[ok], e[ok]
-        nm = 2 * self.cells[1].n_nodes               # master dofs of a segment: 4, or 6 (3-node)
-        cols = (2 * n_s + 2 * seg_m[e][:, :, None] + np.arange(2)).reshape(-1, nm)
-        return pattern_matrix(np.repeat(k, nm), cols.ravel(), (n_s, 2 * n_s + 2 * n_m))
 
     def load_state_dict(self, state: dict[str, np.ndarray]) -> None:
         ns = self.slave.n_nodes

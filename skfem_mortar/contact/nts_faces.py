@@ -88,14 +88,44 @@ def check_face(cell: "str | CellType", what: str) -> CellType:
     return cell
 
 
+_EDGE_FUNCTIONS: dict[str, list] = {}
+
+
+def _edge_functions(cell: CellType) -> list[tuple[np.ndarray, float, float]]:
+    """``(nu, c, w)`` of each edge of the reference cell's corner polygon
+    (counter-clockwise): ``nu . xi - c`` is 0 on the edge's line and positive
+    outside, ``-w`` at the corner farthest inside (:func:`overshoot`); made once per
+    cell type."""
+    out = _EDGE_FUNCTIONS.get(cell.name)
+    if out is None:
+        ref = np.asarray(cell.ref_nodes, dtype=float)[:, list(cell.corners)]
+        out = []
+        for a, b in zip(ref.T, np.roll(ref, -1, axis=1).T):
+            nu = np.array([b[1] - a[1], a[0] - b[0]])          # outward: (e_y, -e_x)
+            c = float(nu @ a)
+            out.append((nu, c, float(np.max(c - nu @ ref))))
+        _EDGE_FUNCTIONS[cell.name] = out
+    return out
+
+
+def _term(coef: float, x: np.ndarray) -> np.ndarray | None:
+    """``coef * x``, exactly, without the product where ``coef`` is 0 or +-1."""
+    return None if coef == 0 else x if coef == 1 else -x if coef == -1 else coef * x
+
+
 def overshoot(cell: CellType, xi: np.ndarray) -> np.ndarray:
-    """How far ``xi (2, m)`` lies outside the reference cell, in units of its size
-    (module docstring); 0 inside."""
-    if cell.name == "tri3":
-        o = np.maximum(np.maximum(-xi[0], -xi[1]), xi[0] + xi[1] - 1.0)
-    else:
-        o = 0.5 * (np.maximum(np.abs(xi[0]), np.abs(xi[1])) - 1.0)
-    return np.maximum(o, 0.0)
+    """How far ``xi (2, m)`` lies outside the reference cell, in units of its size: the
+    largest ``(nu_e . xi - c_e) / w_e`` over its edges ``e`` (:func:`_edge_functions`:
+    0 on the edge, -1 at the corner farthest inside), 0 inside.  tri3: ``max(-xi_1,
+    -xi_2, xi_1 + xi_2 - 1, 0)``; quad4: ``max(|xi_1| - 1, |xi_2| - 1, 0) / 2``."""
+    o = np.zeros(xi.shape[1:])
+    for nu, c, w in _edge_functions(cell):
+        terms = [t for t in (_term(nu[j], xi[j]) for j in range(len(nu))) if t is not None]
+        v = terms[0] if len(terms) == 1 else sum(terms[1:], terms[0])
+        if c:
+            v = v - c
+        np.maximum(o, v if w == 1 else v / w, out=o)
+    return o
 
 
 def face_sizes(x: np.ndarray, faces: np.ndarray) -> np.ndarray:

@@ -26,7 +26,8 @@ from __future__ import annotations
 import numpy as np
 
 from .cells import CellType, cell_type
-from .curves import XI_LIMIT, cell_nodes, curve, ends, is_affine, project_values
+from .curves import N_NEWTON, XI_LIMIT, cell_nodes, curve, ends, is_affine
+from .projection import project as project_points
 from .search import nearest_vertex, node_segment_pairs
 from .surfaces import segment_normals, segments_at_nodes
 
@@ -224,12 +225,27 @@ def _check_projection(stick: float, end_tolerance: float) -> None:
         raise ValueError(f"end_tolerance must be a finite number >= 0, got {end_tolerance}")
 
 
+def _newton(xq: np.ndarray, xm: np.ndarray, seg_m: np.ndarray, cell: CellType,
+            i_e: np.ndarray) -> np.ndarray:
+    """The closest points ``xi (m,)`` of the points ``xq (2, m)`` on the cells ``i_e``:
+    the general Newton in the cell's coordinates (:func:`~.projection.project`, the
+    one of faces too) from the chord's projection, every iterate within
+    ``[-XI_LIMIT, XI_LIMIT]``."""
+    c0, c1 = cell.corners
+    a, b = xm[:, seg_m[i_e, c0]], xm[:, seg_m[i_e, c1]]
+    t = b - a
+    xi0 = 2.0 * np.sum((xq - a) * t, axis=0) / np.maximum(np.sum(t * t, axis=0), 1e-300) - 1.0
+    xi0 = np.clip(xi0, -XI_LIMIT, XI_LIMIT)
+    return project_points(xq, xm, seg_m, cell, i_e, xi0=xi0[None], max_iter=N_NEWTON,
+                          limit=XI_LIMIT).xi[0]
+
+
 def _project_curve(xs: np.ndarray, xm: np.ndarray, seg_m: np.ndarray, margin: float | None,
                    end_tolerance: float, prefer: np.ndarray | None, stick: float,
                    lock: np.ndarray | None, cell: CellType,
                    mirrored: np.ndarray | None = None) -> dict:
     """:func:`project` onto curved line cells: Newton in the cell's coordinate
-    (:func:`~.curves.project_values`) on every candidate, the choice of
+    (:func:`_newton`) on every candidate, the choice of
     :func:`choose_segments` with ``xi`` mapped to ``[0, 1]``, the distance to the
     projection clipped to the cell.  Except at a free end: a node that keeps its
     segment by the hysteresis keeps it up to ``stick`` beyond the end (the affine
@@ -245,7 +261,7 @@ def _project_curve(xs: np.ndarray, xm: np.ndarray, seg_m: np.ndarray, margin: fl
     i_n, i_e = key // n_seg, key % n_seg
     P = cell_nodes(xm, seg_m, i_e)
     xq = xs[:, i_n]
-    xi_c, _ = project_values(cell, xq, P)
+    xi_c = _newton(xq, xm, seg_m, cell, i_e)
     u = 0.5 * (1.0 + xi_c)                       # along the segment, [0, 1] inside
     (cx, cy), _, _ = curve(cell, P, np.clip(xi_c, -1.0, 1.0))
     dist = np.hypot(xq[0] - cx, xq[1] - cy)
