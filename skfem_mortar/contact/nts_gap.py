@@ -15,7 +15,7 @@ the cofactor vector of the tangents: ``c = (t_y, -t_x)`` on a line (``n`` outwar
 the right of its direction), ``c = T_1 x T_2`` on a face (outward for
 counter-clockwise faces).  With ``q = [x_s, x_1, ..., x_k]`` (``d + d k`` unknowns),
 ``T_j . (x(xi) - x_s) = 0`` and ``x_s - x || n`` at the closest point, so ``dg/dxi
-= 0`` there:
+= 0`` there::
 
     dg/dq = G_q,   d2g/dq2 = G_qq + G_qxi xi_q + xi_q^T G_xiq + G_xixi xi_q xi_q^T,
 
