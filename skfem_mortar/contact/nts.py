@@ -48,7 +48,7 @@ import scipy.sparse as sp
 from .cells import CellType, cell_type
 from .measures import PLANE, Measure
 from .curves import cell_lengths, check_line, polyline, tributary_weights
-from .segmentation import line_cells, surface_cell
+from .segmentation import surface_cell
 from .contact_eval import ContactEval
 from .discretization import (ContactDiscretization, OptionTable, check_entries, check_options,
                              covers, pattern_matrix, register_method, reserved_keys)
@@ -57,7 +57,8 @@ from .nts_faces import (check_face, face_candidates, face_rows, face_sizes, face
 from .nts_friction import NTSFriction
 from .nts_gap import gap_eval
 from .rigid3d import RigidSurface3D, exact_gaps
-from .nts_projection import LOCK_STICK, candidates, choose_segments, curve_rows, project
+from .nts_projection import (LOCK_STICK, candidates, choose_segments, curve_arrays, curve_rows,
+                             project, project_curves)
 from .surfaces import AXIS_TOL, segment_lengths, segment_normals
 from .surface_kinds import CURVE, FACE, entry
 from .symmetry import on_planes
@@ -75,19 +76,6 @@ RESERVE_MARGIN = 2.0
 #: ... and this many chain neighbours on each side of the two segments at the
 #: node's nearest master vertex (a node far from every box slides by a segment)
 RESERVE_HALO = 1
-
-
-def _check(x: np.ndarray, seg: np.ndarray, what: str) -> tuple[np.ndarray, np.ndarray]:
-    x = np.asarray(x, dtype=float)
-    if x.ndim != 2 or x.shape[0] != 2:
-        raise ValueError(f"{what} coordinates must have shape (2, n), got {x.shape}")
-    seg = np.asarray(seg, dtype=np.int64)
-    if seg.ndim == 1:                    # a flat list of (start, end) pairs
-        seg = seg.reshape(-1, 2)
-    if seg.size and (seg.min() < 0 or seg.max() >= x.shape[1]):
-        raise ValueError(f"{what} segments must index nodes in [0, {x.shape[1]})")
-    return x, seg
-
 
 
 def evaluate(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarray,
@@ -150,20 +138,6 @@ def evaluate(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarra
     if not tangent:
         return ContactEval(g=pr["g"], G=None, H=None, area=area, mask=pr["mask"], info=info)
     return gap_eval(xs, xm, seg_m, cm, pr, kind.rows(pr), lam, area, info)
-
-
-def _curve_arrays(xs, seg_s, xm, seg_m, cells) -> tuple:
-    """The checked arrays and cell types of a call between curves."""
-    xs, seg_s = _check(xs, seg_s, "slave")
-    xm, seg_m = _check(xm, seg_m, "master")
-    cs, cm = (check_line(c, "nts") for c in line_cells(seg_s, seg_m, cells))
-    return xs, seg_s, xm, seg_m, cs, cm
-
-
-def _project_curves(xs, xm, seg_m, cell, margin, end_tolerance, prefer, stick, lock,
-                    mirrored) -> dict:
-    return project(xs, xm, seg_m, margin, end_tolerance, prefer, stick, lock, cell=cell,
-                   mirrored=mirrored)
 
 
 def _lengths(surface) -> np.ndarray:
@@ -308,7 +282,7 @@ KIND_ENTRIES = {
         check=lambda c, name: check_line(c, "nts"), hints=failure_hints, sizes=cell_lengths,
         candidates=lambda xs, xm, seg, c, margin, halo: candidates(xs, xm, seg, margin, halo,
                                                                    cell=c),
-        symmetry_mirrors=False, arrays=_curve_arrays, project=_project_curves,
+        symmetry_mirrors=False, arrays=curve_arrays, project=project_curves,
         rows=curve_rows, weights=tributary_weights),
     FACE: KindEntries(
         check=lambda c, name: check_face(c, f"{name}: nts"), hints=lambda s, m, name: "",

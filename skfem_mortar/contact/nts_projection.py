@@ -26,12 +26,14 @@ from __future__ import annotations
 import numpy as np
 
 from .cells import CellType, cell_type
-from .curves import N_NEWTON, XI_LIMIT, cell_nodes, curve, ends, is_affine
+from .curves import N_NEWTON, XI_LIMIT, cell_nodes, check_line, curve, ends, is_affine
 from .projection import project as project_points
 from .search import nearest_vertex, node_segment_pairs
+from .segmentation import line_cells
 from .surfaces import segment_normals, segments_at_nodes
 
-__all__ = ["project", "candidates", "choose_segments", "curve_rows", "LOCK_STICK", "XI_LIMIT"]
+__all__ = ["project", "candidates", "choose_segments", "curve_rows", "curve_arrays",
+           "project_curves", "LOCK_STICK", "XI_LIMIT"]
 
 LOCK_STICK = 0.5
 """Hysteresis width (fraction of the segment length) of a node locked at a reflex vertex."""
@@ -204,6 +206,37 @@ def curve_rows(pr: dict) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     k = np.flatnonzero(pr["mask"])
     xi = pr["xi_curve"][k] if "xi_curve" in pr else 2.0 * pr["xi"][k] - 1.0
     return k, pr["segment"][k], xi[None]
+
+
+def _check(x: np.ndarray, seg: np.ndarray, what: str) -> tuple[np.ndarray, np.ndarray]:
+    x = np.asarray(x, dtype=float)
+    if x.ndim != 2 or x.shape[0] != 2:
+        raise ValueError(f"{what} coordinates must have shape (2, n), got {x.shape}")
+    seg = np.asarray(seg, dtype=np.int64)
+    if seg.ndim == 1:                    # a flat list of (start, end) pairs
+        seg = seg.reshape(-1, 2)
+    if seg.size and (seg.min() < 0 or seg.max() >= x.shape[1]):
+        raise ValueError(f"{what} segments must index nodes in [0, {x.shape[1]})")
+    return x, seg
+
+
+
+def curve_arrays(xs, seg_s, xm, seg_m, cells) -> tuple:
+    """The checked arrays and the cell types ``(xs, seg_s, xm, seg_m, cs, cm)`` of an
+    NTS call between curves (:func:`~.nts.evaluate`): coordinates ``(2, n)``, cells
+    indexing them, line cells of degree at most 2 (:func:`~.curves.check_line`)."""
+    xs, seg_s = _check(xs, seg_s, "slave")
+    xm, seg_m = _check(xm, seg_m, "master")
+    cs, cm = (check_line(c, "nts") for c in line_cells(seg_s, seg_m, cells))
+    return xs, seg_s, xm, seg_m, cs, cm
+
+
+def project_curves(xs, xm, seg_m, cell, margin, end_tolerance, prefer, stick, lock,
+                    mirrored) -> dict:
+    """:func:`project` in the argument order of the kinds' projections
+    (:data:`~.nts.KIND_ENTRIES`)."""
+    return project(xs, xm, seg_m, margin, end_tolerance, prefer, stick, lock, cell=cell,
+                   mirrored=mirrored)
 
 
 def _free_ends(chain: np.ndarray, seg_of_end: np.ndarray, seg_of_start: np.ndarray,
