@@ -93,7 +93,7 @@ _EDGE_FUNCTIONS: dict[str, list] = {}
 
 def _edge_functions(cell: CellType) -> list[tuple[np.ndarray, float, float]]:
     """``(nu, c, w)`` of each edge of the reference cell's corner polygon
-    (counter-clockwise): ``nu . xi - c`` is 0 on the edge's line and positive
+    (counter-clockwise): ``nu^T xi - c`` is 0 on the edge's line and positive
     outside, ``-w`` at the corner farthest inside (:func:`overshoot`); made once per
     cell type."""
     out = _EDGE_FUNCTIONS.get(cell.name)
@@ -115,7 +115,7 @@ def _term(coef: float, x: np.ndarray) -> np.ndarray | None:
 
 def overshoot(cell: CellType, xi: np.ndarray) -> np.ndarray:
     """How far ``xi (2, m)`` lies outside the reference cell, in units of its size: the
-    largest ``(nu_e . xi - c_e) / w_e`` over its edges ``e`` (:func:`_edge_functions`:
+    largest ``(nu_e^T xi - c_e) / w_e`` over its edges ``e`` (:func:`_edge_functions`:
     0 on the edge, -1 at the corner farthest inside), 0 inside.  tri3: ``max(-xi_1,
     -xi_2, xi_1 + xi_2 - 1, 0)``; quad4: ``max(|xi_1| - 1, |xi_2| - 1, 0) / 2``."""
     o = np.zeros(xi.shape[1:])
