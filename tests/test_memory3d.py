@@ -13,7 +13,7 @@ in contact, not of a surface mostly out of range.  ``G`` and ``H`` are evaluated
 (multipliers 1).
 
 Bound: 1 GiB, the issue's.  Measured on this problem: NTS 159 MiB at 1e4 faces and
-306 MiB at 4e4 (142 x 142 grid; the jets in blocks of ``nts_faces.CHUNK_NODES``
+306 MiB at 4e4 (142 x 142 grid; the jets in blocks of ``nts_gap.CHUNK_NODES``
 nodes).  Mortar's numbers: ``benchmarks/contact_cost3d.py --memory``.
 
 Mortar at 1e4 faces takes minutes (77 ms of CPU a slave face), so its test here is
@@ -32,8 +32,7 @@ import tracemalloc
 import numpy as np
 import pytest
 
-from skfem_mortar.contact.cells import cell_type
-from skfem_mortar.contact.nts_faces import evaluate_faces
+from skfem_mortar.contact.nts import evaluate as nts_evaluate
 from skfem_mortar.scenes._hertz3d import PARAMS, exact_hertz3d
 
 #: the issue's bound on the Python-side allocations of one evaluation
@@ -76,8 +75,7 @@ def test_the_pressed_cap_has_ten_thousand_faces_all_in_range():
     outside not."""
     xs, Ss, xm, Sm, a = hertz_contact(71)
     assert 1e4 <= len(Ss) <= 1.02e4
-    ev = evaluate_faces(xs, Ss, xm, Sm, (cell_type("tri3"), cell_type("quad4")),
-                        tangent=False)
+    ev = nts_evaluate(xs, Ss, xm, Sm, cells=("tri3", "quad4"), tangent=False)
     assert ev.mask.all()
     r = np.hypot(xs[0], xs[1]) / (np.sqrt(2.0) * a)
     assert np.all(ev.g[r < 0.99] < 0) and np.all(ev.g[r > 1.01] > 0)
@@ -86,8 +84,7 @@ def test_the_pressed_cap_has_ten_thousand_faces_all_in_range():
 def test_nts_evaluation_at_ten_thousand_faces_stays_under_one_gigabyte():
     xs, Ss, xm, Sm, _ = hertz_contact(71)
     lam = np.ones(xs.shape[1])
-    peak, ev = _peak(lambda: evaluate_faces(xs, Ss, xm, Sm,
-                                            (cell_type("tri3"), cell_type("quad4")), lam=lam))
+    peak, ev = _peak(lambda: nts_evaluate(xs, Ss, xm, Sm, cells=("tri3", "quad4"), lam=lam))
     assert ev.G is not None and ev.H is not None and np.isfinite(ev.g).all()
     assert peak < BOUND, f"peak {peak / 2**20:.0f} MiB"
 

@@ -394,7 +394,7 @@ def test_the_picture_shows_the_slave_surface_by_pressure_beside_the_bodies(tmp_p
 def test_the_gap_jets_in_blocks_equal_one_block(monkeypatch):
     """The jets are evaluated in blocks of CHUNK_NODES slave nodes (a memory bound);
     blocks of 2 give the same g, G and H to the last bit."""
-    import skfem_mortar.contact.nts_faces as nf
+    import skfem_mortar.contact.nts_gap as ng
     xm, fm = _grid(3, "quad4", warp=0.2)
     xs, fs = _grid(2, "tri3", jitter=0.05)
     xs = 0.6 * xs + np.array([[0.3], [0.3], [-0.05]])
@@ -402,7 +402,7 @@ def test_the_gap_jets_in_blocks_equal_one_block(monkeypatch):
     cells = (cell_type("tri3"), cell_type("quad4"))
     lam = RNG.standard_normal(xs.shape[1])
     one = evaluate(xs, fs, xm, fm, lam=lam, cells=cells)
-    monkeypatch.setattr(nf, "CHUNK_NODES", 2)
+    monkeypatch.setattr(ng, "CHUNK_NODES", 2)
     two = evaluate(xs, fs, xm, fm, lam=lam, cells=cells)
     assert one.mask.sum() == xs.shape[1]
     np.testing.assert_array_equal(one.g, two.g)

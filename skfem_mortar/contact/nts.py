@@ -1,45 +1,31 @@
-"""Node-to-segment (NTS) contact: closest-point projection, normal gap and its derivatives,
-one gap over every line cell type of the cell table (:mod:`.cells`, :mod:`.curves`).
+"""Node-to-segment (NTS) contact: one evaluation of the nodal gap and its derivatives
+over every cell type of the cell table (:mod:`.cells`), lines and faces alike.
 
-Affine master cells (``line2``; :func:`~.curves.is_affine`, a declared property of
-the cell) in closed form.  For a slave node ``x`` and the master segment
-``(x_1, x_2)`` it projects on::
+:func:`evaluate` takes a surface kind's projection and choice among neighbouring
+cells (:data:`KIND_ENTRIES`, by :mod:`.surface_kinds`: lines in
+:mod:`.nts_projection`, faces in :mod:`.nts_faces`) and its tributary weights, then
+the one gap of every cell (:mod:`.nts_gap`)::
+
+    g = n(xi) . (x_s - x(xi)),   n = c / |c|   (c = (t_y, -t_x) on a line, T_1 x T_2 on a face)
+
+at the closest point ``xi`` of the slave node ``x_s`` on its master cell, with its
+exact first and second derivatives (``dg/dxi = 0`` at the closest point: only the
+exact gradient of ``xi`` enters, from one Newton step in jets), in closed form on
+``line2`` (cross-tested, tests/test_nts_cells.py), and scattered by the one routine
+(:func:`~.contact_eval.node_gap_eval`).  On a straight ``line2`` master cell
+``(x_1, x_2)``::
 
     t  = x_2 - x_1,   l = |t|,   e = t / l,   n = (t_y, -t_x) / l   (outward master normal)
     xi = (x - x_1) . t / l^2                                      (closest-point parameter)
     g  = [x - (1 - xi) x_1 - xi x_2] . n = (x - x_1) . n          (normal gap, > 0 open)
 
-With ``q = [x, x_1, x_2]`` (6 unknowns) the first variation, which includes the
-variations of ``xi`` and ``n`` (they cancel exactly because ``t . n = 0`` and
-``(x - x^M) || n``), is
-
-    dg/dq = [n; -(1 - xi) n; -xi n]
-
-and the second variation is the symmetric 6 x 6 matrix
-
-    d^2 g/dq^2 = (a c^T + c a^T) / l - (g / l^2) a a^T,
-    a = [0; n; -n],   c = [e; -(1 - xi) e; -xi e]
-
-(from ``dn/dt = -e n^T / l`` and ``dxi/dq = c / l - (g / l^2) a``).
-
-Any other line cell (``line3``, a registered one such as a piecewise-linear
-``line2x2``): the cell is the curve ``x(xi) = sum_a N_a(xi) x_a``, ``xi in [-1, 1]``,
-with the table's shape functions; the node projects by Newton on
-``f(xi) = (x - x(xi)) . x'(xi) = 0`` (:func:`~.curves.project_values`) and ::
-
-    g = (x - x(xi)) . n(xi),   n = (t_y, -t_x) / |t|,   t = x'(xi).
-
-With ``q = [x, x_1, ..., x_n]``, ``g(q) = G(xi(q), q)`` and ``dG/dxi = 0`` at the
-closest point, so ``dg/dq = G_q`` and ``d2g/dq2 = G_qq + G_qxi xi_q + xi_q^T G_xiq +
-G_xixi xi_q xi_q^T``: only the exact gradient of ``xi`` enters.  Both come from jets
-(:func:`~.curves.projection_jets`: two Newton steps in jets from the converged
-``xi``, exact to second order), cross-tested against the closed form on line2 cells
-declared curved (tests/test_nts_cells.py).  ``info["xi"]`` is ``(1 + xi) / 2``, the
-affine kernel's ``[0, 1]``, so the method's segment memory is the same for both.  A
-slave node of any cell weighs ``int N_A w dGamma`` (:func:`~.curves.tributary_weights`;
-``line3``, ``w = 1``: ``L/6, L/6, 2L/3`` on a straight cell), ``w`` the weight of the
-model's measure (:meth:`NTS.set_measure`: ``2 pi r`` in an axisymmetric model, where
-the multiplier is a nodal force totalled over the revolution; the gap is not weighted).
+``info["xi"]`` on a line is ``(1 + xi) / 2`` of the cell's coordinate, ``[0, 1]``
+along it, so the method's segment memory is the same for every line cell.  A
+slave node of any cell weighs ``int N_A w dGamma``
+(:func:`~.curves.tributary_weights`, :func:`~.nts_faces.face_weights`; ``line3``,
+``w = 1``: ``L/6, L/6, 2L/3`` on a straight cell), ``w`` the weight of the model's
+measure (:meth:`NTS.set_measure`: ``2 pi r`` in an axisymmetric model, where the
+multiplier is a nodal force totalled over the revolution; the gap is not weighted).
 
 Projection and partner search: :mod:`.nts_projection`.
 
@@ -61,19 +47,23 @@ import scipy.sparse as sp
 
 from .cells import CellType, cell_type
 from .measures import PLANE, Measure
-from .curves import cell_lengths, check_line, curve, ends, is_affine, polyline, projection_jets, tributary_weights
-from .segmentation import line_cells, surface_cell
-from .contact_eval import ContactEval, node_gap_eval
+from .curves import cell_lengths, check_line, polyline, tributary_weights
+from .segmentation import surface_cell
+from .contact_eval import ContactEval
 from .discretization import (ContactDiscretization, OptionTable, check_entries, check_options,
                              covers, pattern_matrix, register_method, reserved_keys)
-from .nts_faces import check_face, evaluate_faces, face_candidates, face_sizes, face_weights
+from .nts_faces import (check_face, face_candidates, face_rows, face_sizes, face_weights,
+                        project_faces)
+from .nts_friction import NTSFriction
+from .nts_gap import gap_eval
 from .rigid3d import RigidSurface3D, exact_gaps
-from .nts_projection import LOCK_STICK, candidates, choose_segments, project
-from .surfaces import AXIS_TOL, segment_lengths, segment_normals, segments_at_nodes
+from .nts_projection import (LOCK_STICK, candidates, choose_segments, curve_arrays, curve_rows,
+                             project, project_curves)
+from .surfaces import AXIS_TOL, segment_lengths, segment_normals
 from .surface_kinds import CURVE, FACE, entry
 from .symmetry import on_planes
 
-__all__ = ["NTS", "evaluate", "project", "candidates", "choose_segments", "RESERVE_MARGIN", "RESERVE_HALO", "SLIP_HALO", "LOCK_STICK", "COARSE_RATIO", "failure_hints",
+__all__ = ["NTS", "evaluate", "project", "candidates", "choose_segments", "RESERVE_MARGIN", "RESERVE_HALO", "LOCK_STICK", "COARSE_RATIO", "failure_hints",
            "nearest_nodes", "vertex_trap"]
 
 log = logging.getLogger("skfem_mortar.contact.pair")  # the pair's log, as before the split
@@ -86,22 +76,6 @@ RESERVE_MARGIN = 2.0
 #: ... and this many chain neighbours on each side of the two segments at the
 #: node's nearest master vertex (a node far from every box slides by a segment)
 RESERVE_HALO = 1
-#: friction: the reserved tangential row of a node holds the segments this many
-#: chain neighbours on each side of its converged segment (:meth:`NTS.slip_pattern`)
-SLIP_HALO = 2
-
-
-def _check(x: np.ndarray, seg: np.ndarray, what: str) -> tuple[np.ndarray, np.ndarray]:
-    x = np.asarray(x, dtype=float)
-    if x.ndim != 2 or x.shape[0] != 2:
-        raise ValueError(f"{what} coordinates must have shape (2, n), got {x.shape}")
-    seg = np.asarray(seg, dtype=np.int64)
-    if seg.ndim == 1:                    # a flat list of (start, end) pairs
-        seg = seg.reshape(-1, 2)
-    if seg.size and (seg.min() < 0 or seg.max() >= x.shape[1]):
-        raise ValueError(f"{what} segments must index nodes in [0, {x.shape[1]})")
-    return x, seg
-
 
 
 def evaluate(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarray,
@@ -113,111 +87,57 @@ def evaluate(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarra
              measure: Measure = PLANE, mirrored: np.ndarray | None = None) -> ContactEval:
     """NTS gaps ``g_N`` of the slave nodes, ``G = dg/dx`` and ``H = sum_k lam_k d^2 g_k/dx^2``.
 
-    One gap over any line cell type of the table: on an affine master cell
-    (:func:`~.curves.is_affine`, ``line2``) the closed forms of the module doc; on
-    any other (``line3``, a registered cell) ``g = (x_s - x(xi)) . n(xi)`` at the
-    closest point of the curve, with exact derivatives from jets of the projection
-    (:func:`_curve_gap`).
+    One evaluation for every cell type: the kind's projection and choice among
+    neighbouring cells (:data:`KIND_ENTRIES`: :func:`~.nts_projection.project` on
+    lines, :func:`~.nts_faces.project_faces` on faces) and tributary weights, then
+    the one gap ``g = n(xi) . (x_s - x(xi))`` with its exact derivatives
+    (:func:`~.nts_gap.gap_eval`).
 
     Parameters
     ----------
-    xs, seg_s : slave coordinates (2, n_s) and cells (n_seg_s, n_nodes of the slave
-        cell) (the cells set the tributary weights ``area = int N_A dGamma``,
-        :func:`~.curves.tributary_weights`)
-    xm, seg_m : master coordinates (2, n_m) and cells (n_seg_m, n_nodes of the master cell)
+    xs, seg_s : slave coordinates (d, n_s) and cells (n_seg_s, n_nodes of the slave
+        cell) (the cells set the tributary weights ``area = int N_A dGamma``)
+    xm, seg_m : master coordinates (d, n_m) and cells (n_seg_m, n_nodes of the master cell)
     lam : ndarray (n_s,), optional
         Nodal contact forces (multipliers); needed for ``H``.
     tangent : bool
         Whether to build ``G`` (and ``H`` when ``lam`` is given).
-    margin, end_tolerance, prefer, stick, lock : see :func:`project`.
+    margin, end_tolerance, prefer, stick, lock : see :func:`project` (lines) and
+        :func:`~.nts_faces.project_faces` (faces).
     cells : (slave, master) cell types, optional
-        Line cells of degree at most 2 (:func:`~.curves.check_line`); default:
+        Line cells of degree at most 2 (:func:`~.curves.check_line`) or faces
+        (:data:`~.nts_faces.FACE_CELLS`); default:
         :func:`~skfem_mortar.contact.segmentation.line_cells`.
     measure : Measure
         The weight ``w`` of ``dGamma`` (:mod:`~.measures`) in the tributary weights
         ``area = int N_A w dGamma`` (default :data:`~.measures.PLANE`, ``w = 1``; an
         axisymmetric model's ``2 pi r``); the gap does not depend on it.
     mirrored : bool ndarray (n_m,), optional
-        Master nodes on a symmetry line (:func:`project`: a chain end there is no
-        free end; :class:`NTS` passes those on the axis of its measure).
+        Master nodes on a symmetry line or plane (a chain end or face edge there is
+        no free end; :class:`NTS` passes those on the axis of its measure or on its
+        symmetry planes).
 
     Returns
     -------
     ContactEval
-        Local dof order: slave node k -> 2k, 2k+1; master node j -> 2 n_s + 2j, 2 n_s + 2j + 1.
+        Local dof order: slave node k -> d k + c; master node j -> d n_s + d j + c.
         ``area`` is the tributary weight of each slave node; ``info`` holds
-        ``xi`` (in ``[0, 1]`` along the cell), ``segment`` and ``normal``.
+        ``xi`` (lines: in ``[0, 1]`` along the cell; faces: the face's coordinates),
+        ``segment`` and ``normal``.
     """
-    # the master cell's kind (:mod:`.surface_kinds`): curves here, faces in :mod:`.nts_faces`
-    kernel = _evaluate_curves if cells is None else entry(_EVALUATE, cells[1], "nts.evaluate")
-    return kernel(xs, seg_s, xm, seg_m, cells, lam, tangent, margin, end_tolerance, prefer,
-                  stick, lock, measure, mirrored)
-
-
-def _evaluate_curves(xs, seg_s, xm, seg_m, cells, lam, tangent, margin, end_tolerance,
-                     prefer, stick, lock, measure, mirrored) -> ContactEval:
-    """:func:`evaluate` between curves (line cells)."""
-    xs, seg_s = _check(xs, seg_s, "slave")
-    xm, seg_m = _check(xm, seg_m, "master")
-    cs, cm = (check_line(c, "nts") for c in line_cells(seg_s, seg_m, cells))
-    n_s, n_m = xs.shape[1], xm.shape[1]
+    kind = KIND_ENTRIES[CURVE] if cells is None else entry(KIND_ENTRIES, cells[1],
+                                                             "nts.evaluate")
+    xs, seg_s, xm, seg_m, cs, cm = kind.arrays(xs, seg_s, xm, seg_m, cells)
     if lam is not None:
         lam = np.asarray(lam, dtype=float).ravel()
-        if lam.shape != (n_s,):
-            raise ValueError(f"lam must have shape ({n_s},), got {lam.shape}")
-    pr = project(xs, xm, seg_m, margin, end_tolerance, prefer, stick, lock, cell=cm,
-                 mirrored=mirrored)
-    mask, g = pr["mask"], pr["g"]
-    area = tributary_weights(xs, seg_s, cs, measure)
+        if lam.shape != (xs.shape[1],):
+            raise ValueError(f"lam must have shape ({xs.shape[1]},), got {lam.shape}")
+    pr = kind.project(xs, xm, seg_m, cm, margin, end_tolerance, prefer, stick, lock, mirrored)
+    area = kind.weights(xs, seg_s, cs, measure)
     info = {"xi": pr["xi"], "segment": pr["segment"], "normal": pr["n"]}
     if not tangent:
-        return ContactEval(g=g, G=None, H=None, area=area, mask=mask, info=info)
-    k = np.flatnonzero(mask)
-    m = seg_m[pr["segment"][k]]
-    kernel = _affine_gap if is_affine(cm) else _curve_gap
-    g, dg, h = kernel(xs, xm, m, k, pr, cm, lam is not None)
-    return node_gap_eval(g, k, m, dg, h, lam, n_m, 2, area, mask, info)
-
-
-def _evaluate_faces(xs, seg_s, xm, seg_m, cells, *rest) -> ContactEval:
-    """:func:`evaluate` between faces (:func:`~.nts_faces.evaluate_faces`)."""
-    return evaluate_faces(xs, seg_s, xm, seg_m, tuple(cell_type(c) for c in cells), *rest)
-
-
-#: the NTS gap evaluation of each surface kind (:mod:`.surface_kinds`)
-_EVALUATE = {CURVE: _evaluate_curves, FACE: _evaluate_faces}
-
-
-def _affine_gap(xs, xm, m, k, pr, cell, second):
-    """The gap, ``dg/dq`` (m, 6) and ``d2g/dq2`` (6, 6, m) of the nodes ``k`` on affine
-    master cells in closed form (module doc)."""
-    n, e, xi, l, g = pr["n"], pr["e"], pr["xi"], pr["l"], pr["g"]
-    nk, ek, xk = n[:, k].T, e[:, k].T, xi[k][:, None]  # (m, 2)
-    dg = np.hstack([nk, -(1 - xk) * nk, -xk * nk])  # (m, 6)
-    if not second:
-        return g, dg, None
-    a = np.hstack([np.zeros_like(nk), nk, -nk])
-    c = np.hstack([ek, -(1 - xk) * ek, -xk * ek])
-    lk, gk = l[k][:, None, None], g[k][:, None, None]
-    ac = a[:, :, None] * c[:, None, :]
-    h = (ac + ac.transpose(0, 2, 1)) / lk - gk / lk**2 * (a[:, :, None] * a[:, None, :])
-    return g, dg, h.transpose(1, 2, 0)
-
-
-def _curve_gap(xs, xm, m, k, pr, cell, second):
-    """The gap ``g = (x_s - x(xi)) . n(xi)``, ``n = (t_y, -t_x) / |t|``, of the nodes
-    ``k`` on curved master cells, with ``dg/dq`` (m, nv) and ``d2g/dq2`` (nv, nv, m),
-    ``q = [x_s, x_1, ..., x_n]``: jets of ``xi`` refined by two Newton steps in jets
-    (:func:`~.curves.projection_jets`) are exact to second order, and since
-    ``dg/dxi = 0`` at the closest point the gap composed from them is too."""
-    P = tuple((xm[0, m[:, a]], xm[1, m[:, a]]) for a in range(cell.n_nodes))
-    js, JP, z = projection_jets(cell, xs[:, k], P, pr["xi_curve"][k], second)
-    x, t, _ = curve(cell, JP, z)
-    rx, ry = js[0] - x[0], js[1] - x[1]
-    gj = (rx * t[1] - ry * t[0]) / (t[0] * t[0] + t[1] * t[1]).sqrt()
-    g = pr["g"].copy()
-    g[k] = gj.v
-    return g, gj.g.T, gj.hessian() if second else None
+        return ContactEval(g=pr["g"], G=None, H=None, area=area, mask=pr["mask"], info=info)
+    return gap_eval(xs, xm, seg_m, cm, pr, kind.rows(pr), lam, area, info)
 
 
 def _lengths(surface) -> np.ndarray:
@@ -337,13 +257,23 @@ class KindEntries:
     master, pair_name)`` the failure hints; ``sizes(x, cells, cell)`` the cell
     sizes (the search margin is their median); ``candidates(xs, xm, cells,
     cell, margin, halo)`` the candidate keys; ``symmetry_mirrors``: a master
-    node on a symmetry plane is mirrored (no free border there).
+    node on a symmetry plane is mirrored (no free border there).  For
+    :func:`evaluate`: ``arrays(xs, seg_s, xm, seg_m, cells)`` the checked arrays and
+    cell types; ``project(xs, xm, seg_m, cell, margin, end_tolerance, prefer, stick,
+    lock, mirrored)`` the projection and choice (a dict with ``segment``, ``xi``,
+    ``mask``, ``n``, ``g``); ``rows(projection)`` the gap's rows
+    (:func:`~.nts_gap.gap_eval`); ``weights(x, cells, cell, measure)`` the tributary
+    weights.
     """
     check: Callable[[CellType, str], CellType]
     hints: Callable[[Any, Any, str], str]
     sizes: Callable[[np.ndarray, np.ndarray, CellType], np.ndarray]
     candidates: Callable[..., np.ndarray]
     symmetry_mirrors: bool
+    arrays: Callable[..., tuple]
+    project: Callable[..., dict]
+    rows: Callable[[dict], tuple]
+    weights: Callable[..., np.ndarray]
 
 
 #: the NTS entries of each surface kind: curves (line cells), faces (of 3D bodies)
@@ -352,15 +282,18 @@ KIND_ENTRIES = {
         check=lambda c, name: check_line(c, "nts"), hints=failure_hints, sizes=cell_lengths,
         candidates=lambda xs, xm, seg, c, margin, halo: candidates(xs, xm, seg, margin, halo,
                                                                    cell=c),
-        symmetry_mirrors=False),
+        symmetry_mirrors=False, arrays=curve_arrays, project=project_curves,
+        rows=curve_rows, weights=tributary_weights),
     FACE: KindEntries(
         check=lambda c, name: check_face(c, f"{name}: nts"), hints=lambda s, m, name: "",
         sizes=lambda x, seg, c: face_sizes(x, seg),
         candidates=lambda xs, xm, seg, c, margin, halo: face_candidates(xs, xm, seg, c, margin),
-        symmetry_mirrors=True)}
+        symmetry_mirrors=True,
+        arrays=lambda xs, ss, xm, sm, cells: (xs, ss, xm, sm, *map(cell_type, cells)),
+        project=project_faces, rows=face_rows, weights=face_weights)}
 
 
-class NTS(ContactDiscretization):
+class NTS(NTSFriction, ContactDiscretization):
     """Node-to-segment contact (:func:`evaluate`) as a
     :class:`~skfem_mortar.contact.discretization.ContactDiscretization`.
 
@@ -378,8 +311,6 @@ class NTS(ContactDiscretization):
     method = "nts"
     multiplier_kind = "force"
     multipliers_per_node = 1
-    #: the names of :meth:`slip_history`'s arrays (a friction pair's checkpoint entries)
-    slip_history_keys = ("xi_prev", "segment_prev")
     symmetric = True
     has_history = True  # segment preferences and locks carry over to the next step
 
@@ -559,57 +490,6 @@ class NTS(ContactDiscretization):
         return {"prefer": arr(self._prefer_converged, np.int64),
                 "lock": arr(self._lock_converged, bool),
                 "reserved": arr(None if self._reserved is None else self._reserved[0], np.int64)}
-
-    # -- friction (FrictionDiscretization) ------------------------------------
-    def slip_history(self, xs: np.ndarray, xm: np.ndarray, ev: ContactEval
-                     ) -> dict[str, np.ndarray]:
-        """``xi_prev`` (the parameters of the converged projections) and
-        ``segment_prev`` (their master segments, -1 for a node out of ``mask``)."""
-        return {"xi_prev": np.where(ev.mask, ev.info["xi"], 0.0).astype(float),
-                "segment_prev": np.where(ev.mask, ev.info["segment"], -1).astype(np.int64)}
-
-    def check_slip_history(self, history: dict[str, np.ndarray]) -> None:
-        ns, n_seg = self.slave.n_nodes, len(self.master.segments)
-        check_entries(self.pair_name, history, {"xi_prev": [(ns,)], "segment_prev": [(ns,)]})
-        seg = np.asarray(history["segment_prev"])
-        if not np.issubdtype(seg.dtype, np.integer) or (seg.size and (
-                seg.min() < -1 or seg.max() >= n_seg)):
-            raise ValueError(f"{self.pair_name}: checkpoint entry 'segment_prev' must be "
-                             f"integers in [-1, {n_seg})")
-
-    def slip(self, xs: np.ndarray, xm: np.ndarray, history: dict[str, np.ndarray],
-             lam_t: np.ndarray | None, tangent: bool, ev: ContactEval):
-        """:func:`~skfem_mortar.contact.slip.nts_slip` from the converged
-        ``(segment_prev, xi_prev)`` to the segments of ``ev`` (with the
-        hysteresis and locks of this iteration); ``mask`` also ``ev.mask``."""
-        from .slip import nts_slip
-        sl = nts_slip(xs, xm, self.master.segments, history["xi_prev"],
-                      history["segment_prev"], segment=ev.info["segment"], lam_t=lam_t,
-                      tangent=tangent, cell=self.cells[1])
-        sl.mask = sl.mask & ev.mask
-        return sl
-
-    def slip_pattern(self, history: dict[str, np.ndarray]) -> sp.csr_matrix:
-        """Row ``k``: the master dofs of ``segment_prev[k]`` and of the
-        :data:`SLIP_HALO` segments before and after it along the chain (the
-        arc length of the slip runs over the segments crossed in the step)."""
-        seg_m = self.master.segments
-        n_s, n_m = self.slave.n_nodes, self.master.n_nodes
-        chain = ends(seg_m, self.cells[1])
-        ending, starting = segments_at_nodes(chain, n_m)
-        e0 = np.asarray(history["segment_prev"], dtype=np.int64)
-        near, back, ahead = [e0], e0, e0
-        for _ in range(SLIP_HALO):
-            back = np.where(back >= 0, ending[chain[np.maximum(back, 0), 0]], -1)
-            ahead = np.where(ahead >= 0, starting[chain[np.maximum(ahead, 0), 1]], -1)
-            near += [back, ahead]
-        e = np.concatenate(near)
-        k = np.tile(np.arange(n_s), len(near))
-        ok = e >= 0
-        k, e = k[ok], e[ok]
-        nm = 2 * self.cells[1].n_nodes               # master dofs of a segment: 4, or 6 (3-node)
-        cols = (2 * n_s + 2 * seg_m[e][:, :, None] + np.arange(2)).reshape(-1, nm)
-        return pattern_matrix(np.repeat(k, nm), cols.ravel(), (n_s, 2 * n_s + 2 * n_m))
 
     def load_state_dict(self, state: dict[str, np.ndarray]) -> None:
         ns = self.slave.n_nodes

@@ -39,17 +39,11 @@ The 2D kernel's rules (:mod:`.nts_projection`) carried over the cell's dimension
   master (an edge of one face only, not on a symmetry plane: ``mirrored`` nodes at
   both ends) with ``o > end_tolerance`` has left the master: out of ``mask``
   (kept while ``o <= stick`` on the face it had at the last iteration).
-* **Gap** with the unclipped ``xi`` on the chosen face::
-
-      g = n(xi) . (x_s - x(xi)),   n = T_1 x T_2 / |T_1 x T_2|,   T_j = dx/dxi_j
-
-  (``n`` outward for counter-clockwise faces, :mod:`.boundary_cells`).  Since
-  ``T_j . (x_s - x) = 0`` and ``x_s - x || n`` at the closest point,
-  ``dg/dxi = 0``: with ``q = [x_s, x_1, ..., x_k]`` (``3 + 3 k`` unknowns)
-  ``dg/dq = G_q`` and the Hessian needs only the exact first derivatives of ``xi``.
-  Both come from jets (:func:`gap_jets`): ``xi`` as the converged value refined by
-  one Newton step in first-order jets (its gradient exact), the gap composed from it
-  in second-order jets.
+* **Gap** with the unclipped ``xi`` on the chosen face (and on every tied one):
+  ``g = n(xi) . (x_s - x(xi))``, ``n = T_1 x T_2 / |T_1 x T_2|``, ``T_j = dx/dxi_j``
+  (``n`` outward for counter-clockwise faces, :mod:`.boundary_cells`), with its
+  exact ``G`` and ``H``: the one gap of every cell type, :mod:`.nts_gap`
+  (:func:`face_rows` hands it the rows).
 
 Tributary weights ``a_A = int N_A w dGamma`` over the slave faces by the cell's
 quadrature (:func:`face_weights`).
@@ -60,13 +54,11 @@ import numpy as np
 import scipy.sparse as sp
 
 from .cells import CellType, cell_type
-from .contact_eval import ContactEval, node_gap_eval
-from .jets import Jet
 from .projection import project as project_points
 from .search import nearest_vertex, node_segment_pairs
 
-__all__ = ["FACE_CELLS", "overshoot", "face_candidates", "project_faces", "gap_jets",
-           "face_weights", "evaluate_faces", "free_edges", "face_sizes", "face_edges",
+__all__ = ["FACE_CELLS", "overshoot", "face_candidates", "project_faces", "face_rows",
+           "face_weights", "free_edges", "face_sizes", "face_edges",
            "face_distances", "check_face", "touching_faces", "tied_faces", "TIE_TOL"]
 
 #: the surface cells NTS projects onto (linear faces; quadratic ones are refused)
@@ -85,13 +77,6 @@ WEIGHT_DEGREE = 9
 #: distance to that), far below any gap that matters
 TIE_TOL = 1e-9
 
-#: slave nodes per block of the gap's jets, whose temporaries hold (nv, nv, block)
-#: arrays (nv = 15 on quad4).  Measured peak (tracemalloc) of a whole evaluate with H:
-#: 177 MiB at 1e4 slave faces, 580 MiB at 4e4 (unchunked: 370 MiB at 1e4); the rest
-#: grows with the candidate pairs of the projection
-CHUNK_NODES = 4096
-
-
 def check_face(cell: "str | CellType", what: str) -> CellType:
     """``cell`` if NTS projects onto it (:data:`FACE_CELLS`), else ValueError naming
     the feature and the alternative."""
@@ -103,14 +88,44 @@ def check_face(cell: "str | CellType", what: str) -> CellType:
     return cell
 
 
+_EDGE_FUNCTIONS: dict[str, list] = {}
+
+
+def _edge_functions(cell: CellType) -> list[tuple[np.ndarray, float, float]]:
+    """``(nu, c, w)`` of each edge of the reference cell's corner polygon
+    (counter-clockwise): ``nu^T xi - c`` is 0 on the edge's line and positive
+    outside, ``-w`` at the corner farthest inside (:func:`overshoot`); made once per
+    cell type."""
+    out = _EDGE_FUNCTIONS.get(cell.name)
+    if out is None:
+        ref = np.asarray(cell.ref_nodes, dtype=float)[:, list(cell.corners)]
+        out = []
+        for a, b in zip(ref.T, np.roll(ref, -1, axis=1).T):
+            nu = np.array([b[1] - a[1], a[0] - b[0]])          # outward: (e_y, -e_x)
+            c = float(nu @ a)
+            out.append((nu, c, float(np.max(c - nu @ ref))))
+        _EDGE_FUNCTIONS[cell.name] = out
+    return out
+
+
+def _term(coef: float, x: np.ndarray) -> np.ndarray | None:
+    """``coef * x``, exactly, without the product where ``coef`` is 0 or +-1."""
+    return None if coef == 0 else x if coef == 1 else -x if coef == -1 else coef * x
+
+
 def overshoot(cell: CellType, xi: np.ndarray) -> np.ndarray:
-    """How far ``xi (2, m)`` lies outside the reference cell, in units of its size
-    (module docstring); 0 inside."""
-    if cell.name == "tri3":
-        o = np.maximum(np.maximum(-xi[0], -xi[1]), xi[0] + xi[1] - 1.0)
-    else:
-        o = 0.5 * (np.maximum(np.abs(xi[0]), np.abs(xi[1])) - 1.0)
-    return np.maximum(o, 0.0)
+    """How far ``xi (2, m)`` lies outside the reference cell, in units of its size: the
+    largest ``(nu_e^T xi - c_e) / w_e`` over its edges ``e`` (:func:`_edge_functions`:
+    0 on the edge, -1 at the corner farthest inside), 0 inside.  tri3: ``max(-xi_1,
+    -xi_2, xi_1 + xi_2 - 1, 0)``; quad4: ``max(|xi_1| - 1, |xi_2| - 1, 0) / 2``."""
+    o = np.zeros(xi.shape[1:])
+    for nu, c, w in _edge_functions(cell):
+        terms = [t for t in (_term(nu[j], xi[j]) for j in range(len(nu))) if t is not None]
+        v = terms[0] if len(terms) == 1 else sum(terms[1:], terms[0])
+        if c:
+            v = v - c
+        np.maximum(o, v if w == 1 else v / w, out=o)
+    return o
 
 
 def face_sizes(x: np.ndarray, faces: np.ndarray) -> np.ndarray:
@@ -252,7 +267,7 @@ def free_edges(faces: np.ndarray, cell: CellType, mirrored: np.ndarray | None) -
 
 
 def project_faces(xs: np.ndarray, xm: np.ndarray, faces: np.ndarray, cell: CellType,
-                  margin: float, end_tolerance: float = 1e-8,
+                  margin: float | None = None, end_tolerance: float = 1e-8,
                   prefer: np.ndarray | None = None, stick: float = 0.05,
                   lock: np.ndarray | None = None, mirrored: np.ndarray | None = None) -> dict:
     """Closest-point projection of the slave nodes ``xs (3, n_s)`` on the master faces
@@ -267,8 +282,11 @@ def project_faces(xs: np.ndarray, xm: np.ndarray, faces: np.ndarray, cell: CellT
     nearest point and ``nearest`` (n_s,) that face (both also out of ``mask``: a
     node beyond a free edge; ``inf`` and -1 without a candidate), and ``ties``:
     ``(node, face, xi)`` of the faces tied with a chosen one of a node in ``mask``.
+    ``margin`` (of :func:`face_candidates`) defaults to the median face size.
     """
     n_s, n_f = xs.shape[1], len(faces)
+    if margin is None:
+        margin = float(np.median(face_sizes(xm, faces))) if n_f else 0.0
     key = face_candidates(xs, xm, faces, cell, margin)
     i_n, i_e = key // n_f, key % n_f
     pr = project_points(xs[:, i_n], xm, faces, cell, i_e)
@@ -307,71 +325,21 @@ def project_faces(xs: np.ndarray, xm: np.ndarray, faces: np.ndarray, cell: CellT
             "ties": (i_n[t], i_e[t], pr.xi[:, t])}
 
 
+def face_rows(pr: dict) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The rows of the gap (:func:`~.nts_gap.gap_eval`) of :func:`project_faces`'s
+    output: a row ``(node, face, xi)`` per node in ``mask`` on its chosen face, then
+    one per face tied with it (module docstring: the node takes their mean)."""
+    mask = pr["mask"]
+    tn, tf, txi = pr["ties"]
+    return (np.concatenate([np.flatnonzero(mask), tn]),
+            np.concatenate([pr["segment"][mask], tf]),
+            np.concatenate([pr["xi"][:, mask], txi], axis=1))
+
+
 def _map(cell: CellType, P: np.ndarray, xi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """``x(xi) (d, m)`` and ``T (d, 2, m)`` of the cells with nodes ``P (d, m, k)``."""
     N, G = cell.shape(xi), cell.dshape(xi)
     return np.einsum("dmk,km->dm", P, N), np.einsum("dmk,kjm->djm", P, G)
-
-
-def _jet_map(cell: CellType, JP: list, xi0: np.ndarray, dxi: list) -> tuple[list, list, list]:
-    """``x``, ``T_j`` and ``dT_j/dxi_l`` (lists over components of jets) at ``xi0 + dxi``,
-    exactly by Taylor: the shape functions of tri3 and quad4 are of degree at most one
-    in each coordinate, so ``x = x_0 + T_j d_j + dT_jl d_j d_l / 2`` and ``T_j = T_j0 +
-    dT_jl d_l`` hold exactly (``x_0``, ``T_j0``, ``dT_jl`` at ``xi0``)."""
-    N, G, G2 = cell.shape(xi0), cell.dshape(xi0), cell.d2shape(xi0)
-    k = cell.n_nodes
-
-    def comb(c, coef):  # sum_a coef_a * P_a[c]
-        acc = JP[0][c] * coef[0]
-        for a in range(1, k):
-            acc = acc + JP[a][c] * coef[a]
-        return acc
-
-    x, T, dT = [], [[], []], [[[], []], [[], []]]
-    for c in range(3):
-        t0 = [comb(c, G[:, j]) for j in range(2)]
-        tt = [[comb(c, G2[:, j, l]) for l in range(2)] for j in range(2)]
-        td = [t0[j] + tt[j][0] * dxi[0] + tt[j][1] * dxi[1] for j in range(2)]
-        x.append(comb(c, N) + (t0[0] + td[0]) * dxi[0] * 0.5 + (t0[1] + td[1]) * dxi[1] * 0.5)
-        for j in range(2):
-            T[j].append(td[j])
-            for l in range(2):
-                dT[j][l].append(tt[j][l])
-    return x, T, dT
-
-
-def _dot(a: list, b: list):
-    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-
-
-def gap_jets(cell: CellType, xs: np.ndarray, P: np.ndarray, xi: np.ndarray, second: bool) -> Jet:
-    """The gaps of the points ``xs (3, m)`` on the faces with nodes ``P (3, m, k)`` as
-    a jet of ``q = [x_s, x_1, ..., x_k]``.
-
-    ``g = n(xi) . (x_s - x(xi))`` with ``xi (2, m)`` (converged) refined by one Newton
-    step in first-order jets (module docstring)."""
-    k = cell.n_nodes
-    vals = [xs[c] for c in range(3)] + [P[c, :, a] for a in range(k) for c in range(3)]
-    nv = len(vals)
-    var = [Jet.variable(v, i, nv, second) for i, v in enumerate(vals)]
-    js, JP = var[:3], [var[3 + 3 * a: 6 + 3 * a] for a in range(k)]
-    # one Newton step from the converged xi at first order: its gradient is exact, and
-    # the Hessian of g needs no more of xi (dg/dxi = 0 at the closest point)
-    JP1 = [[c.first() for c in p] for p in JP]
-    zero = Jet.constant(np.zeros_like(xi[0]), nv, False)
-    x, T, dT = _jet_map(cell, JP1, xi, [zero, zero])
-    r = [x[c] - js[c].first() for c in range(3)]
-    f = [_dot(T[j], r) for j in range(2)]
-    H = [[_dot(T[j], T[l]) + _dot(dT[j][l], r) for l in range(2)] for j in range(2)]
-    det = H[0][0] * H[1][1] - H[0][1] * H[1][0]
-    step = [(H[1][1] * f[0] - H[0][1] * f[1]) / det, (H[0][0] * f[1] - H[1][0] * f[0]) / det]
-    dxi = [Jet(-s.v, -s.g, Jet.constant(s.v, nv, True).h if second else None) for s in step]
-    x, T, _ = _jet_map(cell, JP, xi, dxi)
-    nx = T[0][1] * T[1][2] - T[0][2] * T[1][1]
-    ny = T[0][2] * T[1][0] - T[0][0] * T[1][2]
-    nz = T[0][0] * T[1][1] - T[0][1] * T[1][0]
-    inv = (nx * nx + ny * ny + nz * nz).sqrt().inv()
-    return ((js[0] - x[0]) * nx + (js[1] - x[1]) * ny + (js[2] - x[2]) * nz) * inv
 
 
 def face_weights(x: np.ndarray, faces: np.ndarray, cell: "str | CellType",
@@ -389,45 +357,3 @@ def face_weights(x: np.ndarray, faces: np.ndarray, cell: "str | CellType",
     if measure is not None and not measure.unit:
         wJ = wJ * measure.weight(tuple(np.einsum("dfk,kq->dfq", P, N)))
     return np.bincount(faces.ravel(), weights=(wJ @ N.T).ravel(), minlength=x.shape[1])
-
-
-def evaluate_faces(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarray,
-                   cells: tuple[CellType, CellType], lam: np.ndarray | None = None,
-                   tangent: bool = True, margin: float | None = None,
-                   end_tolerance: float = 1e-8, prefer: np.ndarray | None = None,
-                   stick: float = 0.05, lock: np.ndarray | None = None,
-                   measure=None, mirrored: np.ndarray | None = None) -> ContactEval:
-    """NTS gaps ``g`` of the slave nodes on master faces, ``G = dg/dx`` and
-    ``H = sum_k lam_k d^2 g_k/dx^2`` (module docstring); the 3D form of
-    :func:`~.nts.evaluate`.  Local dof order: slave node k -> 3k + c; master node j ->
-    3 n_s + 3 j + c."""
-    cs, cm = cells
-    n_m = xm.shape[1]
-    if margin is None:
-        margin = float(np.median(face_sizes(xm, seg_m))) if len(seg_m) else 0.0
-    pr = project_faces(xs, xm, seg_m, cm, margin, end_tolerance, prefer, stick, lock, mirrored)
-    mask, g = pr["mask"], pr["g"]
-    area = face_weights(xs, seg_s, cs, measure)
-    info = {"xi": pr["xi"], "segment": pr["segment"], "normal": pr["n"]}
-    if not tangent:
-        return ContactEval(g=g, G=None, H=None, area=area, mask=mask, info=info)
-    tn, tf, txi = pr["ties"]
-    k = np.concatenate([np.flatnonzero(mask), tn])      # a row per (node, face): the
-    e = np.concatenate([pr["segment"][mask], tf])       # chosen ones, then the ties
-    xi = np.concatenate([pr["xi"][:, mask], txi], axis=1)
-    m = seg_m[e]
-    second = lam is not None
-    gv, dg = np.zeros(k.size), np.zeros((k.size, 3 + 3 * cm.n_nodes))
-    h = np.zeros((dg.shape[1], dg.shape[1], k.size)) if second else None
-    for lo in range(0, k.size, CHUNK_NODES):     # the jets' memory bounded per chunk
-        c = slice(lo, lo + CHUNK_NODES)
-        gj = gap_jets(cm, xs[:, k[c]], xm[:, m[c]], xi[:, c], second)
-        gv[c], dg[c] = gj.v, gj.g.T
-        if second:
-            h[:, :, c] = gj.hessian()
-    w = 1.0 / np.bincount(k, minlength=g.size)[k]   # the mean over a node's tied faces
-    dg *= w[:, None]
-    if second:
-        h *= w
-    g = np.where(mask, np.bincount(k, weights=gv * w, minlength=g.size), g)
-    return node_gap_eval(g, k, m, dg, h, lam, n_m, 3, area, mask, info)

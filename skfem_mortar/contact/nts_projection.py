@@ -26,11 +26,14 @@ from __future__ import annotations
 import numpy as np
 
 from .cells import CellType, cell_type
-from .curves import XI_LIMIT, cell_nodes, curve, ends, is_affine, project_values
+from .curves import N_NEWTON, XI_LIMIT, cell_nodes, check_line, curve, ends, is_affine
+from .projection import project as project_points
 from .search import nearest_vertex, node_segment_pairs
+from .segmentation import line_cells
 from .surfaces import segment_normals, segments_at_nodes
 
-__all__ = ["project", "candidates", "choose_segments", "LOCK_STICK", "XI_LIMIT"]
+__all__ = ["project", "candidates", "choose_segments", "curve_rows", "curve_arrays",
+           "project_curves", "LOCK_STICK", "XI_LIMIT"]
 
 LOCK_STICK = 0.5
 """Hysteresis width (fraction of the segment length) of a node locked at a reflex vertex."""
@@ -196,6 +199,46 @@ def project(xs: np.ndarray, xm: np.ndarray, seg_m: np.ndarray, margin: float | N
             "n": n, "e": ev, "l": l, "g": g}
 
 
+def curve_rows(pr: dict) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The rows of the gap (:func:`~.nts_gap.gap_eval`) of :func:`project`'s output: a
+    row ``(node, segment, xi)`` per node in ``mask``, ``xi (1, n)`` in the cell's
+    coordinate ``[-1, 1]`` (``2 xi - 1`` of an affine cell's ``[0, 1]``)."""
+    k = np.flatnonzero(pr["mask"])
+    xi = pr["xi_curve"][k] if "xi_curve" in pr else 2.0 * pr["xi"][k] - 1.0
+    return k, pr["segment"][k], xi[None]
+
+
+def _check(x: np.ndarray, seg: np.ndarray, what: str) -> tuple[np.ndarray, np.ndarray]:
+    x = np.asarray(x, dtype=float)
+    if x.ndim != 2 or x.shape[0] != 2:
+        raise ValueError(f"{what} coordinates must have shape (2, n), got {x.shape}")
+    seg = np.asarray(seg, dtype=np.int64)
+    if seg.ndim == 1:                    # a flat list of (start, end) pairs
+        seg = seg.reshape(-1, 2)
+    if seg.size and (seg.min() < 0 or seg.max() >= x.shape[1]):
+        raise ValueError(f"{what} segments must index nodes in [0, {x.shape[1]})")
+    return x, seg
+
+
+
+def curve_arrays(xs, seg_s, xm, seg_m, cells) -> tuple:
+    """The checked arrays and the cell types ``(xs, seg_s, xm, seg_m, cs, cm)`` of an
+    NTS call between curves (:func:`~.nts.evaluate`): coordinates ``(2, n)``, cells
+    indexing them, line cells of degree at most 2 (:func:`~.curves.check_line`)."""
+    xs, seg_s = _check(xs, seg_s, "slave")
+    xm, seg_m = _check(xm, seg_m, "master")
+    cs, cm = (check_line(c, "nts") for c in line_cells(seg_s, seg_m, cells))
+    return xs, seg_s, xm, seg_m, cs, cm
+
+
+def project_curves(xs, xm, seg_m, cell, margin, end_tolerance, prefer, stick, lock,
+                    mirrored) -> dict:
+    """:func:`project` in the argument order of the kinds' projections
+    (:data:`~.nts.KIND_ENTRIES`)."""
+    return project(xs, xm, seg_m, margin, end_tolerance, prefer, stick, lock, cell=cell,
+                   mirrored=mirrored)
+
+
 def _free_ends(chain: np.ndarray, seg_of_end: np.ndarray, seg_of_start: np.ndarray,
                mirrored: np.ndarray | None) -> tuple[np.ndarray, np.ndarray]:
     """Per master segment: whether it starts, and whether it ends, a free end of an open
@@ -215,12 +258,27 @@ def _check_projection(stick: float, end_tolerance: float) -> None:
         raise ValueError(f"end_tolerance must be a finite number >= 0, got {end_tolerance}")
 
 
+def _newton(xq: np.ndarray, xm: np.ndarray, seg_m: np.ndarray, cell: CellType,
+            i_e: np.ndarray) -> np.ndarray:
+    """The closest points ``xi (m,)`` of the points ``xq (2, m)`` on the cells ``i_e``:
+    the general Newton in the cell's coordinates (:func:`~.projection.project`, the
+    one of faces too) from the chord's projection, every iterate within
+    ``[-XI_LIMIT, XI_LIMIT]``."""
+    c0, c1 = cell.corners
+    a, b = xm[:, seg_m[i_e, c0]], xm[:, seg_m[i_e, c1]]
+    t = b - a
+    xi0 = 2.0 * np.sum((xq - a) * t, axis=0) / np.maximum(np.sum(t * t, axis=0), 1e-300) - 1.0
+    xi0 = np.clip(xi0, -XI_LIMIT, XI_LIMIT)
+    return project_points(xq, xm, seg_m, cell, i_e, xi0=xi0[None], max_iter=N_NEWTON,
+                          limit=XI_LIMIT).xi[0]
+
+
 def _project_curve(xs: np.ndarray, xm: np.ndarray, seg_m: np.ndarray, margin: float | None,
                    end_tolerance: float, prefer: np.ndarray | None, stick: float,
                    lock: np.ndarray | None, cell: CellType,
                    mirrored: np.ndarray | None = None) -> dict:
     """:func:`project` onto curved line cells: Newton in the cell's coordinate
-    (:func:`~.curves.project_values`) on every candidate, the choice of
+    (:func:`_newton`) on every candidate, the choice of
     :func:`choose_segments` with ``xi`` mapped to ``[0, 1]``, the distance to the
     projection clipped to the cell.  Except at a free end: a node that keeps its
     segment by the hysteresis keeps it up to ``stick`` beyond the end (the affine
@@ -236,7 +294,7 @@ def _project_curve(xs: np.ndarray, xm: np.ndarray, seg_m: np.ndarray, margin: fl
     i_n, i_e = key // n_seg, key % n_seg
     P = cell_nodes(xm, seg_m, i_e)
     xq = xs[:, i_n]
-    xi_c, _ = project_values(cell, xq, P)
+    xi_c = _newton(xq, xm, seg_m, cell, i_e)
     u = 0.5 * (1.0 + xi_c)                       # along the segment, [0, 1] inside
     (cx, cy), _, _ = curve(cell, P, np.clip(xi_c, -1.0, 1.0))
     dist = np.hypot(xq[0] - cx, xq[1] - cy)

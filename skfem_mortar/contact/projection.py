@@ -109,7 +109,8 @@ def _state(cell: CellType, P: np.ndarray, p: np.ndarray, xi: np.ndarray):
 
 def project(p: np.ndarray, x: np.ndarray, conn: np.ndarray, cell: "str | CellType",
             cells: np.ndarray, xi0: np.ndarray | None = None, tol: float = 1e-12,
-            max_iter: int = 30, derivatives: bool = False) -> Projection:
+            max_iter: int = 30, derivatives: bool = False,
+            limit: float | None = None) -> Projection:
     """The closest point of each point ``p[:, i]`` on cell ``cells[i]`` (module docstring).
 
     Parameters
@@ -130,6 +131,10 @@ def project(p: np.ndarray, x: np.ndarray, conn: np.ndarray, cell: "str | CellTyp
         At most this many steps (``converged`` False where more were needed).
     derivatives : bool
         Also ``dxi/dp`` and ``dxi/dX``.
+    limit : float, optional
+        Every iterate is clipped to ``[-limit, limit]`` in each coordinate (the map's
+        extension far beyond the cell, where a curved cell bends back, is not searched;
+        NTS on curved lines: :data:`~.curves.XI_LIMIT`).  None: not clipped.
     """
     cell = cell_type(cell)
     p = np.asarray(p, dtype=float)
@@ -139,6 +144,8 @@ def project(p: np.ndarray, x: np.ndarray, conn: np.ndarray, cell: "str | CellTyp
                          f"for {cell.name} cells and {cells.size} cells, got {p.shape}")
     if not (np.isfinite(tol) and tol > 0):
         raise ValueError(f"tol must be a finite number > 0, got {tol!r}")
+    if limit is not None and not (np.isfinite(limit) and limit > 0):
+        raise ValueError(f"limit must be a finite number > 0 or None, got {limit!r}")
     P = np.asarray(x, dtype=float)[:, np.asarray(conn)[cells]]              # (d, m, k)
     m = cells.size
     if xi0 is None:
@@ -153,7 +160,11 @@ def project(p: np.ndarray, x: np.ndarray, conn: np.ndarray, cell: "str | CellTyp
         Hi, pd = _inverse(H)
         Hgn, _ = _inverse(np.einsum("djm,dlm->jlm", T, T))
         step = -np.einsum("jlm,lm->jm", np.where(pd, Hi, Hgn), g)
-        xi[:, act] = xi[:, act] + step
+        if limit is None:
+            xi[:, act] = xi[:, act] + step
+        else:                         # clipped: the change made is the step
+            new = np.clip(xi[:, act] + step, -limit, limit)
+            step, xi[:, act] = new - xi[:, act], new
         fin = np.max(np.abs(step), axis=0) <= tol
         done[act[fin]] = True
         act = act[~fin]
