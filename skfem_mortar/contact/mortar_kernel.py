@@ -340,8 +340,21 @@ class _Surfaces(NamedTuple):
         loc = LocalVariables.of(self.xs.T[S], self.xm.T[self.seg_m[ic.e_m]], self.nn.n.T[S],
                                 second)
         pts = points.integration_points(ic, loc)
-        return S, loc, cell_integrals(pts, loc, self.cells, self.measure, mass=mass,
-                                      integrand=integrand)
+        ints = cell_integrals(pts, loc, self.cells, self.measure, mass=mass,
+                              integrand=integrand)
+        return S, loc, _widened(ints, loc.layout.n_loc)
+
+
+def _widened(ints, nv: int):
+    """The integrals' jets in all ``nv`` local variables (a jet made from points that
+    hold fewer, the leading ones, has fewer: :meth:`~.jets.Jet.widen`)."""
+    def wide(j):
+        if isinstance(j, (list, tuple)):
+            return [wide(x) for x in j]
+        return j.widen(nv)
+    return ints._replace(g=wide(ints.g), n_A=None if ints.n_A is None else wide(ints.n_A),
+                         n_AB=None if ints.n_AB is None else
+                         {key: j.widen(nv) for key, j in ints.n_AB.items()})
 
 
 def _mirror(measure: Measure, mirror, d: int) -> tuple:
