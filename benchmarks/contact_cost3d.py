@@ -26,7 +26,16 @@ Measured 2026-12-06 (CPU, one thread; per slave face / per face pair): NTS quad4
 272 / 7, 165 / 4, 275 / 7 us at 1e3, 1e4, 1e5 faces (k = 0.98; peak 39, 174, 1609 MiB),
 tri3 56 / 1, 68 / 1 us at 1e3, 1e4 (k = 1.02); mortar quad4 58, 71, 71 ms / 2.8, 2.6,
 2.2 ms at 64, 144, 400 faces (k = 0.90), tri3 26, 27, 32 ms / 0.60, 0.55, 0.45 ms at 72,
-128, 392 (k = 0.87); mortar-dual as mortar to 3 %.  ``--memory`` adds the peak of Python-side
+128, 392 (k = 0.87); mortar-dual as mortar to 3 %.
+
+The face pairs are the search's candidates; only overlapping ones reach the jets: at 64
+quad4 faces 1,357 candidate pairs give 374 integration cells on 181 pairs, at 128 tri3
+faces 6,301 give 761 cells on 461 pairs, and the search with the value-only segmentation
+(clipping every candidate) takes 12 and 22 ms of the 2 to 3 s.  The cost is the cells'
+jets (7 points, Hessians of 36 or 27 variables).  Measured 2026-12-06 after the jets'
+variable fast path, the curvature step of the back-projection and the faces' chunk bound
+(CPU, median of 2 interleaved processes against main on loaded cores, per slave face):
+quad4 36 faces 49 ms (main 57), mortar-dual 80 ms (main 87).  ``--memory`` adds the peak of Python-side
 allocations (tracemalloc) of one more evaluation.  ``--max-seconds`` skips a
 method's larger sizes once one evaluation took longer.
 """

@@ -53,6 +53,54 @@ def _acc(h: np.ndarray, t: np.ndarray) -> np.ndarray:
     return h + t
 
 
+def _widened(a: np.ndarray, m: int, lead: int) -> np.ndarray:
+    """A gradient (``lead`` 1) or Hessian (2) with its variable axes zero-padded to ``m``."""
+    if a.shape[0] == m:
+        return a
+    shape = (m,) * lead + a.shape[lead:]
+    if _zero(a):
+        return _zeros(shape)
+    out = np.zeros(shape)
+    out[(slice(0, a.shape[0]),) * lead] = a
+    return out
+
+
+def _match(a: "Jet", b: "Jet") -> tuple:
+    """``a``, ``b`` of one number of variables (the larger: :meth:`Jet.widen`)."""
+    m = max(a.g.shape[0], b.g.shape[0])
+    return a.widen(m), b.widen(m)
+
+
+def _times_variable(f: "Jet", x: "Jet", left: bool = False) -> "Jet":
+    """``f x`` for the independent variable ``x`` (gradient ``e_j``, Hessian 0) and a jet
+    ``f`` that is not one: ``g = f' x + f e_j``, ``h = f'' x + 2 f' e_j^T`` (stored
+    unsymmetrized: in column ``j``, or row ``j`` when ``x`` is the ``left`` operand,
+    where the general product puts it, so that the result is the general product's to
+    the bit), without the outer product's ``nv^2`` pass.  ``f`` keeps its number of
+    variables when ``j`` is among them (else it takes ``x``'s)."""
+    full = _full(f.v.shape, x.v.shape)
+    if f.v.shape != full:
+        f = f._fill(full)
+    j = x.var
+    if j >= f.g.shape[0]:
+        f = f.widen(x.g.shape[0])
+    xv = x.v
+    g = f.g * xv
+    v = xv * f.v if left else f.v * xv
+    g[j] += f.v
+    h = None
+    if f.h is not None:
+        if _zero(f.h):
+            h = np.zeros(f.g.shape[:1] + f.g.shape)
+        else:
+            h = f.h * xv
+        if left:
+            h[j] += 2.0 * f.g
+        else:
+            h[:, j] += 2.0 * f.g
+    return Jet(v, g, h)
+
+
 class Jet:
     """A value with its gradient and Hessian w.r.t. ``nv`` local variables.
 
@@ -67,11 +115,12 @@ class Jet:
     constants.
     """
 
-    __slots__ = ("v", "g", "h")
+    __slots__ = ("v", "g", "h", "var")
     __array_ufunc__ = None  # make numpy arrays defer to Jet's reflected operators
 
-    def __init__(self, v: np.ndarray, g: np.ndarray, h: np.ndarray | None):
-        self.v, self.g, self.h = v, g, h
+    def __init__(self, v: np.ndarray, g: np.ndarray, h: np.ndarray | None,
+                 var: int | None = None):
+        self.v, self.g, self.h, self.var = v, g, h, var
 
     # -- construction
     @staticmethod
@@ -82,7 +131,7 @@ class Jet:
         e[i] = 1.0
         g = np.broadcast_to(e, (nv,) + v.shape)
         h = _zeros((nv, nv) + v.shape) if second else None
-        return Jet(v, g, h)
+        return Jet(v, g, h, i)
 
     @staticmethod
     def constant(v: np.ndarray, nv: int, second: bool) -> "Jet":
@@ -95,6 +144,8 @@ class Jet:
     # -- arithmetic
     def __add__(self, o):
         if isinstance(o, Jet):
+            if self.g.shape[0] != o.g.shape[0]:
+                self, o = _match(self, o)
             h = None
             if self.h is not None:   # (in-place updates only ever touch fresh arrays)
                 full = _full(self.h.shape, o.h.shape)
@@ -114,6 +165,8 @@ class Jet:
 
     def __sub__(self, o):
         if isinstance(o, Jet):
+            if self.g.shape[0] != o.g.shape[0]:
+                self, o = _match(self, o)
             h = None
             if self.h is not None:
                 full = _full(self.h.shape, o.h.shape)
@@ -133,6 +186,10 @@ class Jet:
                 return o * self.v
             if o.is_constant():
                 return self * o.v
+            if (o.var is None) != (self.var is None):   # one independent variable
+                return _times_variable(self, o) if o.var is not None else _times_variable(o, self, True)
+            if self.g.shape[0] != o.g.shape[0]:
+                self, o = _match(self, o)
             if self.v.shape != o.v.shape:       # materialize the broadcast operand once
                 full = _full(self.v.shape, o.v.shape)
                 self, o = self._fill(full), o._fill(full)
@@ -186,7 +243,16 @@ class Jet:
 
     def first(self) -> "Jet":
         """The same jet without its Hessian (first derivatives only)."""
-        return Jet(self.v, self.g, None)
+        return Jet(self.v, self.g, None, self.var)
+
+    def widen(self, nv: int) -> "Jet":
+        """The same jet in ``nv >=`` its number of variables: the added ones (last)
+        with zero derivatives (a jet may hold fewer variables than the others it meets:
+        the trailing ones it does not depend on; arithmetic pads it to the larger)."""
+        if self.g.shape[0] == nv:
+            return self
+        return Jet(self.v, _widened(self.g, nv, 1),
+                   None if self.h is None else _widened(self.h, nv, 2), self.var)
 
     def hessian(self) -> np.ndarray:
         """The symmetric Hessian ``(h + h^T) / 2``, shape ``(nv, nv) + S``."""
@@ -196,7 +262,7 @@ class Jet:
     def expand(self) -> "Jet":
         """Insert a Gauss-point axis after the segment axis: ``(n,) -> (n, 1)``."""
         return Jet(self.v[:, None], self.g[..., None],
-                   None if self.h is None else self.h[..., None])
+                   None if self.h is None else self.h[..., None], self.var)
 
     def is_constant(self) -> bool:
         """Whether the jet is known constant (zero gradient and Hessian views)."""
@@ -213,7 +279,7 @@ class Jet:
             s = a.shape[:lead] + shape
             return _zeros(s) if _zero(a) else np.ascontiguousarray(np.broadcast_to(a, s))
         return Jet(np.ascontiguousarray(np.broadcast_to(self.v, shape)), fill(self.g, 1),
-                   None if self.h is None else fill(self.h, 2))
+                   None if self.h is None else fill(self.h, 2), self.var)
 
     def spread(self, shape: tuple) -> "Jet":
         """The jet of values ``(n,)`` repeated over a point axis, values ``shape``
@@ -227,12 +293,15 @@ class Jet:
 
     def take(self, idx) -> "Jet":
         """Entries ``idx`` of the leading value axis."""
-        return Jet(self.v[idx], self.g[:, idx], None if self.h is None else self.h[:, :, idx])
+        return Jet(self.v[idx], self.g[:, idx], None if self.h is None else self.h[:, :, idx],
+                   self.var)
 
     @staticmethod
     def where(cond: np.ndarray, a: "Jet", b: "Jet") -> "Jet":
         """Elementwise ``cond ? a : b`` (both jets of the same variables)."""
         c = np.asarray(cond)
+        if a.g.shape[0] != b.g.shape[0]:
+            a, b = _match(a, b)
         v = np.where(c, a.v, b.v)
         g = np.where(c, a.g, b.g)
         h = None

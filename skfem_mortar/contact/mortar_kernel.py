@@ -340,8 +340,21 @@ class _Surfaces(NamedTuple):
         loc = LocalVariables.of(self.xs.T[S], self.xm.T[self.seg_m[ic.e_m]], self.nn.n.T[S],
                                 second)
         pts = points.integration_points(ic, loc)
-        return S, loc, cell_integrals(pts, loc, self.cells, self.measure, mass=mass,
-                                      integrand=integrand)
+        ints = cell_integrals(pts, loc, self.cells, self.measure, mass=mass,
+                              integrand=integrand)
+        return S, loc, _widened(ints, loc.layout.n_loc)
+
+
+def _widened(ints, nv: int):
+    """The integrals' jets in all ``nv`` local variables (a jet made from points that
+    hold fewer, the leading ones, has fewer: :meth:`~.jets.Jet.widen`)."""
+    def wide(j):
+        if isinstance(j, (list, tuple)):
+            return [wide(x) for x in j]
+        return j.widen(nv)
+    return ints._replace(g=wide(ints.g), n_A=None if ints.n_A is None else wide(ints.n_A),
+                         n_AB=None if ints.n_AB is None else
+                         {key: j.widen(nv) for key, j in ints.n_AB.items()})
 
 
 def _mirror(measure: Measure, mirror, d: int) -> tuple:
@@ -367,7 +380,8 @@ def evaluate(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarra
     merge, dual combination, chained normals and scatter stay), so ``g, G, H`` are that
     integrand's.  ``mirror``: symmetry lines or planes ``(e, c)``, ``e . x = c``, for the
     nodal normals (:func:`~.normals.nodal_normals`), with the measure's axis if it has one
-    (both are used).  ``chunk_entries``: the memory bound of :func:`chunks`.  Returns
+    (both are used).  ``chunk_entries``: the memory bound of :func:`chunks` (default the
+    points' ``chunk_entries`` if they have one, else :data:`CHUNK_ENTRIES`).  Returns
     :class:`ContactEval` with ``area`` the supports, ``mask``, and ``D``, ``M`` in ``info``.
     """
     xs, xm = np.asarray(xs, dtype=float), np.asarray(xm, dtype=float)
@@ -393,6 +407,8 @@ def evaluate(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarra
           points.integration_cells(xs, seg_s, xm, seg_m, nn.n))
     surf = _Surfaces(xs, seg_s, xm, seg_m, cells, nn, measure)
     n_s, n_m = xs.shape[1], xm.shape[1]
+    if chunk_entries is None:               # the segmentation's own bound, if it states one
+        chunk_entries = getattr(points, "chunk_entries", None)
     parts = chunks(ic.e_s, LocalLayout.of(cells).n_loc, second, chunk_entries)
     first = None
     if parts[0] is None:
@@ -410,12 +426,12 @@ def evaluate(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarra
     n = xs.shape[0] * (n_s + n_m)
     shapes = ((n_s, n), (n, n), (n_s, n_s), (n_s, n_m))
     summed: list = [None] * 4
-    for rows in parts:
+    for i, rows in enumerate(parts):
         sub = _take(ic, rows)
         S, loc, ints = first if rows is None else surf.integrals(points, sub, second, biorth,
                                                                   integrand)
         _chunk(surf, sub, S, loc, ints, mask, space if biorth else None, lam, tangent, acc)
-        _sum_chunk(acc[1:], shapes, summed)
+        _sum_chunk(acc[1:], shapes, summed, last=i == len(parts) - 1)
     G, H, D, M = (sp.csr_matrix(shape) if m is None else m for m, shape in zip(summed, shapes))
     info = {"D": D, "M": M, "segmentation": ic.data[0] if isinstance(ic.data, tuple) else ic.data,
             "n_segments": ic.e_s.size, "normals": nn}
@@ -423,12 +439,15 @@ def evaluate(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarra
                        area=support, mask=mask, info=info)
 
 
-def _sum_chunk(trips: tuple, shapes: tuple, summed: list) -> None:
-    """A chunk's triplets summed into csr and emptied as the chunk is done, so the peak
-    memory is one chunk's triplets and the running sums, not every chunk's triplets
-    (measured: 2.5 GB at 400 hertz3d faces before, flat at 0.58 GB after)."""
+def _sum_chunk(trips: tuple, shapes: tuple, summed: list, last: bool = False) -> None:
+    """The chunks' triplets summed into csr and emptied once they hold at least as many
+    entries as the running sum (and at the ``last`` chunk): the peak memory is a chunk's
+    triplets and about twice the running sums, not every chunk's triplets (measured: 2.5
+    GB at 400 hertz3d faces before, flat at 0.58 GB after), and each entry of the sum is
+    copied a bounded number of times on average (a sum at every chunk copies the whole
+    running sum each time: quadratic in the chunks)."""
     for k, (t, shape) in enumerate(zip(trips, shapes)):
-        if t.r:
+        if t.r and (last or summed[k] is None or sum(v.size for v in t.v) >= summed[k].nnz):
             m = t.csr(shape)
             summed[k] = m if summed[k] is None else summed[k] + m
             t.r.clear(), t.c.clear(), t.v.clear()
