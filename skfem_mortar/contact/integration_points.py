@@ -209,7 +209,9 @@ class PointSegmentation(Protocol):
 
 def check_points(points: IntegrationPoints, local: LocalVariables) -> None:
     """ValueError unless ``points`` fits ``local``: ``d - 1`` coordinates on each side,
-    every jet of ``n_loc`` variables with values ``(n, n_gp)``."""
+    every jet of at most ``n_loc`` variables (the leading ones: a jet of fewer does not
+    depend on the others, :meth:`~skfem_mortar.contact.jets.Jet.widen`) with values
+    ``(n, n_gp)``."""
     lay = local.layout
     n = points.e_s.shape[0]
     shape = points.w.v.shape
@@ -220,8 +222,8 @@ def check_points(points: IntegrationPoints, local: LocalVariables) -> None:
         if len(xi) != lay.d - 1:
             raise ValueError(f"points.{name} must hold d - 1 = {lay.d - 1} jets, got {len(xi)}")
         for j in xi:
-            if j.v.shape != shape or j.g.shape[0] != lay.n_loc:
-                raise ValueError(f"points.{name} must be jets of {lay.n_loc} variables "
-                                 f"with values {shape}")
-    if points.w.g.shape[0] != lay.n_loc:
-        raise ValueError(f"points.w must be a jet of {lay.n_loc} variables")
+            if j.v.shape != shape or not 1 <= j.g.shape[0] <= lay.n_loc:
+                raise ValueError(f"points.{name} must be jets of at most {lay.n_loc} "
+                                 f"variables with values {shape}")
+    if not 1 <= points.w.g.shape[0] <= lay.n_loc:
+        raise ValueError(f"points.w must be a jet of at most {lay.n_loc} variables")

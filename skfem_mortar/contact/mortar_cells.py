@@ -65,10 +65,12 @@ def compose(f0: np.ndarray, f1: np.ndarray, f2: np.ndarray | None, xi: tuple) ->
     h = None
     if second:
         h = sum(f1[r][None, None] * x.h for r, x in enumerate(xi))
-        if f2 is not None and np.any(f2):
+        if f2 is not None and np.any(f2):   # f2 symmetric: each pair (r, t) once
             for r, xr in enumerate(xi):
-                for t, xt in enumerate(xi):
-                    h = h + xr.g[:, None] * (xt.g * f2[r, t][None])[None]
+                for t in range(r, len(xi)):
+                    c = f2[r, t] + f2[t, r] if t != r else f2[r, r]
+                    if np.any(c):
+                        h = h + xr.g[:, None] * (xi[t].g * c[None])[None]
     return Jet(np.asarray(f0), g, h)
 
 
