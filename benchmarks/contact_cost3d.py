@@ -11,7 +11,7 @@ facing down), quad4/quad4 or tri3/tri3.  Timed: the process's CPU time (median o
 ``--repeat``; the wall clock beside it, inflated on shared cores), gaps ``g``, ``G``
 and ``H`` (multipliers all 1), the search included:
 
-* ``nts``: :func:`~skfem_mortar.contact.nts_faces.evaluate_faces`;
+* ``nts``: :func:`~skfem_mortar.contact.nts.evaluate`;
 * ``mortar``/``mortar-dual``: :func:`~skfem_mortar.contact.mortar_kernel.evaluate`
   with :class:`~skfem_mortar.contact.points3d.FacePoints` on the candidate pairs of
   the method's own search (:func:`method_pairs`), as ``Mortar`` calls it (the
@@ -69,10 +69,8 @@ def evaluator(method: str, xs, Ss, xm, Sm, cells):
     pairs of :func:`method_pairs`, searched in the call, as the method does)."""
     lam = np.ones(xs.shape[1])
     if method == "nts":
-        from skfem_mortar.contact.cells import cell_type
-        from skfem_mortar.contact.nts_faces import evaluate_faces
-        ct = tuple(cell_type(c) for c in cells)
-        return lambda: evaluate_faces(xs, Ss, xm, Sm, ct, lam=lam)
+        from skfem_mortar.contact.nts import evaluate as nts_evaluate
+        return lambda: nts_evaluate(xs, Ss, xm, Sm, lam=lam, cells=tuple(cells))
     if method not in METHODS:
         raise ValueError(f"method must be one of {', '.join(METHODS)}, got {method!r}")
     from skfem_mortar.contact.mortar_kernel import evaluate
