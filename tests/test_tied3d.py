@@ -37,7 +37,9 @@ def test_multipliers_converge_to_the_one_piece_traction_without_oscillating(seri
     """Measured (L2 error; oscillation, the one-piece traction's own in brackets):
     standard 1.30, 0.52, 0.18; 0.40, 0.26, 0.18 (0.039, 0.085, 0.052);
     dual 0.36, 0.15, 0.056; 0.15, 0.12, 0.072.  The error falls at rate 1.3 to 1.6
-    (the reference is the one-piece beam at the master's h, which converges too); the
+    (the reference is the one-piece beam at the master's h, which converges too: the
+    scene's reading, cheap; against the beam at level 5, 32 cells per unit length,
+    ``benchmarks/series3d.py`` reads 0.90, 0.49, 0.19 and 0.38, 0.20, 0.076); the
     oscillation falls, so the multipliers neither lock nor diverge on tetrahedral
     faces (MOOSE's warning); the dual ones stay near the elements' own roughness."""
     runs = series[multipliers]
@@ -46,6 +48,24 @@ def test_multipliers_converge_to_the_one_piece_traction_without_oscillating(seri
     assert all(b < 0.75 * a for a, b in zip(err, err[1:])), err
     assert all(b <= a for a, b in zip(osc, osc[1:])), osc
     assert osc[-1] < 4.0 * runs[-1]["oscillation_exact"], (osc, runs[-1])
+
+
+def test_standard_multipliers_are_the_forces_amplified_not_locked(series):
+    """Standard multipliers read 2.4 to 3.6 times the dual ones' L2 error, but their
+    nodal forces ``D^T lam`` over the tributary areas are as close to the one-piece
+    traction as the dual multipliers (measured 0.356, 0.143, 0.049 against 0.361,
+    0.154, 0.056: 0.87 to 0.99 of them; 1.1 leaves room for a mesh change, a locked
+    space would sit at O(1)) and fall with ``h``: the tie transmits the traction as
+    well with either space.  The nodal values ``lam = D^-1 f`` carry the forces'
+    roughness amplified by the consistent mass ``D`` (its eigenvalues over the lumped
+    areas span [1/4, 1] on linear triangles: a checkerboard grows up to 4 times):
+    measured 2.65, 2.4, 2.8 times the forces' oscillation, bounded here by that 4."""
+    standard, dual = series["standard"], series["dual"]
+    force = [m["force_traction_error"] for m in standard]
+    assert all(b < 0.5 * a for a, b in zip(force, force[1:])), force
+    for s, d in zip(standard, dual):
+        assert s["force_traction_error"] < 1.1 * d["force_traction_error"], (s, d)
+        assert s["oscillation"] < 4.0 * s["force_oscillation"], s
 
 
 @pytest.mark.parametrize("multipliers", ["standard", "dual"])

@@ -1,0 +1,256 @@
+"""Refinement series on tet/tet meshes for ``tied3d`` and ``hertz3d`` (issue 38, "Tests
+that must exist"): the multipliers' L2 error against the reference traction and their
+nodal oscillation, standard and dual multipliers, three levels.
+
+    python benchmarks/series3d.py tied3d [--levels 1 2 3] [--spaces standard dual]
+        [--fine 5] [--json out.json]
+    python benchmarks/series3d.py hertz3d [--levels -3 -2 -1] [--methods nts mortar
+        mortar-dual] [--base elastic] [--json out.json]
+
+``tied3d``: tet1, cut across, ``L = 2``, small strain, one step; the slave part ``b``
+has ``3 2^(level - 1)`` cells per unit length, the master ``2 2^(level - 1)``.  The
+reference traction is the one-piece beam's interface traction
+(:func:`~skfem_mortar.scenes._tied3d.cut_traction`) at the master's ``h`` of the same
+level (``err same``, the scene's ``traction_error``: the error of the pair, tie and
+reference, as a user would see it) and at level ``--fine`` (``err fine``: a one-piece
+beam 4 to 16 times finer than the slave, so that the reference's own discretization
+error is small beside the tie's and the rate is the multiplier's own).
+``oscillation``: :func:`~skfem_mortar.scenes._tied3d.oscillation`, the largest
+departure of a nodal multiplier from the mean of its neighbours over the largest
+multiplier (``O(h)`` on unstructured faces, ``O(h^2)`` on a uniform grid for a
+smooth traction, ``O(1)`` for a checkerboard), beside the same reading of the
+reference traction (``osc ref``: the one-piece beam's own roughness at that level).
+
+``hertz3d``: tet1 both bodies (``base=elastic``: the sphere on the elastic quarter
+cylinder, both tetrahedral; ``rigid``: the rigid plane's quad4 faces), small strain,
+one load step, NTS, mortar, mortar-dual.  ``L2 err``: the nodal pressure's lumped L2
+error against Hertz's ``p(r) = p0 sqrt(1 - r^2 / a^2)`` over the slave nodes with
+``r < a``, ``sqrt(sum w_A (p_A - p(r_A))^2 / sum w_A p(r_A)^2)``, ``w_A = int N_A dA``
+(:func:`hertz_readings`); ``oscillation`` the same reading as ``tied3d``'s over the
+nodes with ``r < 0.8 a`` (Hertz's fit window) and all their neighbours there, beside
+Hertz's own at the same nodes (``osc ref``).
+
+Times are the process's CPU time of build, solve and readings (the cores are shared:
+the wall clock grows with the others' load).
+
+Measured 2026-12-06 (2 shared cores at a load average of 10 to 17, CPU seconds).
+
+tied3d (tet1, across, L = 2; h the slave's cell size; ``err fine`` against the one-piece
+beam at level 5, 32 cells per unit length, 2.1e5 dofs, 107 s; ``err force`` and ``osc
+force`` the tie's nodal forces ``D^T lam`` over the tributary areas, which for the dual
+space are its multipliers)::
+
+    space     level  h       dofs    err same  err fine  osc    osc ref  err force  osc force  it  cpu
+    standard  1      0.333     321   1.29      0.903     0.395  0.039    0.356      0.149      1   0.5
+    standard  2      0.167    1551   0.516     0.488     0.259  0.085    0.143      0.108      1   0.1
+    standard  3      0.0833   9285   0.181     0.189     0.183  0.052    0.049      0.066      1   0.7
+    standard  4      0.0417  63489   0.0614    0.0628    0.111  0.028    0.017      0.037      1   13
+    dual      1      0.333     321   0.361     0.383     0.147  0.039    0.361      0.147      1   0.1
+    dual      2      0.167    1551   0.154     0.199     0.117  0.085    0.154      0.117      1   0.1
+    dual      3      0.0833   9285   0.0561    0.0755    0.072  0.052    0.056      0.072      1   0.7
+    dual      4      0.0417  63489   0.0206    0.0232    0.041  0.028    0.021      0.041      1   14
+
+Both spaces converge (against the fine beam by 1.9, 2.6, 3.0 a level standard and 1.9,
+2.6, 3.3 dual) and their oscillation falls; neither locks.  The standard multipliers
+read 2.4 to 3.6 times the dual ones' error while their nodal forces are as good as the
+dual multipliers (err force): ``lam = D^-1 f`` amplifies the forces' roughness, ``D``
+the consistent mass of the slave faces (eigenvalues over the lumped areas in
+``[1/4, 1]`` on tri3).
+
+hertz3d (tet1, small strain, one step; h = h0 the element size under the contact; a
+fit error nan where ``p^2`` does not fall with ``r^2``, - not recorded)::
+
+    base     method       level  h       dofs     L2 err  osc    osc ref  fit p0  radius   it  cpu
+    elastic  nts          -3     0.0677   13809   0.341   0.475  0.045    12 %    8.8 %    5   4.7
+    elastic  nts          -2     0.0339   31945   0.217   0.404  0.019    12 %    6.7 %    4   11
+    elastic  nts          -1     0.0169  110324   0.141   0.390  0.0067   4.2 %   1.4 %    8   62
+    elastic  mortar-dual  -3     0.0677   13809   0.289   0.360  0.045    0.91 %  41 %     5   98
+    elastic  mortar-dual  -2     0.0339   31945   0.123   0.236  0.019    4.2 %   0.51 %   4   178
+    elastic  mortar       -3     0.0677   13809   0.803   0.647  0.045    nan     nan      5   85
+    elastic  mortar       -2     0.0339   31945   0.487   0.624  0.019    17 %    2.9 %    4   151
+    rigid    nts          -3     0.0538    7318   0.107   0.217  0.058    3.8 %   4.7 %    4   1.8
+    rigid    nts          -2     0.0269   17021   0.0603  0.116  0.021    3.0 %   0.80 %   4   3.3
+    rigid    nts          -1     0.0134   59333   0.0347  0.064  0.0076   2.0 %   0.063 %  5   16
+
+On the rigid plane NTS converges and its oscillation falls
+like ``h``.  On the elastic tetrahedral base NTS's L2 error falls (rate 0.65) but its
+oscillation stays at 0.4: a checkerboard tied to the sphere's surface mesh (the
+bisection's nodes of valence 3-4 read about 1.3 p0, those of valence 8 about 0.7 p0,
+at every level): NTS does not pass the patch test between non-matching deformable
+meshes (``patch3d``: 18 % off), and that error does not fall with ``h``.  Mortar-dual
+passes that patch test: its L2 error and oscillation fall from -3 to -2 (0.289 to
+0.123, 0.360 to 0.236; below NTS's 0.217 and 0.404 at -2; at -3 the window holds 15
+nodes, so its fitted radius is loose).  Level -1 (about 4 times the faces of -2) was
+not run on the loaded cores.  The standard space shows the valence checkerboard
+amplified (-3: 1.6 p0 beside inactive nodes inside the contact zone; -2: 1.3 to 1.4 p0
+at the nodes of valence 3 and 4, 0.43 to 0.62 p0 at those of valence 5 and 8), as the
+tie's ``D^-1`` amplifies its forces' roughness (``D`` the consistent mass: up to 4
+times; 2.6 times the dual space's oscillation at -2): its L2 error falls, its
+oscillation stays at 0.62 to 0.65 over the two levels.
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import time
+import warnings
+
+import numpy as np
+
+from skfem_mortar.app.runner import run_scene
+from skfem_mortar.contact.mortar_support import tributary_weights
+from skfem_mortar.contact.pair import ContactPair
+from skfem_mortar.contact.segmentation import surface_cell
+from skfem_mortar.contact.tie import TiePair
+from skfem_mortar.scenes._hertz3d import exact_hertz3d
+from skfem_mortar.scenes._tied3d import cut_plane, oscillation
+from skfem_mortar.scenes.tied3d import _reference, tie_readings
+from skfem_mortar.solver.newton import NewtonOptions
+
+#: tied3d's series: tet1 cut across, the interface a thickness from clamp and tip
+TIED = {"element": "tet1", "length": 2, "interface": "across", "kinematics": "small"}
+#: hertz3d's series: tetrahedra, small strain (Hertz's theory is linear)
+HERTZ = {"element": "tet1", "kinematics": "small"}
+#: Hertz's fit window over a: the oscillation's nodes
+WINDOW = 0.8
+
+
+def _item(setup, kind):
+    return next(it for it in setup.model.items if isinstance(it, kind))
+
+
+def _solve(name: str, params: dict, method: str | None) -> tuple[dict, object, object, float]:
+    t0 = time.process_time()
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        summary, result, setup = run_scene(name, {k: str(v) for k, v in params.items()},
+                                           method, steps=1, return_result=True,
+                                           newton=NewtonOptions(rtol=1e-12))
+    return summary, result, setup, time.process_time() - t0
+
+
+def tied3d_row(level: int, space: str, fine_cut: tuple | None) -> dict:
+    """One run of ``tied3d`` (:data:`TIED`) at ``level`` with ``space`` multipliers."""
+    params = {**TIED, "refine": level, "multipliers": space}
+    summary, result, setup, cpu = _solve("tied3d", params, None)
+    m = summary["metrics"]
+    row = {"scene": "tied3d", "space": space, "level": level,
+           "h": 1.0 / (3 * 2 ** (level - 1)), "dofs": int(result.z.size),
+           "err_same": m["traction_error"], "oscillation": m["oscillation"],
+           "osc_ref": m["oscillation_exact"], "err_force": m["force_traction_error"],
+           "osc_force": m["force_oscillation"],
+           "iterations": sum(s["newton_iterations"] for s in summary["steps"]), "cpu": cpu}
+    if fine_cut is not None:
+        tie = _item(setup, TiePair)
+        fine = tie_readings(tie, result.z, fine_cut, cut_plane(params)[0], 1.0)
+        row["err_fine"] = fine["traction_error"]
+    return row
+
+
+def hertz_readings(pair: ContactPair, z: np.ndarray, exact: dict) -> dict:
+    """``l2_error``, ``oscillation`` and ``osc_ref`` of the module docstring."""
+    s = pair.slave
+    cell = surface_cell(s)
+    x = s.x(z)
+    p = np.nan_to_num(np.asarray(pair.pressure_and_gap(z)[0], dtype=float))
+    a, p0 = exact["contact_radius"], exact["peak_pressure"]
+    r = np.hypot(x[0], x[1])
+    ph = p0 * np.sqrt(np.clip(1.0 - (r / a) ** 2, 0.0, None))
+    w = tributary_weights(s.X, s.segments, cell, 2) * (r < a)
+    window = r < WINDOW * a
+    return {"l2_error": float(np.sqrt(np.sum(w * (p - ph) ** 2) / np.sum(w * ph ** 2))),
+            "oscillation": oscillation(p[None], s.segments, cell, window),
+            "osc_ref": oscillation(ph[None], s.segments, cell, window),
+            "n_window": int(window.sum())}
+
+
+def hertz3d_row(level: int, method: str, base: str) -> dict:
+    """One run of ``hertz3d`` (:data:`HERTZ`) at ``refine = level``."""
+    params = {**HERTZ, "refine": level, "base": base}
+    summary, result, setup, cpu = _solve("hertz3d", params, method)
+    pair = _item(setup, ContactPair)
+    m = summary["metrics"]
+    row = {"scene": "hertz3d", "space": method, "level": level, "h": m["element_size"],
+           "dofs": int(result.z.size),
+           **hertz_readings(pair, result.z, exact_hertz3d(setup_params(params))),
+           "peak_fit_error": _relative(m["peak_pressure_fit"], m["peak_pressure_exact"]),
+           "radius_error": _relative(m["contact_radius"], m["contact_radius_exact"]),
+           "iterations": sum(s["newton_iterations"] for s in summary["steps"]), "cpu": cpu}
+    return row
+
+
+def _relative(value: float | None, exact: float) -> float:
+    """``|value - exact| / exact``; nan where the fit failed (the summary's None: fewer
+    than two nodes in compression in the window, or ``p^2`` not falling with ``r^2``)."""
+    return float("nan") if value is None else abs(value - exact) / exact
+
+
+def setup_params(params: dict) -> dict:
+    """hertz3d's parameters with ``params`` over the defaults."""
+    from skfem_mortar.scenes import get_scene
+
+    return get_scene("hertz3d").resolve({k: str(v) for k, v in params.items()})
+
+
+def _table(rows: list[dict], keys: tuple) -> str:
+    head = "  ".join(f"{k:>11}" for k in keys)
+    lines = [head]
+    for r in rows:
+        lines.append("  ".join(f"{r[k]:>11.3g}" if isinstance(r.get(k), float)
+                               else f"{str(r.get(k, '-')):>11}" for k in keys))
+    return "\n".join(lines)
+
+
+def main(argv: list[str] | None = None) -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("scene", choices=("tied3d", "hertz3d"))
+    ap.add_argument("--levels", type=int, nargs="+")
+    ap.add_argument("--spaces", nargs="+", default=["standard", "dual"])
+    ap.add_argument("--methods", nargs="+", default=["nts", "mortar", "mortar-dual"])
+    ap.add_argument("--base", default="elastic", choices=("elastic", "rigid"))
+    ap.add_argument("--fine", type=int, default=5, help="tied3d: the fine reference's level "
+                    "(0: none)")
+    ap.add_argument("--json")
+    args = ap.parse_args(argv)
+    rows = []
+    if args.scene == "tied3d":
+        fine = None
+        if args.fine:
+            t0 = time.process_time()
+            fine = _reference({**setup_params_tied({**TIED, "refine": args.fine})}, 1)[1]
+            print(f"fine reference (level {args.fine}): {time.process_time() - t0:.1f} s CPU",
+                  flush=True)
+        for space in args.spaces:
+            for level in args.levels or (1, 2, 3):
+                rows.append(tied3d_row(level, space, fine))
+                print(_table(rows[-1:], ("space", "level", "h", "dofs", "err_same",
+                                         "err_fine", "oscillation", "osc_ref", "iterations",
+                                         "cpu")), flush=True)
+        keys = ("space", "level", "h", "dofs", "err_same", "err_fine", "oscillation",
+                "osc_ref", "err_force", "osc_force", "iterations", "cpu")
+    else:
+        for method in args.methods:
+            for level in args.levels or (-3, -2, -1):
+                rows.append(hertz3d_row(level, method, args.base))
+                print(_table(rows[-1:], ("space", "level", "h", "dofs", "l2_error",
+                                         "oscillation", "osc_ref", "iterations", "cpu")),
+                      flush=True)
+        keys = ("space", "level", "h", "dofs", "l2_error", "oscillation", "osc_ref",
+                "peak_fit_error", "radius_error", "iterations", "cpu")
+    print(_table(rows, keys))
+    if args.json:
+        with open(args.json, "w") as f:
+            json.dump(rows, f, indent=1)
+
+
+def setup_params_tied(params: dict) -> dict:
+    """tied3d's parameters with ``params`` over the defaults, unchecked: the fine
+    reference is one body, which the scene's memory estimate (two parts and the
+    one-piece beam) overstates."""
+    from skfem_mortar.scenes.tied3d import SCENE
+
+    return {**{p.name: p.default for p in SCENE.params}, **params}
+
+
+if __name__ == "__main__":
+    main()
