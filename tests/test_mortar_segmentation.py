@@ -155,3 +155,23 @@ def test_segment_with_explicit_pairs_equals_search():
     ka, kb = np.lexsort((a.e_m, a.e_s)), np.lexsort((b.e_m, b.e_s))
     assert np.array_equal(a.e_s[ka], b.e_s[kb]) and np.array_equal(a.e_m[ka], b.e_m[kb])
     np.testing.assert_allclose(a.xi[ka], b.xi[kb], atol=0)
+
+
+@pytest.mark.parametrize("mirror", [False, True])
+def test_nodal_normal_values_are_the_jets_values(mirror):
+    """The values path of ``nodal_normals`` (``nv = 0``: plain arrays, what every
+    segmentation asks) runs the jets' operations in their order, so its normals are the
+    jet path's to the last bit: random chains, one with a degenerate segment, with and
+    without a symmetry line through the first node."""
+    rng = np.random.default_rng(7)
+    for t in range(10):
+        xv = np.sort(rng.random(20))
+        xs = np.array([xv, 0.1 * rng.random(20)])
+        if t % 3 == 0:
+            xs[:, 7] = xs[:, 8]                       # a zero-length segment
+        seg = np.c_[np.arange(19), np.arange(1, 20)]
+        kw = {"mirror": [(np.array([1.0, 0.0]), xv[0])]} if mirror else {}
+        (ax, ay), ap, an = nodal_normals(xs, seg, second=False, nv=0, **kw)
+        (bx, by), bp, bn = nodal_normals(xs, seg, second=False, nv=6, **kw)
+        assert np.array_equal(ax.v, bx.v) and np.array_equal(ay.v, by.v)
+        assert np.array_equal(ap, bp) and np.array_equal(an, bn)

@@ -137,15 +137,34 @@ def nodal_normals(xs: np.ndarray, seg: np.ndarray, second: bool = True, nv: int 
     xk = xs
     xp = np.where(has_p, xs[:, pnode], xk - [[1.0], [0.0]])
     xn = np.where(has_n, xs[:, nnode], xk + [[1.0], [0.0]])
+    wp, wn = has_p * 1.0, has_n * 1.0
+    if nv == 0:       # values: the same operations on arrays (no jet overhead), wrapped
+        npx, npy = _unit_values(xp[0], xp[1], xk[0], xk[1])
+        nnx, nny = _unit_values(xk[0], xk[1], xn[0], xn[1])
+        nx, ny = _normalize_values(npx * wp + nnx * wn, npy * wp + nny * wn)
+        if mirror:
+            nx, ny = mirror_normal((nx, ny), mirror_nodes(xs, mirror))
+        return (Jet.constant(nx, 0, second), Jet.constant(ny, 0, second)), pnode, nnode
     J = [Jet.variable(c, i, nv, second) if i < nv else Jet.constant(c, nv, second)
          for i, c in enumerate((xp[0], xp[1], xk[0], xk[1], xn[0], xn[1]))]
     npx, npy = _unit_normal(J[0], J[1], J[2], J[3])
     nnx, nny = _unit_normal(J[2], J[3], J[4], J[5])
-    wp, wn = has_p * 1.0, has_n * 1.0
     nx, ny = normalize(npx * wp + nnx * wn, npy * wp + nny * wn)
     if mirror:
         nx, ny = mirror_normal((nx, ny), mirror_nodes(xs, mirror))
     return (nx, ny), pnode, nnode
+
+
+def _unit_values(x1, y1, x2, y2):
+    """:func:`_unit_normal` on arrays: ``(y2 - y1, x1 - x2) / |.|`` by the jets' own
+    operations (``r = 1 / sqrt(x x + y y)``, ``x r``), so the values are theirs to the bit."""
+    return _normalize_values(y2 - y1, x1 - x2)
+
+
+def _normalize_values(x, y):
+    """``normalize`` on arrays, by the jets' operations (``r = 1 / sqrt(x x + y y)``)."""
+    r = 1.0 / np.sqrt(x * x + y * y)
+    return x * r, y * r
 
 
 class SlaveElement(NamedTuple):
