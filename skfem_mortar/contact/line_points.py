@@ -58,8 +58,7 @@ def _point(cell: CellType, xi, nodes: list, tangent: int = True):
     if isinstance(xi, Jet):
         N, dN = shape_jets(cell, (xi,), derivatives=True) if tangent else (
             shape_jets(cell, (xi,)), None)
-        x = [sum((N[a] * nodes[a][i] for a in range(1, len(N))), N[0] * nodes[0][i])
-             for i in range(2)]
+        x = _interpolate(N, nodes)
         if not tangent:
             return x
         dN = [r[0] for r in dN]
@@ -73,6 +72,12 @@ def _point(cell: CellType, xi, nodes: list, tangent: int = True):
     if tangent == 2:                           # values: and d2x/dxi2
         return x, t, [sum(d2N[a] * nodes[a][i] for a in range(len(N))) for i in range(2)]
     return x, t
+
+
+def _interpolate(N: list, nodes: list) -> list:
+    """``sum_a N_a nodes[a][i]`` for ``i`` = 0, 1 (jets of the shape functions ``N``)."""
+    return [sum((N[a] * nodes[a][i] for a in range(1, len(N))), N[0] * nodes[0][i])
+            for i in range(2)]
 
 
 def _cross(a, b):
@@ -134,9 +139,9 @@ def _values(nodes: list, shape) -> list:
 def _pick(jets: list, src: np.ndarray, shape: tuple) -> Jet:
     """``jets[src]`` entry by entry (jets of values ``(n,)``, ``src (n, m)``; -1: the first),
     values ``shape`` ``(n, m)``."""
-    out = jets[0].spread(shape)
+    out = _spread_one(jets[0], shape)
     for c in range(1, len(jets)):
-        out = Jet.where(src == c, jets[c].spread(shape), out)
+        out = Jet.where(src == c, _spread_one(jets[c], shape), out)
     return out
 
 
@@ -149,7 +154,17 @@ def _column(j: Jet, e: int) -> Jet:
 
 
 def _spread(nodes: list, shape: tuple) -> list:
-    return [[c.spread(shape) for c in node] for node in nodes]
+    """``Jet.spread`` of each local variable; an independent variable stays one (its
+    gradient ``e_i`` a broadcast view, not a copy: products never read it)."""
+    return [[_spread_one(c, shape) for c in node] for node in nodes]
+
+
+def _spread_one(c: Jet, shape: tuple) -> Jet:
+    if c.var is None:
+        return c.spread(shape)
+    v = np.ascontiguousarray(np.broadcast_to(c.v.reshape(c.v.shape + (1,) * (len(shape) - 1)),
+                                             shape))
+    return Jet.variable(v, c.var, c.g.shape[0], c.h is not None)
 
 
 class LineSegmentation:
@@ -251,8 +266,8 @@ class LineSegmentation:
                     (hi.expand() - lo.expand()) * (w5 * 0.5))
         shape = xi_s.v.shape
         xs, ns, xm = (_spread(L, shape) for L in (local.x_s, local.n_s, local.x_m))
-        p = _point(cs, xi_s, xs, False)
-        n = _point(cs, xi_s, ns, False)
+        N = shape_jets(cs, (xi_s,))          # once for x_s and n~ at the points
+        p, n = _interpolate(N, xs), _interpolate(N, ns)
         if self.fast[1]:     # x_s + alpha n~ = x_m1 + s (x_m2 - x_m1), eta = 2 s - 1
             dm = [xm[1][i] - xm[0][i] for i in range(2)]
             r = [xm[0][i] - p[i] for i in range(2)]
