@@ -308,25 +308,6 @@ def chunks(e_s: np.ndarray, nv: int, second: bool, entries: int | None = None) -
     return out
 
 
-def _by_size(e_s: np.ndarray, parts: list) -> list:
-    """Each chunk's rows split by the number of integration cells of their slave cell
-    (buckets 1, 2, 3-4, 5-8, ...): a dual space's groups hold ``m`` slots, the most of
-    any slave cell in the chunk, so one slave cell under 31 master cells made every
-    group's jets 132 variables wide (hertz refine=3); one chunk stays ``[None]``."""
-    if not e_s.size:
-        return parts
-    count = np.bincount(e_s)[e_s]
-    bucket = np.ceil(np.log2(count)).astype(np.int64)
-    if np.all(bucket == bucket[0]):
-        return parts
-    out = []
-    for rows in parts:
-        r = np.arange(e_s.size) if rows is None else rows
-        for b in np.unique(bucket[r]):
-            out.append(r[bucket[r] == b])
-    return out
-
-
 def _take(ic: IntegrationCells, rows) -> IntegrationCells:
     """Rows ``rows`` of ``ic`` (None: all), its data ``(whole, rows)`` as the contract
     keeps it (or None)."""
@@ -429,8 +410,6 @@ def evaluate(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarra
     if chunk_entries is None:               # the segmentation's own bound, if it states one
         chunk_entries = getattr(points, "chunk_entries", None)
     parts = chunks(ic.e_s, LocalLayout.of(cells).n_loc, second, chunk_entries)
-    if biorth:
-        parts = _by_size(ic.e_s, parts)
     first = None
     if parts[0] is None:
         first = surf.integrals(points, ic, second, biorth, integrand)
