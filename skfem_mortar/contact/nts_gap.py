@@ -218,12 +218,14 @@ def gap_eval(xs: np.ndarray, xm: np.ndarray, seg_m: np.ndarray, cell: CellType, 
         gv, dg, h = closed(xs, xm, k, m, pr, second)
     else:
         gv, dg, h = gap_rows(cell, xs, xm, k, m, xi, second)
-    count = np.bincount(k, minlength=g.size)
-    if np.any(count > 1):                       # the mean over a node's tied cells
-        w = 1.0 / count[k]
+    g = g.copy()
+    if k.size > np.count_nonzero(pr["mask"]):   # the mean over a node's tied cells
+        w = 1.0 / np.bincount(k, minlength=g.size)[k]
         dg *= w[:, None]
         if second:
             h *= w
-        gv = gv * w
-    g = np.where(pr["mask"], np.bincount(k, weights=gv, minlength=g.size), g)
+        g[pr["mask"]] = 0.0
+        np.add.at(g, k, gv * w)
+    else:
+        g[k] = gv
     return node_gap_eval(g, k, m, dg, h, lam, xm.shape[1], xs.shape[0], area, pr["mask"], info)
