@@ -35,7 +35,8 @@ faces 6,301 give 761 cells on 461 pairs, and the search with the value-only segm
 jets (7 points, Hessians of 36 or 27 variables).  Measured 2026-12-06 after the jets'
 variable fast path, the curvature step of the back-projection and the faces' chunk bound
 (CPU, median of 2 interleaved processes against main on loaded cores, per slave face):
-quad4 36 faces 49 ms (main 57), mortar-dual 80 ms (main 87).  ``--memory`` adds the peak of Python-side
+quad4 36 faces 49 ms (main 57), mortar-dual 80 ms (main 87); quad4 100 faces 51 ms (main
+69); tri3 72 faces 25 / 27 ms (main 23 / 25, standard / dual: within the runs' 25 % spread).  ``--memory`` adds the peak of Python-side
 allocations (tracemalloc) of one more evaluation.  ``--max-seconds`` skips a
 method's larger sizes once one evaluation took longer.
 """
