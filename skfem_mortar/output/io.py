@@ -11,6 +11,7 @@ from __future__ import annotations
 import json
 import math
 import os
+import signal
 import tempfile
 from contextlib import contextmanager
 from pathlib import Path
@@ -24,16 +25,33 @@ __all__ = ["atomic_path", "write_json", "write_contact_csv", "SeriesWriter", "re
            "vtu_text"]
 
 
+def _hold_sigint():
+    """Block SIGINT in this thread where the platform can (its previous mask), else None."""
+    if not hasattr(signal, "pthread_sigmask"):
+        return None
+    return signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT})
+
+
+def _release_sigint(held) -> None:
+    """Restore the mask :func:`_hold_sigint` saved (a pending Ctrl-C is raised here)."""
+    if held is not None:
+        signal.pthread_sigmask(signal.SIG_SETMASK, held)
+
+
 @contextmanager
 def atomic_path(path: str | os.PathLike, suffix: str = "") -> Iterator[Path]:
     """Yield a temporary path beside ``path``; rename it to ``path`` on success."""
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
+    # Ctrl-C held off from the file's creation to inside the try: a KeyboardInterrupt
+    # between them left a temporary behind (seen under load)
+    held = _hold_sigint()
     fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=suffix or ".tmp",
                                dir=path.parent)
-    os.close(fd)
     tmp = Path(tmp)
     try:
+        os.close(fd)
+        _release_sigint(held)
         yield tmp
         os.chmod(tmp, 0o644)
         os.replace(tmp, path)
