@@ -120,7 +120,7 @@ def _interpolate(f: np.ndarray, df: np.ndarray, d2f: np.ndarray | None, xi: tupl
                 c = d2f[:, a, b] + (d2f[:, b, a] if a != b else 0.0)
                 h += sum(c[k] * Xv[k][d] for k in range(len(X))) * o
         for k in range(len(X)):
-            i = _index(X[k][d])
+            i = X[k][d].var                 # a local variable's number (Jet.variable)
             g[i] += f[k]
             if h is not None:
                 h[i] += 2.0 * fg[k]
@@ -140,11 +140,6 @@ def _face_tangents(cell: CellType, xi: tuple, X: list) -> list:
     v = np.stack([c.v for c in xi])
     dN, d2N = cell.dshape(v), cell.d2shape(v)
     return [_interpolate(dN[:, a], d2N[:, a], None, xi, X) for a in range(2)]
-
-
-def _index(x: Jet) -> int:
-    """The number of the local variable ``x`` (a :func:`_node_jets` entry)."""
-    return int(np.flatnonzero(x.g.reshape(x.g.shape[0], -1)[:, 0])[0])
 
 
 def _cross(a, b) -> list:

@@ -108,7 +108,9 @@ def graded_axis(h: float, fine: float, growth: float = GROWTH) -> np.ndarray:
     near = np.linspace(0.0, fine, k + 1)
     if fine == 1.0:
         return near
-    far = fine + np.cumsum(fine / k * growth ** np.arange(1, 400))
+    c = fine / k                            # cells c g, c g^2, ... until they reach 1
+    n = int(np.ceil(np.log1p((1.0 - fine) * (growth - 1.0) / (c * growth)) / np.log(growth)))
+    far = fine + np.cumsum(c * growth ** np.arange(1, n + 2))
     far = far[:int(np.searchsorted(far, 1.0)) + 1]
     far[-1] = 1.0
     before = np.concatenate([[fine], far])
