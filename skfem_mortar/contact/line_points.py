@@ -37,6 +37,7 @@ from .cells import CellType, line_quadrature
 from .integration_points import IntegrationCells, IntegrationPoints, LocalVariables
 from .jets import Jet
 from .mortar_cells import shape_jets
+from . import mortar_quadratic_segmentation  # noqa: F401 (registers the lines' default segmentation)
 from .mortar_segmentation import project_on_slave, slave_element
 from .segmentation import segmentation_for
 
