@@ -1,9 +1,10 @@
 """The line2 steps of the mortar segmentation and the one kernel's D and M, each against a
 hand-computable case.
 
-Steps: 1 nodal normals, 2 projections, 3 segment end points
+Steps: 1 nodal normals, 2 projections, 3 segments
 (:mod:`skfem_mortar.contact.mortar_segmentation`, first derivatives of every
-differentiated step against finite differences), then the one kernel's ``D`` and
+differentiated step against finite differences; the segment end points' derivatives
+through the kernel's G in ``test_mortar.py``), then the one kernel's ``D`` and
 ``M`` (:func:`skfem_mortar.contact.mortar_kernel.evaluate`) on matching cells.  The
 weighted gap against a brute-force reference and its exact derivatives against
 finite differences: ``test_mortar.py``.
@@ -14,10 +15,9 @@ import numpy as np
 import pytest
 
 from skfem_mortar.contact.jets import Jet
-from test_mortar import curved_pair
 from skfem_mortar.contact.mortar_kernel import evaluate
-from skfem_mortar.contact.mortar_segmentation import (nodal_normals, project_on_master, project_on_slave,
-                                              segment, segment_end_points, slave_element)
+from skfem_mortar.contact.mortar_segmentation import (nodal_normals, project_on_slave, segment,
+                                                      slave_element)
 
 S2 = np.sqrt(0.5)
 
@@ -93,41 +93,16 @@ def test_project_master_node_on_slave():
     np.testing.assert_allclose(xi, [-0.4], atol=1e-15)
 
 
-def test_project_slave_points_on_master():
-    """Master line y = 0.2 + 0.2 s from (-1, 0.2) to (1, 0.4) (x = -1 + 2 s).
-    Flat slave (n~ = (0, 1)): the point (-xi, 0) meets it at s = (1 - xi)/2 with
-    alpha = 0.2 + 0.2 s.  Curved slave (n~ = (-xi, 1)) against the horizontal
-    master y = 0.3: alpha = 0.3 (n~_y = 1), x = -xi (1 + 0.3) = -1 + 2 s."""
-    xi = np.array([[-0.5, 0.25]])
-    flat = slave_element(pair((1, 0)), pair((-1, 0)), pair((0, 1)), pair((0, 1)))
-    pr = project_on_master(flat, pair((-1, 0.2)), pair((1, 0.4)))
-    s = (1 - xi) / 2
-    np.testing.assert_allclose(pr.s(xi), s, atol=1e-15)
-    np.testing.assert_allclose(pr.alpha(xi), 0.2 + 0.2 * s, atol=1e-15)
-    pr = project_on_master(curved_element(), pair((-1, 0.3)), pair((1, 0.3)))
-    np.testing.assert_allclose(pr.alpha(xi), 0.3, atol=1e-15)
-    np.testing.assert_allclose(pr.s(xi), (1 - 1.3 * xi) / 2, atol=1e-15)
-
-
 def test_projections_first_derivatives():
-    """Jets of project_on_slave and of alpha (project_on_master) against FD in the
-    10 coordinates x_a, x_b, n_a, n_b, x_c (or x_m1 for alpha at xi = 0.3)."""
+    """Jets of project_on_slave against FD in the 10 coordinates x_a, x_b, n_a, n_b, x_c."""
     z0 = np.array([1.0, 0.05, -1.0, -0.1, 0.3, 1.0, -0.2, 1.0, 0.35, 0.4])
     J = jets(z0)
 
     def proj(z):
         P = [pair(z[i:i + 2]) for i in range(0, 10, 2)]
         return project_on_slave(slave_element(*P[:4]), P[4])[0][0]
-
-    def alpha(z):
-        P = [pair(z[i:i + 2]) for i in range(0, 10, 2)]
-        return project_on_master(slave_element(*P[:4]), P[4], pair((1.2, 0.6))).alpha(
-            np.array([[0.3]]))[0, 0]
     xi, _ = project_on_slave(slave_element(*J[:4]), J[4])
     np.testing.assert_allclose(xi.g[:, 0], fd_gradient(proj, z0), atol=FD_TOL)
-    al = project_on_master(slave_element(*J[:4]), J[4], pair((1.2, 0.6))).alpha(
-        Jet.constant(np.array([[0.3]]), 10, False))
-    np.testing.assert_allclose(al.g[:, 0, 0], fd_gradient(alpha, z0), atol=FD_TOL)
 
 
 def test_projection_exact_second_derivatives():
@@ -164,30 +139,7 @@ def test_segment_of_two_overlapping_elements():
     np.testing.assert_allclose(sg.xi, [[-1.0, 0.2]], atol=1e-15)
     assert sg.src.tolist() == [[-1, 0]]
     np.testing.assert_allclose(sg.elem_xi, [[-1.0, 0.2]], atol=1e-15)
-    n = pair((0, 1))
-    el = slave_element(pair(xs[:, 0]), pair(xs[:, 1]), n, n)
-    lo, hi = segment_end_points(el, pair(xm[:, 0]), pair(xm[:, 1]), sg.src)
-    np.testing.assert_allclose([lo[0], hi[0]], [-1.0, 0.2], atol=1e-15)
-    pr = project_on_master(el, pair(xm[:, 0]), pair(xm[:, 1]))
-    np.testing.assert_allclose(pr.s(np.array([[-1.0, 0.2]])), [[0.5, 0.0]], atol=1e-15)
-
-
-def test_segment_end_points_first_derivatives():
-    """xi_b = projection of m1 moves with the coordinates; xi_a = -1 is constant."""
-    xs, ss, xm, sm = overlapping_pair()
-    sg = segment(xs, ss, xm, sm)
-    z0 = np.array([1.0, 0.0, 0.0, 0.02, 0.4, 0.1, 1.6, 0.12])
-    n = pair((0.05, 1.0))
-
-    def hi(z):
-        P = [pair(z[i:i + 2]) for i in range(0, 8, 2)]
-        return segment_end_points(slave_element(P[0], P[1], n, n), P[2], P[3], sg.src)[1][0]
-    J = jets(z0)
-    c = lambda v: Jet.constant(np.array(v), 8, False)  # noqa: E731
-    lo, hi_j = segment_end_points(slave_element(J[0], J[1], (c([0.05]), c([1.0])),
-                                                (c([0.05]), c([1.0]))), J[2], J[3], sg.src)
-    assert np.all(lo.g == 0.0)
-    np.testing.assert_allclose(hi_j.g[:, 0], fd_gradient(hi, z0), atol=FD_TOL)
+    np.testing.assert_allclose(sg.xi_m, [[0.0, -1.0]], atol=1e-15)   # s = 0.5 and 0
 
 
 # ------------------------------------------- 4. the one kernel's D and M
