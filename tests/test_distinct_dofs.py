@@ -26,6 +26,7 @@ import pytest
 from skfem_mortar.contact import mortar_kernel
 from skfem_mortar.contact.points3d import FacePoints
 
+from test_reference_mass import _chains
 from test_segmentation3d import _quad_square
 
 
@@ -34,12 +35,7 @@ def _identity(ext):
 
 
 def _lines():
-    def chain(n, f, x0, x1):
-        xv = np.linspace(x0, x1, n + 1)
-        return np.array([xv, f(xv)]), np.array([[i, i + 1] for i in range(n)])
-    xs, ss = chain(25, lambda x: 0.999 - np.sqrt(1.0 - x * x), -0.3, 0.3)
-    xm, sm = chain(33, lambda x: 0.02 * np.sin(5 * x), 0.45, -0.45)
-    return (xs, ss, xm, sm), {}
+    return _chains(), {}
 
 
 def _faces():

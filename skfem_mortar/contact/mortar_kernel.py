@@ -300,11 +300,18 @@ def _combine(C, jets: list) -> list:
     return [_row(C, a, jets) for a in range(len(jets))]
 
 
-def _biorthogonal(ints, grp: Groups, T: np.ndarray, space) -> tuple[dict, np.ndarray]:
-    """``A~ = D~ M~^-1`` of ``N~ = T N`` over each slave cell's integration cells (jets)."""
-    k = len(ints.n_A)
-    sums = group_sums(ints.n_A + list(ints.n_AB.values()), grp)
-    nA, nAB = sums[:k], dict(zip(ints.n_AB, sums[k:]))
+def _biorthogonal(ints, grp: Groups, T: np.ndarray, space, reference=None
+                  ) -> tuple[dict, np.ndarray]:
+    """``A~ = D~ M~^-1`` of ``N~ = T N`` over each slave cell's integration cells (jets);
+    ``reference``: the slave cell type when every cell is covered whole (the reference
+    cell's mass, constant jets: :func:`_reference_mass`)."""
+    if reference:
+        nA, nAB = _reference_mass(reference, grp, ints.g)
+        k = len(nA)
+    else:
+        k = len(ints.n_A)
+        sums = group_sums(ints.n_A + list(ints.n_AB.values()), grp)
+        nA, nAB = sums[:k], dict(zip(ints.n_AB, sums[k:]))
     full = {(a, b): nAB[min(a, b), max(a, b)] for a in range(k) for b in range(k)}
     D = _combine(T, nA)
     M = {}
@@ -324,6 +331,23 @@ def _biorthogonal(ints, grp: Groups, T: np.ndarray, space) -> tuple[dict, np.nda
     A = space.cell_coefficients(D, M)
     Av = np.stack([np.stack([A[a, b].v for b in range(k)], -1) for a in range(k)], 1)
     return A, np.matmul(Av, T)
+
+
+def _reference_mass(cell, grp: Groups, g: list) -> tuple[list, dict]:
+    """``int N_A`` and ``int N_A N_B`` over the reference cell (exact rule of degree
+    ``2 order``) as constant jets of the groups' variables (the Jacobian of an affine
+    cell is a constant factor, which ``D~ M~^-1`` cancels)."""
+    X, w = cell.quadrature(2 * cell.order)
+    N = cell.shape(X)                                        # (k, nq)
+    n_e = grp.e_s.size
+    second = (g[0][0] if isinstance(g[0], (list, tuple)) else g[0]).h is not None
+
+    def const(v):
+        return Jet.constant(np.full(n_e, float(v)), grp.nv, second)
+    nA = [const(N[a] @ w) for a in range(cell.n_nodes)]
+    nAB = {(a, b): const((N[a] * N[b]) @ w) for a in range(cell.n_nodes)
+           for b in range(a, cell.n_nodes)}
+    return nA, nAB
 
 
 def chunks(e_s: np.ndarray, nv: int, second: bool, entries: int | None = None) -> list:
@@ -346,6 +370,47 @@ def chunks(e_s: np.ndarray, nv: int, second: bool, entries: int | None = None) -
         out.append(np.sort(order[lo:hi]))
         lo = hi
     return out
+
+
+BUCKET_SLOTS = 4
+"""A dual space's groups of slave cells with at most this many integration cells share
+one bucket (:func:`_buckets`); more: a bucket per power of two."""
+
+
+def _buckets(e_s: np.ndarray) -> list:
+    """A chunk's rows split by the number of integration cells of their slave cell:
+    a dual space's groups hold ``m`` slots, the most of any slave cell among them, so
+    one slave cell under 31 master cells made every group's jets 132 variables wide
+    (hertz refine=3).  Buckets: at most :data:`BUCKET_SLOTS` cells, then 5-8, 9-16, ...;
+    ``[None]``: one bucket, all rows (the integrals are made for the whole chunk, only
+    the groups are split, so the chunk's memory is as without buckets)."""
+    if not e_s.size:
+        return [None]
+    count = np.bincount(e_s)[e_s]
+    bucket = np.ceil(np.log2(np.maximum(count, BUCKET_SLOTS))).astype(np.int64)
+    if np.all(bucket == bucket[0]):
+        return [None]
+    return [np.flatnonzero(bucket == b) for b in np.unique(bucket)]
+
+
+def _rows(r, ic: IntegrationCells, S, loc, ints) -> tuple:
+    """Rows ``r`` (None: all) of one chunk's cells, slave nodes and integrals (jets, lists
+    and dicts of jets, arrays by their first axis)."""
+    if r is None:
+        return ic, S, loc, ints
+
+    def take(x):
+        if x is None:
+            return None
+        if isinstance(x, Jet):
+            return Jet(x.v[r], x.g[:, r], None if x.h is None else x.h[:, :, r])
+        if isinstance(x, (list, tuple)):
+            return [take(y) for y in x]
+        if isinstance(x, dict):
+            return {key: take(y) for key, y in x.items()}
+        return x[r]
+    return (_take(ic, r), S[r], loc,
+            ints._replace(**{f: take(getattr(ints, f)) for f in ints._fields}))
 
 
 def _take(ic: IntegrationCells, rows) -> IntegrationCells:
@@ -450,9 +515,13 @@ def evaluate(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarra
     if chunk_entries is None:               # the segmentation's own bound, if it states one
         chunk_entries = getattr(points, "chunk_entries", None)
     parts = chunks(ic.e_s, LocalLayout.of(cells).n_loc, second, chunk_entries)
+    whole = getattr(points, "whole_cells", None)
+    whole = whole(ic) if whole is not None and biorth and measure.unit else None
+    reference = whole is not None and bool(whole.all()) and ic.e_s.size > 0
+    mass = biorth and not reference          # the reference cell's mass: no mass jets
     first = None
     if parts[0] is None:
-        first = surf.integrals(points, ic, second, biorth, integrand)
+        first = surf.integrals(points, ic, second, mass, integrand)
         support = np.bincount(first[0].ravel(), weights=first[2].support.ravel(),
                               minlength=n_s)
     else:
@@ -468,9 +537,11 @@ def evaluate(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarra
     summed: list = [None] * 4
     for i, rows in enumerate(parts):
         sub = _take(ic, rows)
-        S, loc, ints = first if rows is None else surf.integrals(points, sub, second, biorth,
+        S, loc, ints = first if rows is None else surf.integrals(points, sub, second, mass,
                                                                   integrand)
-        _chunk(surf, sub, S, loc, ints, mask, space if biorth else None, lam, tangent, acc)
+        for r in _buckets(sub.e_s) if biorth else [None]:
+            _chunk(surf, *_rows(r, sub, S, loc, ints), mask, space if biorth else None, lam,
+                   tangent, acc, reference)
         _sum_chunk(acc[1:], shapes, summed, last=i == len(parts) - 1)
     G, H, D, M = (sp.csr_matrix(shape) if m is None else m for m, shape in zip(summed, shapes))
     info = {"D": D, "M": M, "segmentation": ic.data[0] if isinstance(ic.data, tuple) else ic.data,
@@ -508,7 +579,7 @@ def _support(surf: _Surfaces, points, ic: IntegrationCells, n_s: int, entries) -
 
 
 def _chunk(surf: _Surfaces, ic: IntegrationCells, S, loc, ints, mask, space, lam, tangent,
-           acc) -> None:
+           acc, reference: bool = False) -> None:
     """One chunk of whole slave cells: groups, merge ``T``, (dual) ``A~``, ``g_A``, the
     scatter of ``g``, ``G``, ``H``, ``D``, ``M`` into ``acc``."""
     grp = groups(ic.e_s, loc.layout, each=space is None)
@@ -526,10 +597,10 @@ def _chunk(surf: _Surfaces, ic: IntegrationCells, S, loc, ints, mask, space, lam
         Gs = _combine(T, group_sums(ints.g, grp))
     C, q = T, None
     if space is not None and rowwise:
-        A, C = _biorthogonal(ints, grp, T, space)
+        A, C = _biorthogonal(ints, grp, T, space, reference and surf.cells[0])
         Gs = [_row(A, a, row) for a, row in enumerate(Gs)]
     elif space is not None:
-        A, C = _biorthogonal(ints, grp, T, space)
+        A, C = _biorthogonal(ints, grp, T, space, reference and surf.cells[0])
         if lam is not None and Gs[0].h is not None:
             # q = sum_A lam_A sum_B A_AB G_B = sum_B mu_B G_B, mu_B = sum_A lam_A A_AB: k
             # second-order products instead of k^2; g_A themselves to first order
