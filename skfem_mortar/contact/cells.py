@@ -109,6 +109,15 @@ class CellType:
     hull: Callable[[np.ndarray], np.ndarray] | None = None
     vtk: str | None = None
 
+    @property
+    def affine(self) -> bool:
+        """Whether the cell's geometry is an affine map of its reference cell: order 1
+        with ``dim + 1`` nodes (``line2``, ``tri3``; not the bilinear ``quad4`` nor a
+        piecewise cell such as a registered ``line2x2``).  Straight lines pair with the
+        closed-form segmentation and its search; the projections onto them have closed
+        forms."""
+        return self.order == 1 and self.n_nodes == self.dim + 1
+
     def __repr__(self) -> str:
         return f"CellType({self.name!r}, dim={self.dim}, n_nodes={self.n_nodes})"
 

@@ -48,9 +48,10 @@ NEWTON_STEPS = 12
 
 
 def affine(cell: CellType) -> bool:
-    """Whether ``cell`` is an affine line (every node a corner, order 1: line2), the cells
-    the closed forms take (a piecewise cell such as line2x2 is order 1 and not affine)."""
-    return cell.dim == 1 and cell.order == 1 and len(cell.corners) == cell.n_nodes
+    """Whether ``cell`` is an affine line (:attr:`~.cells.CellType.affine`, dim 1: line2),
+    the cells the closed forms take (a piecewise cell such as line2x2 is order 1 and not
+    affine)."""
+    return cell.dim == 1 and cell.affine
 
 
 def _point(cell: CellType, xi, nodes: list, tangent: int = True):

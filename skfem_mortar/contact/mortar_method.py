@@ -167,8 +167,9 @@ class Mortar(ContactDiscretization):
         self.faces = takes_faces(self.cells, segmentation_for(self.cells), self.method, master,
                                  segmentation)
         check_options(self.method, options, FACE_OPTIONS if self.faces else self.OPTIONS)
-        #: a line cell other than line2 on either side: the curved segmentation's search
-        self.curved = not self.faces and any(c.name != "line2" for c in self.cells)
+        #: lines not both affine (:attr:`~.cells.CellType.affine`): the curved
+        #: segmentation's search
+        self.curved = not self.faces and not all(c.affine for c in self.cells)
         self._kernel = mortar_kernel.evaluate
         #: the segmentation of the cells (:func:`~.segmentation.segmentation_for`)
         self._segment = segmentation_for(self.cells)

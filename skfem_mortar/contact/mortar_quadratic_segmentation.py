@@ -556,14 +556,13 @@ def segment_lines(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.n
     lines of any order: master vertices projected onto the slave lines along the
     slave normal field, clipped to the slave cell.
 
-    Two straight lines (``line2``) take
-    :func:`~skfem_mortar.contact.mortar_segmentation.segment` (closed-form
+    Two straight lines (both cells affine, :attr:`~.cells.CellType.affine`: ``line2``)
+    take :func:`~skfem_mortar.contact.mortar_segmentation.segment` (closed-form
     projections), any other pair :func:`segment` (Newton projections on the
     cells' curves).  ``mirror``: symmetry lines ``(e, c)`` of the slave normals
     (:func:`~skfem_mortar.contact.normals.mirror_nodes`).
     """
-    straight = cells[0].name == "line2" and cells[1].name == "line2"
-    if straight:
+    if cells[0].affine and cells[1].affine:
         return mortar_segmentation.segment(xs, seg_s, xm, seg_m, pairs=pairs, margin=margin,
                                            frozen=frozen, reach=reach, mirror=mirror)
     return segment(xs, seg_s, xm, seg_m, pairs=pairs, margin=margin, frozen=frozen,
