@@ -45,6 +45,24 @@ def _zeros(shape: tuple) -> np.ndarray:
     return z
 
 
+_UNITS: dict[tuple, np.ndarray] = {}
+
+
+def _unit(i: int, shape: tuple) -> np.ndarray:
+    """The gradient ``e_i`` of an independent variable, a read-only broadcast view of
+    ``shape`` ``(nv,) + S``, made once per ``(i, shape)`` (a call makes dozens of
+    variables of a few shapes)."""
+    key = (i, shape)
+    e = _UNITS.get(key)
+    if e is None:
+        if len(_UNITS) > 1024:  # bounded: shapes follow the block sizes of a run
+            _UNITS.clear()
+        u = np.zeros((shape[0],) + (1,) * (len(shape) - 1))
+        u[i] = 1.0
+        e = _UNITS[key] = np.broadcast_to(u, shape)
+    return e
+
+
 def _acc(h: np.ndarray, t: np.ndarray) -> np.ndarray:
     """``h + t``, in place when the shapes allow."""
     if h.shape == _full(h.shape, t.shape):
@@ -127,11 +145,8 @@ class Jet:
     def variable(v: np.ndarray, i: int, nv: int, second: bool) -> "Jet":
         """The independent variable number ``i`` (gradient e_i, Hessian 0), as broadcast views."""
         v = np.asarray(v, dtype=float)
-        e = np.zeros((nv,) + (1,) * v.ndim)
-        e[i] = 1.0
-        g = np.broadcast_to(e, (nv,) + v.shape)
         h = _zeros((nv, nv) + v.shape) if second else None
-        return Jet(v, g, h, i)
+        return Jet(v, _unit(i, (nv,) + v.shape), h, i)
 
     @staticmethod
     def constant(v: np.ndarray, nv: int, second: bool) -> "Jet":

@@ -155,6 +155,22 @@ def _column(j: Jet, e: int) -> Jet:
     return Jet(c(j.v[:, e]), c(j.g[:, :, e]), h)
 
 
+def _placed(held: Jet, on: np.ndarray, root: Jet) -> list:
+    """The ends ``xi_a, xi_b`` (jets of values ``(n,)``): ``held`` (a constant of values
+    ``(n, 2)``) with the entries ``on`` replaced by ``root`` (values ``(n_on,)``)."""
+    n = on.shape[0]
+    v = held.v.copy()
+    v[on] = root.v
+    g = np.zeros(root.g.shape[:1] + on.shape)
+    g[:, on] = root.g
+    h = None
+    if root.h is not None:
+        h = np.zeros(root.h.shape[:2] + on.shape)
+        h[:, :, on] = root.h
+    xi = Jet(v, g, h)
+    return [_column(xi, 0), _column(xi, 1)] if n else [_column(held, 0), _column(held, 1)]
+
+
 def _spread(nodes: list, shape: tuple) -> list:
     """``Jet.spread`` of each local variable; an independent variable stays one (its
     gradient ``e_i`` a broadcast view, not a copy: products never read it)."""
@@ -233,16 +249,27 @@ class LineSegmentation:
         on = sg.src >= 0
         if sg.frozen or not on.any():
             return [_column(held, 0), _column(held, 1)]
+        if self.fast[0]:        # closed form: only the ends a master node makes
+            return _placed(held, on, self._projected(sg, local, on))
         shape = sg.xi.shape
         xc = [_pick([local.x_m[c][i] for c in range(cm.n_nodes)], sg.src, shape)
               for i in range(2)]
         xs, ns = _spread(local.x_s, shape), _spread(local.n_s, shape)
-        if self.fast[0]:
-            root, _ = project_on_slave(slave_element(*xs, *ns), xc)
-        else:
-            root = _solve(self._slave_residual(xs, ns, xc), sg.xi, like)
+        root = _solve(self._slave_residual(xs, ns, xc), sg.xi, like)
         xi = Jet.where(on, root, held)
         return [_column(xi, 0), _column(xi, 1)]
+
+    def _projected(self, sg, local: LocalVariables, on: np.ndarray) -> Jet:
+        """The closed-form projections (affine slave) of the ends ``on (n, 2)`` makes (a
+        master node's), values ``(n_on,)`` in the order of ``on``'s entries; an entry's
+        arithmetic is that of the whole ``(n, 2)`` projection (elementwise)."""
+        rows = np.flatnonzero(on) // 2
+        src = sg.src[on]
+        xc = [_pick([local.x_m[c][i].take(rows) for c in range(self.cells[1].n_nodes)],
+                    src, src.shape) for i in range(2)]
+        xs = [[c.take(rows) for c in node] for node in local.x_s]
+        ns = [[c.take(rows) for c in node] for node in local.n_s]
+        return project_on_slave(slave_element(*xs, *ns), xc)[0]
 
     def _slave_residual(self, xs: list, ns: list, xc: list):
         """``f(xi) = (x_s(xi) - x_c) x n~(xi)`` and ``f'`` (jets of one shape, ``x_c`` the

@@ -403,7 +403,7 @@ def _rows(r, ic: IntegrationCells, S, loc, ints) -> tuple:
         if x is None:
             return None
         if isinstance(x, Jet):
-            return Jet(x.v[r], x.g[:, r], None if x.h is None else x.h[:, :, r])
+            return x.take(r)
         if isinstance(x, (list, tuple)):
             return [take(y) for y in x]
         if isinstance(x, dict):
