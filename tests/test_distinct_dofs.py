@@ -54,9 +54,11 @@ def _call(case, space, crosspoints):
     return mortar_kernel.evaluate(*args, lam=lam, space=space, crosspoints=crosspoints, **kw)
 
 
-@pytest.mark.parametrize("case", [_lines, _faces])
-@pytest.mark.parametrize("space, crosspoints", [("standard", None), ("dual", None),
-                                                ("dual", [3])])
+@pytest.mark.parametrize("case, space, crosspoints", [(_lines, "standard", None),
+                                                      (_lines, "dual", None),
+                                                      (_lines, "dual", [3]),
+                                                      (_faces, "standard", None),
+                                                      (_faces, "dual", None)])
 def test_distinct_dofs_equal_every_extended_variable(case, space, crosspoints,
                                                       monkeypatch):
     a = _call(case, space, crosspoints)
