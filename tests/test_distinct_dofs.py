@@ -1,5 +1,5 @@
 """The kernel's scatter sums each group's repeated dofs before it keeps the triplets
-(``mortar_kernel._distinct``, ``_on_distinct``).
+(``mortar_groups._distinct``, ``_on_distinct``).
 
 A line2 group's extended variables repeat its slave nodes (in ``x_s`` and in the normal
 stencils of both ends), so the Hessian block of a line2 integration cell goes out as
@@ -23,7 +23,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from skfem_mortar.contact import mortar_kernel
+from skfem_mortar.contact import mortar_groups, mortar_kernel
 from skfem_mortar.contact.points3d import FacePoints
 
 from test_reference_mass import _chains
@@ -62,7 +62,7 @@ def _call(case, space, crosspoints):
 def test_distinct_dofs_equal_every_extended_variable(case, space, crosspoints,
                                                       monkeypatch):
     a = _call(case, space, crosspoints)
-    monkeypatch.setattr(mortar_kernel, "_distinct", _identity)
+    monkeypatch.setattr(mortar_groups, "_distinct", _identity)
     b = _call(case, space, crosspoints)
     assert (a.mask == b.mask).all()
     assert np.array_equal(a.g, b.g)
@@ -77,15 +77,15 @@ def test_distinct_dofs_equal_every_extended_variable(case, space, crosspoints,
                                             (_faces, "dual", None)])
 def test_fewer_triplets_are_kept(case, space, u, monkeypatch):
     kept = []                                   # (groups, dofs a group) of each H block
-    block = mortar_kernel.Triplets.block
+    block = mortar_groups.Triplets.block
 
     def count(self, dofs, hess):
         kept.append(dofs.shape)
         block(self, dofs, hess)
-    monkeypatch.setattr(mortar_kernel.Triplets, "block", count)
+    monkeypatch.setattr(mortar_groups.Triplets, "block", count)
     _call(case, space, None)
     distinct = list(kept)
-    monkeypatch.setattr(mortar_kernel, "_distinct", _identity)
+    monkeypatch.setattr(mortar_groups, "_distinct", _identity)
     _call(case, space, None)
     extended = kept[len(distinct):]
     assert sum(n * w * w for n, w in distinct) < sum(n * w * w for n, w in extended)

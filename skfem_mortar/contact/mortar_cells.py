@@ -16,7 +16,7 @@ with ``x_s = sum_a N_a x_a``, ``x_m = sum_c N_c x_c``, the slave tangents
 ``n = n~ / |n~|`` (as the 2D kernels normalize it), and ``Phi_A = N_A`` (standard
 multipliers).  Nothing here depends on ``d``.
 
-Assembly (:func:`~skfem_mortar.contact.mortar_kernel.assemble`) chains the nodal
+Assembly (:func:`~skfem_mortar.contact.mortar_groups.assemble`) chains the nodal
 normals' derivatives over the neighbouring nodes (:class:`~skfem_mortar.contact.normals.NodalNormals`) into the
 local derivatives::
 
