@@ -412,13 +412,12 @@ def test_vectorized_timing_1e4(capsys):
 @pytest.mark.parametrize("dual", [False, True])
 def test_sliver_support_is_masked(dual):
     """A slave node covered over a sliver (1e-4 of its element, at the far end:
-    area / tributary length = 1e-8, below every space's mask tolerance) is out of
-    mask; one covered over 0.2 (0.04, above 1e-2 standard and 1e-3 dual) is in,
-    with the right weighted gap delta * area.
+    area / tributary length = 1e-8 < MASK_TOL) is out of mask; one covered
+    over 1e-2 (1e-4 > MASK_TOL) is in, with the right weighted gap delta * area.
     Either way the multipliers in mask cover the whole overlap (the masked node is
     merged into its neighbour like a crosspoint): on a uniform gap delta the sum of
     their weighted gaps is delta times the covered length."""
-    for frac, inside in [(1e-4, False), (0.2, True)]:
+    for frac, inside in [(1e-4, False), (1e-2, True)]:
         # last slave node (x = 0) with element [0, .25]: master starts at .25 (1 - frac)
         xs, ss, xm, sm = flat_pair(np.linspace(0, 1, 5), np.array([0.25 * (1 - frac), 0.6, 1.2]),
                                    d=0.01)

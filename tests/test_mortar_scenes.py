@@ -138,15 +138,14 @@ def test_offset_patch_nts_error_is_reported():
 
 @pytest.mark.parametrize("method", MORTAR)
 def test_offset_patch_sliver_is_exact_above_the_mask_threshold(method):
-    """A slave end element that overlaps the master by 15 % of its length: its
-    outer node's support is 0.0225 of its tributary length (above the mask
-    tolerance of both spaces, 1e-2 standard and 1e-3 dual, multiplier_spaces);
-    the patch test still passes to round-off.  (At 1 %, ratio 1e-4, the node is
-    masked now; kept, it read 2e-10 to 6e-10, its coefficients amplifying
-    round-off by ~1/f^2.)"""
+    """A slave end element that overlaps the master by 1 % of its length: its
+    outer node's support is 0.5e-4 of its tributary length (above the mask
+    threshold MASK_TOL = 1e-6 of mortar.py); the patch test still passes to
+    round-off (measured 2e-14 on the overlap, 6e-10 at the outer node, whose
+    dual/standard coefficients amplify round-off by ~1/f^2)."""
     h = 1.0 / 7
     s, res, setup = _patch(method, n_top=7, n_bottom=10, element="tri1",
-                           offset=-(h - 0.15 * h))
+                           offset=-(h - 0.01 * h))
     assert s["metrics"]["pressure_error"] < 1e-8
     assert _stress_error(setup, res) < 1e-8
 
@@ -154,7 +153,7 @@ def test_offset_patch_sliver_is_exact_above_the_mask_threshold(method):
 @pytest.mark.parametrize("method", MORTAR)
 def test_offset_patch_sliver_below_the_mask_threshold(method):
     """Covered fraction f = 5e-4 of a slave end element: the outer node's support
-    (f^2 / 2 of the element, 2.5e-7 of its tributary length) is below the mask tolerance, the
+    (f^2 / 2 of the element, 2.5e-7 of its tributary length) is below MASK_TOL, the
     node is masked out and merged into its neighbour like a crosspoint (Phi_B = 1
     on the element), so the sliver's traction is kept.  Before the merge the
     pressure error was 4.5e-7 (standard and dual, ~1.8 f^2); at f = 1e-3 (on the
