@@ -421,7 +421,7 @@ def evaluate(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarra
     trib = tributary_weights(xs, seg_s, cells[0], 2 * N_GAUSS_ELEMENT - 1, measure,
                              absolute=not measure.unit)
     cp = np.isin(np.arange(n_s), [] if crosspoints is None else crosspoints)
-    mask = (support > mask_tolerance(space) * trib) & ~cp
+    mask = (support > mask_tolerance(space, cells[0].dim) * trib) & ~cp
     space = make_space(space) if isinstance(space, str) and biorth else space
     acc = (np.zeros(n_s), Triplets(), Triplets(), Triplets(), Triplets())
     n = xs.shape[0] * (n_s + n_m)
