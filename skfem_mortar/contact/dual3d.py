@@ -25,8 +25,9 @@ to the opposite corner, ``Phi_A = 4 N_A - 2 (N_next + N_prev) + N_opposite``
 The masking rule
 ----------------
 A slave node whose mortar support ``int N_A w dGamma`` over the projected parts of its
-faces is at most ``MASK_TOL`` (the kernel's, 1e-6) times its tributary weight is
-masked (as in 2D: no multiplier, ``g_A = 0``).  On each face, a masked node's shape
+faces is at most its space's ``mask_tolerance`` (1e-3 for dual multipliers, 1e-2 for
+standard ones: :mod:`~skfem_mortar.contact.multiplier_spaces`, "The masked band") times
+its tributary weight is masked (as in 2D: no multiplier, ``g_A = 0``).  On each face, a masked node's shape
 function is given to the face's kept nodes nearest to it along the face's edges, in
 equal shares: on a tri3 to the other kept corners; on a quad4 to its kept edge
 neighbours, else to the opposite corner.  So ``N~_A = N_A + sum_z s_Az N_z`` for a
@@ -42,8 +43,10 @@ edge the far node's ``int N_z`` is ``O(eps^2)``, and the unmasked ``A_e`` grows 
 ``6 / eps`` on a tri3 (593 at ``eps = 0.01``) and ``12 / eps`` on a quad4; masked, the
 coefficients tend to those of the edge's line2 dual basis (2 and -1, within ``2 eps``)
 at every width (tests/test_dual3d.py).  The far node's support over its tributary
-weight is ``3 eps^2`` (tri3) and ``eps^2`` (quad4), so ``MASK_TOL = 1e-6`` masks it
-below ``eps`` = 5.8e-4 and 1e-3: the largest unmasked coefficient is then about 1e4.
+weight is ``3 eps^2`` (tri3) and ``eps^2`` (quad4), so the dual tolerance 1e-3 masks it
+below ``eps`` = 0.018 and 0.032: the largest unmasked coefficient is then about 330 and
+380 (about 1e4 under the former tolerance 1e-6, whose kept nodes read their pressure
+with errors up to 1e-5).
 """
 from __future__ import annotations
 

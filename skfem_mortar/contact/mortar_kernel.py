@@ -23,7 +23,8 @@ chained in, one scatter.
    ``H = J^T H_loc J + sum_(a, i) df/dn_ai d2n_ai/dx2``, each group's repeated dofs summed,
    scattered once through :class:`~skfem_mortar.contact.scatter.Triplets`.
 
-A slave node is masked when its support ``int N_A w dGamma`` is below ``MASK_TOL`` of its
+A slave node is masked when its support ``int N_A w dGamma`` is at most the space's
+``mask_tolerance`` (:func:`~.multiplier_spaces.mask_tolerance`) of its
 tributary weight (and crosspoints are): its function is merged into its neighbours'
 by the one rule read from the cell's edges
 (:func:`~skfem_mortar.contact.mortar_support.merge_nodes`).
@@ -47,11 +48,11 @@ from .integration_points import IntegrationCells, LocalLayout, LocalVariables
 from .jets import Jet
 from .line_points import LineSegmentation
 from .measures import PLANE, Measure
-from .mortar import MASK_TOL, biorthogonal
+from .mortar import biorthogonal
 from .mortar_cells import cell_integrals
 from .mortar_groups import Groups, group_sums, groups, scatter_groups
 from .mortar_support import N_GAUSS_ELEMENT, merge_nodes, tributary_weights
-from .multiplier_spaces import make_space
+from .multiplier_spaces import make_space, mask_tolerance
 from .normals import NodalNormals, mirror_of_axis, nodal_normals
 from .scatter import Triplets
 from .segmentation import Segmentation, line_cells
@@ -311,7 +312,7 @@ def evaluate(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarra
     trib = tributary_weights(xs, seg_s, cells[0], 2 * N_GAUSS_ELEMENT - 1, measure,
                              absolute=not measure.unit)
     cp = np.isin(np.arange(n_s), [] if crosspoints is None else crosspoints)
-    mask = (support > MASK_TOL * trib) & ~cp
+    mask = (support > mask_tolerance(space, cells[0].dim) * trib) & ~cp
     space = make_space(space) if isinstance(space, str) and biorth else space
     acc = (np.zeros(n_s), Triplets(), Triplets(), Triplets(), Triplets())
     n = xs.shape[0] * (n_s + n_m)

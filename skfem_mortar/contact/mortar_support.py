@@ -20,8 +20,8 @@ composite rule), so the linear and the curved mortar kernels share them.
 
   by the ``n_gauss``-point Gauss rule mapped onto each integration cell (an
   integration cell lies in one smooth piece of its slave cell).  The kernels mask a
-  node whose ``s_A`` is at most ``MASK_TOL`` times ``w_A``
-  (:data:`skfem_mortar.contact.mortar.MASK_TOL`);
+  node whose ``s_A`` is at most its multiplier space's ``mask_tolerance`` times ``w_A``
+  (:func:`~skfem_mortar.contact.multiplier_spaces.mask_tolerance`);
 
 * the merge of masked (and crosspoint) nodes, one rule for every cell of the table
   read from the row's edges (:func:`merge_nodes`): a merged node's function goes to the
