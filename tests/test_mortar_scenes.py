@@ -140,7 +140,7 @@ def test_offset_patch_nts_error_is_reported():
 def test_offset_patch_sliver_is_exact_above_the_mask_threshold(method):
     """A slave end element that overlaps the master by 1 % of its length: its
     outer node's support is 0.5e-4 of its tributary length (above the mask
-    threshold MASK_TOL = 1e-6 of mortar.py); the patch test still passes to
+    threshold mask_tolerance(space, 1) = 1e-6 of multiplier_spaces.py); the patch test still passes to
     round-off (measured 2e-14 on the overlap, 6e-10 at the outer node, whose
     dual/standard coefficients amplify round-off by ~1/f^2)."""
     h = 1.0 / 7

@@ -85,10 +85,9 @@ def cell_lengths(x: np.ndarray, seg: np.ndarray, cell: "str | CellType") -> np.n
 
 
 def is_affine(cell: "str | CellType") -> bool:
-    """Whether ``cell``'s geometry is affine: degree 1 with ``dim + 1`` nodes (``line2``,
-    ``tri3``), the cells with closed-form projections."""
-    cell = cell_type(cell)
-    return cell.order == 1 and cell.n_nodes == cell.dim + 1
+    """Whether ``cell``'s geometry is affine (its row's :attr:`~.cells.CellType.affine`:
+    ``line2``, ``tri3``), the cells with closed-form projections."""
+    return cell_type(cell).affine
 
 
 def check_line(cell: "str | CellType", what: str) -> CellType:

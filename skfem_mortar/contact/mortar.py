@@ -17,9 +17,9 @@ of the slave surface (outward from the slave body), so ``g > 0`` is open.
 Every pair of cells (line2, line3, registered line cells, tri3 and quad4 faces) is
 evaluated, with the exact first and second derivatives of ``g``, by the one kernel
 :func:`skfem_mortar.contact.mortar_kernel.evaluate`; this module holds what the kernel
-and the method share: the mask tolerance :data:`MASK_TOL` and :func:`biorthogonal`,
-which asks a multiplier space whether it builds ``Phi_A`` from each slave cell's
-``D_e``, ``M_e``.
+and the method share: :func:`biorthogonal`, which asks a multiplier space whether it builds ``Phi_A`` from each slave cell's
+``D_e``, ``M_e``.  The mask tolerance of partly projected slave nodes is the
+multiplier space's (:func:`skfem_mortar.contact.multiplier_spaces.mask_tolerance`).
 
 Segmentation policies
 ---------------------
@@ -39,18 +39,7 @@ from __future__ import annotations
 
 from .multiplier_spaces import MultiplierSpace, make_space
 
-__all__ = ["MASK_TOL", "biorthogonal"]
-
-MASK_TOL = 1e-6
-"""Slave nodes whose mortar support ``int N_A w dGamma`` is below this fraction of their
-tributary weight are masked out and merged into their neighbours like crosspoints
-(:func:`skfem_mortar.contact.mortar_kernel.evaluate`).  The support grows like the
-square of the covered fraction of a cell when the sliver lies at its far end, so this
-is a covered fraction of about 1e-3: there the row of ``G`` nearly vanishes and, with
-dual multipliers, the coefficients on a sliver grow like the inverse square of the
-covered fraction, so ``g_A`` is dominated by round-off (measured on line2: 7 % error
-at a covered fraction of 1e-5, wrong sign at 1e-7).  Without the merge the sliver's
-traction is lost (patch test error about 1.8 f^2 at a covered fraction f)."""
+__all__ = ["biorthogonal"]
 
 
 def biorthogonal(space: "MultiplierSpace | str" = "standard") -> bool:
