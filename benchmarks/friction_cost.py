@@ -13,7 +13,7 @@ import time
 
 import numpy as np
 
-from skfem_mortar.contact import mortar
+from skfem_mortar.contact import mortar_kernel
 from skfem_mortar.contact.slip import mortar_history, mortar_slip
 
 
@@ -39,7 +39,7 @@ def main(n_seg: int = 25) -> None:
     lam = np.ones(ns)
     for dual in (False, True):
         hist = mortar_history(xs0, seg_s, xm0, seg_m, space=("dual" if dual else "standard"))
-        t_gap = _median_time(lambda: mortar.evaluate(xs, seg_s, xm0, seg_m, lam=lam, space=("dual" if dual else "standard")))
+        t_gap = _median_time(lambda: mortar_kernel.evaluate(xs, seg_s, xm0, seg_m, lam=lam, space=("dual" if dual else "standard")))
         t_slip = _median_time(lambda: mortar_slip(xs, seg_s, xm0, seg_m, hist["D_prev"],
                                                   hist["M_prev"], lam_t=lam, space=("dual" if dual else "standard")))
         print(f"{'dual' if dual else 'standard'}: {n_seg} slave segments: frictionless "

@@ -10,7 +10,7 @@ derivative without the sliver's cancelling one, a jump of ``G`` at the tie only
 import numpy as np
 import pytest
 
-from skfem_mortar.contact.mortar import evaluate
+from skfem_mortar.contact.mortar_kernel import evaluate
 from skfem_mortar.contact.mortar_slip_cells import tangential_evaluate
 
 from test_mortar import chain

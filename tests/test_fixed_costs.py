@@ -97,7 +97,7 @@ def test_kept_evaluation_answers_as_a_new_kernel_call(monkeypatch):
     not depend on what else it computes) and without the ``G``/``H`` not asked
     for; other positions, other multipliers for ``H``, a new reach make a
     new call."""
-    from skfem_mortar.contact import mortar
+    from skfem_mortar.contact import mortar_kernel
     pair, z = _hertz_pair()
     d = pair.discretization
     calls = []
@@ -117,9 +117,10 @@ def test_kept_evaluation_answers_as_a_new_kernel_call(monkeypatch):
     assert len(calls) == 1  # all three from the kept call
     assert lean.G is None and lean.H is None and g_only.H is None and g_only.G is not None
     assert again.H is full.H
-    fresh = mortar.evaluate(pair.slave.x(z), pair.slave.segments, pair.master.x(z),
-                            pair.master.segments, tangent=False, **d._extra(
-                                pair.slave.x(z), pair.master.x(z))[0], **d._kernel_options)
+    fresh = mortar_kernel.evaluate(pair.slave.x(z), pair.slave.segments, pair.master.x(z),
+                                   pair.master.segments, tangent=False, **d._extra(
+                                       pair.slave.x(z), pair.master.x(z))[0],
+                                   **d._kernel_options)
     for name in ("g", "area", "mask"):
         np.testing.assert_array_equal(getattr(lean, name), getattr(fresh, name))
         assert not getattr(lean, name).flags.writeable

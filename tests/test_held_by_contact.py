@@ -122,8 +122,8 @@ def test_touching_nodes_is_the_closest_approach():
     np.testing.assert_array_equal(np.flatnonzero(touching_nodes(xs, seg_s, xm, seg_m, tol)), [0])
     # the mortar weighted gap over the tributary length is h^2 / (6 R) there (to
     # O(h^4)): far above the tolerance 1e-2 h, the old initial set missed it
-    from skfem_mortar.contact import mortar
-    ev = mortar.evaluate(xs, seg_s, xm, seg_m, tangent=False)
+    from skfem_mortar.contact import mortar_kernel
+    ev = mortar_kernel.evaluate(xs, seg_s, xm, seg_m, tangent=False)
     assert ev.g[0] / ev.area[0] == pytest.approx(h * h / 6, rel=0.05)
     assert ev.g[0] / ev.area[0] > 5 * tol
     # lifted by more than the tolerance: nothing touches

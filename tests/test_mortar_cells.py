@@ -2,10 +2,13 @@
 integration points (contact/line_points.py, the contract of
 contact/integration_points.py).
 
-* It reproduces the line2 kernel: ``g``, ``G = dg/dx``, ``H = sum lam_A d2g_A/dx2``, ``D``
-  and ``M`` of ``mortar.evaluate``/``integrals``, plane and axisymmetric, to 1e-13 of their largest entry
-  (the same integrals at the same Gauss points, summed in another order: round-off is
-  ~1e-16 of it; a wrong Gauss point, weight or normal shows at 1e-3 and more).
+* On line2 its closed forms (the affine cells' end points and master points) equal the
+  general path (Newton in the cells' coordinates, ``LineSegmentation(fast=False)``):
+  ``g``, ``G = dg/dx``, ``H = sum lam_A d2g_A/dx2``, ``D`` and ``M``, plane and
+  axisymmetric, to 1e-13 of their largest entry (the same points by two routes:
+  round-off is ~1e-16 of it; a wrong closed form shows at 1e-3 and more).  The values
+  against a brute-force reference and the derivatives against finite differences:
+  ``test_mortar.py``.
 * ``G`` and ``H`` with the nodal normals chained in at assembly agree with central
   differences of the whole pipeline (segmentation, normals, kernel) to 1e-7 of their
   scale (the truncation error of a step of 1e-6 is ~1e-10 here, round-off 1e-10).
@@ -19,7 +22,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from skfem_mortar.contact import mortar, mortar_kernel
+from skfem_mortar.contact import mortar_kernel
 from skfem_mortar.contact.cells import cell_type
 from skfem_mortar.contact.integration_points import (IntegrationPoints, LocalLayout,
                                                      LocalVariables, check_points)
@@ -63,11 +66,16 @@ def _close(a, b, tol=1e-13):
 @pytest.mark.parametrize("shift", [0.3, 0.8])
 @pytest.mark.parametrize("space", ["standard", "dual"])
 @pytest.mark.parametrize("measure", [PLANE, AXISYMMETRIC])
-def test_reproduces_the_linear_kernel(shift, space, measure):
+def test_line2_closed_forms_equal_the_general_path(shift, space, measure):
     xs, ss, xm, sm = _pair(2, 2, shift=shift)
     lam = np.random.default_rng(5).random(xs.shape[1])
     A = run(xs, ss, xm, sm, (LINE2, LINE2), lam, measure=measure, space=space)
-    E = mortar.evaluate(xs, ss, xm, sm, lam=lam, measure=measure, space=space)
+    assert all(LineSegmentation((LINE2, LINE2)).fast)
+    general = LineSegmentation((LINE2, LINE2), 2, fast=False, pairs=None, margin=None, reach=0.0,
+                               frozen=False, **({"mirror": ((np.array([1.0, 0.0]), 0.0),)}
+                                                if measure.axis is not None else {}))
+    E = mortar_kernel.evaluate(xs, ss, xm, sm, lam=lam, measure=measure, space=space,
+                               cells=(LINE2, LINE2), points=general)
     assert (A.mask == E.mask).all() and E.mask.all() == (shift < 0.5)
     for a, b in ((A.g, E.g), (A.G, E.G), (A.H, E.H), (A.info["D"], E.info["D"]),
                  (A.info["M"], E.info["M"]), (A.area, E.area)):

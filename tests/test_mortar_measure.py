@@ -14,7 +14,7 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 
-from skfem_mortar.contact import mortar, mortar_kernel
+from skfem_mortar.contact import mortar_kernel
 from skfem_mortar.contact.cells import cell_type
 from skfem_mortar.contact.measures import AXISYMMETRIC, PLANE
 from skfem_mortar.contact.mortar_slip_cells import tangential_evaluate
@@ -157,8 +157,7 @@ def test_D_totals_and_uniform_gap(k, space):
         if k == 3:
             off[np.ix_(ss[0], ss[0])] = 0.0
         assert np.abs(off).max() < 1e-14 * np.abs(D).max()
-    plane = mortar.evaluate if k == 2 else mortar_kernel.evaluate
-    ep = plane(xs, ss, xm, sm, tangent=False, space=space, measure=PLANE)
+    ep = mortar_kernel.evaluate(xs, ss, xm, sm, tangent=False, space=space, measure=PLANE)
     assert not np.allclose(ep.area, ev.area)       # the measure is not ignored
 
 
@@ -180,24 +179,24 @@ def test_D_total_on_a_curved_slave():
     np.testing.assert_allclose(ev.info["D"].sum(), total, rtol=1e-7)
 
 
-@pytest.mark.parametrize("part", [(-1.0, 1.0), (-0.4, 1.0), (-1.0, 0.3)])
+@pytest.mark.parametrize("part", [(0.0, 0.6), (0.15, 0.6), (0.0, 0.35)])
 def test_dual_biorthogonal_in_r_dGamma(part):
-    """``int Phi_A N_B r dGamma = delta_AB int N_A r dGamma`` on the projectable part
-    ``[lo, hi]``, line2 (nodal weights ``2 pi r_a``, ``2 pi r_b`` with ``r_a = 0``: a
-    node on the axis), by a 40-point rule (the kernel's rule is exact for these cubic
-    integrands: round-off)."""
-    lo, hi = np.array([part[0]]), np.array([part[1]])
+    """The one kernel's dual basis on a line2 element from r = 0.5 to r = 0 (a node on the
+    axis) under the master ``r in part``: ``D_AB = int Phi_A N_B r dGamma`` is diagonal
+    (off the diagonal round-off: 1e-14 of D) with ``D_AA = int N_A 2 pi r dGamma`` over
+    the covered part (a 40-point rule; the kernel's 2-point rule is exact for these
+    cubic integrands: 1e-13)."""
+    xs = np.array([[0.5, 0.0], [0.0, 0.0]])           # slave right to left: normal +z
+    xm = np.array([[part[0], part[1]], [0.01, 0.01]])
+    ev = mortar_kernel.evaluate(xs, [[0, 1]], xm, [[0, 1]], tangent=False, space="dual",
+                                measure=AXISYMMETRIC)
+    D = ev.info["D"].toarray()
+    assert np.abs(D - np.diag(np.diag(D))).max() <= 1e-14 * np.abs(D).max()
     eta, w = np.polynomial.legendre.leggauss(40)
-    xi = (lo + hi) / 2 + (hi - lo) / 2 * eta
-    w = w * (hi - lo) / 2
-    # line2 from r = 0 to r = 0.5 (the Jacobian is constant and cancels)
-    ra, rb = 0.0, 0.5
-    A = mortar.dual_coefficients(lo, hi, (2 * math.pi * np.array([ra]), 2 * math.pi * np.array([rb])))
-    N = np.array([(1 - xi) / 2, (1 + xi) / 2])
-    r = N[0] * ra + N[1] * rb
-    Phi = np.array([[A[0][0], A[1][0]], [A[2][0], A[3][0]]]) @ N
-    m, d = (Phi * r * w) @ N.T, (N * r * w).sum(1)
-    np.testing.assert_allclose(m, np.diag(d), atol=1e-14 * d.max())
+    r = 0.5 * (part[0] + min(part[1], 0.5)) + 0.5 * (min(part[1], 0.5) - part[0]) * eta
+    w = w * 0.5 * (min(part[1], 0.5) - part[0])
+    N = np.array([r / 0.5, 1.0 - r / 0.5])             # node 0 at r = 0.5, node 1 at r = 0
+    np.testing.assert_allclose(np.diag(D), (N * 2 * math.pi * r * w).sum(1), rtol=1e-13)
 
 
 @pytest.mark.parametrize("curved", [False, True])

@@ -13,7 +13,8 @@ import types
 import numpy as np
 import pytest
 
-from skfem_mortar.contact import mortar, mortar_kernel
+from skfem_mortar.contact import mortar_kernel
+from skfem_mortar.contact.line_points import LineSegmentation
 from skfem_mortar.contact.mortar_method import Mortar
 from skfem_mortar.contact.cells import cell_type
 from skfem_mortar.contact.mortar_support import N_GAUSS_ELEMENT, merge_matrix, tributary_weights
@@ -275,16 +276,18 @@ def test_overlap_length():
 @pytest.mark.parametrize("dual", [False, True])
 @pytest.mark.parametrize("crosspoints", [None, [0]])
 def test_two_node_surfaces_equal_the_linear_kernel(dual, crosspoints):
-    """On 2-node segments (curved polylines, partly covered) the kernel is the linear
-    one: g, G, H, area, mask, D, M to round-off.  Standard: the same arithmetic up
-    to its order, 1e-14 of the sizes; dual: the linear kernel's coefficients are
-    closed-form, ours come from the 5-point rule and cofactors, and the round-off
-    is amplified by the conditioning of M_e on the partly projectable element
-    (~1e2 here): 1e-12."""
+    """On 2-node segments (curved polylines, partly covered) the closed forms of affine
+    cells equal the general path (Newton in the cells' coordinates,
+    ``LineSegmentation(fast=False)``): g, G, H, area, mask, D, M to round-off: 1e-14 of
+    the sizes standard; dual 1e-12 (the round-off amplified by the conditioning of
+    M_e on the partly projectable element, ~1e2 here)."""
     xs, ss, xm, sm = configuration(2, 2, 0.17)
     lam = np.linspace(0.5, 1.5, xs.shape[1])
     a = mortar_kernel.evaluate(xs, ss, xm, sm, lam=lam, space=("dual" if dual else "standard"), n_gauss=2, crosspoints=crosspoints)
-    b = mortar.evaluate(xs, ss, xm, sm, lam=lam, space=("dual" if dual else "standard"), n_gauss=2, crosspoints=crosspoints)
+    line2 = (cell_type("line2"),) * 2
+    b = mortar_kernel.evaluate(xs, ss, xm, sm, lam=lam, space=("dual" if dual else "standard"),
+                               crosspoints=crosspoints, cells=line2,
+                               points=LineSegmentation(line2, 2, fast=False, frozen=False))
     assert (a.mask == b.mask).all()
     rel = 1e-12 if dual else 1e-14
     for u, v in ((a.g, b.g), (a.G, b.G), (a.H, b.H), (a.area, b.area),
@@ -306,7 +309,7 @@ def test_converted_surfaces_give_the_linear_totals(dual):
     the functions sum to one) equal the linear kernel's to round-off."""
     xs, ss = chain(4, lambda x: 0.0 * x, 1.0, 0.0, 2)
     xm, sm = chain(3, lambda x: 0.01 + 0.03 * np.abs(x - 0.4), -0.05, 1.1, 2)
-    lin = mortar.evaluate(xs, ss, xm, sm, tangent=False, space=("dual" if dual else "standard"))
+    lin = mortar_kernel.evaluate(xs, ss, xm, sm, tangent=False, space=("dual" if dual else "standard"))
     assert lin.mask.all() and lin.g.sum() > 0.01
     xs3, ss3 = _to_three_node(xs, ss)
     xm3, sm3 = _to_three_node(xm, sm)
@@ -316,7 +319,7 @@ def test_converted_surfaces_give_the_linear_totals(dual):
     # normals do not depend on the neighbours): its nodes' g_A sum to int_e g_n
     for e in range(len(ss)):
         one = mortar_kernel.evaluate(xs3[:, ss3[e]], [[0, 1, 2]], xm3, sm3, tangent=False, space=("dual" if dual else "standard"))
-        ref = mortar.evaluate(xs[:, ss[e]], [[0, 1]], xm, sm, tangent=False, space=("dual" if dual else "standard"))
+        ref = mortar_kernel.evaluate(xs[:, ss[e]], [[0, 1]], xm, sm, tangent=False, space=("dual" if dual else "standard"))
         np.testing.assert_allclose(one.g.sum(), ref.g.sum(), rtol=1e-12)
 
 
@@ -367,8 +370,7 @@ def test_mortar_dispatch_and_pattern(ks, km, dual):
     assert meth.curved == (ks == 3 or km == 3)
     lam = np.linspace(0.5, 1.5, xs.shape[1])
     ev = meth.evaluate(xs, xm, lam, True)
-    kernel = mortar_kernel.evaluate if meth.curved else mortar.evaluate
-    ref = kernel(xs, ss, xm, sm, lam=lam, space=("dual" if dual else "standard"))
+    ref = mortar_kernel.evaluate(xs, ss, xm, sm, lam=lam, space=("dual" if dual else "standard"))
     assert abs(ev.G - ref.G).max() == 0.0
     P = meth.pattern(xs, xm).toarray() > 0
     S = (P.T.astype(int) @ P.astype(int)) > 0

@@ -5,7 +5,6 @@ import numpy as np
 import pytest
 
 from skfem_mortar.contact.methods import make_method
-from skfem_mortar.contact.mortar import dual_coefficients
 from skfem_mortar.contact.multiplier_spaces import (DualSpace, MultiplierSpace, StandardSpace,
                                                     make_space, register_space,
                                                     registered_spaces, space_for,
@@ -54,8 +53,10 @@ def test_the_readings_of_force_and_traction_multipliers():
 
 def test_dual_coefficients_are_biorthogonal_and_the_kernels():
     """``A_e = D_e M_e^-1`` on a line2 cell over ``[lo, hi]``: ``A M = D``
-    (``int Phi_A N_B = delta_AB int N_A``) and the kernel's closed form, to
-    round-off (1e-13: a 2x2 solve of a matrix of condition <= 1e3 on these parts)."""
+    (``int Phi_A N_B = delta_AB int N_A``), ``[[2, -1], [-1, 2]]`` on the whole cell, and
+    the kernel's entry-by-entry inverse (``cell_coefficients``, what it runs on jets) equal
+    to the solve, to round-off (1e-13: a 2x2 solve of a matrix of condition <= 1e3 on
+    these parts)."""
     xi, w = np.polynomial.legendre.leggauss(4)
     parts = [(-1.0, 1.0), (-0.3, 0.8), (0.2, 0.9)]
     D, M = [], []
@@ -69,7 +70,11 @@ def test_dual_coefficients_are_biorthogonal_and_the_kernels():
     assert np.allclose(A[0], [[2.0, -1.0], [-1.0, 2.0]], rtol=0, atol=1e-13)
     for k, (lo, hi) in enumerate(parts):
         assert np.allclose(A[k] @ M[k], D[k], rtol=0, atol=1e-13)
-        assert np.allclose(A[k].ravel(), dual_coefficients(lo, hi), rtol=0, atol=1e-13)
+        C = DualSpace.cell_coefficients([D[k][0, 0], D[k][1, 1]],
+                                        {(a, b): M[k][a, b] for a in range(2) for b in range(a, 2)})
+        assert np.allclose([[C[a, b] for b in range(2)] for a in range(2)], A[k], rtol=0,
+                           atol=1e-13)
+    assert np.allclose(A[0], [[2.0, -1.0], [-1.0, 2.0]], rtol=0, atol=1e-13)
     assert np.array_equal(DualSpace.transformation(3), np.eye(3))
 
 

@@ -13,7 +13,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from skfem_mortar.contact import mortar
+from skfem_mortar.contact import mortar_kernel
+from skfem_mortar.contact.mortar_segmentation import nodal_normals
 from skfem_mortar.contact.mortar_slip_cells import tangential_evaluate
 from skfem_mortar.contact.nts import project
 from skfem_mortar.contact.slip import mortar_history, mortar_slip, nts_slip
@@ -101,7 +102,7 @@ def test_tangential_offset_is_the_mortar_integrals_identity():
 def test_mortar_tangent_is_the_turned_nodal_normal():
     xs, seg_s, xm, seg_m = curved()
     t = tangential_evaluate(xs, seg_s, xm, seg_m, tangent=False)
-    (nx, ny), _, _ = mortar.nodal_normals(xs, seg_s, second=False, nv=0)
+    (nx, ny), _, _ = nodal_normals(xs, seg_s, second=False, nv=0)
     np.testing.assert_allclose(t.info["tangent"], np.stack([ny.v, -nx.v]), atol=1e-15)
     np.testing.assert_allclose(np.hypot(*t.info["tangent"]), 1.0, atol=1e-15)
 
@@ -144,7 +145,7 @@ def test_mortar_pure_sliding_gives_the_distance_times_the_support(dual):
     hist = mortar_history(xs0, seg_s, xm0, seg_m, space=("dual" if dual else "standard"))
     d = 0.137
     tau = np.array([[-1.0], [0.0]])
-    area = mortar.evaluate(xs0, seg_s, xm0, seg_m, tangent=False, space=("dual" if dual else "standard")).area
+    area = mortar_kernel.evaluate(xs0, seg_s, xm0, seg_m, tangent=False, space=("dual" if dual else "standard")).area
     e = mortar_slip(xs0 + d * tau, seg_s, xm0, seg_m, hist["D_prev"], hist["M_prev"],
                     space=("dual" if dual else "standard"), tangent=False)
     np.testing.assert_allclose(e.tangent, np.repeat(tau, xs0.shape[1], 1), atol=1e-15)

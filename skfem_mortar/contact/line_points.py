@@ -37,6 +37,7 @@ from .cells import CellType, line_quadrature
 from .integration_points import IntegrationCells, IntegrationPoints, LocalVariables
 from .jets import Jet
 from .mortar_cells import shape_jets
+from . import mortar_quadratic_segmentation  # noqa: F401 (registers the lines' default segmentation)
 from .mortar_segmentation import project_on_slave, slave_element
 from .segmentation import segmentation_for
 
@@ -206,6 +207,21 @@ class LineSegmentation:
         rows ``r`` is ``IntegrationCells(e_s[r], e_m[r], (segmentation, rows[r]))``."""
         sg = segmentation_for(self.cells)(xs, conn_s, xm, conn_m, self.cells, **self.options)
         return IntegrationCells(sg.e_s, sg.e_m, (sg, np.arange(sg.n)))
+
+    def whole_cells(self, cells: IntegrationCells) -> np.ndarray | None:
+        """Per integration cell: whether its slave cell is covered whole by its integration
+        cells with both ends slave vertices (``elem_node`` -1, the cell's lengths in ``xi``
+        summing to 2 to 1e-12: no gap, no overlap), on an affine slave cell: then its mass
+        integrals ``int N_A``, ``int N_A N_B`` over the cell are the reference cell's times
+        a constant Jacobian, so a dual basis ``A_e = D_e M_e^-1`` is the reference one,
+        constant (no variable moves it); None: not an affine slave cell."""
+        if not self.fast[0]:
+            return None
+        sg, rows = cells.data
+        n_cells = sg.elem_node.shape[0]
+        length = np.bincount(sg.e_s, weights=sg.xi[:, 1] - sg.xi[:, 0], minlength=n_cells)
+        whole = (sg.elem_node < 0).all(axis=1) & (np.abs(length - 2.0) <= 1e-12)
+        return whole[cells.e_s]
 
     def _ends(self, sg, local: LocalVariables) -> list:
         """``xi_a, xi_b`` as jets (module docstring): both ends of every cell in one

@@ -210,23 +210,63 @@ def _scatter(g: list, grp: Groups, conn_s, conn_m, e_m, normals: NodalNormals, n
         np.add.at(out, S[:, a], g[a].v)
     if not tangent or not grp.e_s.size:      # no cells in this call: nothing to scatter
         return
-    dofs, Jn, S = _extended(grp, conn_s, conn_m, e_m, normals, n_s)
+    ext, Jn, S = _extended(grp, conn_s, conn_m, e_m, normals, n_s)
     parts = _parts(grp.nv, lay, normals.nodes.shape[1])
+    dofs, rank = _distinct(ext)
     used = dofs >= 0
     safe = np.where(used, dofs, 0)
     for a in range(lay.k_s):
-        trip.rows(S[:, a], safe, _chain_gradient(g[a].g, Jn, parts), used)
+        trip.rows(S[:, a], safe, _on_distinct(_chain_gradient(g[a].g, Jn, parts), rank,
+                                              dofs.shape[1]), used)
     if q is None and lam is not None and g[0].h is not None:
         lam = np.asarray(lam, dtype=float)
         q = g[0] * lam[S[:, 0]]
         for a in range(1, lay.k_s):
             q = q + g[a] * lam[S[:, a]]
     if q is not None:
-        H = _chain_hessian(q, Jn, S, normals, parts)
+        H = _on_distinct(_chain_hessian(q, Jn, S, normals, parts), rank, dofs.shape[1])
         if not used.all():
             H *= used[:, :, None]
             H *= used[:, None, :]
         th.block(safe, H.transpose(1, 2, 0))
+
+
+def _distinct(ext: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Each group's distinct dofs ``(n_e, u)`` (-1 where unused) and the place
+    ``rank (n_e, n_ext)`` of each extended variable among them.
+
+    A dof appears several times among a group's extended variables (a slave node in
+    ``x_s`` and in its own and its neighbours' normal stencils); summed onto its distinct
+    dofs (:func:`_on_distinct`) a line2 cell's ``H`` block is 12 x 12 instead of 20 x 20,
+    so fewer triplets are kept.  The unused variables (-1) share one place."""
+    n_e, n = ext.shape
+    key = np.where(ext >= 0, ext, np.iinfo(np.int64).max)
+    order = np.argsort(key, axis=1, kind="stable")
+    sk = np.take_along_axis(key, order, 1)
+    new = np.ones(sk.shape, dtype=bool)
+    new[:, 1:] = sk[:, 1:] != sk[:, :-1]
+    rank = np.empty(sk.shape, dtype=np.int64)
+    np.put_along_axis(rank, order, np.cumsum(new, axis=1) - 1, 1)
+    u = int(rank.max()) + 1 if rank.size else 1
+    dofs = np.full((n_e, u), -1, dtype=ext.dtype)
+    dofs[np.arange(n_e)[:, None], rank] = np.where(ext >= 0, ext, -1)
+    return dofs, rank
+
+
+def _on_distinct(a: np.ndarray, rank: np.ndarray, u: int) -> np.ndarray:
+    """A gradient ``(n_e, n_ext)`` or Hessian ``(n_e, n_ext, n_ext)`` of the extended
+    variables summed onto the distinct dofs (:func:`_distinct`): ``(n_e, u)`` or
+    ``(n_e, u, u)``, ``a_u = sum_(rank_i = u) a_i`` (each axis; one bincount, the terms
+    of a place added in the order of the variables)."""
+    n_e = rank.shape[0]
+    at = np.arange(n_e)[:, None] * u + rank                        # (n_e, n_ext)
+    if a.ndim == 3:                    # in place: one index array the size of ``a``
+        row = at
+        at = np.empty(a.shape, dtype=np.int64)
+        np.multiply(row[:, :, None], u, out=at)
+        at += rank[:, None, :]
+    out = np.bincount(at.ravel(), weights=a.ravel(), minlength=n_e * u ** (a.ndim - 1))
+    return out.reshape((n_e,) + (u,) * (a.ndim - 1))
 
 
 def assemble(g: list, grp: Groups, conn_s, conn_m, e_m, normals: NodalNormals, n_s: int,
@@ -440,14 +480,18 @@ def evaluate(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarra
 
 
 def _sum_chunk(trips: tuple, shapes: tuple, summed: list, last: bool = False) -> None:
-    """The chunks' triplets summed into csr and emptied once they hold at least as many
-    entries as the running sum (and at the ``last`` chunk): the peak memory is a chunk's
-    triplets and about twice the running sums, not every chunk's triplets (measured: 2.5
-    GB at 400 hertz3d faces before, flat at 0.58 GB after), and each entry of the sum is
-    copied a bounded number of times on average (a sum at every chunk copies the whole
-    running sum each time: quadratic in the chunks)."""
+    """The chunks' triplets summed into csr and emptied once they hold at least half as
+    many entries as the running sum (and at the ``last`` chunk): the peak memory is a
+    chunk's triplets and about twice the running sums, not every chunk's triplets
+    (measured: 2.5 GB at 400 hertz3d faces before, flat at 0.58 GB after), and each entry
+    of the sum is copied a bounded number of times on average (a sum at every chunk copies
+    the whole running sum each time: quadratic in the chunks).  Half: a triplet takes 24
+    bytes, a csr entry 12, and with the repeated dofs summed before the scatter
+    (:func:`_distinct`) a chunk adds few duplicates, so the held triplets would otherwise
+    grow to twice the sum's bytes (test_memory3d's mortar peak 38.6 -> 39.1 MiB at four
+    times the faces; 38.6 with half)."""
     for k, (t, shape) in enumerate(zip(trips, shapes)):
-        if t.r and (last or summed[k] is None or sum(v.size for v in t.v) >= summed[k].nnz):
+        if t.r and (last or summed[k] is None or 2 * sum(v.size for v in t.v) >= summed[k].nnz):
             m = t.csr(shape)
             summed[k] = m if summed[k] is None else summed[k] + m
             t.r.clear(), t.c.clear(), t.v.clear()

@@ -1,15 +1,13 @@
-"""Mortar contact (:func:`skfem_mortar.contact.mortar.evaluate`) as a contact discretization.
+"""Mortar contact (:func:`skfem_mortar.contact.mortar_kernel.evaluate`) as a contact discretization.
 
 :class:`Mortar` is the method behind ``ContactPair(method="mortar")`` (standard
 multipliers ``Phi_A = N_A``) and ``method="mortar-dual"`` (biorthogonal ones):
-the kernel is :mod:`skfem_mortar.contact.mortar`, the segmentation
-:mod:`skfem_mortar.contact.mortar_segmentation`; this class holds what the kernel is
-told from one call to the next (the segmentation policy and a frozen
+every call, for every pair of cells (line2, line3, a registered cell, faces), goes to
+the one kernel :mod:`skfem_mortar.contact.mortar_kernel` (the segmentation of the
+cells, :func:`~skfem_mortar.contact.segmentation.segmentation_for`; the faces'
+points, :mod:`~skfem_mortar.contact.mortar_faces`); this class holds what the kernel
+is told from one call to the next (the segmentation policy and a frozen
 segmentation, the search reach, the crosspoints, the reserved pattern).
-Where either surface has cells other than line2 (line3, a registered cell) every
-call goes to the one kernel :mod:`skfem_mortar.contact.mortar_kernel` (segmentation
-:mod:`skfem_mortar.contact.mortar_quadratic_segmentation` for line3) instead; 2-node
-surfaces on both sides take the linear kernel as before.
 """
 from __future__ import annotations
 
@@ -19,7 +17,7 @@ from typing import Any
 import numpy as np
 import scipy.sparse as sp
 
-from . import mortar, mortar_kernel
+from . import mortar_kernel
 from .mortar import biorthogonal
 from .active_set import normal_nodal_force
 from .contact_eval import ContactEval
@@ -40,12 +38,7 @@ from .mortar_pattern import stencil_pattern
 #: are those of the master faces at the plane or next to them
 MIRROR_BAND = 2.0
 
-__all__ = ["Mortar", "RESERVE_LENGTHS", "KERNEL_CELLS"]
-
-#: the cell types of the fast linear kernel (:mod:`.mortar`: line2 on both sides); any
-#: other pair of line cells with a registered segmentation (line3 included) is
-#: evaluated by the one kernel (:mod:`.mortar_kernel`)
-KERNEL_CELLS = ("line2",)
+__all__ = ["Mortar", "RESERVE_LENGTHS"]
 
 #: the reserved pattern (:meth:`Mortar.pattern`) holds the element pairs of the
 #: search with its margin widened by this many element lengths (the larger of
@@ -122,18 +115,18 @@ class Mortar(ContactDiscretization):
     multiplier_space : str
         The registered multiplier space (:mod:`~skfem_mortar.contact.multiplier_spaces`):
         ``"standard"`` (``Phi_A = N_A``, method ``"mortar"``) or ``"dual"``
-        (biorthogonal, ``"mortar-dual"``); the kernels ask it
+        (biorthogonal, ``"mortar-dual"``); the kernel asks it
         :func:`~skfem_mortar.contact.mortar.biorthogonal`.
     pair_name : str
         The pair's name (in messages).
     segmentation : {"iteration", "step"}
         Rebuild the mortar segments at every evaluation (default, exact), or
         once per load step attempt from its start positions, frozen during the
-        step (see :func:`skfem_mortar.contact.mortar.evaluate`).
+        step (see :func:`skfem_mortar.contact.mortar_kernel.evaluate`).
     **options
         ``margin`` (global search margin; default local, the two element
         lengths plus the reach) and ``n_gauss`` (Gauss points per mortar
-        segment), passed to :func:`skfem_mortar.contact.mortar.evaluate`.
+        segment), passed to :func:`skfem_mortar.contact.mortar_kernel.evaluate`.
 
     The search reach: without a ``margin``, the local margin of the search
     grows by the motion of the contact nodes since the last converged state
@@ -142,11 +135,8 @@ class Mortar(ContactDiscretization):
     their multiplier is merged into the neighbour's, so the multipliers still
     sum to one on their elements.
 
-    Curved surfaces: when the slave or the master has cells other than ``line2``
-    (:attr:`cells`) the kernel is
-    :func:`skfem_mortar.contact.mortar_kernel.evaluate` (both policies;
-    ``n_gauss`` default 3 there), the reserved pattern holds the 3-node
-    elements' couplings (:meth:`pattern`).
+    The kernel's ``n_gauss`` default is one more than the cells' highest order (2 on
+    line2, 3 on line3); the reserved pattern holds each cell's couplings (:meth:`pattern`).
     """
 
     multiplier_kind = "traction"
@@ -177,10 +167,9 @@ class Mortar(ContactDiscretization):
         self.faces = takes_faces(self.cells, segmentation_for(self.cells), self.method, master,
                                  segmentation)
         check_options(self.method, options, FACE_OPTIONS if self.faces else self.OPTIONS)
-        #: the curved line kernel (a line cell other than line2) or the linear one
+        #: a line cell other than line2 on either side: the curved segmentation's search
         self.curved = not self.faces and any(c.name != "line2" for c in self.cells)
-        general = any(c.name not in KERNEL_CELLS for c in self.cells)
-        self._kernel = mortar_kernel.evaluate if general else mortar.evaluate
+        self._kernel = mortar_kernel.evaluate
         #: the segmentation of the cells (:func:`~.segmentation.segmentation_for`)
         self._segment = segmentation_for(self.cells)
         self.segmentation = segmentation

@@ -1,10 +1,11 @@
 """Mortar geometry in 2D: slave normal field, projections, mortar segments.
 
-Steps 1 to 3 of the mortar kernel (:mod:`skfem_mortar.contact.mortar` holds steps 4
-to 8).  Every function is vectorized over elements (or mortar segments) and
-works on plain arrays and on the forward-mode jets of :mod:`skfem_mortar.contact.jets`,
-so the same code gives the values and their exact first and second
-derivatives.  Points and vectors are pairs ``(x, y)``.
+The line2 segmentation of the one mortar kernel (:mod:`skfem_mortar.contact.mortar_kernel`;
+its points: :mod:`skfem_mortar.contact.line_points`, which takes :func:`slave_element` and
+:func:`project_on_slave` in jets for the end points).  Every function is vectorized over
+elements (or mortar segments) and works on plain arrays and on the forward-mode jets of
+:mod:`skfem_mortar.contact.jets`, so the same code gives the values and their exact first
+and second derivatives.  Points and vectors are pairs ``(x, y)``.
 
 Step 1, slave normal field (:func:`nodal_normals`, :func:`slave_element`)
 -------------------------------------------------------------------------
@@ -24,17 +25,19 @@ Step 2, projections along this field
   ``xi`` solving ``(x_s(xi) - x_C) x n~(xi) = 0`` (``x`` the 2D cross
   product), a quadratic in ``xi``, solved by Newton's method from the
   flat-surface (linear) estimate.
-* :func:`project_on_master` (a slave point onto a master element): the line
-  ``x_m(s) = x_m1 + s (x_m2 - x_m1)`` (``s = N_2(xi2)`` in [0, 1]) meets
-  ``x_s(xi) + alpha n~(xi)`` where ``(x_m(s) - x_s) x n~ = 0``, linear in ``s``.
+* a slave point onto a master element: the line ``x_m(s) = x_m1 + s (x_m2 - x_m1)``
+  (``s = N_2(xi2)`` in [0, 1]) meets ``x_s(xi) + alpha n~(xi)`` where
+  ``(x_m(s) - x_s) x n~ = 0``, linear in ``s`` (in jets:
+  :mod:`~skfem_mortar.contact.line_points`; the master coordinates of the segment
+  ends in values: :func:`segment`).
 
-Step 3, mortar segments (:func:`segment`, :func:`segment_end_points`)
----------------------------------------------------------------------
+Step 3, mortar segments (:func:`segment`)
+-----------------------------------------
 For a candidate pair (slave element e, master element m) whose unit normals
 face each other (``nu_e . nu_m < 0``), the two master nodes project to
 ``p_1, p_2`` on e; the mortar segment is ``[xi_a, xi_b] = [max(-1, min p),
 min(1, max p)]`` in the slave parameter, and ``eta in [-1, 1]`` runs over it
-(step 4).  Only roots in [-1, 1] are used as
+(the kernel's Gauss points).  Only roots in [-1, 1] are used as
 values: a master node beyond an end of e (its master parameter past that of the
 slave end point projected onto the master line along its normal) counts as
 ``p = +-inf``, clipped to that end; this decides far master nodes, whose
@@ -68,11 +71,10 @@ import numpy as np
 from .normals import mirror_nodes
 from .segmentation import Segmentation
 from .surfaces import segment_lengths, segments_at_nodes
-from .jets import Jet, _outer, _val, at_gauss, constant_like, cross, inv, normalize, sqrt, where
+from .jets import Jet, _outer, _val, cross, inv, normalize, sqrt, where
 
 __all__ = ["Jet", "Segmentation", "segment", "nodal_normals", "mirror_normal", "SlaveElement",
            "slave_element", "project_point_on_slave", "project_on_slave",
-           "MasterProjection", "project_on_master", "normal_length", "segment_end_points",
            "clip_to_slave",
            "XI_TOL", "LEN_TOL"]
 
@@ -242,89 +244,7 @@ def project_point_on_slave(xa, xb, na, nb, xc, n_newton: int = 8):
     return project_on_slave(slave_element(xa, xb, na, nb), xc, n_newton)
 
 
-class MasterProjection(NamedTuple):
-    """Step 2: the slave points ``x_s(xi)`` projected along ``n~(xi)`` onto the master line.
-
-    ``x_s(xi) + alpha(xi) n~(xi) = x_m1 + s(xi) dm`` with ``dm = x_m2 - x_m1``;
-    crossing with ``dm`` and with ``n~``:
-
-        alpha(xi) = cross(x_m1 - x_s, dm) / cross(n~, dm) = (P0 + P1 xi) / (Q0 + Q1 xi),
-        s(xi)     = cross(x_m1 - x_s, n~) / cross(n~, dm),
-
-    ``x_m1 - x_s(xi) = r0 - xi dx`` with ``r0 = x_m1 - x0``; ``P0 = cross(r0, dm)``,
-    ``P1 = -cross(dx, dm)``, ``Q0 = cross(n0, dm)``, ``Q1 = cross(dn, dm)``.
-    The master shape functions at the projected point are ``N_m1 = 1 - s``,
-    ``N_m2 = s`` (``xi2 = 2 s - 1``).  Exact wherever ``s`` is not linear in
-    ``xi`` (a curved slave normal field): no interpolation of ``xi2`` in eta.
-    """
-
-    el: SlaveElement
-    r0: tuple
-    P0: object
-    P1: object
-    Q0: object
-    Q1: object
-
-    def alpha(self, xi):
-        """``alpha(xi)`` at Gauss points ``xi`` (n, n_gauss): the distance along ``n~``."""
-        E = at_gauss
-        return (E(self.P0) + E(self.P1) * xi) * inv(E(self.Q0) + E(self.Q1) * xi)
-
-    def s(self, xi):
-        """``s(xi)`` at Gauss points (values): the master parameter, 0 at x_m1 and 1 at x_m2."""
-        V = lambda j: _val(j)[:, None]  # noqa: E731
-        (d1x, d1y), (n0x, n0y), (n1x, n1y) = self.el.dx, self.el.n0, self.el.dn
-        nxv, nyv = V(n0x) + V(n1x) * xi, V(n0y) + V(n1y) * xi
-        return ((V(self.r0[0]) - V(d1x) * xi) * nyv - (V(self.r0[1]) - V(d1y) * xi) * nxv) / (
-            V(self.Q0) + V(self.Q1) * xi)
-
-
-def project_on_master(el: SlaveElement, xm1, xm2) -> MasterProjection:
-    """Step 2: the coefficients of :class:`MasterProjection` for master elements ``(x_m1, x_m2)``."""
-    d1x, d1y = el.dx
-    r0x, r0y = xm1[0] - el.x0[0], xm1[1] - el.x0[1]
-    dmx, dmy = xm2[0] - xm1[0], xm2[1] - xm1[1]
-    return MasterProjection(el=el, r0=(r0x, r0y),
-                            P0=cross(r0x, r0y, dmx, dmy), P1=-cross(d1x, d1y, dmx, dmy),
-                            Q0=cross(el.n0[0], el.n0[1], dmx, dmy),
-                            Q1=cross(el.dn[0], el.dn[1], dmx, dmy))
-
-
-def normal_length(el: SlaveElement, xi):
-    """``|n~(xi)| = sqrt(R0 + R1 xi + R2 xi^2)`` at Gauss points ``xi`` (n, n_gauss)."""
-    (n0x, n0y), (n1x, n1y) = el.n0, el.dn
-    E = at_gauss
-    R0 = n0x * n0x + n0y * n0y
-    R1 = (n0x * n1x + n0y * n1y) * 2.0
-    R2 = n1x * n1x + n1y * n1y
-    return sqrt(E(R0) + (E(R1) + E(R2) * xi) * xi)
-
-
 # ------------------------------------------------------- step 3: mortar segments
-def segment_end_points(el: SlaveElement, xm1, xm2, src: np.ndarray):
-    """Step 3: end points ``xi_a, xi_b`` of mortar segments on their slave elements.
-
-    ``xi_a = -1`` where ``src[:, 0] == -1`` (the segment starts at the slave
-    node a), else ``p_1`` or ``p_2`` (``src`` 0 or 1), the projection
-    (:func:`project_on_slave`) of the master node ``x_m1`` or ``x_m2``; likewise
-    ``xi_b`` with ``+1`` and ``src[:, 1]``.  ``src`` comes from
-    :func:`segment`; with jets the end points carry the exact derivatives of
-    the projections.  The mortar segment is mapped onto ``eta in [-1, 1]`` by
-    ``xi1(eta) = (1 - eta)/2 xi_a + (1 + eta)/2 xi_b`` (step 4).
-
-    Returns
-    -------
-    xi_a, xi_b : ndarray or Jet (n,)
-    """
-    p1, _ = project_on_slave(el, xm1)
-    p2, _ = project_on_slave(el, xm2)
-    n = src.shape[0]
-    minus, plus = constant_like(-np.ones(n), p1), constant_like(np.ones(n), p1)
-    lo = where(src[:, 0] == -1, minus, where(src[:, 0] == 0, p1, p2))
-    hi = where(src[:, 1] == -1, plus, where(src[:, 1] == 0, p1, p2))
-    return lo, hi
-
-
 def _element_lengths(x: np.ndarray, seg: np.ndarray) -> np.ndarray:
     d = x[:, seg[:, 1]] - x[:, seg[:, 0]]
     return np.hypot(d[0], d[1])

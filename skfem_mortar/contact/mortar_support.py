@@ -21,7 +21,7 @@ composite rule), so the linear and the curved mortar kernels share them.
   by the ``n_gauss``-point Gauss rule mapped onto each integration cell (an
   integration cell lies in one smooth piece of its slave cell).  The kernels mask a
   node whose ``s_A`` is at most ``MASK_TOL`` times ``w_A``
-  (:func:`skfem_mortar.contact.mortar.evaluate`, Notes);
+  (:data:`skfem_mortar.contact.mortar.MASK_TOL`);
 
 * the merge of masked (and crosspoint) nodes, one rule for every cell of the table
   read from the row's edges (:func:`merge_nodes`): a merged node's function goes to the

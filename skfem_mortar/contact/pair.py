@@ -188,7 +188,7 @@ class ContactPair(Item):
         ``segmentation``): rebuild the mortar segments at every Newton iteration
         (default, exact), or build them once per load step from the last
         converged state and freeze them during the step (cheaper, see
-        :func:`skfem_mortar.contact.mortar.evaluate`; lines only: refused between faces).
+        :func:`skfem_mortar.contact.mortar_kernel.evaluate`; lines only: refused between faces).
     accelerate : bool
         When the tensile tail of a too-wide contact zone is released, release
         as many nodes again beyond the tail as the sign change of the

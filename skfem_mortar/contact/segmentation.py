@@ -14,7 +14,7 @@ opposite, the domain of the mortar integrals.  Each integration cell records
 
 The origin is what the kernels differentiate: a projected master vertex moves
 with the master nodes and the slave normal field, a slave vertex is fixed in
-the slave coordinates (:func:`~skfem_mortar.contact.mortar.evaluate`, step 3).
+the slave coordinates (:func:`~skfem_mortar.contact.mortar_kernel.evaluate`).
 
 The protocol (:class:`Segmenter`) is one callable per cell type, registered by
 the slave cell's name (:func:`register_segmentation`); :func:`segmentation_for`
