@@ -55,20 +55,47 @@ import sys
 HERE = os.path.dirname(os.path.abspath(__file__))
 
 _RUN = r"""
-import json, resource, sys, time
+import json, os, resource, sys, threading, time
 sys.path.insert(0, sys.argv[2])
 spec = json.loads(sys.argv[1])
 if spec["clock"] == "cpu":       # every timer of the package reads the process's CPU time
     time.perf_counter = time.process_time
 from blocks3d import blocks_model, blocks_params
+import skfem_mortar.core.model as core_model
+import skfem_mortar.solver.newton as newton
 from skfem_mortar.core.timing import TIMERS, reset
 from skfem_mortar.solver.newton import NewtonOptions
 from skfem_mortar.solver.stepping import solve
+PAGE, now, grew, top = os.sysconf("SC_PAGE_SIZE"), ["build"], {}, [0.0]
+def sample():                    # RSS every 20 ms; each rise is the running phase's
+    while True:
+        with open("/proc/self/statm") as f:
+            r = int(f.read().split()[1]) * PAGE / 2**30
+        if r > top[0]:
+            grew[now[0]] = grew.get(now[0], 0.0) + r - top[0]
+            top[0] = r
+        time.sleep(0.02)
+threading.Thread(target=sample, daemon=True).start()
+def phase(obj, name, label):
+    f = getattr(obj, name)
+    def g(*a, **k):
+        last, now[0] = now[0], label
+        try:
+            return f(*a, **k)
+        finally:
+            now[0] = last
+    setattr(obj, name, g)
 t0 = time.perf_counter()
 params = blocks_params(n_lower=spec["n_lower"], n_upper=spec["n_upper"])
-model, pair, parts = blocks_model(params, spec["method"])
+model, pair, parts = blocks_model(params, spec["method"], spec["load"])
 model.timers.clear(); reset()
 t_build = time.perf_counter() - t0
+now[0] = "rest"
+for it in model.items:
+    phase(it, "assemble", "contact" if it is pair else "bulk")
+phase(core_model.Model, "_tangent", "global sum")
+phase(core_model.Model, "free_block", "free block")
+phase(newton, "solve_linear", "solve")
 t0 = time.perf_counter()
 res = solve(model, spec["steps"], newton=NewtonOptions(linear="direct"))
 wall = time.perf_counter() - t0
@@ -80,12 +107,18 @@ phases = {"bulk": tm.get("bulk", 0.0) + tm.get("loads", 0.0),
           "solve": res.solve_time}
 phases["rest"] = wall - sum(phases.values())
 n = sum(its)
-print(json.dumps({"method": spec["method"], "n_lower": spec["n_lower"],
+from skfem_mortar.solver.pardiso import _pardiso_solvers
+fill = {str(k): {"factor_nonzeros": int(h.solver.get_iparm(18)),
+                 "factor_gb": (h.solver.get_iparm(16) + h.solver.get_iparm(17)) / 2**20,
+                 "analysis_peak_gb": h.solver.get_iparm(15) / 2**20}
+        for k, h in _pardiso_solvers.items()}
+print(json.dumps({"method": spec["method"], "load": spec["load"], "n_lower": spec["n_lower"],
                   "n_upper": spec["n_upper"], "n_dofs": int(model.n_u),
                   "n_multipliers": int(model.n_lam), "converged": bool(res.converged),
                   "iterations": its, "build_s": t_build, "wall_s": wall,
                   "per_iteration_s": {k: v / n for k, v in phases.items()},
                   "timers": tm, "slave_faces": int(len(pair.slave.segments)),
+                  "rss_growth_gb": grew, "pardiso": fill,
                   "peak_rss_gb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 2**20}))
 """
 
@@ -96,11 +129,12 @@ PHASES = ("bulk", "search", "contact", "solve", "rest")
 ONE_THREAD = {k: "1" for k in ("MKL_NUM_THREADS", "OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS")}
 
 
-def run(n_lower: int, n_upper: int, method: str, steps: int, clock: str = "cpu") -> dict:
+def run(n_lower: int, n_upper: int, method: str, steps: int, clock: str = "cpu",
+        load: str = "follower") -> dict:
     """One fresh process: the model of ``n_lower``/``n_upper`` cells solved by ``method``
-    (``clock``: ``cpu`` or ``wall``, module docstring)."""
+    (``clock``: ``cpu`` or ``wall``; ``load``: :func:`blocks3d.blocks_model`'s)."""
     spec = json.dumps({"n_lower": n_lower, "n_upper": n_upper, "method": method,
-                       "steps": steps, "clock": clock})
+                       "steps": steps, "clock": clock, "load": load})
     env = {**os.environ, "SKFEM_MORTAR_SOLVER": "pardiso", **ONE_THREAD}
     out = subprocess.run([sys.executable, "-c", _RUN, spec, HERE], env=env, check=True,
                          capture_output=True, text=True).stdout
@@ -123,6 +157,27 @@ def table(rows: list[dict]) -> str:
     return head + "\n".join(lines) + "\n"
 
 
+MEMORY = ("build", "bulk", "contact", "global sum", "free block", "solve", "rest")
+
+
+def memory_table(rows: list[dict]) -> str:
+    """The Markdown table of where the resident memory rose (GB, module docstring) and
+    PARDISO's factor: its nonzeros and memory (``iparm(16) + iparm(17)``) and the
+    analysis' peak (``iparm(15)``)."""
+    head = ("| method | dofs | " + " | ".join(MEMORY) + " | factor nonzeros | factor [GB] | "
+            "analysis peak [GB] | peak RSS [GB] |\n|" + "---|" * (len(MEMORY) + 6) + "\n")
+    lines = []
+    for r in rows:
+        g = r["rss_growth_gb"]
+        f = max(r["pardiso"].values(), key=lambda v: v["factor_nonzeros"], default=None)
+        pf = (f"{f['factor_nonzeros']:,} | {f['factor_gb']:.2f} | {f['analysis_peak_gb']:.2f}"
+              if f else "- | - | -")
+        lines.append(f"| {r['method']} | {r['n_dofs']:,} | "
+                     + " | ".join(f"{g.get(k, 0.0):.2f}" for k in MEMORY)
+                     + f" | {pf} | {r['peak_rss_gb']:.1f} |")
+    return head + "\n".join(lines) + "\n"
+
+
 def main(argv=None) -> int:
     sys.path.insert(0, HERE)
     from blocks3d import sizes_for
@@ -131,6 +186,7 @@ def main(argv=None) -> int:
     ap.add_argument("--methods", nargs="+", default=["nts", "mortar", "mortar-dual"])
     ap.add_argument("--steps", type=int, default=2)
     ap.add_argument("--clock", choices=("cpu", "wall"), default="cpu")
+    ap.add_argument("--load", choices=("follower", "dead"), default="follower")
     ap.add_argument("--json")
     a = ap.parse_args(argv)
     if a.steps < 1:
@@ -139,12 +195,13 @@ def main(argv=None) -> int:
     for dofs in a.dofs:
         n_lower, n_upper = sizes_for(dofs)
         for method in a.methods:
-            rows.append(run(n_lower, n_upper, method, a.steps, a.clock))
-            print(table(rows[-1:]), flush=True)
+            rows.append(run(n_lower, n_upper, method, a.steps, a.clock, a.load))
+            print(table(rows[-1:]) + memory_table(rows[-1:]), flush=True)
             if a.json:
                 with open(a.json, "w") as f:
                     json.dump(rows, f, indent=1)
     print(table(rows))
+    print(memory_table(rows))
     return 0
 
 
