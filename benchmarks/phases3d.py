@@ -41,8 +41,38 @@ per Newton iteration (2 steps, 3 + 3 iterations in every run)::
     mortar-dual  9,456    0.121  0.009    4.38    0.397   0.070   4.98    1.0 GB
     nts          106,518  1.95   0.019    0.12    17.6    0.38    20      3.9 GB
 
-Mortar at 1e5 (RSS past 7 GB: the kernel keeps its chunks' triplets) and both methods
-at 3e5 (NTS past 12 GB) were stopped on the loaded machine, unfinished.
+Mortar at 1.07e5 dofs (784 slave faces; 2026-12-06, main d0b2e08 with the n_gauss check,
+mortar-dual also with the kernel's distinct-dofs scatter of issue 34; one thread, load
+average 5 to 8; the same runs with the memory sampled by phase), seconds per Newton
+iteration (3 + 3 iterations; contact includes its search, rest includes the build; the
+contact is 34 and 65 ms per slave face and evaluation)::
+
+    method       dofs     bulk   contact  solve   rest    total   peak RSS
+    mortar       106,518  3.05   35.5     25.9    1.4     65.9    5.9 GB
+    mortar-dual  106,518  3.14   67.9     28.0    1.4     100.5   5.8 GB
+
+Where the resident memory rose (GB; each rise of the RSS, sampled every 20 ms, booked to
+the phase running), and PARDISO's LU (the follower pressure makes the tangent
+unsymmetric, ``mtype`` 11)::
+
+    method       dofs     build  bulk  contact  global sum  solve  factor nonzeros  factor  analysis peak
+    mortar       106,518  0.92   0.69  0.65     1.64        1.94   2.14e8           2.35    2.35
+    mortar-dual  106,518  0.92   0.69  0.64     1.64        1.88   2.06e8           2.36    2.36
+
+The peak (5.9 GB) is reached in a global sum while PARDISO still holds the last LU (2.35
+GB, ``iparm(16) + iparm(17)``): the contact triplets are not where the memory goes (the
+pair's Python-side peak is 69 MiB at 144 slave faces, tracemalloc).  Releasing the LU
+after each direct solve (phase 0) left the peak where it was at 2.3e4 dofs (1.03 GB
+either way; the freed memory is not handed back to the system), so it is not done.  With
+``--load dead`` the tangent is symmetric but for the contact rows and PARDISO factors the
+symmetrized system: at 23,223 dofs (mortar) 1.16e7 factor nonzeros against 2.68e7, 0.10
+against 0.23 GB, 4.7 against 10.3 s of solve over 6 iterations; above ``SINGLE_ABOVE``
+(5e4) unknowns in single precision, half again.
+
+Not run: NTS and mortar at 3.1e5 dofs (n_lower 50).  NTS's LU there, from its growth
+(nested dissection in 3D, ``n^(4/3)``): about 9e8 nonzeros, 7 GB of factor and a larger
+analysis peak, past 12 GB with the model (an earlier run was stopped there); the
+symmetrized single-precision factor (``--load dead``) would be about a quarter of it.
 """
 from __future__ import annotations
 
