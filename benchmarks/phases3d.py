@@ -69,10 +69,16 @@ symmetrized system: at 23,223 dofs (mortar) 1.16e7 factor nonzeros against 2.68e
 against 0.23 GB, 4.7 against 10.3 s of solve over 6 iterations; above ``SINGLE_ABOVE``
 (5e4) unknowns in single precision, half again.
 
-Not run: NTS and mortar at 3.1e5 dofs (n_lower 50).  NTS's LU there, from its growth
-(nested dissection in 3D, ``n^(4/3)``): about 9e8 nonzeros, 7 GB of factor and a larger
-analysis peak, past 12 GB with the model (an earlier run was stopped there); the
-symmetrized single-precision factor (``--load dead``) would be about a quarter of it.
+The solver's choices on NTS at 30,957 dofs (3 + 3 iterations; factor nonzeros, factor GB,
+solve seconds per iteration, peak RSS): the LU (follower load) 3.08e7, 0.34 GB, 1.67 s,
+1.1 GB; ``--load dead``, symmetrized in double 1.83e7, 0.20 GB, 1.24 s, 1.0 GB, and in
+single precision (``SKFEM_MORTAR_SINGLE_ABOVE=0``) 1.83e7, 0.12 GB, 0.81 s, 0.9 GB.
+
+Not run: NTS and mortar at 3.1e5 dofs (n_lower 50).  The LU's factor grew like
+``n^1.56`` from 3.1e4 (NTS) to 1.07e5 dofs (mortar); at 3.1e5 that is about 1.2e9
+nonzeros and 13 GB, past the 16 GB limit with the model (an NTS run was stopped past 12
+GB); the symmetrized single-precision factor (``--load dead``, 0.36 of the LU above)
+would be about 5 GB.
 """
 from __future__ import annotations
 
