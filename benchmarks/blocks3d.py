@@ -27,14 +27,30 @@ def blocks_params(**over: Any) -> dict:
     return values
 
 
-def blocks_model(params: dict, method: str, **options: Any) -> tuple[Any, Any, Any]:
+def blocks_model(params: dict, method: str, load: str = "follower", **options: Any
+                 ) -> tuple[Any, Any, Any]:
     """``(model, pair, parts)``: patch3d's bodies and the pair (``options`` to
-    :class:`~skfem_mortar.contact.pair.ContactPair`, e.g. ``n_gauss``)."""
+    :class:`~skfem_mortar.contact.pair.ContactPair`, e.g. ``n_gauss``).
+
+    ``load``: ``"follower"`` patch3d's Cauchy pressures (an unsymmetric tangent: the
+    solver factors the LU), or ``"dead"`` the same pressures as reference tractions
+    ``(0, 0, -p)`` (a symmetric tangent but for the contact rows: the symmetrized
+    system, in single precision from ``SINGLE_ABOVE`` unknowns; not patch3d's exact
+    state, the same size and pattern)."""
     from skfem_mortar.contact.pair import ContactPair
     from skfem_mortar.contact.surfaces import ContactSurface
     from skfem_mortar.core.model import Model
+    from skfem_mortar.loads.pressure3d import FollowerPressure3D
+    from skfem_mortar.loads.traction import Traction
     from skfem_mortar.scenes._patch3d import build_bodies
+    if load not in ("follower", "dead"):
+        raise ValueError(f"load must be 'follower' or 'dead', got {load!r}")
     parts = build_bodies(params)
+    if load == "dead":
+        q = float(params["pressure"])
+        tags = {"pressure": "top", "uncovered_pressure": "uncovered"}   # build_bodies'
+        parts.items[:] = [Traction(it.body, tags[it.name], (0.0, 0.0, -q), name=it.name)
+                          if isinstance(it, FollowerPressure3D) else it for it in parts.items]
     slave = ContactSurface.from_solid(*parts.slave, name="slave_face")
     master = ContactSurface.from_solid(*parts.master, name="master_face")
     pair = ContactPair(slave, master, method, name="contact", **options)

@@ -36,7 +36,14 @@ jets (7 points, Hessians of 36 or 27 variables).  Measured 2026-12-06 after the 
 variable fast path, the curvature step of the back-projection and the faces' chunk bound
 (CPU, median of 2 interleaved processes against main on loaded cores, per slave face):
 quad4 36 faces 49 ms (main 57), mortar-dual 80 ms (main 87); quad4 100 faces 51 ms (main
-69); tri3 72 faces 25 / 27 ms (main 23 / 25, standard / dual: within the runs' 25 % spread).  ``--memory`` adds the peak of Python-side
+69); tri3 72 faces 25 / 27 ms (main 23 / 25, standard / dual: within the runs' 25 % spread).
+After the kernel's scatter on each group's distinct dofs (issue 34's dedup, H26's milestone
+M2; CPU, median of 2, one thread, load 5 to 7), quad4 per slave face / per face pair at 64,
+144, 400 faces: mortar 27.3 / 1.29, 27.7 / 1.02, 27.0 / 0.84 ms (time ~ slave faces^0.99,
+~ pairs^0.81), mortar-dual 41.4 / 1.96, 42.8 / 1.58, 49.8 / 1.55 ms (~ faces^1.10, ~
+pairs^0.90; why dual grows a little was not measured: its chunks pad every group to
+the most integration cells of a slave cell in the chunk, which grows with the mesh);
+Python-side peak 40, 69, 76 MiB both.  ``--memory`` adds the peak of Python-side
 allocations (tracemalloc) of one more evaluation.  ``--max-seconds`` skips a
 method's larger sizes once one evaluation took longer.
 """

@@ -41,8 +41,44 @@ per Newton iteration (2 steps, 3 + 3 iterations in every run)::
     mortar-dual  9,456    0.121  0.009    4.38    0.397   0.070   4.98    1.0 GB
     nts          106,518  1.95   0.019    0.12    17.6    0.38    20      3.9 GB
 
-Mortar at 1e5 (RSS past 7 GB: the kernel keeps its chunks' triplets) and both methods
-at 3e5 (NTS past 12 GB) were stopped on the loaded machine, unfinished.
+Mortar at 1.07e5 dofs (784 slave faces; 2026-12-06, main d0b2e08 with the n_gauss check,
+mortar-dual also with the kernel's distinct-dofs scatter of issue 34; one thread, load
+average 5 to 8; the same runs with the memory sampled by phase), seconds per Newton
+iteration (3 + 3 iterations; contact includes its search, rest includes the build; the
+contact is 34 and 65 ms per slave face and evaluation)::
+
+    method       dofs     bulk   contact  solve   rest    total   peak RSS
+    mortar       106,518  3.05   35.5     25.9    1.4     65.9    5.9 GB
+    mortar-dual  106,518  3.14   67.9     28.0    1.4     100.5   5.8 GB
+
+Where the resident memory rose (GB; each rise of the RSS, sampled every 20 ms, booked to
+the phase running), and PARDISO's LU (the follower pressure makes the tangent
+unsymmetric, ``mtype`` 11)::
+
+    method       dofs     build  bulk  contact  global sum  solve  factor nonzeros  factor  analysis peak
+    mortar       106,518  0.92   0.69  0.65     1.64        1.94   2.14e8           2.35    2.35
+    mortar-dual  106,518  0.92   0.69  0.64     1.64        1.88   2.06e8           2.36    2.36
+
+The peak (5.9 GB) is reached in a global sum while PARDISO still holds the last LU (2.35
+GB, ``iparm(16) + iparm(17)``): the contact triplets are not where the memory goes (the
+pair's Python-side peak is 69 MiB at 144 slave faces, tracemalloc).  Releasing the LU
+after each direct solve (phase 0) left the peak where it was at 2.3e4 dofs (1.03 GB
+either way; the freed memory is not handed back to the system), so it is not done.  With
+``--load dead`` the tangent is symmetric but for the contact rows and PARDISO factors the
+symmetrized system: at 23,223 dofs (mortar) 1.16e7 factor nonzeros against 2.68e7, 0.10
+against 0.23 GB, 4.7 against 10.3 s of solve over 6 iterations; above ``SINGLE_ABOVE``
+(5e4) unknowns in single precision, half again.
+
+The solver's choices on NTS at 30,957 dofs (3 + 3 iterations; factor nonzeros, factor GB,
+solve seconds per iteration, peak RSS): the LU (follower load) 3.08e7, 0.34 GB, 1.67 s,
+1.1 GB; ``--load dead``, symmetrized in double 1.83e7, 0.20 GB, 1.24 s, 1.0 GB, and in
+single precision (``SKFEM_MORTAR_SINGLE_ABOVE=0``) 1.83e7, 0.12 GB, 0.81 s, 0.9 GB.
+
+Not run: NTS and mortar at 3.1e5 dofs (n_lower 50).  The LU's factor grew like
+``n^1.56`` from 3.1e4 (NTS) to 1.07e5 dofs (mortar); at 3.1e5 that is about 1.2e9
+nonzeros and 13 GB, past the 16 GB limit with the model (an NTS run was stopped past 12
+GB); the symmetrized single-precision factor (``--load dead``, 0.36 of the LU above)
+would be about 5 GB.
 """
 from __future__ import annotations
 
@@ -55,20 +91,47 @@ import sys
 HERE = os.path.dirname(os.path.abspath(__file__))
 
 _RUN = r"""
-import json, resource, sys, time
+import json, os, resource, sys, threading, time
 sys.path.insert(0, sys.argv[2])
 spec = json.loads(sys.argv[1])
 if spec["clock"] == "cpu":       # every timer of the package reads the process's CPU time
     time.perf_counter = time.process_time
 from blocks3d import blocks_model, blocks_params
+import skfem_mortar.core.model as core_model
+import skfem_mortar.solver.newton as newton
 from skfem_mortar.core.timing import TIMERS, reset
 from skfem_mortar.solver.newton import NewtonOptions
 from skfem_mortar.solver.stepping import solve
+PAGE, now, grew, top = os.sysconf("SC_PAGE_SIZE"), ["build"], {}, [0.0]
+def sample():                    # RSS every 20 ms; each rise is the running phase's
+    while True:
+        with open("/proc/self/statm") as f:
+            r = int(f.read().split()[1]) * PAGE / 2**30
+        if r > top[0]:
+            grew[now[0]] = grew.get(now[0], 0.0) + r - top[0]
+            top[0] = r
+        time.sleep(0.02)
+threading.Thread(target=sample, daemon=True).start()
+def phase(obj, name, label):
+    f = getattr(obj, name)
+    def g(*a, **k):
+        last, now[0] = now[0], label
+        try:
+            return f(*a, **k)
+        finally:
+            now[0] = last
+    setattr(obj, name, g)
 t0 = time.perf_counter()
 params = blocks_params(n_lower=spec["n_lower"], n_upper=spec["n_upper"])
-model, pair, parts = blocks_model(params, spec["method"])
+model, pair, parts = blocks_model(params, spec["method"], spec["load"])
 model.timers.clear(); reset()
 t_build = time.perf_counter() - t0
+now[0] = "rest"
+for it in model.items:
+    phase(it, "assemble", "contact" if it is pair else "bulk")
+phase(core_model.Model, "_tangent", "global sum")
+phase(core_model.Model, "free_block", "free block")
+phase(newton, "solve_linear", "solve")
 t0 = time.perf_counter()
 res = solve(model, spec["steps"], newton=NewtonOptions(linear="direct"))
 wall = time.perf_counter() - t0
@@ -80,12 +143,18 @@ phases = {"bulk": tm.get("bulk", 0.0) + tm.get("loads", 0.0),
           "solve": res.solve_time}
 phases["rest"] = wall - sum(phases.values())
 n = sum(its)
-print(json.dumps({"method": spec["method"], "n_lower": spec["n_lower"],
+from skfem_mortar.solver.pardiso import _pardiso_solvers
+fill = {str(k): {"factor_nonzeros": int(h.solver.get_iparm(18)),
+                 "factor_gb": (h.solver.get_iparm(16) + h.solver.get_iparm(17)) / 2**20,
+                 "analysis_peak_gb": h.solver.get_iparm(15) / 2**20}
+        for k, h in _pardiso_solvers.items()}
+print(json.dumps({"method": spec["method"], "load": spec["load"], "n_lower": spec["n_lower"],
                   "n_upper": spec["n_upper"], "n_dofs": int(model.n_u),
                   "n_multipliers": int(model.n_lam), "converged": bool(res.converged),
                   "iterations": its, "build_s": t_build, "wall_s": wall,
                   "per_iteration_s": {k: v / n for k, v in phases.items()},
                   "timers": tm, "slave_faces": int(len(pair.slave.segments)),
+                  "rss_growth_gb": grew, "pardiso": fill,
                   "peak_rss_gb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 2**20}))
 """
 
@@ -96,11 +165,12 @@ PHASES = ("bulk", "search", "contact", "solve", "rest")
 ONE_THREAD = {k: "1" for k in ("MKL_NUM_THREADS", "OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS")}
 
 
-def run(n_lower: int, n_upper: int, method: str, steps: int, clock: str = "cpu") -> dict:
+def run(n_lower: int, n_upper: int, method: str, steps: int, clock: str = "cpu",
+        load: str = "follower") -> dict:
     """One fresh process: the model of ``n_lower``/``n_upper`` cells solved by ``method``
-    (``clock``: ``cpu`` or ``wall``, module docstring)."""
+    (``clock``: ``cpu`` or ``wall``; ``load``: :func:`blocks3d.blocks_model`'s)."""
     spec = json.dumps({"n_lower": n_lower, "n_upper": n_upper, "method": method,
-                       "steps": steps, "clock": clock})
+                       "steps": steps, "clock": clock, "load": load})
     env = {**os.environ, "SKFEM_MORTAR_SOLVER": "pardiso", **ONE_THREAD}
     out = subprocess.run([sys.executable, "-c", _RUN, spec, HERE], env=env, check=True,
                          capture_output=True, text=True).stdout
@@ -123,6 +193,27 @@ def table(rows: list[dict]) -> str:
     return head + "\n".join(lines) + "\n"
 
 
+MEMORY = ("build", "bulk", "contact", "global sum", "free block", "solve", "rest")
+
+
+def memory_table(rows: list[dict]) -> str:
+    """The Markdown table of where the resident memory rose (GB, module docstring) and
+    PARDISO's factor: its nonzeros and memory (``iparm(16) + iparm(17)``) and the
+    analysis' peak (``iparm(15)``)."""
+    head = ("| method | dofs | " + " | ".join(MEMORY) + " | factor nonzeros | factor [GB] | "
+            "analysis peak [GB] | peak RSS [GB] |\n|" + "---|" * (len(MEMORY) + 6) + "\n")
+    lines = []
+    for r in rows:
+        g = r["rss_growth_gb"]
+        f = max(r["pardiso"].values(), key=lambda v: v["factor_nonzeros"], default=None)
+        pf = (f"{f['factor_nonzeros']:,} | {f['factor_gb']:.2f} | {f['analysis_peak_gb']:.2f}"
+              if f else "- | - | -")
+        lines.append(f"| {r['method']} | {r['n_dofs']:,} | "
+                     + " | ".join(f"{g.get(k, 0.0):.2f}" for k in MEMORY)
+                     + f" | {pf} | {r['peak_rss_gb']:.1f} |")
+    return head + "\n".join(lines) + "\n"
+
+
 def main(argv=None) -> int:
     sys.path.insert(0, HERE)
     from blocks3d import sizes_for
@@ -131,6 +222,7 @@ def main(argv=None) -> int:
     ap.add_argument("--methods", nargs="+", default=["nts", "mortar", "mortar-dual"])
     ap.add_argument("--steps", type=int, default=2)
     ap.add_argument("--clock", choices=("cpu", "wall"), default="cpu")
+    ap.add_argument("--load", choices=("follower", "dead"), default="follower")
     ap.add_argument("--json")
     a = ap.parse_args(argv)
     if a.steps < 1:
@@ -139,12 +231,13 @@ def main(argv=None) -> int:
     for dofs in a.dofs:
         n_lower, n_upper = sizes_for(dofs)
         for method in a.methods:
-            rows.append(run(n_lower, n_upper, method, a.steps, a.clock))
-            print(table(rows[-1:]), flush=True)
+            rows.append(run(n_lower, n_upper, method, a.steps, a.clock, a.load))
+            print(table(rows[-1:]) + memory_table(rows[-1:]), flush=True)
             if a.json:
                 with open(a.json, "w") as f:
                     json.dump(rows, f, indent=1)
     print(table(rows))
+    print(memory_table(rows))
     return 0
 
 
