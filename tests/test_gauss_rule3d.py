@@ -60,3 +60,20 @@ def test_the_refusal_starts_at_the_stated_tolerance():
     for n_gauss in (N_GAUSS_BILINEAR, 5, 20):
         check_rule(("quad4", "quad4"), n_gauss, (_faces(_trapezoid()), _faces(_trapezoid())))
 
+
+
+def _patch(n_gauss, distort):
+    from skfem_mortar.app.runner import run_scene
+    values = {"n_lower": "4", "n_upper": "2", "margin": "0", "element": "hex1",
+              "slave": "lower", "distort": str(distort), "n_gauss": str(n_gauss)}
+    return run_scene("patch3d", values, method="mortar-dual")["metrics"]
+
+
+def test_patch3d_trapezoids_refuse_the_rules_that_stall():
+    """patch3d's trapezoid variant with degree 2 or 3 is refused when the pair is made
+    (it stalled: check_rule's docstring); without ``distort`` degree 2 is exact (1e-12:
+    the patch test's round-off bound)."""
+    for n_gauss in (2, 3):
+        with pytest.raises(ValueError, match=r"n_gauss must be an integer in \[4, 20\]"):
+            _patch(n_gauss, 0.3)
+    assert _patch(2, 0.0)["pressure_error"] < 1e-12

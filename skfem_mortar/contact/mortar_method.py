@@ -30,8 +30,9 @@ from .mortar_quadratic_segmentation import candidate_pairs
 from .segmentation import Segmentation, segmentation_for, surface_cell
 from .search import cell_sizes, segment_pairs
 from .mirror_faces import evaluate_mirrored
-from .mortar_faces import FACE_OPTIONS, face_points, takes_faces
+from .mortar_faces import FACE_OPTIONS, N_GAUSS_FACES, face_points, takes_faces
 from .mortar_pattern import stencil_pattern
+from .points3d import N_GAUSS, check_rule
 
 #: master faces within this many of their own sizes of a symmetry plane get mirror
 #: images (:mod:`.mirror_faces`): the images that can meet a slave face on the plane
@@ -167,6 +168,9 @@ class Mortar(ContactDiscretization):
         self.faces = takes_faces(self.cells, segmentation_for(self.cells), self.method, master,
                                  segmentation)
         check_options(self.method, options, FACE_OPTIONS if self.faces else self.OPTIONS)
+        if self.faces:                 # the rule on quad4 faces that are no parallelograms
+            check_rule(self.cells, options.get("n_gauss", N_GAUSS), ((slave.X, slave.segments),
+                       (master.X, master.segments)), high=N_GAUSS_FACES)
         #: lines not both affine (:attr:`~.cells.CellType.affine`): the curved
         #: segmentation's search
         self.curved = not self.faces and not all(c.affine for c in self.cells)
