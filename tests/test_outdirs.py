@@ -25,9 +25,12 @@ from skfem_mortar.output.io import read_series
 from skfem_mortar.output.outdir import LOCK_NAME, MANIFEST_NAME, read_manifest
 
 ROOT = Path(__file__).resolve().parents[1]
-#: a run of a few seconds (about 40 steps of 0.1 s): long enough to act on it
-#: while it runs, short enough to let it finish
-LONG = ["block", "--set", "refine=5", "--set", "stretch=1.8", "--steps", "40", "--no-progress"]
+#: the long run's steps: a run of a few seconds, long enough that it cannot end
+#: between the test seeing two steps and its signal (40 steps took 0.7 s in all,
+#: and a loaded test process missed them: the run ended with 0), short enough to let
+#: it finish in the resume test
+N_LONG = 200
+LONG = ["block", "--set", "refine=5", "--set", "stretch=1.8", "--steps", str(N_LONG), "--no-progress"]
 SHORT = ["block", "--set", "refine=1", "--steps", "2", "--no-progress"]
 #: how long to wait for a subprocess to reach a state: its start (interpreter,
 #: imports, model build) takes about 1 s alone and more on a loaded 2-core
@@ -107,7 +110,7 @@ def _killed_run(out: Path) -> int:
 def test_after_a_kill_a_new_run_needs_replace_and_resume_continues(tmp_path, capsys, caplog):
     out = tmp_path / "killed"
     done = _killed_run(out)
-    assert 2 <= done < 40 and (out / LOCK_NAME).exists()  # the stale lock stays
+    assert 2 <= done < N_LONG and (out / LOCK_NAME).exists()  # the stale lock stays
     other = shutil.copytree(out, tmp_path / "other")
     # a new run into it: refused without --replace (the stale lock is taken over first)
     assert main(["run", *SHORT, "--out", str(other)]) == 2
@@ -129,9 +132,9 @@ def test_after_a_kill_a_new_run_needs_replace_and_resume_continues(tmp_path, cap
         p.write_bytes(b"half")
     assert main(["run", *LONG, "--out", str(out), "--resume", "--json"]) == 0
     summary = json.loads(capsys.readouterr().out)
-    assert summary["converged"] and len(summary["steps"]) == 40
+    assert summary["converged"] and len(summary["steps"]) == N_LONG
     assert not any(p.exists() for p in leftovers)
-    _assert_frames_whole(out, 41)
+    _assert_frames_whole(out, N_LONG + 1)
 
 
 def test_a_stale_lock_is_taken_over_with_a_note(tmp_path):
