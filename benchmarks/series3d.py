@@ -151,7 +151,8 @@ def tied3d_row(level: int, space: str, fine_cut: tuple | None) -> dict:
 
 
 def hertz_readings(pair: ContactPair, z: np.ndarray, exact: dict) -> dict:
-    """``l2_error``, ``oscillation`` and ``osc_ref`` of the module docstring."""
+    """``l2_error``, ``l2_window``, ``oscillation``, ``osc_ref``, ``err_force`` and
+    ``osc_force`` of the module docstring."""
     s = pair.slave
     cell = surface_cell(s)
     x = s.x(z)
@@ -159,21 +160,31 @@ def hertz_readings(pair: ContactPair, z: np.ndarray, exact: dict) -> dict:
     a, p0 = exact["contact_radius"], exact["peak_pressure"]
     r = np.hypot(x[0], x[1])
     ph = p0 * np.sqrt(np.clip(1.0 - (r / a) ** 2, 0.0, None))
-    w = tributary_weights(s.X, s.segments, cell, 2) * (r < a)
+    area = tributary_weights(s.X, s.segments, cell, 2)
+    force = pair.forces(z)[0][2] / area
+    w = area * (r < a)
     window = r < WINDOW * a
-    return {"l2_error": float(np.sqrt(np.sum(w * (p - ph) ** 2) / np.sum(w * ph ** 2))),
+
+    def l2(q, wq=w):
+        return float(np.sqrt(np.sum(wq * (q - ph) ** 2) / np.sum(wq * ph ** 2)))
+
+    return {"l2_error": l2(p), "l2_window": l2(p, w * window),
             "oscillation": oscillation(p[None], s.segments, cell, window),
             "osc_ref": oscillation(ph[None], s.segments, cell, window),
+            "err_force": l2(force),
+            "osc_force": oscillation(force[None], s.segments, cell, window),
             "n_window": int(window.sum())}
 
 
-def hertz3d_row(level: int, method: str, base: str) -> dict:
-    """One run of ``hertz3d`` (:data:`HERTZ`) at ``refine = level``."""
-    params = {**HERTZ, "refine": level, "base": base}
+def hertz3d_row(level: int, method: str, base: str, **extra) -> dict:
+    """One run of ``hertz3d`` (:data:`HERTZ`) at ``refine = level`` (``extra``: more of
+    its parameters, e.g. ``base_h``, ``slave``)."""
+    params = {**HERTZ, "refine": level, "base": base, **extra}
     summary, result, setup, cpu = _solve("hertz3d", params, method)
     pair = _item(setup, ContactPair)
     m = summary["metrics"]
     row = {"scene": "hertz3d", "space": method, "level": level, "h": m["element_size"],
+           "base_h": float(params.get("base_h", 1.0)),
            "dofs": int(result.z.size),
            **hertz_readings(pair, result.z, exact_hertz3d(setup_params(params))),
            "peak_fit_error": _relative(m["peak_pressure_fit"], m["peak_pressure_exact"]),
@@ -211,6 +222,10 @@ def main(argv: list[str] | None = None) -> None:
     ap.add_argument("--spaces", nargs="+", default=["standard", "dual"])
     ap.add_argument("--methods", nargs="+", default=["nts", "mortar", "mortar-dual"])
     ap.add_argument("--base", default="elastic", choices=("elastic", "rigid"))
+    ap.add_argument("--base-h", type=float, default=1.0, help="hertz3d: the base's cells "
+                    "under the contact over the sphere's (1: matching, 1.5: non-matching)")
+    ap.add_argument("--slave", default="cap", choices=("cap", "sphere"), help="hertz3d: "
+                    "the sphere's contact surface (cap: its faces within 2 a, the same answer)")
     ap.add_argument("--fine", type=int, default=5, help="tied3d: the fine reference's level "
                     "(0: none)")
     ap.add_argument("--json")
@@ -234,12 +249,14 @@ def main(argv: list[str] | None = None) -> None:
     else:
         for method in args.methods:
             for level in args.levels or (-3, -2, -1):
-                rows.append(hertz3d_row(level, method, args.base))
+                rows.append(hertz3d_row(level, method, args.base, base_h=args.base_h,
+                                        slave=args.slave))
                 print(_table(rows[-1:], ("space", "level", "h", "dofs", "l2_error",
                                          "oscillation", "osc_ref", "iterations", "cpu")),
                       flush=True)
         keys = ("space", "level", "h", "dofs", "l2_error", "oscillation", "osc_ref",
-                "peak_fit_error", "radius_error", "iterations", "cpu")
+                "err_force", "osc_force", "peak_fit_error", "radius_error", "iterations",
+                "cpu")
     print(_table(rows, keys))
     if args.json:
         with open(args.json, "w") as f:

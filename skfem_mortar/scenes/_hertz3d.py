@@ -40,8 +40,8 @@ sphere's nearly coincide: their surface nodes within ``1.5 a`` lie within
 ``3e-4 h0`` of each other in ``(X, Y)`` and the triangles' diagonals agree, so the
 interface is matching and mortar-dual reads NTS's pressures.  ``base_h`` scales the
 base's cells (``base_h h0``), making the interface non-matching.  ``slave=cap`` makes
-the sphere's contact surface its faces within :data:`CAP` ``a`` of the axis instead
-of its whole curved boundary: the answer is the same (the faces beyond never touch)
+the sphere's contact surface its faces within ``a +`` :data:`CAP_CELLS` ``h0`` of the
+axis instead of its whole curved boundary: the answer is the same (the faces beyond never touch)
 with far fewer mortar face pairs (the search pairs the graded far faces, whose boxes
 are large, with the base's top).
 
@@ -88,10 +88,10 @@ FINE_ZONE = 1.2
 #: the rigid plane's extent from the axis, in units of ``a``
 RIGID_SIZE = 3.0
 
-#: ``slave=cap``: the sphere's faces whose centre lies within ``CAP a`` of the axis
-#: (Hertz's contact ends at ``a``; at ``2 a`` the gap is ``3 a^2 / (2 R)`` on the rigid
-#: plane, about 10 elements ``h0`` above it at ``refine = -2``)
-CAP = 2.0
+#: ``slave=cap``: the sphere's faces whose centre lies within ``a + CAP_CELLS h0`` of the
+#: axis (Hertz's contact ends at ``a``; a discrete contact zone reaches at most about
+#: one cell beyond it)
+CAP_CELLS = 2.0
 
 #: the symmetry planes ``(axis, value)`` and the share of the sphere of each model
 SYMMETRY = {"quarter": ([(0, 0.0), (1, 0.0)], 4.0), "half": ([(1, 0.0)], 2.0)}
@@ -110,7 +110,7 @@ class HertzParts:
         The bodies, the load, the rollers (and the base's clamp).
     slave : tuple (Solid, str)
         The sphere and its boundary ``sphere`` (``slave=sphere``) or ``cap`` (its
-        faces within :data:`CAP` ``a`` of the axis, ``slave=cap``).
+        faces within ``a +`` :data:`CAP_CELLS` ``h0`` of the axis, ``slave=cap``).
     master : tuple (Solid, str) or dict
         The base and ``top``, or the rigid plane ``Z = 0`` (outward normal ``+z``) over
         ``RIGID_SIZE a`` from the axis: ``{"X": (3, n), "faces": (n_faces, 4)}``
@@ -178,14 +178,15 @@ def build_bodies(params: dict) -> HertzParts:
     R, F, model = float(params["radius"]), float(params["load"]), params["model"]
     ex = exact_hertz3d(params)
     a = ex["contact_radius"]
-    h0 = a / 30.0 * 2.0 ** (-int(params["refine"]))
+    # a float refine (not the scene's parameter, an integer) gives the levels between
+    h0 = a / 30.0 * 2.0 ** (-float(params["refine"]))
     element = params["element"]
     planes, names = octant_planes(R)
     mesh = _model_mesh(graded_octant(R, h0, FINE_ZONE * a, element), planes, names,
                        "sphere", model, 1e-9 * R)
     slave = params.get("slave", "sphere")
     if slave == "cap":
-        mesh = _with_cap(mesh, CAP * a)
+        mesh = _with_cap(mesh, a + CAP_CELLS * h0)
     sphere = make_solid(mesh, {**params, "law": "neo-hooke"}, "sphere")
     symmetry, share = SYMMETRY[model]
     # the flat top is a polygon short of the disc by the chords' segments: the
@@ -298,6 +299,6 @@ PARAMS = (
           "grids nearly coincide there (matching meshes), other values make them "
           "non-matching", float, low=0.25, high=4.0),
     Param("slave", "sphere", "the sphere's contact surface: its whole curved boundary, or "
-          "the cap of faces within 2 a of the axis (the faces that can touch: the same "
-          "answer with fewer mortar face pairs)", str, choices=("sphere", "cap")),
+          "the cap of faces within a + 2 h0 of the axis (the faces that can touch: the "
+          "same answer with fewer mortar face pairs)", str, choices=("sphere", "cap")),
 )
