@@ -282,8 +282,8 @@ def main(argv: list[str] | None = None) -> None:
                 print(_table(rows[-1:], ("space", "level", "h", "dofs", "l2_error",
                                          "oscillation", "osc_ref", "iterations", "cpu")),
                       flush=True)
-        keys = ("space", "level", "h", "dofs", "l2_error", "oscillation", "osc_ref",
-                "err_force", "osc_force", "peak_fit_error", "radius_error", "iterations",
+        keys = ("space", "level", "h", "dofs", "l2_error", "l2_window", "oscillation",
+                "osc_ref", "err_force", "osc_force", "peak_fit_error", "radius_error", "iterations",
                 "cpu")
     print(_table(rows, keys))
     if args.json:
