@@ -13,7 +13,7 @@ The configuration, the cheapest honest one found:
   series would not show what MOOSE warns about);
 * ``slave = cap``: the sphere's faces within ``a + 2 h0`` of the axis (the same answer
   as the whole sphere, the faces beyond never touch: checked below by the cap's rim
-  staying open; 4e-10 p0 apart at refine -3), 5 to 10 times fewer mortar face pairs;
+  staying open; 5e-10 p0 apart at refine -3), 5 to 10 times fewer mortar face pairs;
 * ``refine`` -3, -2.585, -2 (:data:`LEVELS`: 5, 6, 9 slave cells across the fine zone;
   the middle one a float, which the scene's build takes, its parameter being an
   integer).  At -3 Hertz's fit window ``r < 0.8 a`` holds 13 slave nodes and the
