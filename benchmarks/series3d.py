@@ -81,10 +81,10 @@ in seconds, the -1 runs' peak RSS 3.3 GB)::
     1.5     mortar-dual  -2.585  6 (4)    21338  0.109   0.088   0.102  0.036    0.108   0.102    8  13
     1.5     mortar-dual  -2.5    7 (5)        -  0.106   -       0.068  0.031    0.105   0.068    8  19
     1.5     mortar-dual  -2      9 (6)    40092  0.116   0.049   0.073  0.021    0.116   0.073    9  51
-    1.5     mortar-dual  -1      18 (12) DUAL1
+    1.5     mortar-dual  -1      18 (12) 133993  0.056   0.019   0.037  0.0067   0.055   0.037    7  125
     1       nts          -3      5 (5)    20294  0.065   0.042   0.088  0.047    0.064   0.087    7  4.1
     1       mortar       -3      5 (5)    20294  0.424   0.310   0.152  0.047    0.166   0.030    9  15
-    1       mortar       -1      18 (18) STD1
+    1       mortar       -1      18 (18) 181894  0.112   0.020   0.053  0.0067   0.048   0.019    9  234
     1       mortar-dual  -3      5 (5)    20294  0.065   0.042   0.088  0.047    0.064   0.087    7  14
 
 (-2 of the non-matching runs and the matching -3 runs of the whole sphere, ``--slave
@@ -98,11 +98,14 @@ there is the contact edge: its weighted gap ``int N_A g`` reaches one ring beyon
 edge, so the ring of nodes inside ``a`` nearest it stays inactive (``p = 0``, Hertz
 0.16 to 0.50 p0 at -3), while the active ring inside is pushed up (1.1 to 1.2 p0
 where Hertz reads 0.70 to 0.74): the consistent ``D`` spreads the edge's jump inwards.
-Its forces over the tributary areas (err f 0.166) do not show it.
+Its forces over the tributary areas (err f 0.166) do not show it.  It falls with
+``h``: at -1 the window error is 0.020 and the oscillation 0.053 (-3: 0.310, 0.152;
+peak RSS 6.1 GB at 1.8e5 dofs).
 
 **Non-matching (base_h = 1.5).**  Both spaces converge and neither locks: from -3 to
 -2 to -1 standard mortar's window error falls 0.438, 0.262, 0.036 and its oscillation
-0.287, 0.196, 0.102; mortar-dual's DUALLINE.  The levels between keep the falls
+0.287, 0.196, 0.102; mortar-dual's 0.171, 0.049, 0.019 and 0.223, 0.073, 0.037 (its error over ``r < a``
+0.223, 0.116, 0.056).  The levels between keep the falls
 (``tests/test_hertz3d_tet_series.py``: -3, -2.585, -2, both spaces, the two claims) as
 long as the two meshes keep their ratio: at -2.5 the cell counts round up to 7 and 5
 (ratio 1.4, the master relatively finer) and mortar-dual reads better than at -2.
