@@ -31,6 +31,10 @@ ROOT = Path(__file__).resolve().parents[1]
 #: it finish in the resume test
 N_LONG = 200
 LONG = ["block", "--set", "refine=5", "--set", "stretch=1.8", "--steps", str(N_LONG), "--no-progress"]
+#: a run that no test lets finish (the Ctrl-C test): the four refused commands run
+#: in the test's process first, and under a full -n 2 suite they took as long as
+#: 200 steps, so the run had ended before its signal (return code 0)
+ENDLESS = [*LONG[:-2], "20000", "--no-progress"]
 SHORT = ["block", "--set", "refine=1", "--steps", "2", "--no-progress"]
 #: how long to wait for a subprocess to reach a state: its start (interpreter,
 #: imports, model build) takes about 1 s alone and more on a loaded 2-core
@@ -73,7 +77,7 @@ def _one_line(err: str) -> str:
 
 def test_a_busy_out_is_refused_and_ctrl_c_ends_with_130(tmp_path, capsys):
     out = tmp_path / "run"
-    proc = _cli(*LONG, "--out", str(out))
+    proc = _cli(*ENDLESS, "--out", str(out))
     _wait("the lock", lambda: (out / LOCK_NAME).exists())
     held = json.loads((out / LOCK_NAME).read_text())
     assert held["pid"] == proc.pid and held["host"] == socket.gethostname()
@@ -89,7 +93,7 @@ def test_a_busy_out_is_refused_and_ctrl_c_ends_with_130(tmp_path, capsys):
     _wait("two steps", lambda: _steps_done(out) >= 2)
     proc.send_signal(signal.SIGINT)
     _, err = proc.communicate(timeout=WAIT_S)
-    assert proc.returncode == 130
+    assert proc.returncode == 130, (proc.returncode, _steps_done(out), err[-400:])
     assert "interrupted" in _one_line(err)
     assert not (out / LOCK_NAME).exists()
     assert not (out / "summary.json").exists()  # not finished: no summary
