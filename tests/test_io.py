@@ -72,3 +72,27 @@ def test_contact_csv_writes_the_distance_and_a_mask_where_no_master(tmp_path):
     with pytest.raises(ValueError, match="non-finite contact data"):
         write_contact_csv(tmp_path / "bad.csv", {"x": [0.0], "y": [0.0], "gap": [np.nan],
                                                  "pressure": [0.0]})
+
+
+def test_a_failed_temporary_leaves_ctrl_c_deliverable(tmp_path, monkeypatch):
+    """atomic_path blocks SIGINT from the temporary's creation to inside its try: when
+    the creation itself fails, the block must go with the error, else Ctrl-C stays off
+    in this thread and in every process it starts (they inherit the mask)."""
+    import errno
+    import os
+    import signal
+    import tempfile
+
+    from skfem_mortar.output.io import atomic_path
+
+    if not hasattr(signal, "pthread_sigmask"):
+        pytest.skip("no signal masks on this platform")
+
+    def full(*args, **kwargs):
+        raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
+
+    monkeypatch.setattr(tempfile, "mkstemp", full)
+    with pytest.raises(OSError, match="No space left"):
+        with atomic_path(tmp_path / "a.json"):
+            pass
+    assert signal.SIGINT not in signal.pthread_sigmask(signal.SIG_BLOCK, set())

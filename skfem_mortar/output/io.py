@@ -46,8 +46,12 @@ def atomic_path(path: str | os.PathLike, suffix: str = "") -> Iterator[Path]:
     # Ctrl-C held off from the file's creation to inside the try: a KeyboardInterrupt
     # between them left a temporary behind (seen under load)
     held = _hold_sigint()
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=suffix or ".tmp",
-                               dir=path.parent)
+    try:
+        fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=suffix or ".tmp",
+                                   dir=path.parent)
+    except BaseException:
+        _release_sigint(held)     # a failed creation must not leave Ctrl-C blocked
+        raise
     tmp = Path(tmp)
     try:
         os.close(fd)
