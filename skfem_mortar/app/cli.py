@@ -28,6 +28,7 @@ import warnings
 from typing import Callable, NoReturn, Sequence
 
 from ..contact import BUILTIN_METHODS, DEFAULT_METHOD
+from .interrupt import held_ctrl_c
 
 __all__ = ["main"]
 
@@ -380,7 +381,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     logging.basicConfig(level=logging.INFO if args.verbose else logging.WARNING,
                         stream=sys.stderr, format="%(levelname)s %(name)s: %(message)s")
     try:
-        return _dispatch(args)
+        with held_ctrl_c():  # a Ctrl-C dropped where Python cannot raise ends the next step
+            return _dispatch(args)
     except KeyboardInterrupt:
         print(f"skfem-mortar: interrupted{_kept(args)}", file=sys.stderr)
         return EXIT_INTERRUPTED

@@ -13,6 +13,7 @@ from ..solver.observers import CheckpointObserver, ContactCsv, Observer, SeriesO
 from ..scenes import Setup, get_scene
 from ..solver.newton import NewtonOptions
 from ..solver.stepping import Controller, Restart, Result, StepRecord, solve, stateful_items
+from .interrupt import check as check_interrupt
 
 __all__ = ["build_scene", "run_scene"]
 
@@ -366,13 +367,15 @@ class _Recorder(Observer):
         return z
 
     def on_step(self, record: StepRecord, z: np.ndarray) -> None:
-        """After a converged step: its frames, then its checkpoint step."""
+        """After a converged step: its frames, then its checkpoint step; then a Ctrl-C
+        that Python dropped ends the run (:func:`~.interrupt.check`)."""
         t0 = time.perf_counter()
         self.series.on_step(record, z)
         self.checkpoints.on_step(record, z)
         self.lfs.append(record.load_factor)
         self.records.append(record)
         self.time += time.perf_counter() - t0
+        check_interrupt()
 
     #: the name ``solve(callback=...)`` is given (the runner's one observer)
     step = on_step
