@@ -102,11 +102,19 @@ def test_nts_slave_node_on_a_master_vertex_converges():
     {"top_width": 0.001},                        # the smallest overlap, 1e-3 of the width
 ])
 def test_the_ends_of_the_overlap_range_run(params):
-    """Mortar at the ends of the range: the uniform state to round-off (measured
-    1e-14 and below; 1e-8 as elsewhere in this file's mortar tests, a margin)."""
+    """Mortar at the ends of the range: the uniform state to round-off.
+
+    The round-off grows as the overlap ``w`` shrinks, about ``100 eps / w^2`` (the
+    gaps are differences of coordinates of size 1 read on a support of size ``w``,
+    and the pressure is a force over that support): measured at ``top_width`` 0.1,
+    0.01, 0.001 about 2e-12, 1e-10, 4e-10 to 2.2e-8 (the last varies with the linear
+    solver's threads and summation order, before and after line2 joined the one
+    kernel).  Allowed: 1e-8 as elsewhere in this file's mortar tests, and ten times
+    the model ``100 eps / w^2`` where that is larger (2.2e-7 at w = 0.001)."""
     r = run_scene("patch", params=params, method="mortar")
     assert r["converged"]
-    assert r["metrics"]["pressure_error"] < 1e-8
+    w = min(params.get("top_width", 1.0), 1.0 - abs(params.get("offset", 0.0)))  # overlap
+    assert r["metrics"]["pressure_error"] < max(1e-8, 10 * 100 * np.finfo(float).eps / w**2)
 
 
 @pytest.mark.parametrize("params, name, allowed", [
