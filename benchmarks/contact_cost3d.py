@@ -41,9 +41,16 @@ After the kernel's scatter on each group's distinct dofs (issue 34's dedup, H26'
 M2; CPU, median of 2, one thread, load 5 to 7), quad4 per slave face / per face pair at 64,
 144, 400 faces: mortar 27.3 / 1.29, 27.7 / 1.02, 27.0 / 0.84 ms (time ~ slave faces^0.99,
 ~ pairs^0.81), mortar-dual 41.4 / 1.96, 42.8 / 1.58, 49.8 / 1.55 ms (~ faces^1.10, ~
-pairs^0.90; why dual grows a little was not measured: its chunks pad every group to
-the most integration cells of a slave cell in the chunk, which grows with the mesh);
-Python-side peak 40, 69, 76 MiB both.  ``--memory`` adds the peak of Python-side
+pairs^0.90); Python-side peak 40, 69, 76 MiB both.
+
+Why the cost per slave face grows a little, then not (2026-12-06, main e29e8e8, CPU, one
+thread, nothing else running): per slave face at 64, 400, 1,024 quad4 faces mortar 33.9,
+38.9, 39.9 ms, mortar-dual 53.0, 55.7, 57.1 ms (from 400 to 1,024 faces the time grows
+like faces^1.03).  The faces on the surface's edge meet fewer master faces (4.3 to 4.8
+integration cells against 7.1 to 7.2 inside) and their share falls with the mesh (0.44,
+0.19, 0.12), so the integration cells per slave face rise (5.84, 6.49, 6.92).  Per
+integration cell the cost is flat: mortar 5.80, 5.99, 5.77 ms, mortar-dual 9.08, 8.58,
+8.25 ms: the evaluation is linear in its integration cells.  ``--memory`` adds the peak of Python-side
 allocations (tracemalloc) of one more evaluation.  ``--max-seconds`` skips a
 method's larger sizes once one evaluation took longer.
 """
