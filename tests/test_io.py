@@ -91,8 +91,12 @@ def test_a_failed_temporary_leaves_ctrl_c_deliverable(tmp_path, monkeypatch):
     def full(*args, **kwargs):
         raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
 
-    monkeypatch.setattr(tempfile, "mkstemp", full)
-    with pytest.raises(OSError, match="No space left"):
-        with atomic_path(tmp_path / "a.json"):
-            pass
-    assert signal.SIGINT not in signal.pthread_sigmask(signal.SIG_BLOCK, set())
+    before = signal.pthread_sigmask(signal.SIG_UNBLOCK, {signal.SIGINT})  # whatever the worker had
+    try:
+        monkeypatch.setattr(tempfile, "mkstemp", full)
+        with pytest.raises(OSError, match="No space left"):
+            with atomic_path(tmp_path / "a.json"):
+                pass
+        assert signal.SIGINT not in signal.pthread_sigmask(signal.SIG_BLOCK, set())
+    finally:
+        signal.pthread_sigmask(signal.SIG_SETMASK, before)
