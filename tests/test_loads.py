@@ -198,3 +198,36 @@ def test_newton_quadratic_with_load_stiffness_linear_without():
     assert len(r) - 1 >= 20
     ratio = r[-6:] / r[-7:-1]
     assert np.all((ratio > 0.2) & (ratio < 0.7))
+
+
+@pytest.mark.parametrize("element", ["quad1", "quad2", "tri1"])
+def test_a_traction_far_from_the_origin(element):
+    """A dead traction on a mesh far from the origin (coordinates of 1e7 with cells of
+    0.2: map coordinates in metres) gives the same nodal forces as near it and hands a
+    callable the true coordinates.  scikit-fem finds the facet points by inverting the
+    quad map to an absolute 1e-12, which such coordinates cannot always reach (this
+    mesh of quads raised an Exception before; triangles never did); the load is
+    integrated on the mesh moved to its facets' centroid.  Tolerance: the forces are
+    sums of cell lengths of 0.2 read from coordinates of 1e7, so round-off of
+    eps 1e7 / 0.2 ~ 1e-8 of a force."""
+    from skfem_mortar import Traction
+
+    def forces(x0, traction):
+        mesh = (MeshQuad if element.startswith("quad") else MeshTri).init_tensor(
+            x0 + np.linspace(0.1, 0.9, 5), np.linspace(0.5, 1.0, 5))
+        mesh = mesh.with_boundaries({"top": lambda x: x[1] > 1.0 - 1e-9})
+        body = Solid(mesh, NeoHooke(E=1.0, nu=0.3), element=element)
+        return Traction(body, "top", traction).force
+
+    near, far = forces(0.0, [0.5, -2.0]), forces(1e7, [0.5, -2.0])
+    np.testing.assert_allclose(far, near, rtol=0, atol=1e-8)
+    np.testing.assert_allclose([near[0::2].sum(), near[1::2].sum()], [0.4, -1.6], atol=1e-14)
+    seen = []
+
+    def shear(x):  # t = (s, 0), s = x - x0 - 0.1 along the top: total int_0^0.8 s ds = 0.32
+        seen.append(float(np.min(x[0])))
+        return np.stack([x[0] - (1e7 + 0.1), 0.0 * x[1]])
+
+    f = forces(1e7, shear)
+    assert 1e7 + 0.1 <= seen[0] < 1e7 + 0.9
+    assert abs(f[0::2].sum() - 0.32) < 1e-8

@@ -10,6 +10,7 @@ from typing import Callable, Sequence
 
 import numpy as np
 from skfem import FacetBasis, LinearForm
+from skfem.element.discrete_field import DiscreteField
 from skfem.helpers import dot
 
 from ..core.item import Contribution, Item
@@ -24,6 +25,16 @@ __all__ = ["Traction", "PointLoad"]
 def _traction_work(v, w):
     """``v . t`` with the reference traction ``t`` on the facet quadrature points."""
     return dot(w.t, v)
+
+
+def _facet_basis(body, facets: np.ndarray) -> tuple[FacetBasis, np.ndarray]:
+    """The facets' basis on the body's mesh moved by ``-c`` (``c`` the facets' node
+    centroid) and ``c``: the load's integrals do not depend on where the mesh lies, but
+    scikit-fem finds its facet points by inverting the isoparametric map to an absolute
+    1e-12, which coordinates of 1e7 (a quad mesh of cell size 0.1) cannot reach."""
+    nodes = np.unique(body.mesh.facets[:, facets])
+    centre = body.mesh.p[:, nodes].mean(axis=1)
+    return FacetBasis(body.mesh.translated(-centre), body.basis.elem, facets=facets), centre
 
 
 class Traction(Item):
@@ -66,9 +77,10 @@ class Traction(Item):
             if t0.shape != (dim,):
                 raise ValueError(f"traction must be a {dim}-vector (the mesh is {dim}D) or "
                                  f"a callable, got shape {t0.shape}")
-        fb = FacetBasis(body.mesh, body.basis.elem, facets=facets)
+        fb, centre = _facet_basis(body, facets)
         if callable(traction):
             x = fb.global_coordinates()
+            x = DiscreteField(x.value + centre[:, None, None])     # the true coordinates
             t = real_array("traction", traction(x))
             if t.shape != x.shape:
                 raise ValueError(f"traction(x) must return an array of the shape of x "
@@ -78,7 +90,7 @@ class Traction(Item):
         self.body = body
         tag = boundary if isinstance(boundary, str) else "facets"
         self.name = name or f"traction_{body.name}_{tag}"
-        self._fb, self._t = fb, t
+        self._fb, self._t, self._centre = fb, t, centre
         self._loads: dict[str, tuple[np.ndarray, np.ndarray]] = {}
         self._load()                     # the plane (or 3D) load, checked now
 
@@ -89,7 +101,7 @@ class Traction(Item):
         if g not in self._loads:
             t = self._t
             if g == "axisymmetric":
-                t = t * (2.0 * np.pi * self._fb.global_coordinates()[0])
+                t = t * (2.0 * np.pi * (self._fb.global_coordinates()[0] + self._centre[0]))
             f = _traction_work.assemble(self._fb, t=t)
             idx = np.flatnonzero(f)
             self._loads[g] = (idx, f[idx])
