@@ -74,11 +74,23 @@ solve seconds per iteration, peak RSS): the LU (follower load) 3.08e7, 0.34 GB, 
 1.1 GB; ``--load dead``, symmetrized in double 1.83e7, 0.20 GB, 1.24 s, 1.0 GB, and in
 single precision (``SKFEM_MORTAR_SINGLE_ABOVE=0``) 1.83e7, 0.12 GB, 0.81 s, 0.9 GB.
 
-Not run: NTS and mortar at 3.1e5 dofs (n_lower 50).  The LU's factor grew like
-``n^1.56`` from 3.1e4 (NTS) to 1.07e5 dofs (mortar); at 3.1e5 that is about 1.2e9
-nonzeros and 13 GB, past the 16 GB limit with the model (an NTS run was stopped past 12
-GB); the symmetrized single-precision factor (``--load dead``, 0.36 of the LU above)
-would be about 5 GB.
+At 3.1e5 dofs (``n_lower`` 50, 313,824 dofs, 1,600 slave faces; ``--load dead --steps
+1``, 4 iterations; CPU clock; mortar-dual with the other core busy with the test suite,
+so its times are upper bounds), seconds per Newton iteration::
+
+    method       dofs     bulk   search  contact  solve   rest    total   peak RSS
+    nts          313,824  6.02   0.038   0.236    37.3    1.62    45.3    8.5 GB
+    mortar-dual  313,824  8.22   0.472   166      198     2.72    376     16.6 GB
+
+PARDISO's factor: NTS 4.5e8 nonzeros, 2.23 GB (5 bytes a nonzero: single precision);
+mortar-dual 5.1e8, 3.64 GB (7 bytes: double precision, analysis peak 1.43 GB; why the
+single-precision path was not kept here, its refinement or its symmetrized check, was not
+looked into), which with the load makes most of its 5x longer solve.  mortar-dual's memory rose in the build 2.33 GB, bulk 2.03, contact 3.32, global
+sum 5.89, solve 2.92: the peak is again a global sum on top of the held LU.  Its contact
+is 104 ms per slave face and iteration (87 at 1.07e5).  Standard mortar at 3.1e5 was not
+run (its contact is about 0.6 of dual's per face, its memory about dual's: 17 GB of the
+machine's 23).  With the follower load (the LU) the factor would be about 13 GB (the
+LU's growth ``n^1.56`` from 3.1e4 to 1.07e5 dofs), past the machine with the model.
 """
 from __future__ import annotations
 
