@@ -158,7 +158,6 @@ def _column(j: Jet, e: int) -> Jet:
 def _placed(held: Jet, on: np.ndarray, root: Jet) -> list:
     """The ends ``xi_a, xi_b`` (jets of values ``(n,)``): ``held`` (a constant of values
     ``(n, 2)``) with the entries ``on`` replaced by ``root`` (values ``(n_on,)``)."""
-    n = on.shape[0]
     v = held.v.copy()
     v[on] = root.v
     g = np.zeros(root.g.shape[:1] + on.shape)
@@ -168,7 +167,7 @@ def _placed(held: Jet, on: np.ndarray, root: Jet) -> list:
         h = np.zeros(root.h.shape[:2] + on.shape)
         h[:, :, on] = root.h
     xi = Jet(v, g, h)
-    return [_column(xi, 0), _column(xi, 1)] if n else [_column(held, 0), _column(held, 1)]
+    return [_column(xi, 0), _column(xi, 1)]
 
 
 def _spread(nodes: list, shape: tuple) -> list:
