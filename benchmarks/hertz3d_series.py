@@ -15,8 +15,14 @@ the two scenes' discretization errors measured as ``2 |q(h) - q(h / 2)|`` (Richa
 for a first-order error: ``q(h) - q(0) = 2 (q(h) - q(h / 2))``), for the fitted ``p0``
 and radius.  Both scenes discretize one continuum problem, so they must meet within
 those errors; Hertz (a half space, ``a / R -> 0``) is not that problem's answer, and
-the differences from it level off near 0.5 to 0.8 % (hertz_axi's peak at -1: 0.55 %;
-hex1 reads its nodes at most 0.75 % of p0 above Hertz's profile at -2, the axis highest).
+the differences from it level off: hertz_axi (NTS, signed, against Hertz) at refine 0,
+1, 2, 3 (5,230 to 151,762 dofs) reads the axis pressure +0.93, +0.96, +0.92, +0.88 %,
+the fitted p0 +0.68, +0.79, +0.81, +0.81 % and the radius -0.35, -0.54, -0.57, -0.57 %.
+Against that answer (hertz_axi at refine 2) hex1's largest nodal pressure (signed
++0.62, +0.75, +0.83 % against Hertz at -3, -2, -1) lies 0.30, 0.17, 0.09 % away and its
+radius (-1.86, -0.67, -0.58 %) 1.29, 0.10, 0.017 % (``tests/test_hertz3d_series.py``);
+tet1's largest nodal pressure (-0.79, +0.84, +1.11 %) overshoots it at -1 (the patch
+bias below).
 
 Measured 2026-12-06 (NTS; CPU seconds on two shared cores at load 10):
 

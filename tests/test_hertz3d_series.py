@@ -19,11 +19,27 @@ refine   radius     fitted p0    peak    nodal scatter about Hertz
 
 The radius, the fitted p0 and the scatter fall at every level.  The largest nodal
 pressure does not, and cannot: it is within 1.2 % of Hertz at every level, where
-the finite hemisphere's own answer differs from Hertz's half space (hex1 reads
-+0.75 % at every node at -2, hertz_axi's peak 0.55 % at -1); a coarser mesh samples
-the profile farther from the axis, which lowers the largest value towards Hertz's.
+the finite hemisphere's own answer differs from Hertz's half space: hertz_axi on
+fine meshes (refine 0 to 3, up to 1.5e5 dofs) converges to a fitted p0 0.81 % above
+Hertz's, a radius 0.57 % below and an axis pressure 0.88 to 0.92 % above.  Against
+that answer (the continuum problem both scenes discretize) the hex1 mesh's largest
+nodal pressure and fitted radius do fall (the last tests; signed, against Hertz):
+
+=======  ===============  ===============  ================================
+refine   hex1 peak        hex1 radius      distance from hertz_axi refine 2
+=======  ===============  ===============  ================================
+-3       +0.62 %          -1.86 %          0.30 % and 1.29 %
+-2       +0.75 %          -0.67 %          0.17 % and 0.10 %
+-1       +0.83 %          -0.58 %          0.09 % and 0.017 %
+=======  ===============  ===============  ================================
+
+tet1's largest nodal pressure (-0.79, +0.84, +1.11 %) overshoots at -1: the nodes off
+the symmetry planes read a patch bias of the Kuhn tetrahedra (+1.6 % at -1,
+``benchmarks/hertz3d_series.py``); tet1's radius and fitted p0 fall against it too.
+The third hex1 mesh (26 s of CPU) runs in CI's series step (``SKFEM_MORTAR_SERIES=1``).
 """
 import importlib.util
+import os
 from pathlib import Path
 
 import pytest
@@ -71,3 +87,49 @@ def test_hertz3d_and_hertz_axi_meet_within_their_discretization_errors(series):
     for key in ("peak_pressure_fit", "contact_radius"):
         gap, bound = SERIES.richardson_check(m3, m3f, ma, maf, key)
         assert gap <= bound, (key, gap, bound)
+
+
+#: hertz_axi's refine 2 (4.3e4 dofs, 2 s) stands for the finite hemisphere's answer: it
+#: moves by 0.036 % (peak) and 0.008 % (radius) of Hertz's values to refine 3, below
+#: the smallest hex1 distance it is compared with (0.09 % and 0.017 % at -1)
+REFERENCE_REFINE = 2
+_HEX: dict = {}
+
+
+def _hex(refine: int) -> dict:
+    """hertz3d on hex1 at ``refine`` (NTS, small strain, rigid plane), computed once."""
+    if refine not in _HEX:
+        _HEX[refine] = SERIES.run("hertz3d", refine, "nts", "hex1")
+    return _HEX[refine]
+
+
+@pytest.fixture(scope="module")
+def reference():
+    return SERIES.run("hertz_axi", REFERENCE_REFINE)
+
+
+def _distances(refine: int, reference: dict) -> dict:
+    """``|q_3d - q_axi| / q_Hertz`` of the largest nodal pressure and the fitted radius."""
+    m = _hex(refine)
+    return {k: abs(m[k] - reference[k]) / m[k + "_exact"]
+            for k in ("peak_pressure", "contact_radius")}
+
+
+def _falls(coarse: int, fine: int, reference: dict) -> None:
+    # a fall, not a rate: the distances halve per level (0.30, 0.17, 0.09 % peak)
+    # but the radius's last one is near the reference's own 0.008 %
+    a, b = _distances(coarse, reference), _distances(fine, reference)
+    for key in a:
+        assert b[key] < a[key], (key, coarse, a[key], fine, b[key])
+
+
+def test_hex1_peak_and_radius_approach_the_finite_hemispheres_answer(reference):
+    # against Hertz they rise towards the hemisphere's own offset (+0.62, +0.75 % peak)
+    _falls(-3, -2, reference)
+    assert _hex(-2)["peak_pressure_error"] < 0.03 and _hex(-2)["contact_radius_error"] < 0.03
+
+
+@pytest.mark.skipif(os.environ.get("SKFEM_MORTAR_SERIES") != "1",
+                    reason="the third hex1 mesh (9.2e4 dofs, 26 s of CPU): CI's series step")
+def test_hex1_third_mesh_approaches_it_further(reference):
+    _falls(-2, -1, reference)
