@@ -81,16 +81,22 @@ so its times are upper bounds), seconds per Newton iteration::
     method       dofs     bulk   search  contact  solve   rest    total   peak RSS
     nts          313,824  6.02   0.038   0.236    37.3    1.62    45.3    8.5 GB
     mortar-dual  313,824  8.22   0.472   166      198     2.72    376     16.6 GB
+    mortar       313,824  7.52   0.347    80.7    117     2.71    208     16.6 GB
 
-PARDISO's factor: NTS 4.5e8 nonzeros, 2.23 GB (5 bytes a nonzero: single precision);
-mortar-dual 5.1e8, 3.64 GB (7 bytes: double precision, analysis peak 1.43 GB; why the
-single-precision path was not kept here, its refinement or its symmetrized check, was not
-looked into), which with the load makes most of its 5x longer solve.  mortar-dual's memory rose in the build 2.33 GB, bulk 2.03, contact 3.32, global
-sum 5.89, solve 2.92: the peak is again a global sum on top of the held LU.  Its contact
-is 104 ms per slave face and iteration (87 at 1.07e5).  Standard mortar at 3.1e5 was not
-run (its contact is about 0.6 of dual's per face, its memory about dual's: 17 GB of the
-machine's 23).  With the follower load (the LU) the factor would be about 13 GB (the
-LU's growth ``n^1.56`` from 3.1e4 to 1.07e5 dofs), past the machine with the model.
+(standard mortar run later, alone on one core, 14 min of wall clock.)  PARDISO's factor,
+all three on the single-precision symmetric instance (the run's JSON names it,
+``(-2, 'single')``): NTS 4.5e8 nonzeros, 2.23 GB; mortar-dual 5.1e8, 3.64 GB (analysis
+peak 1.43 GB); mortar 5.1e8, 3.73 GB (1.47).  (An earlier reading of mortar-dual's 7
+bytes a nonzero as a double-precision factor was wrong: ``iparm(16) + iparm(17)`` holds
+more than the factor's values.)  Why the two mortar solves take 3 to 5 times NTS's for
+a factor of nearly the same size was not looked into; the JSON now counts each
+instance's analyses, factorizations and solves (at 4e4 dofs, ``n_lower`` 24, dead load:
+mortar-dual 2 analyses, 4 factorizations, 8 solves in 4 iterations).  mortar-dual's
+memory rose in the build 2.33 GB, bulk 2.03, contact 3.32, global sum 5.89, solve 2.92
+(mortar's within 0.02 GB of these): the peak is again a global sum on top of the held
+LU.  The contact is 104 ms (dual) and 50 ms (standard) per slave face and iteration (87
+for dual at 1.07e5).  With the follower load (the LU) the factor would be about 13 GB
+(the LU's growth ``n^1.56`` from 3.1e4 to 1.07e5 dofs), past the machine with the model.
 """
 from __future__ import annotations
 
@@ -158,7 +164,9 @@ n = sum(its)
 from skfem_mortar.solver.pardiso import _pardiso_solvers
 fill = {str(k): {"factor_nonzeros": int(h.solver.get_iparm(18)),
                  "factor_gb": (h.solver.get_iparm(16) + h.solver.get_iparm(17)) / 2**20,
-                 "analysis_peak_gb": h.solver.get_iparm(15) / 2**20}
+                 "analysis_peak_gb": h.solver.get_iparm(15) / 2**20,
+                 "analyses": h.analyses, "factorizations": h.factorizations,
+                 "solves": h.solves}
         for k, h in _pardiso_solvers.items()}
 print(json.dumps({"method": spec["method"], "load": spec["load"], "n_lower": spec["n_lower"],
                   "n_upper": spec["n_upper"], "n_dofs": int(model.n_u),
