@@ -225,3 +225,29 @@ def test_mirror_normal_exact_and_combined_with_the_axis():
     assert PLANE.unit
 
 
+
+
+def test_d_and_m_are_made_when_first_read(monkeypatch):
+    """A Newton step reads g, G and H only: the kernel leaves D and M (two of a small call's
+    four sparse conversions) to the first reading of ``info``, copies included."""
+    from skfem_mortar.contact import scatter
+    from skfem_mortar.contact.contact_eval import LazyInfo
+    calls = []
+    real = scatter.Triplets.csr
+    monkeypatch.setattr(scatter.Triplets, "csr", lambda self, shape: calls.append(shape)
+                        or real(self, shape))
+    xs, ss, xm, sm = _pair(2)
+    lam = np.linspace(0.5, 1.5, xs.shape[1])
+    ev = mortar_kernel.evaluate(xs, ss, xm, sm, lam=lam, space="dual")
+    assert len(calls) == 2                        # G and H
+    assert isinstance(ev.info, LazyInfo) and "D" in ev.info and "M" in ev.info
+    twin = ev.info.copy()
+    D = ev.info["D"]
+    assert len(calls) == 3 and ev.info["D"] is D and len(calls) == 3   # made once
+    assert ev.info.get("M") is ev.info["M"] and len(calls) == 4
+    assert _rel(twin["D"], D) == 0.0 and len(calls) == 5              # the copy its own
+    # D's row sums are the supports (the kernel's mask reads them), to round-off
+    assert _rel(np.asarray(D.sum(axis=1)).ravel(), ev.area) <= 1e-14
+    assert ev.info.get("nothing") is None
+    with pytest.raises(KeyError):
+        ev.info["nothing"]

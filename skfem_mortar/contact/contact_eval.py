@@ -21,7 +21,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import scipy.sparse as sp
 
-__all__ = ["ContactEval", "node_gap_eval"]
+__all__ = ["ContactEval", "LazyInfo", "node_gap_eval"]
 
 
 @dataclass
@@ -52,6 +52,35 @@ class ContactEval:
     area: np.ndarray
     mask: np.ndarray
     info: dict = field(default_factory=dict)
+
+
+class LazyInfo(dict):
+    """A :class:`ContactEval`'s ``info`` whose costly entries are made when first read:
+    ``lazy`` maps a key to a function of no arguments that makes its value (the mortar
+    kernel's ``D`` and ``M``, read by ties, friction and the outputs, not by a Newton
+    step).  ``info[key]``, ``key in info``, ``get`` and :meth:`copy` see them; ``keys``
+    and ``items`` list the entries made so far."""
+
+    def __init__(self, *args, lazy: dict | None = None, **kwargs):
+        super().__init__(*args, **kwargs)
+        self._lazy = dict(lazy or {})
+
+    def __missing__(self, key):
+        make = self._lazy.pop(key, None)
+        if make is None:
+            raise KeyError(key)
+        value = self[key] = make()
+        return value
+
+    def __contains__(self, key) -> bool:
+        return super().__contains__(key) or key in self._lazy
+
+    def get(self, key, default=None):
+        return self[key] if key in self else default
+
+    def copy(self) -> "LazyInfo":
+        """A shallow copy with the entries not made yet (each copy makes its own)."""
+        return LazyInfo(self, lazy=self._lazy)
 
 
 

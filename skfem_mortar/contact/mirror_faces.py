@@ -103,7 +103,7 @@ def fold(ev: ContactEval, n_s: int, n_m: int, node: np.ndarray, Rs: list) -> Con
     P = sp.csr_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))),
                       shape=(d * (n_s + n_ext), d * (n_s + n_m)))
     Q = sp.csr_matrix((np.ones(n_ext), (np.arange(n_ext), node)), shape=(n_ext, n_m))
-    info = dict(ev.info)
+    info = ev.info.copy()
     if "M" in info:
         info["M"] = (info["M"] @ Q).tocsr()
     return ContactEval(g=ev.g, G=None if ev.G is None else (ev.G @ P).tocsr(),

@@ -43,7 +43,7 @@ import scipy.sparse as sp
 
 from .cell_map import check_connectivity
 from .cells import cell_type
-from .contact_eval import ContactEval
+from .contact_eval import ContactEval, LazyInfo
 from .integration_points import IntegrationCells, LocalLayout, LocalVariables
 from .jets import Jet
 from .line_points import LineSegmentation
@@ -67,7 +67,10 @@ a 2D line2 chunk holds 1,736 cells, so the usual 2D call is one chunk)."""
 
 
 def _row(C, a: int, jets: list):
-    """``sum_b C[:, a, b] jets[b]`` (``C`` values ``(n, k, k)`` or a dict of jets)."""
+    """``sum_b C[:, a, b] jets[b]`` (``C`` values ``(n, k, k)`` or a dict of jets; None:
+    the identity, ``jets[a]`` itself: no product by 1)."""
+    if C is None:
+        return jets[a]
     acc = None
     for b in range(len(jets)):
         c = C[a, b] if isinstance(C, dict) else C[:, a, b]
@@ -79,7 +82,8 @@ def _row(C, a: int, jets: list):
 
 
 def _combine(C, jets: list) -> list:
-    """``sum_b C[:, a, b] jets[b]`` for each ``a`` (``C`` values ``(n, k, k)`` or a dict of jets)."""
+    """``sum_b C[:, a, b] jets[b]`` for each ``a`` (``C`` values ``(n, k, k)`` or a dict of
+    jets; None: the identity)."""
     return [_row(C, a, jets) for a in range(len(jets))]
 
 
@@ -87,7 +91,8 @@ def _biorthogonal(ints, grp: Groups, T: np.ndarray, space, reference=None
                   ) -> tuple[dict, np.ndarray]:
     """``A~ = D~ M~^-1`` of ``N~ = T N`` over each slave cell's integration cells (jets);
     ``reference``: the slave cell type when every cell is covered whole (the reference
-    cell's mass, constant jets: :func:`_reference_mass`)."""
+    cell's mass, constant jets: :func:`_reference_mass`); ``T`` None: no node merged (the
+    sums themselves, bit for bit what the identity's products by 1 and 0 give)."""
     if reference:
         nA, nAB = _reference_mass(reference, grp, ints.g)
         k = len(nA)
@@ -95,6 +100,10 @@ def _biorthogonal(ints, grp: Groups, T: np.ndarray, space, reference=None
         k = len(ints.n_A)
         sums = group_sums(ints.n_A + list(ints.n_AB.values()), grp)
         nA, nAB = sums[:k], dict(zip(ints.n_AB, sums[k:]))
+    if T is None:
+        A = space.cell_coefficients(list(nA), {(a, b): nAB[a, b] for a in range(k)
+                                               for b in range(a, k)})
+        return A, _values(A, k)
     full = {(a, b): nAB[min(a, b), max(a, b)] for a in range(k) for b in range(k)}
     D = _combine(T, nA)
     M = {}
@@ -112,8 +121,12 @@ def _biorthogonal(ints, grp: Groups, T: np.ndarray, space, reference=None
         if dead[:, a].any():
             M[a, a] = M[a, a] + dead[:, a] * 1.0
     A = space.cell_coefficients(D, M)
-    Av = np.stack([np.stack([A[a, b].v for b in range(k)], -1) for a in range(k)], 1)
-    return A, np.matmul(Av, T)
+    return A, np.matmul(_values(A, k), T)
+
+
+def _values(A: dict, k: int) -> np.ndarray:
+    """The values ``(n, k, k)`` of the jets ``A[(a, b)]``."""
+    return np.stack([np.stack([A[a, b].v for b in range(k)], -1) for a in range(k)], 1)
 
 
 def _reference_mass(cell, grp: Groups, g: list) -> tuple[list, dict]:
@@ -325,15 +338,18 @@ def evaluate(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarra
         for r in _buckets(sub.e_s) if biorth else [None]:
             _chunk(surf, *_rows(r, sub, S, loc, ints), mask, space if biorth else None, lam,
                    tangent, acc, reference)
-        _sum_chunk(acc[1:], shapes, summed, last=i == len(parts) - 1)
-    G, H, D, M = (sp.csr_matrix(shape) if m is None else m for m, shape in zip(summed, shapes))
-    info = {"D": D, "M": M, "segmentation": ic.data[0] if isinstance(ic.data, tuple) else ic.data,
-            "n_segments": ic.e_s.size, "normals": nn}
+        _sum_chunk(acc[1:], shapes, summed, last=i == len(parts) - 1, lazy=(2, 3))
+    G, H = (sp.csr_matrix(shape) if m is None else m for m, shape in zip(summed[:2], shapes))
+    info = LazyInfo({"segmentation": ic.data[0] if isinstance(ic.data, tuple) else ic.data,
+                     "n_segments": ic.e_s.size, "normals": nn},
+                    lazy={"D": _last_sum(acc[3], shapes[2], summed[2]),
+                          "M": _last_sum(acc[4], shapes[3], summed[3])})
     return ContactEval(g=acc[0], G=G if tangent else None, H=H if second else None,
                        area=support, mask=mask, info=info)
 
 
-def _sum_chunk(trips: tuple, shapes: tuple, summed: list, last: bool = False) -> None:
+def _sum_chunk(trips: tuple, shapes: tuple, summed: list, last: bool = False,
+               lazy: tuple = ()) -> None:
     """The chunks' triplets summed into csr and emptied once they hold at least half as
     many entries as the running sum (and at the ``last`` chunk): the peak memory is a
     chunk's triplets and about twice the running sums, not every chunk's triplets
@@ -343,12 +359,27 @@ def _sum_chunk(trips: tuple, shapes: tuple, summed: list, last: bool = False) ->
     bytes, a csr entry 12, and with the repeated dofs summed before the scatter
     (:mod:`~.mortar_groups`) a chunk adds few duplicates, so the held triplets would otherwise
     grow to twice the sum's bytes (test_memory3d's mortar peak 38.6 -> 39.1 MiB at four
-    times the faces; 38.6 with half)."""
+    times the faces; 38.6 with half).  The ``lazy`` ones' last sum is left to
+    :func:`_last_sum`."""
     for k, (t, shape) in enumerate(zip(trips, shapes)):
+        if last and k in lazy:
+            continue
         if t.r and (last or summed[k] is None or 2 * sum(v.size for v in t.v) >= summed[k].nnz):
             m = t.csr(shape)
             summed[k] = m if summed[k] is None else summed[k] + m
             t.r.clear(), t.c.clear(), t.v.clear()
+
+
+def _last_sum(t: Triplets, shape: tuple, prev):
+    """:func:`_sum_chunk`'s last sum of ``t`` onto ``prev`` (None: nothing summed yet), as
+    a function made when called: ``D`` and ``M`` (:class:`~.contact_eval.LazyInfo`), which a
+    Newton step does not read (two of a small call's four sparse conversions)."""
+    def make() -> sp.csr_matrix:
+        if not t.r:
+            return sp.csr_matrix(shape) if prev is None else prev
+        m = t.csr(shape)
+        return m if prev is None else prev + m
+    return make
 
 
 def _support(surf: _Surfaces, points, ic: IntegrationCells, n_s: int, entries) -> np.ndarray:
@@ -369,8 +400,7 @@ def _chunk(surf: _Surfaces, ic: IntegrationCells, S, loc, ints, mask, space, lam
     seg_s = surf.seg_s
     merged = ~mask[seg_s[grp.e_s]]
     k = seg_s.shape[1]
-    T = (merge_nodes(merged, surf.cells[0]) if merged.any()
-         else np.broadcast_to(np.eye(k), (grp.e_s.size, k, k)))
+    T = merge_nodes(merged, surf.cells[0]) if merged.any() else None   # None: identity
     rowwise = isinstance(ints.g[0], (list, tuple))
     if rowwise:                       # f[A][B] (the slip's): g_A = sum_B C_AB f[A][B]
         sums = [group_sums(row, grp) for row in ints.g]
@@ -398,6 +428,10 @@ def _chunk(surf: _Surfaces, ic: IntegrationCells, S, loc, ints, mask, space, lam
     n_s = surf.xs.shape[1]
     scatter_groups(Gs, grp, seg_s, surf.seg_m, ic.e_m, surf.nn, n_s, lam, tangent, out, trip, th,
                    q)
+    if C is None:                       # the identity
+        tD.outer(S, S, ints.D)
+        tM.outer(S, surf.seg_m[ic.e_m], ints.M)
+        return
     Ci = C[grp.cell]
     tD.outer(S, S, np.einsum("nab,nbc->nac", Ci, ints.D))
     tM.outer(S, surf.seg_m[ic.e_m], np.einsum("nab,nbc->nac", Ci, ints.M))

@@ -104,7 +104,7 @@ class _LastEvaluation:
             return None
         ev = self.ev
         return replace(ev, G=ev.G if tangent else None, H=ev.H if with_h else None,
-                       info=dict(ev.info))
+                       info=ev.info.copy())
 
 
 class Mortar(ContactDiscretization):
