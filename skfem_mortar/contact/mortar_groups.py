@@ -82,18 +82,20 @@ def group_sums(jets: list, grp: Groups) -> list:
     if grp.m == 1 and np.array_equal(grp.cell, np.arange(jets[0].v.size)):   # one cell a group
         idx = np.argsort(grp.index(0))
         return [Jet(j.v, j.g[idx], j.h[np.ix_(idx, idx)] if second else None) for j in jets]
+    J = len(jets)
     G = np.stack([j.g for j in jets])
-    H = np.stack([j.h for j in jets]) if second else None
-    g = np.zeros((len(jets), nv, n_e))
-    h = np.zeros((len(jets), nv, nv, n_e)) if second else None
+    nl = G.shape[1]
+    H = np.stack([j.h for j in jets]).reshape(J, nl * nl, -1) if second else None
+    g = np.zeros((J, nv, n_e))
+    h = np.zeros((J, nv * nv, n_e)) if second else None   # (nv, nv) flat: one index a slot
     for s in range(grp.m):
         sel = np.flatnonzero(grp.slot == s)
         rows, idx = grp.cell[sel], grp.index(s)
         g[:, idx[:, None], rows] += G[:, :, sel]
         if second:
-            h[:, idx[:, None, None], idx[:, None], rows] += H[:, :, :, sel]
+            h[:, (idx[:, None] * nv + idx).ravel()[:, None], rows] += H[:, :, sel]
     return [Jet(np.bincount(grp.cell, weights=j.v, minlength=n_e), g[i],
-                None if h is None else h[i]) for i, j in enumerate(jets)]
+                None if h is None else h[i].reshape(nv, nv, n_e)) for i, j in enumerate(jets)]
 
 
 def _extended(grp: Groups, conn_s, conn_m, e_m, normals: NodalNormals, n_s: int):
