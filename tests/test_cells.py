@@ -201,3 +201,21 @@ def test_output_cells():
                     CELLS["line3"].d2shape, line_quadrature)
     kind, lines = output_cells(conn, cell)[0]
     assert kind == "line" and lines.tolist() == [[0, 1], [1, 2], [2, 3], [3, 4]]
+
+
+def test_one_point_triangle_rule_is_scipys_without_importing_it():
+    """The one-point triangle rule (what registering tri3 asks) is written out so that
+    importing the package does not import scipy.special (25 ms): the same bits."""
+    import subprocess
+    import sys
+
+    from scipy.special import roots_jacobi
+
+    from skfem_mortar.contact.cells import tri_quadrature
+    v, wv = roots_jacobi(1, 1.0, 0.0)
+    y = 0.5 * (1.0 + v[0])
+    X, w = tri_quadrature(1)
+    assert np.array_equal(X, [[0.5 * (1.0 - y)], [y]]) and np.array_equal(w, [2.0 * 2.0 / 8.0])
+    code = "import sys, skfem_mortar.app.runner; print('scipy.special' in sys.modules)"
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert out.stdout.strip() == "False"
