@@ -88,10 +88,13 @@ all three on the single-precision symmetric instance (the run's JSON names it,
 ``(-2, 'single')``): NTS 4.5e8 nonzeros, 2.23 GB; mortar-dual 5.1e8, 3.64 GB (analysis
 peak 1.43 GB); mortar 5.1e8, 3.73 GB (1.47).  (An earlier reading of mortar-dual's 7
 bytes a nonzero as a double-precision factor was wrong: ``iparm(16) + iparm(17)`` holds
-more than the factor's values.)  Why the two mortar solves take 3 to 5 times NTS's for
-a factor of nearly the same size was not looked into; the JSON now counts each
-instance's analyses, factorizations and solves (at 4e4 dofs, ``n_lower`` 24, dead load:
-mortar-dual 2 analyses, 4 factorizations, 8 solves in 4 iterations).  mortar-dual's
+more than the factor's values.)  The two mortar solves take 3 to 5 times NTS's for a
+factor of nearly the same size; the JSON now counts each instance's analyses,
+factorizations and solves.  At 4e4 dofs (``n_lower`` 24, dead load, 4 iterations, double
+precision) NTS made 1 analysis (solve 3.65 s, factor 2.26e7 nonzeros), mortar and
+mortar-dual 2 (6.91 and 7.76 s, 2.68e7 and 2.60e7): a mortar pair's pattern widens after
+its first iteration, and the second symbolic analysis with the larger factor makes about
+2x; at 3.1e5 the counts were not taken.  mortar-dual's
 memory rose in the build 2.33 GB, bulk 2.03, contact 3.32, global sum 5.89, solve 2.92
 (mortar's within 0.02 GB of these): the peak is again a global sum on top of the held
 LU.  The contact is 104 ms (dual) and 50 ms (standard) per slave face and iteration (87
