@@ -246,7 +246,8 @@ def test_d_and_m_are_made_when_first_read(monkeypatch):
     assert len(calls) == 3 and ev.info["D"] is D and len(calls) == 3   # made once
     assert ev.info.get("M") is ev.info["M"] and len(calls) == 4
     assert _rel(twin["D"], D) == 0.0 and len(calls) == 5              # the copy its own
-    # D's row sums are the supports (the kernel's mask reads them), to round-off
+    # D's row sums are the supports (the kernel's mask reads them): the same terms summed
+    # in another order, so round-off of a few eps of the largest
     assert _rel(np.asarray(D.sum(axis=1)).ravel(), ev.area) <= 1e-14
     assert ev.info.get("nothing") is None
     with pytest.raises(KeyError):

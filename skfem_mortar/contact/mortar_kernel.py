@@ -100,9 +100,8 @@ def _biorthogonal(ints, grp: Groups, T: np.ndarray, space, reference=None
         k = len(ints.n_A)
         sums = group_sums(ints.n_A + list(ints.n_AB.values()), grp)
         nA, nAB = sums[:k], dict(zip(ints.n_AB, sums[k:]))
-    if T is None:
-        A = space.cell_coefficients(list(nA), {(a, b): nAB[a, b] for a in range(k)
-                                               for b in range(a, k)})
+    if T is None:                       # nAB holds the upper triangle cell_coefficients reads
+        A = space.cell_coefficients(nA, nAB)
         return A, _values(A, k)
     full = {(a, b): nAB[min(a, b), max(a, b)] for a in range(k) for b in range(k)}
     D = _combine(T, nA)
@@ -428,12 +427,11 @@ def _chunk(surf: _Surfaces, ic: IntegrationCells, S, loc, ints, mask, space, lam
     n_s = surf.xs.shape[1]
     scatter_groups(Gs, grp, seg_s, surf.seg_m, ic.e_m, surf.nn, n_s, lam, tangent, out, trip, th,
                    q)
-    if C is None:                       # the identity
-        tD.outer(S, S, ints.D)
-        tM.outer(S, surf.seg_m[ic.e_m], ints.M)
-        return
-    Ci = C[grp.cell]
-    tD.outer(S, S, np.einsum("nab,nbc->nac", Ci, ints.D))
-    tM.outer(S, surf.seg_m[ic.e_m], np.einsum("nab,nbc->nac", Ci, ints.M))
+    D, M = ints.D, ints.M               # C None: the identity
+    if C is not None:
+        Ci = C[grp.cell]
+        D, M = np.einsum("nab,nbc->nac", Ci, D), np.einsum("nab,nbc->nac", Ci, M)
+    tD.outer(S, S, D)
+    tM.outer(S, surf.seg_m[ic.e_m], M)
 
 
