@@ -10,6 +10,9 @@
   ``H``, ``D``, ``M``, mask and supports to 1e-14 of their largest entry (only the order
   of the triplets' sums changes: round-off ~1e-16), with masked and merged nodes, and
   with a chunk bound so small that every slave cell is its own chunk.
+* With ``H`` asked, the slave cells whose nodes all have a zero multiplier go first
+  order (``mortar_kernel.passes``): the all-Hessian call's results to 1e-14 (2D lines
+  and 3D faces, in one chunk and in chunks).
 * ``integrand=``: the weighted gap written as an integrand equals the default bit for
   bit; another integrand (a slip-like ``int N_A (x_m - x_s) . e_1 dGamma``) has ``G`` and
   ``H`` that agree with central differences of the whole pipeline to 1e-7 of their
@@ -126,6 +129,65 @@ def test_chunks_give_the_unchunked_call(k, space, per):
     assert _rel(one.area, cut.area) <= 1e-15      # the support pass: values, other sum order
     for a, b in ((one.g, cut.g), (one.G, cut.G), (one.H, cut.H), (one.info["D"], cut.info["D"]),
                  (one.info["M"], cut.info["M"])):
+        assert _rel(a, b) <= 1e-14
+
+
+def _all_second_order(monkeypatch):
+    """The kernel with every cell in the Hessian pass (the reference of the split)."""
+    real = mortar_kernel.passes
+    monkeypatch.setattr(mortar_kernel, "passes", lambda e_s, seg_s, lam, nv, entries=None: real(
+        e_s, seg_s, None if lam is None else np.ones_like(lam), nv, entries))
+
+
+@pytest.mark.parametrize("k, space", [(2, "dual"), (3, "standard"), (3, "dual")])
+@pytest.mark.parametrize("entries", [None, 2 * 18 * 18])
+def test_cells_without_multipliers_skip_the_hessian_pass(k, space, entries, monkeypatch):
+    """With the multipliers zero at some slave nodes, the slave cells with all their
+    nodes at zero go first order (:func:`~skfem_mortar.contact.mortar_kernel.passes`):
+    ``g``, ``G``, ``H``, ``D``, ``M`` are the all-Hessian call's to 1e-14 of their largest
+    entry (only the order of the triplets' sums changes: round-off ~1e-16), supports and
+    mask to the last bit, in one chunk and in chunks; with every multiplier zero, ``H``
+    holds no nonzero entry and no cell carries a Hessian."""
+    xs, ss, xm, sm = _pair(k)
+    lam = np.linspace(0.5, 1.5, xs.shape[1])
+    lam[ss[0]] = 0.0                                # the first slave cell's nodes
+    lam[ss[1, 1]] = 0.0                             # and one of the second's
+    kw = dict(space=space, cells=(cell_type(f"line{k}"),) * 2, chunk_entries=entries)
+    split = mortar_kernel.evaluate(xs, ss, xm, sm, lam=lam, **kw)
+    e_s = split.info["segmentation"].e_s
+    plan, _ = mortar_kernel.passes(e_s, ss, lam, 12 if k == 2 else 18, entries)
+    assert {second for _, second in plan} == {True, False}
+    assert np.isin(e_s, 0).any() and np.isin(e_s, 1).any()   # cold cells and hot in the call
+    nothing = mortar_kernel.evaluate(xs, ss, xm, sm, lam=0.0 * lam, **kw)
+    assert nothing.H.count_nonzero() == 0 and nothing.H.shape == split.H.shape
+    assert not any(second for _, second in mortar_kernel.passes(e_s, ss, 0.0 * lam, 12, None)[0])
+    _all_second_order(monkeypatch)
+    ref = mortar_kernel.evaluate(xs, ss, xm, sm, lam=lam, **kw)
+    assert np.array_equal(ref.area, split.area) and np.array_equal(ref.mask, split.mask)
+    assert not ref.mask.all()                       # masked, merged nodes among them
+    for a, b in ((ref.g, split.g), (ref.G, split.G), (ref.H, split.H),
+                 (ref.info["D"], split.info["D"]), (ref.info["M"], split.info["M"])):
+        assert _rel(a, b) <= 1e-14
+    zero = mortar_kernel.evaluate(xs, ss, xm, sm, lam=0.0 * lam, **kw)
+    assert _rel(zero.G, nothing.G) <= 1e-14 and abs(zero.H).max() == 0.0
+
+
+@pytest.mark.parametrize("space", ["standard", "dual"])
+def test_faces_without_multipliers_skip_the_hessian_pass(space, monkeypatch):
+    """The same on tri3/quad4 faces (a master sliding off a corner): ``G`` and ``H``
+    the all-Hessian call's to 1e-14 of their largest entry."""
+    from test_mortar3d_pair import _case, _method
+    rng = np.random.default_rng(7)
+    xs, fs, xm, fm = _case("sliding", ("tri3", "quad4"), rng)
+    method = _method(space, xs, fs, "tri3", xm, fm, "quad4")
+    lam = rng.uniform(0.5, 1.5, xs.shape[1])
+    lam[fs[:3].ravel()] = 0.0
+    split = method.evaluate(xs, xm, lam, True)
+    assert 0 < np.count_nonzero(lam) < lam.size
+    _all_second_order(monkeypatch)
+    method._last = None
+    ref = method.evaluate(xs, xm, lam, True)
+    for a, b in ((ref.g, split.g), (ref.G, split.G), (ref.H, split.H)):
         assert _rel(a, b) <= 1e-14
 
 

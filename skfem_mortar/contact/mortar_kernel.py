@@ -32,7 +32,9 @@ by the one rule read from the cell's edges
 The integration cells go through steps 2 to 5 in chunks of whole slave cells
 (:func:`chunks`, at most :data:`CHUNK_ENTRIES` derivative entries each), appending to
 one set of triplets; with more than one chunk the supports (for the mask) come first,
-from a first-order pass.
+from a first-order pass.  With ``H`` asked, the slave cells whose nodes all carry a zero
+multiplier go first order, in a pass of their own (:func:`passes`: ``H`` has no term
+from them).
 """
 from __future__ import annotations
 
@@ -57,7 +59,7 @@ from .normals import NodalNormals, mirror_of_axis, nodal_normals
 from .scatter import Triplets
 from .segmentation import Segmentation, line_cells
 
-__all__ = ["evaluate", "chunks", "CHUNK_ENTRIES", "BUCKET_SLOTS"]
+__all__ = ["evaluate", "chunks", "passes", "CHUNK_ENTRIES", "BUCKET_SLOTS"]
 
 CHUNK_ENTRIES = 250_000
 """Derivative entries per chunk of integration cells (``nv^2`` each with Hessians):
@@ -165,6 +167,41 @@ def chunks(e_s: np.ndarray, nv: int, second: bool, entries: int | None = None) -
         out.append(np.sort(order[lo:hi]))
         lo = hi
     return out
+
+
+def passes(e_s: np.ndarray, seg_s: np.ndarray, lam: np.ndarray | None, nv: int,
+           entries: int | None = None) -> tuple[list, bool]:
+    """The passes of one call over its integration cells (slave cells ``e_s``): a list of
+    ``(rows, second)`` (rows None: all; :func:`chunks` of each), and whether each pass is
+    one chunk.  ``lam`` (None: no ``H``): only the slave cells with a nonzero multiplier at
+    one of their nodes carry Hessians, in a first pass; the others go first order, in a
+    second.  ``H = sum_A lam_A d2g_A/dx2`` has no term from them: ``g_A`` of a node ``A``
+    sums the cells of the slave cells at ``A`` (merges and dual coefficients mix the nodes
+    of one slave cell only), so theirs would add exact zeros (measured: 60 % of the seed
+    scene's cells over its run, whose Hessians were 60 % of its kernel time)."""
+    if lam is None or not e_s.size:
+        subsets = [(None, lam is not None)]
+    else:
+        hot = (np.asarray(lam) != 0)[seg_s[e_s]].any(axis=1)   # NaN != 0: hot
+        subsets = ([(None, bool(hot[0]))] if hot.all() or not hot.any() else
+                   [(np.flatnonzero(hot), True), (np.flatnonzero(~hot), False)])
+    plan, small = [], True
+    for sel, second in subsets:
+        parts = chunks(e_s if sel is None else e_s[sel], nv, second, entries)
+        small = small and parts[0] is None
+        plan += [(r if sel is None else sel if r is None else sel[r], second) for r in parts]
+    return plan, small
+
+
+def _supports(pre: list, rows: list, n_s: int) -> np.ndarray:
+    """The supports ``int N_A w dGamma`` from the passes' integrals ``pre`` (rows ``rows``
+    of the call's cells, None: all), summed in the cells' order (as one pass would)."""
+    if rows[0] is None:
+        return np.bincount(pre[0][0].ravel(), weights=pre[0][2].support.ravel(), minlength=n_s)
+    order = np.argsort(np.concatenate(rows), kind="stable")
+    S = np.concatenate([p[0] for p in pre])[order]
+    w = np.concatenate([p[2].support for p in pre])[order]
+    return np.bincount(S.ravel(), weights=w.ravel(), minlength=n_s)
 
 
 BUCKET_SLOTS = 4
@@ -309,16 +346,17 @@ def evaluate(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarra
     n_s, n_m = xs.shape[1], xm.shape[1]
     if chunk_entries is None:               # the segmentation's own bound, if it states one
         chunk_entries = getattr(points, "chunk_entries", None)
-    parts = chunks(ic.e_s, LocalLayout.of(cells).n_loc, second, chunk_entries)
+    plan, small = passes(ic.e_s, seg_s, lam if second else None, LocalLayout.of(cells).n_loc,
+                         chunk_entries)
     whole = getattr(points, "whole_cells", None)
     whole = whole(ic) if whole is not None and biorth and measure.unit else None
     reference = whole is not None and bool(whole.all()) and ic.e_s.size > 0
     mass = biorth and not reference          # the reference cell's mass: no mass jets
-    first = None
-    if parts[0] is None:
-        first = surf.integrals(points, ic, second, mass, integrand)
-        support = np.bincount(first[0].ravel(), weights=first[2].support.ravel(),
-                              minlength=n_s)
+    pre = None
+    if small:                                # every pass one chunk: their integrals first
+        pre = [surf.integrals(points, _take(ic, rows), sec, mass, integrand)
+               for rows, sec in plan]
+        support = _supports(pre, [rows for rows, _ in plan], n_s)
     else:
         support = _support(surf, points, ic, n_s, chunk_entries)
     trib = tributary_weights(xs, seg_s, cells[0], 2 * N_GAUSS_ELEMENT - 1, measure,
@@ -330,14 +368,14 @@ def evaluate(xs: np.ndarray, seg_s: np.ndarray, xm: np.ndarray, seg_m: np.ndarra
     n = xs.shape[0] * (n_s + n_m)
     shapes = ((n_s, n), (n, n), (n_s, n_s), (n_s, n_m))
     summed: list = [None] * 4
-    for i, rows in enumerate(parts):
+    for i, (rows, sec) in enumerate(plan):
         sub = _take(ic, rows)
-        S, loc, ints = first if rows is None else surf.integrals(points, sub, second, mass,
-                                                                  integrand)
+        S, loc, ints = pre[i] if small else surf.integrals(points, sub, sec, mass, integrand)
         for r in _buckets(sub.e_s) if biorth else [None]:
             _chunk(surf, *_rows(r, sub, S, loc, ints), mask, space if biorth else None, lam,
                    tangent, acc, reference)
-        _sum_chunk(acc[1:], shapes, summed, last=i == len(parts) - 1, lazy=(2, 3))
+        if not small or i == len(plan) - 1:  # small: one sum (a csr conversion) at the end
+            _sum_chunk(acc[1:], shapes, summed, last=i == len(plan) - 1, lazy=(2, 3))
     G, H = (sp.csr_matrix(shape) if m is None else m for m, shape in zip(summed[:2], shapes))
     info = LazyInfo({"segmentation": ic.data[0] if isinstance(ic.data, tuple) else ic.data,
                      "n_segments": ic.e_s.size, "normals": nn},

@@ -381,8 +381,10 @@ class Mortar(ContactDiscretization):
         tangent without ``H``, or ``H`` for the same ``lam``) is answered from
         it, with ``G`` and ``H`` dropped where not asked for.  The kernel's
         values do not depend on what else it computes (``g``, ``area``,
-        ``mask``, ``D``, ``M`` are the same to the last bit with or without
-        the tangent), so the answer is the one a new call would give.  This
+        ``mask`` are the same to the last bit with or without the tangent;
+        ``D``, ``M``, ``G`` too in one pass and one chunk, else to round-off:
+        :func:`~.mortar_kernel.passes`), so the answer is the one a new call
+        would give.  This
         is what a converged step asks repeatedly at its final state (the KKT
         check after the last assembly, the outputs after ``end_step``, which
         zeroes multipliers but moves no node) and at its start (preflight,
