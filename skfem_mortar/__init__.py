@@ -20,6 +20,7 @@ _EXPORTS = {
     "solve": "solver.stepping", "Result": "solver.stepping", "StepRecord": "solver.stepping",
     "NewtonOptions": "solver.newton",
     "ConvergenceError": "core.errors", "InversionError": "core.errors",
+    "ContactSizeError": "core.errors",
     "NeoHooke": "bodies.hyperelastic", "SaintVenantKirchhoff": "bodies.hyperelastic",
     "LinearElastic": "bodies.material",
     "Solid": "bodies.solid", "MixedSolid": "bodies.mixed",

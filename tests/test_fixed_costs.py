@@ -121,10 +121,16 @@ def test_kept_evaluation_answers_as_a_new_kernel_call(monkeypatch):
                                    pair.master.segments, tangent=False, **d._extra(
                                        pair.slave.x(z), pair.master.x(z))[0],
                                    **d._kernel_options)
-    for name in ("g", "area", "mask"):
+    for name in ("area", "mask"):
         np.testing.assert_array_equal(getattr(lean, name), getattr(fresh, name))
+    # the kept call had H: its cells without multipliers went in a first-order pass of
+    # their own (mortar_kernel.passes), so a node's contributions to g (the same values)
+    # are added in another order than in a new call's one pass: g and D to round-off
+    # (measured 3.4e-21 on a g of 2.3e-5 with SuperLU's state; bit for bit with PARDISO's)
+    assert abs(lean.g - fresh.g).max() <= 1e-15 * abs(fresh.g).max()
+    assert abs(lean.info["D"] - fresh.info["D"]).max() <= 1e-15 * abs(fresh.info["D"]).max()
+    for name in ("g", "area", "mask"):
         assert not getattr(lean, name).flags.writeable
-    assert abs(lean.info["D"] - fresh.info["D"]).max() == 0.0
     # H for other multipliers, other positions: new calls
     z2 = z.copy()
     z2[pair._normal] *= 2.0

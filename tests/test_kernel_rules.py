@@ -13,6 +13,8 @@
 * With ``H`` asked, the slave cells whose nodes all have a zero multiplier go first
   order (``mortar_kernel.passes``): the all-Hessian call's results to 1e-14 (2D lines
   and 3D faces, in one chunk and in chunks).
+* A slave cell whose Hessian jets would exceed ``GROUP_ENTRIES`` raises ContactSizeError,
+  a failed Newton iteration.
 * ``integrand=``: the weighted gap written as an integrand equals the default bit for
   bit; another integrand (a slip-like ``int N_A (x_m - x_s) . e_1 dGamma``) has ``G`` and
   ``H`` that agree with central differences of the whole pipeline to 1e-7 of their
@@ -314,3 +316,28 @@ def test_d_and_m_are_made_when_first_read(monkeypatch):
     assert ev.info.get("nothing") is None
     with pytest.raises(KeyError):
         ev.info["nothing"]
+
+
+def test_a_group_beyond_its_bound_is_a_failed_iteration(monkeypatch):
+    """A slave cell under more master cells than :data:`GROUP_ENTRIES` allows its
+    Hessian jets raises :class:`ContactSizeError` (an :class:`InversionError`: Newton
+    takes the update back, else cuts the step) naming the count; without ``H`` (first
+    order, ``nv`` entries) or with zero multipliers there (first-order pass) it
+    evaluates; a solve that meets it at every attempt ends in a ConvergenceError that
+    says why."""
+    from skfem_mortar import ContactSizeError, ConvergenceError, InversionError
+    from skfem_mortar.app.runner import run_scene
+    assert issubclass(ContactSizeError, InversionError)
+    xs, ss = _curve(0.0, 1.0, 2, lambda t: 0.01 + 0.0 * t, 2)      # two slave cells
+    xm, sm = _curve(1.2, -0.2, 40, lambda t: 0.0 * t, 2)            # under 40 master cells
+    cells = (LINE2, LINE2)
+    # a slave cell (0.5 long) under about 15 master cells (0.035 long): nv = 2 (4 + 15 * 2)
+    monkeypatch.setattr(mortar_kernel, "GROUP_ENTRIES", (2 * (2 * 2 + 10 * 2)) ** 2)
+    with pytest.raises(ContactSizeError, match=r"under 1[4-6] master cells") as err:
+        mortar_kernel.evaluate(xs, ss, xm, sm, lam=np.ones(3), space="dual", cells=cells)
+    assert "GROUP_ENTRIES = 2304" in str(err.value)
+    mortar_kernel.evaluate(xs, ss, xm, sm, space="dual", cells=cells)        # G only
+    mortar_kernel.evaluate(xs, ss, xm, sm, lam=np.zeros(3), space="dual", cells=cells)
+    monkeypatch.setattr(mortar_kernel, "GROUP_ENTRIES", 1)
+    with pytest.raises(ConvergenceError, match="master cells"):
+        run_scene("patch", {}, "mortar-dual", steps=1)

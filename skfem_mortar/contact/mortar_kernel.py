@@ -45,6 +45,7 @@ import scipy.sparse as sp
 
 from .cell_map import check_connectivity
 from .cells import cell_type
+from ..core.errors import ContactSizeError
 from .contact_eval import ContactEval, LazyInfo
 from .integration_points import IntegrationCells, LocalLayout, LocalVariables
 from .jets import Jet
@@ -59,7 +60,7 @@ from .normals import NodalNormals, mirror_of_axis, nodal_normals
 from .scatter import Triplets
 from .segmentation import Segmentation, line_cells
 
-__all__ = ["evaluate", "chunks", "passes", "CHUNK_ENTRIES", "BUCKET_SLOTS"]
+__all__ = ["evaluate", "chunks", "passes", "CHUNK_ENTRIES", "GROUP_ENTRIES", "BUCKET_SLOTS"]
 
 CHUNK_ENTRIES = 250_000
 """Derivative entries per chunk of integration cells (``nv^2`` each with Hessians):
@@ -202,6 +203,16 @@ def _supports(pre: list, rows: list, n_s: int) -> np.ndarray:
     S = np.concatenate([p[0] for p in pre])[order]
     w = np.concatenate([p[2].support for p in pre])[order]
     return np.bincount(S.ravel(), weights=w.ravel(), minlength=n_s)
+
+
+GROUP_ENTRIES = 2 ** 25
+"""Most Hessian entries ``nv^2`` of one slave cell's group jets (``nv`` its variables,
+``d (2 k_s + m k_m)`` for ``m`` integration cells): 2^25 is 268 MB a jet (a tri3 face under
+about 480 quad4 faces; a dual space sums nine such jets).  Beyond it :func:`evaluate`
+raises :class:`~skfem_mortar.core.errors.ContactSizeError` (a failed Newton iteration:
+met where an iterate pushed a graded sphere through the plane, ``hertz3d`` tet1 at
+refine -1, 2,160 integration cells under one slave face; before, the process ran out of
+memory).  Only groups that carry Hessians are bounded; first order needs ``nv``."""
 
 
 BUCKET_SLOTS = 4
@@ -429,11 +440,24 @@ def _support(surf: _Surfaces, points, ic: IntegrationCells, n_s: int, entries) -
     return support
 
 
+def _check_size(grp: Groups, ints) -> None:
+    """:class:`~skfem_mortar.core.errors.ContactSizeError` if the groups' Hessian jets
+    would exceed :data:`GROUP_ENTRIES` entries a group."""
+    g = ints.g[0][0] if isinstance(ints.g[0], (list, tuple)) else ints.g[0]
+    if g.h is not None and grp.nv ** 2 > GROUP_ENTRIES:
+        raise ContactSizeError(
+            f"a slave cell lies under {grp.m} master cells: its jets would take "
+            f"{8 * grp.nv ** 2 / 2 ** 20:.3g} MB each (more than GROUP_ENTRIES = {GROUP_ENTRIES} "
+            f"entries); an iterate far from the solution, or a slave surface far coarser than "
+            f"its master (make the finer surface the slave)")
+
+
 def _chunk(surf: _Surfaces, ic: IntegrationCells, S, loc, ints, mask, space, lam, tangent,
            acc, reference: bool = False) -> None:
     """One chunk of whole slave cells: groups, merge ``T``, (dual) ``A~``, ``g_A``, the
     scatter of ``g``, ``G``, ``H``, ``D``, ``M`` into ``acc``."""
     grp = groups(ic.e_s, loc.layout, each=space is None)
+    _check_size(grp, ints)
     seg_s = surf.seg_s
     merged = ~mask[seg_s[grp.e_s]]
     k = seg_s.shape[1]

@@ -380,9 +380,9 @@ class Mortar(ContactDiscretization):
         crosspoints) and asking no more than it computed (no tangent, or a
         tangent without ``H``, or ``H`` for the same ``lam``) is answered from
         it, with ``G`` and ``H`` dropped where not asked for.  The kernel's
-        values do not depend on what else it computes (``g``, ``area``,
-        ``mask`` are the same to the last bit with or without the tangent;
-        ``D``, ``M``, ``G`` too in one pass and one chunk, else to round-off:
+        values do not depend on what else it computes (``area`` and ``mask``
+        are the same to the last bit with or without the tangent; ``g``, ``D``,
+        ``M``, ``G`` too in one pass and one chunk, else to round-off:
         :func:`~.mortar_kernel.passes`), so the answer is the one a new call
         would give.  This
         is what a converged step asks repeatedly at its final state (the KKT

@@ -21,6 +21,17 @@ class InversionError(SkfemMortarError, FloatingPointError):
     """
 
 
+class ContactSizeError(InversionError):
+    """A contact evaluation would hold more than its bound in the jets of one slave
+    cell: a slave cell under thousands of master cells (a wild Newton iterate, or a
+    slave surface far coarser than its master).
+
+    The Newton solver treats it as a failed iteration, as an inversion: the update
+    is taken back by halves, else the load step is cut.  Where it is not an
+    iterate's, make the finer surface the slave (or refine the slave).
+    """
+
+
 class ConvergenceError(SkfemMortarError):
     """A load step could not be solved, even after cutting it to the minimum size.
 
