@@ -37,8 +37,9 @@ refine  elem   peak    fit p0  radius  profile  axis     dofs     its   CPU s
 -1      hex1   0.83 %  0.79 %  0.58 %  0.83 %   +0.83 %  92,256   4     45
 ======  =====  ======  ======  ======  =======  =======  =======  ====  =====
 
-mortar-dual (tet1) reads NTS's numbers to the digits shown at -3 and -2 (53 and 263 s
-of CPU: the 3D mortar kernel).  hertz_axi (tri1, NTS) at -3, -2, -1: peak 4.01, 0.74, 0.55 %; fit
+mortar-dual (tet1) reads NTS's numbers to the digits shown at -3, -2 and -1 (53 and 263 s
+of CPU at -3 and -2; on 2026-12-07, with Hessians only where a multiplier is nonzero,
+9 and 37 s, and 742 s at -1, where one step was cut on a ContactSizeError).  hertz_axi (tri1, NTS) at -3, -2, -1: peak 4.01, 0.74, 0.55 %; fit
 p0 5.85, 1.78, 0.15 %; radius 19.65, 6.23, 0.56 % (966, 1,474, 2,526 dofs, 0.1 s).
 3D against axi, at -3 and -2 (the errors 2 |q(h) - q(h/2)| of both summed):
 fitted p0 7.72 % apart within 10.02 %, 2.71 % within 4.18 %; radius 16.58 % within
