@@ -32,6 +32,7 @@ import pytest
 
 from skfem_mortar.contact import mortar_kernel
 from skfem_mortar.contact.cells import cell_type
+from skfem_mortar.contact.integration_points import LocalLayout
 from skfem_mortar.contact.measures import AXISYMMETRIC, PLANE
 from skfem_mortar.contact.mortar_cells import combine, dot, shape_jets, slave_geometry
 from skfem_mortar.contact.mortar_support import merge_matrix
@@ -142,7 +143,7 @@ def _all_second_order(monkeypatch):
 
 
 @pytest.mark.parametrize("k, space", [(2, "dual"), (3, "standard"), (3, "dual")])
-@pytest.mark.parametrize("entries", [None, 2 * 18 * 18])
+@pytest.mark.parametrize("entries", [None, 2 * 18 * 18])   # one chunk; two line3 cells a chunk
 def test_cells_without_multipliers_skip_the_hessian_pass(k, space, entries, monkeypatch):
     """With the multipliers zero at some slave nodes, the slave cells with all their
     nodes at zero go first order (:func:`~skfem_mortar.contact.mortar_kernel.passes`):
@@ -155,14 +156,15 @@ def test_cells_without_multipliers_skip_the_hessian_pass(k, space, entries, monk
     lam[ss[0]] = 0.0                                # the first slave cell's nodes
     lam[ss[1, 1]] = 0.0                             # and one of the second's
     kw = dict(space=space, cells=(cell_type(f"line{k}"),) * 2, chunk_entries=entries)
+    nv = LocalLayout.of(kw["cells"]).n_loc
     split = mortar_kernel.evaluate(xs, ss, xm, sm, lam=lam, **kw)
     e_s = split.info["segmentation"].e_s
-    plan, _ = mortar_kernel.passes(e_s, ss, lam, 12 if k == 2 else 18, entries)
+    plan, _ = mortar_kernel.passes(e_s, ss, lam, nv, entries)
     assert {second for _, second in plan} == {True, False}
     assert np.isin(e_s, 0).any() and np.isin(e_s, 1).any()   # cold cells and hot in the call
     nothing = mortar_kernel.evaluate(xs, ss, xm, sm, lam=0.0 * lam, **kw)
     assert nothing.H.count_nonzero() == 0 and nothing.H.shape == split.H.shape
-    assert not any(second for _, second in mortar_kernel.passes(e_s, ss, 0.0 * lam, 12, None)[0])
+    assert not any(second for _, second in mortar_kernel.passes(e_s, ss, 0.0 * lam, nv, None)[0])
     _all_second_order(monkeypatch)
     ref = mortar_kernel.evaluate(xs, ss, xm, sm, lam=lam, **kw)
     assert np.array_equal(ref.area, split.area) and np.array_equal(ref.mask, split.mask)
@@ -331,11 +333,13 @@ def test_a_group_beyond_its_bound_is_a_failed_iteration(monkeypatch):
     xs, ss = _curve(0.0, 1.0, 2, lambda t: 0.01 + 0.0 * t, 2)      # two slave cells
     xm, sm = _curve(1.2, -0.2, 40, lambda t: 0.0 * t, 2)            # under 40 master cells
     cells = (LINE2, LINE2)
-    # a slave cell (0.5 long) under about 15 master cells (0.035 long): nv = 2 (4 + 15 * 2)
-    monkeypatch.setattr(mortar_kernel, "GROUP_ENTRIES", (2 * (2 * 2 + 10 * 2)) ** 2)
+    # a slave cell (0.5 long) lies under about 15 master cells (0.035 long); the bound is
+    # that of a group of 10: nv = d (2 k_s + m k_m) = 2 (2 * 2 + 10 * 2)
+    bound = (2 * (2 * 2 + 10 * 2)) ** 2
+    monkeypatch.setattr(mortar_kernel, "GROUP_ENTRIES", bound)
     with pytest.raises(ContactSizeError, match=r"under 1[4-6] master cells") as err:
         mortar_kernel.evaluate(xs, ss, xm, sm, lam=np.ones(3), space="dual", cells=cells)
-    assert "GROUP_ENTRIES = 2304" in str(err.value)
+    assert f"GROUP_ENTRIES = {bound}" in str(err.value)
     mortar_kernel.evaluate(xs, ss, xm, sm, space="dual", cells=cells)        # G only
     mortar_kernel.evaluate(xs, ss, xm, sm, lam=np.zeros(3), space="dual", cells=cells)
     monkeypatch.setattr(mortar_kernel, "GROUP_ENTRIES", 1)

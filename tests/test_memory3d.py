@@ -104,6 +104,8 @@ def _mortar_peak(n: int, chunk_entries: int, half: bool = False) -> tuple[int, i
     lam = np.ones(xs.shape[1])
     if half:
         lam[xs[0] < np.median(xs[0])] = 0.0
+        hot = (lam != 0)[Ss].any(axis=1)
+        assert hot.any() and not hot.all()          # faces in both passes
     peak, ev = _peak(lambda: evaluate(xs, Ss, xm, Sm, lam=lam, space="dual",
                                       cells=cells, points=FacePoints(cells, pairs=pairs,
                                                                      frozen=False),

@@ -188,9 +188,14 @@ def passes(e_s: np.ndarray, seg_s: np.ndarray, lam: np.ndarray | None, nv: int,
                    [(np.flatnonzero(hot), True), (np.flatnonzero(~hot), False)])
     plan, small = [], True
     for sel, second in subsets:
-        parts = chunks(e_s if sel is None else e_s[sel], nv, second, entries)
+        if sel is None:                      # all cells: the chunks' rows as they are
+            parts = chunks(e_s, nv, second, entries)
+            rows = parts
+        else:                                # chunks of the subset, back in the call's rows
+            parts = chunks(e_s[sel], nv, second, entries)
+            rows = [sel if r is None else sel[r] for r in parts]
         small = small and parts[0] is None
-        plan += [(r if sel is None else sel if r is None else sel[r], second) for r in parts]
+        plan += [(r, second) for r in rows]
     return plan, small
 
 
@@ -440,11 +445,10 @@ def _support(surf: _Surfaces, points, ic: IntegrationCells, n_s: int, entries) -
     return support
 
 
-def _check_size(grp: Groups, ints) -> None:
+def _check_size(grp: Groups, second: bool) -> None:
     """:class:`~skfem_mortar.core.errors.ContactSizeError` if the groups' Hessian jets
-    would exceed :data:`GROUP_ENTRIES` entries a group."""
-    g = ints.g[0][0] if isinstance(ints.g[0], (list, tuple)) else ints.g[0]
-    if g.h is not None and grp.nv ** 2 > GROUP_ENTRIES:
+    (``second``) would exceed :data:`GROUP_ENTRIES` entries a group."""
+    if second and grp.nv ** 2 > GROUP_ENTRIES:
         raise ContactSizeError(
             f"a slave cell lies under {grp.m} master cells: its jets would take "
             f"{8 * grp.nv ** 2 / 2 ** 20:.3g} MB each (more than GROUP_ENTRIES = {GROUP_ENTRIES} "
@@ -457,12 +461,12 @@ def _chunk(surf: _Surfaces, ic: IntegrationCells, S, loc, ints, mask, space, lam
     """One chunk of whole slave cells: groups, merge ``T``, (dual) ``A~``, ``g_A``, the
     scatter of ``g``, ``G``, ``H``, ``D``, ``M`` into ``acc``."""
     grp = groups(ic.e_s, loc.layout, each=space is None)
-    _check_size(grp, ints)
     seg_s = surf.seg_s
     merged = ~mask[seg_s[grp.e_s]]
     k = seg_s.shape[1]
     T = merge_nodes(merged, surf.cells[0]) if merged.any() else None   # None: identity
     rowwise = isinstance(ints.g[0], (list, tuple))
+    _check_size(grp, (ints.g[0][0] if rowwise else ints.g[0]).h is not None)
     if rowwise:                       # f[A][B] (the slip's): g_A = sum_B C_AB f[A][B]
         sums = [group_sums(row, grp) for row in ints.g]
         Gs = ([_combine(T, row) for row in sums] if space is not None
