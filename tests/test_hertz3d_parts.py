@@ -13,7 +13,7 @@ from skfem_mortar.scenes._contact3d import (graded_axis, graded_octant,
 from skfem_mortar.scenes._hertz3d import PARAMS, build_bodies, exact_hertz3d, hertz_metrics
 
 DEFAULTS = {p.name: p.default for p in PARAMS}
-COARSE = {**DEFAULTS, "refine": -3}
+COARSE = {**DEFAULTS, "refine": -3, "element": "tet1"}
 R, A = 8.0, 0.2
 
 #: corners of scikit-fem's reference hexahedron pulled 1 % inside (the Jacobian there)

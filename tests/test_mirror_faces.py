@@ -36,7 +36,7 @@ def _model(model: str):
     """The sphere's faces below z = 0.02, and the quarter's rigid plane faces (the
     half: those and their mirror images, the nodes on X = 0 shared)."""
     params = {**{p.name: p.default for p in PARAMS}, "refine": -3, "base": "rigid",
-              "model": model}
+              "model": model, "element": "tet1"}                      # tri3 faces
     parts = build_bodies(params)
     s = ContactSurface.from_solid(*parts.slave, name="sphere_face")
     seg = s.segments[np.all(s.X[2, s.segments] < 0.02, axis=1)]

@@ -65,7 +65,7 @@ def test_hertz3d_nts_converges_quadratically():
     linear in small strain once the active set holds).  The mortar methods' hertz3d
     runs take minutes and are in the report (mortar-dual: 3e-5 -> 1.3e-11, C 0.012)."""
     params = {**{p.name: p.default for p in HERTZ}, "refine": -3, "base": "rigid",
-              "kinematics": "small"}
+              "kinematics": "small", "element": "tet1"}
     parts = hertz_bodies(params)
     slave = ContactSurface.from_solid(*parts.slave, name="sphere_face")
     master = ContactSurface(None, None, parts.master["faces"], X=parts.master["X"],
