@@ -381,18 +381,22 @@ class _Recorder(Observer):
     step = on_step
 
     def finish(self, result: Result, metrics: dict) -> None:
-        """After the last step: ``contact.csv`` and the scene's pictures (listed in
-        the manifest once written; ``summary.json`` comes last, from the caller)."""
+        """After the last step: ``contact.csv``, a 3D model's ``figure.png`` (the
+        final state by von Mises beside the slave surfaces by pressure,
+        :meth:`Result.plot`) and the scene's pictures (listed in the manifest once
+        written; ``summary.json`` comes last, from the caller)."""
         from ..output.outdir import add_to_manifest, entries
 
         if self.setup.contact is not None:
             ContactCsv(self.out / "contact.csv", self.setup.contact).on_end(result)
-        if self.setup.plots is not None:
-            before = entries(self.out)
-            try:
+        before = entries(self.out)
+        try:
+            if result.model.geometry == "3d":
+                result.plot(self.out / "figure.png")
+            if self.setup.plots is not None:
                 self.setup.plots(metrics, self.out)
-            finally:
-                add_to_manifest(self.out, sorted(entries(self.out) - before))
+        finally:
+            add_to_manifest(self.out, sorted(entries(self.out) - before))
 
     def fail(self, summary: dict) -> None:
         """A load step did not converge: the summary says so (``converged`` false,

@@ -186,25 +186,52 @@ def _face_pairs(items: Sequence) -> list:
             and getattr(getattr(getattr(it, "slave", None), "cell", None), "dim", 0) == 2]
 
 
+def _slave_pressure(pair: Any, z1: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """A pair's slave node positions ``(3, n)``, faces ``(n_f, k)`` and nodal contact
+    pressures at ``z1`` (0 where a node has none)."""
+    data = pair.contact_data(z1)
+    p = np.zeros(pair.slave.n_nodes)
+    p[data["node"]] = np.nan_to_num(data["pressure"])
+    return np.asarray(pair.slave.x(z1), dtype=float), np.asarray(pair.slave.segments), p
+
+
+def _focus(surfaces: Sequence) -> np.ndarray | None:
+    """The box ``(3, 2)`` around the faces that carry pressure, grown by half its
+    extent on every side (None where no face does)."""
+    pts = [x[:, f[p[f].max(axis=1) > 0].ravel()] for x, f, p in surfaces if len(f)]
+    pts = np.hstack(pts) if pts else np.zeros((3, 0))
+    if not pts.size:
+        return None
+    lo, hi = pts.min(axis=1), pts.max(axis=1)
+    pad = 0.5 * (hi - lo).max()
+    return np.column_stack([lo - pad, hi + pad])
+
+
 def _pressure_view(plotter: Any, pairs: Sequence, z1: np.ndarray) -> None:
     """The slave surfaces of ``pairs`` at ``z1`` coloured by the contact pressure (actors
     ``"contact:<name>"``), seen from the side their master is on (against the mean
-    outward normal of the slave faces)."""
+    outward normal of the faces that carry pressure, or of all where none does).
+    Where some faces carry pressure, the view shows the faces whose centre lies in
+    the box around them grown by half its extent (:func:`_focus`): a small contact
+    zone on a large surface fills the view."""
     import pyvista as pv
 
+    surfaces = [_slave_pressure(pair, z1) for pair in pairs]
+    box = _focus(surfaces)
     normal = np.zeros(3)
-    for pair in pairs:
-        data = pair.contact_data(z1)
-        p = np.zeros(pair.slave.n_nodes)
-        p[data["node"]] = np.nan_to_num(data["pressure"])
-        faces = np.asarray(pair.slave.segments)
+    for pair, (x, faces, p) in zip(pairs, surfaces):
+        n, a = pair.slave.normals(z1)
+        if box is not None and len(faces):
+            centre = x[:, faces].mean(axis=2)
+            shown = np.all((centre >= box[:, :1]) & (centre <= box[:, 1:]), axis=0)
+            loaded = p[faces].max(axis=1) > 0
+            faces, n, a = faces[shown], n[:, loaded], a[loaded]
         cells = np.hstack([np.full((len(faces), 1), faces.shape[1]), faces]).ravel()
-        mesh = pv.PolyData(np.asarray(pair.slave.x(z1), dtype=float).T, cells)
+        mesh = pv.PolyData(x.T, cells)
         mesh.point_data["contact pressure"] = p
         plotter.add_mesh(mesh, scalars="contact pressure", cmap="magma", show_edges=True,
                          edge_color="#404040", name=f"contact:{pair.name}",
                          scalar_bar_args=_BAR | {"title": "pressure\n(force/length²)"})
-        n, a = pair.slave.normals(z1)
         normal += (n * a).sum(axis=1)
     plotter.add_text("slave surface", font_size=12, color="black", name="contact_title")
     if np.linalg.norm(normal) > 0:
