@@ -33,10 +33,14 @@ MIRROR = np.array([[-1.0], [1.0], [1.0]])
 SYM_TOL = 1e-8
 
 
-def _run(model: str, base: str, method: str) -> dict:
-    parts = build_bodies({**COARSE, "model": model, "base": base})
+def _run(model: str, base: str, method: str, **extra) -> dict:
+    """The quarter or the half on ``base`` with ``method`` (``extra``: scene parameters
+    over :data:`COARSE`, and ``n_gauss`` for the pair), solved to rtol 1e-12."""
+    n_gauss = extra.pop("n_gauss", None)
+    parts = build_bodies({**COARSE, **extra, "model": model, "base": base})
     slave, master = contact_surfaces(parts)
-    pair = ContactPair(slave, master, method, name="contact")
+    options = {} if n_gauss is None else {"n_gauss": n_gauss}
+    pair = ContactPair(slave, master, method, name="contact", **options)
     res = solve(Model(parts.items + [pair], geometry="3d"), n_steps=1,
                 newton=NewtonOptions(rtol=1e-12))
     z = res.z
@@ -50,14 +54,51 @@ def _run(model: str, base: str, method: str) -> dict:
 @pytest.mark.filterwarnings("ignore::UserWarning")
 @pytest.mark.parametrize("base", ["rigid", "elastic"])
 def test_hertz3d_quarter_equals_half_nts(base):
-    q, h = _run("quarter", base, "nts"), _run("half", base, "nts")
+    _quarter_equals_half(_run("quarter", base, "nts"), _run("half", base, "nts"))
+
+
+#: the mortar runs on the cap (the faces within a + 2 h0 of the axis: the same answer,
+#: 5 to 10 times fewer face pairs); measured quarter against half, relative to the
+#: peak: mortar 2e-14 rigid, 1.8e-12 elastic; mortar-dual 7.7e-12, 3.9e-10, within
+#: SYM_TOL by 26 times at least
+@pytest.mark.filterwarnings("ignore::UserWarning")
+@pytest.mark.parametrize("method", ["mortar", "mortar-dual"])
+@pytest.mark.parametrize("base", ["rigid", "elastic"])
+def test_hertz3d_quarter_equals_half_mortar(base, method):
+    _quarter_equals_half(_run("quarter", base, method, slave="cap"),
+                         _run("half", base, method, slave="cap"))
+
+
+@pytest.mark.filterwarnings("ignore::UserWarning")
+def test_hex1_quarter_equals_half_when_the_rule_reaches_round_off():
+    """On quad4 faces the integration cells of a face and of its mirror image are
+    mirror images, but their fan starts at another vertex (each clip polygon's first),
+    so a Gauss rule that does not integrate them exactly errs differently on the two:
+    at the default degree 5 the half's pressures are mirror-symmetric to the rule's
+    error (measured 3e-9 rigid, 1.3e-8 elastic, relative to the peak, and an
+    iteration more in the half, whose last residual crossed the tolerance).  At
+    degree 8 the rule's error falls below round-off on these cells and the quarter is
+    the half (measured 2.6e-15 rigid, 2.0e-15 elastic); on tri3 faces the cells'
+    integrands are polynomials on flat cells and every degree >= 2 is exact (the tests
+    above run the default 5)."""
+    _quarter_equals_half(_run("quarter", "rigid", "mortar-dual", element="hex1",
+                              slave="cap", n_gauss=8),
+                         _run("half", "rigid", "mortar-dual", element="hex1", slave="cap",
+                              n_gauss=8))
+
+
+def _quarter_equals_half(q: dict, h: dict) -> None:
+    """The same iterations; the half holds the quarter's nodes with the same pressures
+    and metrics to :data:`SYM_TOL`, and its pressures are mirror-symmetric."""
     assert q["iterations"] == h["iterations"]
     d, i = cKDTree(h["X"].T).query(q["X"].T)
     assert d.max() == 0.0                       # the half holds the quarter's nodes
     peak = q["p"].max()
     assert np.abs(q["p"] - h["p"][i]).max() <= SYM_TOL * peak
     for key in ("peak_pressure", "contact_radius", "contact_force"):
-        assert h["metrics"][key] == pytest.approx(q["metrics"][key], rel=SYM_TOL), key
+        # (standard mortar's fit at refine -3 has too few nodes in compression: NaN in both)
+        assert h["metrics"][key] == pytest.approx(q["metrics"][key], rel=SYM_TOL,
+                                                  nan_ok=True), key
     # and the half is symmetric in itself: each node's pressure is its mirror's
     d, m = cKDTree(h["X"].T).query((MIRROR * h["X"]).T)
     assert d.max() == 0.0 and np.abs(h["p"] - h["p"][m]).max() <= SYM_TOL * peak

@@ -77,9 +77,11 @@ GRIDS: dict[str, dict[str, Any]] = {
                 "grid": {"element": ["hex1", "tet1", "tet1/hex1", "hex1/tet1"],
                          "slave": ["upper", "lower"]},
                 "quick": {"element": ["hex1"]}},
-    # hertz3d: a quarter of hertz_axi's sphere against Hertz (the mesh series of refine)
+    # hertz3d: a quarter of hertz_axi's sphere against Hertz (the mesh series of refine,
+    # hexahedra and Kuhn tetrahedra)
     "hertz3d": {"metrics": ["peak_pressure_error", "contact_radius_error", "contact_force_error"],
-                "grid": {"refine": [-3, -2, -1]}, "quick": {"refine": [-3]}},
+                "grid": {"refine": [-3, -2, -1], "element": ["hex1", "tet1"]},
+                "quick": {"refine": [-3]}},
     # thick_sphere: the axisymmetric wall against Lame, linear and quadratic elements
     "thick_sphere": {"metrics": ["l2_error", "u_inner_error"],
                      "grid": {"element": ["tri1", "quad1", "tri2", "quad2"], "n": [2, 4, 8]},
