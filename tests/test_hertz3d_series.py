@@ -138,6 +138,9 @@ def test_default_mesh_third_level_keeps_approaching(series, reference):
     assert _run(-1)["peak_pressure_error"] < 0.03 and _run(-1)["contact_radius_error"] < 0.03
 
 
+@pytest.mark.skipif(os.environ.get("SKFEM_MORTAR_SERIES") != "1",
+                    reason="tet1's two meshes (12 s of CPU with PARDISO, 40 s with SuperLU): "
+                           "CI's series step, SKFEM_MORTAR_SERIES=1")
 def test_tet1_within_3_percent_and_its_fits_fall():
     # tet1 (element=tet1) at -3 -> -2: peak 0.79, 0.84 %; radius 3.07 -> 1.14 %, fitted
     # p0 1.87 -> 0.93 %, scatter 6.39 -> 5.67 %; its largest nodal pressure is the
