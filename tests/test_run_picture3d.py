@@ -68,3 +68,34 @@ def test_the_pressure_view_frames_the_loaded_faces(pressed):
         assert shown.n_cells == len(faces)
     # seen from the master's side: the camera below the faces, looking up
     assert cam[2] < 0 and abs(cam[2]) > 0.99 * np.linalg.norm(cam)
+
+
+def test_without_a_way_to_draw_the_run_says_so_and_keeps_its_results(tmp_path, monkeypatch,
+                                                                      capsys):
+    # a bare Linux without a display, EGL or OSMesa: VTK could not open a window
+    import skfem_mortar.output.views as views
+
+    monkeypatch.setattr(views, "can_render", lambda environ=None: False)
+    out = tmp_path / "run"
+    summary = run_scene("patch3d", {"n_lower": 4, "n_upper": 2, "kinematics": "small"},
+                        "nts", steps=1, out=out)
+    assert summary["converged"] and (out / "summary.json").exists()
+    assert (out / "contact.csv").exists() and not (out / "figure.png").exists()
+    assert "figure.png not drawn" in capsys.readouterr().err
+
+
+def test_can_render_reads_the_display_and_the_libraries(monkeypatch):
+    import ctypes.util
+
+    import skfem_mortar.output.views as views
+
+    monkeypatch.setattr(views.sys, "platform", "linux")
+    monkeypatch.setattr(ctypes.util, "find_library", lambda name: None)
+    assert not views.can_render({})                           # nothing to draw with
+    assert views.can_render({"DISPLAY": ":0"})
+    assert views.can_render({views._VTK_WINDOW: "vtkXOpenGLRenderWindow"})  # the user's
+    monkeypatch.setattr(ctypes.util, "find_library", lambda name: "libEGL.so.1")
+    assert views.can_render({})
+    monkeypatch.setattr(views.sys, "platform", "darwin")
+    monkeypatch.setattr(ctypes.util, "find_library", lambda name: None)
+    assert views.can_render({})

@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 import math
+import sys
 import time
 from pathlib import Path
 from typing import Any
@@ -392,11 +393,23 @@ class _Recorder(Observer):
         before = entries(self.out)
         try:
             if result.model.geometry == "3d":
-                result.plot(self.out / "figure.png")
+                self._picture3d(result)
             if self.setup.plots is not None:
                 self.setup.plots(metrics, self.out)
         finally:
             add_to_manifest(self.out, sorted(entries(self.out) - before))
+
+    def _picture3d(self, result: Result) -> None:
+        """``figure.png`` of a 3D model, or one line on stderr saying why not where VTK
+        cannot draw (a bare Linux without a display, EGL or OSMesa)."""
+        from ..output.views import can_render
+
+        if can_render():
+            result.plot(self.out / "figure.png")
+        else:
+            print("figure.png not drawn: no display, and neither EGL nor OSMesa for "
+                  "off-screen rendering (Debian: apt-get install -y libegl1 "
+                  "libgl1-mesa-dri)", file=sys.stderr)
 
     def fail(self, summary: dict) -> None:
         """A load step did not converge: the summary says so (``converged`` false,

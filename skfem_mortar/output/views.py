@@ -15,7 +15,7 @@ from typing import Mapping, Sequence
 
 import numpy as np
 
-__all__ = ["to_pyvista", "prepare_offscreen", "revolve", "render_revolved"]
+__all__ = ["to_pyvista", "prepare_offscreen", "can_render", "revolve", "render_revolved"]
 
 
 #: the environment variable that picks VTK's OpenGL window class (VTK >= 9.4)
@@ -42,6 +42,17 @@ def _headless_window(environ: Mapping[str, str] = os.environ) -> str | None:
         if find_library(lib):
             return window
     return None
+
+
+def can_render(environ: Mapping[str, str] = os.environ) -> bool:
+    """Whether VTK can draw here: a display is set, the platform is not Linux, the user
+    chose a window class, or EGL or OSMesa is installed for off-screen rendering
+    (:func:`_headless_window`).  False on a bare Linux without either library, where
+    a render window would fail."""
+    if (not sys.platform.startswith("linux") or _VTK_WINDOW in environ
+            or environ.get("DISPLAY") or environ.get("WAYLAND_DISPLAY")):
+        return True
+    return _headless_window(environ) is not None
 
 
 def prepare_offscreen() -> None:
