@@ -186,20 +186,22 @@ def _face_pairs(items: Sequence) -> list:
             and getattr(getattr(getattr(it, "slave", None), "cell", None), "dim", 0) == 2]
 
 
-def _slave_pressure(pair: Any, z1: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """A pair's slave node positions ``(3, n)``, faces ``(n_f, k)`` and nodal contact
-    pressures at ``z1`` (0 where a node has none)."""
+def _slave_pressure(pair: Any, z1: np.ndarray) -> tuple:
+    """A pair's slave node positions ``(3, n)``, faces ``(n_f, k)``, nodal contact
+    pressures at ``z1`` (0 where a node has none) and which faces carry pressure."""
     data = pair.contact_data(z1)
     p = np.zeros(pair.slave.n_nodes)
     p[data["node"]] = np.nan_to_num(data["pressure"])
-    return np.asarray(pair.slave.x(z1), dtype=float), np.asarray(pair.slave.segments), p
+    faces = np.asarray(pair.slave.segments)
+    loaded = p[faces].max(axis=1) > 0 if len(faces) else np.zeros(0, dtype=bool)
+    return np.asarray(pair.slave.x(z1), dtype=float), faces, p, loaded
 
 
 def _focus(surfaces: Sequence) -> np.ndarray | None:
     """The box ``(3, 2)`` around the faces that carry pressure, grown by half its
     extent on every side (None where no face does)."""
-    pts = [x[:, f[p[f].max(axis=1) > 0].ravel()] for x, f, p in surfaces if len(f)]
-    pts = np.hstack(pts) if pts else np.zeros((3, 0))
+    pts = np.hstack([np.zeros((3, 0))]
+                    + [x[:, f[loaded].ravel()] for x, f, _, loaded in surfaces])
     if not pts.size:
         return None
     lo, hi = pts.min(axis=1), pts.max(axis=1)
@@ -219,12 +221,11 @@ def _pressure_view(plotter: Any, pairs: Sequence, z1: np.ndarray) -> None:
     surfaces = [_slave_pressure(pair, z1) for pair in pairs]
     box = _focus(surfaces)
     normal = np.zeros(3)
-    for pair, (x, faces, p) in zip(pairs, surfaces):
+    for pair, (x, faces, p, loaded) in zip(pairs, surfaces):
         n, a = pair.slave.normals(z1)
         if box is not None and len(faces):
             centre = x[:, faces].mean(axis=2)
             shown = np.all((centre >= box[:, :1]) & (centre <= box[:, 1:]), axis=0)
-            loaded = p[faces].max(axis=1) > 0
             faces, n, a = faces[shown], n[:, loaded], a[loaded]
         cells = np.hstack([np.full((len(faces), 1), faces.shape[1]), faces]).ravel()
         mesh = pv.PolyData(x.T, cells)

@@ -22,6 +22,13 @@ __all__ = ["to_pyvista", "prepare_offscreen", "can_render", "revolve", "render_r
 _VTK_WINDOW = "VTK_DEFAULT_OPENGL_WINDOW"
 
 
+def _vtk_chooses(environ: Mapping[str, str]) -> bool:
+    """Whether VTK's own window choice stands: elsewhere than Linux, a display set, or
+    a window class the user chose."""
+    return (not sys.platform.startswith("linux") or _VTK_WINDOW in environ
+            or bool(environ.get("DISPLAY") or environ.get("WAYLAND_DISPLAY")))
+
+
 def _headless_window(environ: Mapping[str, str] = os.environ) -> str | None:
     """The VTK window class for off-screen rendering where no display is there
     (``environ``: the environment variables).
@@ -33,8 +40,7 @@ def _headless_window(environ: Mapping[str, str] = os.environ) -> str | None:
     a window class, or when neither library is installed (then VTK's own
     warnings say what is missing).
     """
-    if (not sys.platform.startswith("linux") or _VTK_WINDOW in environ
-            or environ.get("DISPLAY") or environ.get("WAYLAND_DISPLAY")):
+    if _vtk_chooses(environ):
         return None
     from ctypes.util import find_library
 
@@ -49,10 +55,7 @@ def can_render(environ: Mapping[str, str] = os.environ) -> bool:
     chose a window class, or EGL or OSMesa is installed for off-screen rendering
     (:func:`_headless_window`).  False on a bare Linux without either library, where
     a render window would fail."""
-    if (not sys.platform.startswith("linux") or _VTK_WINDOW in environ
-            or environ.get("DISPLAY") or environ.get("WAYLAND_DISPLAY")):
-        return True
-    return _headless_window(environ) is not None
+    return _vtk_chooses(environ) or _headless_window(environ) is not None
 
 
 def prepare_offscreen() -> None:
